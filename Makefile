@@ -1,0 +1,62 @@
+# Top-level driver: CMake does the building, this file names the jobs.
+#   make          build everything (tools in build/bin/)
+#   make test     release build + sanitizer build, all tests in both
+#   make demo     generate the built-in tree and show what the toolkit does
+#   make bench    benchmarks (writes bench/results/)
+#   make install  library, header, pkg-config file and tools (PREFIX=/usr/local)
+BUILD      ?= build
+ASAN_BUILD ?= build-asan
+PREFIX     ?= /usr/local
+JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
+CMAKE_FLAGS = -DBBC_WERROR=ON
+
+.PHONY: all setup configure build test test-release test-asan demo bench install format \
+        format-check clean
+
+all: build
+
+setup:
+	@scripts/setup.sh all
+
+$(BUILD)/CMakeCache.txt:
+	@scripts/setup.sh build
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
+
+build: $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j $(JOBS)
+
+test: setup
+	@$(MAKE) --no-print-directory test-release
+	@$(MAKE) --no-print-directory test-asan
+
+test-release: $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j $(JOBS)
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+test-asan:
+	@scripts/setup.sh all
+	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DBBC_SANITIZE=ON \
+	      -DBBC_BUILD_BENCH=OFF $(CMAKE_FLAGS) > /dev/null
+	cmake --build $(ASAN_BUILD) -j $(JOBS)
+	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp \
+	  ctest --output-on-failure -j $(JOBS)
+
+demo: build
+	@scripts/demo.sh $(BUILD)
+
+bench: build
+	@scripts/bench.sh $(BUILD)
+
+install: build
+	cmake --install $(BUILD) --prefix $(PREFIX)
+
+format:
+	clang-format -i $$(git ls-files '*.c' '*.h')
+
+format-check:
+	clang-format --dry-run --Werror $$(git ls-files '*.c' '*.h')
+
+clean:
+	rm -rf $(BUILD) $(ASAN_BUILD)

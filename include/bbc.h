@@ -1,0 +1,347 @@
+/*
+ * bbc.h — public interface of libbbc, the Billboard Cloud generator library.
+ *
+ * The library implements BBCgen from "Billboard Clouds for rendering huge
+ * forests" (diploma thesis, 2004; see README.md). This header is its manual:
+ * every function says what it returns, who owns what, and the units of every
+ * field.
+ *
+ * Conventions, stated once:
+ *   - Errors: functions that can fail on bad data or bad parameters return a
+ *     bbc_result and, when `err` is not NULL, write a one-line message a user
+ *     can act on (naming the file and the problem) into err->message.
+ *     Programmer errors (NULL where not allowed) are assertions.
+ *   - The library never prints and never exits. It reports warnings and
+ *     progress through the optional callbacks in bbc_callbacks.
+ *   - No global state: everything a function needs is in its arguments, so
+ *     functions may be called from several threads on different objects.
+ *   - Ownership: `*_free()` releases what a `*_load()`/`*_generate()` filled
+ *     in; `*_free(NULL)` and freeing a zeroed struct are safe.
+ *   - Geometry stays in the model's own coordinates (double precision).
+ *     Texture coordinates follow OpenGL: v = 0 is the bottom row of an image.
+ *   - Images are RGBA8, straight (not premultiplied) alpha, rows top first.
+ */
+#ifndef BBC_H
+#define BBC_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define BBC_VERSION_MAJOR  0
+#define BBC_VERSION_MINOR  1
+#define BBC_VERSION_PATCH  0
+#define BBC_VERSION_STRING "0.1.0"
+
+/* ------------------------------------------------------------------------ */
+/* Results, errors, callbacks                                                */
+/* ------------------------------------------------------------------------ */
+
+typedef enum bbc_result {
+  BBC_OK = 0,
+  BBC_ERROR_INVALID_ARGUMENT,   /* unknown parameter, malformed value */
+  BBC_ERROR_OUT_OF_RANGE,       /* parameter value outside its range */
+  BBC_ERROR_NOT_FOUND,          /* input path does not exist */
+  BBC_ERROR_NOT_A_FILE,         /* input path is a folder or a device */
+  BBC_ERROR_IO,                 /* read or write failed (permissions, disk) */
+  BBC_ERROR_UNSUPPORTED_FORMAT, /* no reader for this file */
+  BBC_ERROR_CORRUPT,            /* truncated or damaged file, parse error */
+  BBC_ERROR_INVALID_GEOMETRY,   /* NaN/Inf coordinates, index out of range */
+  BBC_ERROR_EMPTY,              /* no usable triangles or points */
+  BBC_ERROR_OUT_OF_MEMORY,
+  BBC_RESULT_COUNT
+} bbc_result;
+
+/* Short English name of a result ("corrupt file"); never NULL. */
+const char *bbc_result_string(bbc_result result);
+
+/* Filled by failing functions: the code and a one-line message. */
+typedef struct bbc_error {
+  bbc_result code;
+  char message[512];
+} bbc_error;
+
+typedef enum bbc_log_level { BBC_LOG_INFO = 0, BBC_LOG_WARNING = 1 } bbc_log_level;
+
+/* Optional reporting hooks. Every member may be NULL. */
+typedef struct bbc_callbacks {
+  /* A message for the user (a missing texture, dropped faces). */
+  void (*log)(void *user, bbc_log_level level, const char *message);
+  /* Progress of a long stage: `stage` is a short static name, `fraction` in
+   * [0, 1], non-decreasing within a stage, 1 exactly once at its end. */
+  void (*progress)(void *user, const char *stage, double fraction);
+  void *user;
+} bbc_callbacks;
+
+/* ------------------------------------------------------------------------ */
+/* Images                                                                    */
+/* ------------------------------------------------------------------------ */
+
+typedef struct bbc_image {
+  int width;     /* texels */
+  int height;    /* texels */
+  uint8_t *rgba; /* width * height * 4 bytes, rows top first */
+} bbc_image;
+
+/* Allocates a width x height image, all texels (0,0,0,0). */
+bbc_result bbc_image_alloc(bbc_image *image, int width, int height);
+void bbc_image_free(bbc_image *image);
+/* Loads PNG, JPEG, BMP, TGA, ... into RGBA8 (opaque alpha when the file has
+ * none). */
+bbc_result bbc_image_load(const char *path, bbc_image *image, bbc_error *err);
+/* Decodes an image held in memory (textures embedded in GLB). */
+bbc_result bbc_image_load_memory(const void *data, size_t size, bbc_image *image, bbc_error *err);
+/* Writes a PNG atomically: a temporary file renamed over `path` at the end,
+ * so a failed write never leaves a partial file. */
+bbc_result bbc_image_write_png(const char *path, const bbc_image *image, bbc_error *err);
+/* 1 when at least one texel has alpha < 255. */
+int bbc_image_has_transparency(const bbc_image *image);
+
+/* ------------------------------------------------------------------------ */
+/* Meshes and point clouds                                                   */
+/* ------------------------------------------------------------------------ */
+
+typedef struct bbc_texture {
+  char *path;      /* resolved file path; NULL for generated or embedded images */
+  bbc_image image; /* decoded texels */
+  int has_alpha;   /* 1 when some texel is not fully opaque */
+} bbc_texture;
+
+typedef struct bbc_material {
+  char *name;          /* never NULL ("" when the file has none) */
+  float base_color[4]; /* RGBA in [0, 1]; alpha is the material's opacity */
+  int texture;         /* diffuse texture: index into mesh->textures, -1 none */
+  char *texture_ref;   /* the texture path as the file wrote it, NULL when the
+                        * material names none; kept when the file is missing */
+} bbc_material;
+
+typedef enum bbc_mesh_kind {
+  BBC_MESH_TRIANGLES = 0, /* a polygon model, triangulated */
+  BBC_MESH_POINTS = 1     /* a point cloud: vertices only (thesis 2.4) */
+} bbc_mesh_kind;
+
+typedef struct bbc_mesh {
+  bbc_mesh_kind kind;
+
+  size_t vertex_count;
+  double *positions; /* 3 per vertex, model coordinates */
+  float *normals;    /* 3 per vertex, unit length; NULL for points without */
+  float *uvs;        /* 2 per vertex; NULL when the model has none */
+  uint8_t *colors;   /* 4 per vertex (RGBA), NULL when none (points only) */
+
+  size_t triangle_count;
+  uint32_t *indices;       /* 3 per triangle, counter-clockwise = front */
+  uint32_t *face_material; /* per triangle: index into materials */
+  uint32_t *face_group;    /* per triangle: index into group_names */
+
+  size_t material_count;
+  bbc_material *materials; /* at least one for triangle meshes */
+  size_t texture_count;
+  bbc_texture *textures;
+  size_t group_count;
+  char **group_names; /* object/group/node names; "" when unnamed */
+
+  /* What loading changed (reported, never silent). */
+  size_t triangles_read;     /* triangles in the input after triangulation,
+                              * before zero-area ones were dropped */
+  size_t dropped_degenerate; /* zero-area triangles removed */
+  int normals_generated;     /* 1 when normals were computed, not read */
+
+  /* Frame (thesis 2.1.4): area-weighted centre of gravity of the triangles
+   * (mean of the points for a point cloud) and the radius of the bounding
+   * sphere around it. Axis-aligned bounds of the used vertices. */
+  double center[3];
+  double radius;
+  double bbox_min[3];
+  double bbox_max[3];
+} bbc_mesh;
+
+typedef struct bbc_load_options {
+  /* Thesis parameter `vn`: 1 = smooth vertex normals (area-weighted) where
+   * the file has none; 0 = flat face normals where the file has none. Normals
+   * present in the file are always kept. */
+  int compute_normals;
+  /* 1 = decode diffuse textures; 0 = record their paths only (faster). */
+  int load_textures;
+  bbc_callbacks callbacks;
+} bbc_load_options;
+
+void bbc_load_options_default(bbc_load_options *options);
+
+/* Loads a model (through Assimp: OBJ+MTL, 3DS, glTF/GLB, PLY, AC3D, FBX,
+ * COLLADA, ...) or a point cloud (PLY without faces, XYZ text). Node
+ * transforms are applied, so the result is in the file's world frame.
+ * Texture paths are resolved against the model's folder; a texture that
+ * cannot be found or decoded is a warning and the material keeps its base
+ * colour. On failure `mesh` is left zeroed. */
+bbc_result bbc_mesh_load(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
+                         bbc_error *err);
+
+/* Releases everything the mesh owns and zeroes it. */
+void bbc_mesh_free(bbc_mesh *mesh);
+
+/* Checks and completes a mesh whose arrays have been filled in: refuses
+ * non-finite coordinates and out-of-range indices (BBC_ERROR_INVALID_GEOMETRY),
+ * drops zero-area triangles (counted in dropped_degenerate), computes missing
+ * normals (`compute_normals` as in bbc_load_options), bounds, centre and
+ * radius. BBC_ERROR_EMPTY when nothing usable remains. Loaders and
+ * generators call it; `source` names the input in messages. */
+bbc_result bbc_mesh_finalize(bbc_mesh *mesh, int compute_normals, const char *source,
+                             bbc_error *err);
+
+/* Number of triangles of each group, written to counts[group_count]. */
+void bbc_mesh_group_triangle_counts(const bbc_mesh *mesh, size_t *counts);
+
+/* ------------------------------------------------------------------------ */
+/* Writers                                                                   */
+/* ------------------------------------------------------------------------ */
+
+/* Writes OBJ + MTL (same stem) + one PNG per textured material, atomically.
+ * Groups become `g` statements, materials `usemtl`. `obj_path` must end in
+ * ".obj". */
+bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *mesh, bbc_error *err);
+
+/* ------------------------------------------------------------------------ */
+/* Parameters (thesis Appendix A, "Parameter Reference")                      */
+/* ------------------------------------------------------------------------ */
+
+typedef enum bbc_param_type {
+  BBC_PARAM_BOOL = 0, /* 0 or 1 */
+  BBC_PARAM_INT,      /* integer in [min, max] */
+  BBC_PARAM_REAL,     /* real in [min, max] */
+  BBC_PARAM_POW2      /* power of two in [min, max] */
+} bbc_param_type;
+
+/* Flags from Appendix A. */
+#define BBC_PARAM_STEP3_ONLY  1u /* '*': used only by step 3 (texturing) */
+#define BBC_PARAM_KEEPS_STEP1 2u /* '+': may change before step 2 without redoing step 1 */
+
+typedef struct bbc_params {
+  /* performance */
+  int break_steps;    /* break: stop recursive greedy select after n steps */
+  int break_num;      /* breaknum: ... only if more than n primitives valid */
+  int debug;          /* debug: graphical debug level 0..3 */
+  int res_deg;        /* res: grid theta/phi resolution, degrees per cell */
+  int vertex_normals; /* vn: compute vertex normals on load */
+  /* plane */
+  int cardboard;            /* cardboard: cardboard plane finding (2.3.7) */
+  double cb_coverage_pct;   /* cbcoverage: minimum cardboard coverage, % */
+  int clustering;           /* clustering: 0 off, 1 simple, 2 pre-clustering */
+  double epsilon_pct;       /* epsilon: error threshold, % of bounding radius */
+  int post_tweak;           /* posttweak: post-plane tweaking (2.3.3) */
+  double punish_value;      /* punishval: view-dependent penalty maximum */
+  double punish_cutoff_deg; /* punishcutoff: penalty cutoff angle, degrees */
+  double sub_penalty;       /* subpenalty: penalty factor for subcells */
+  int super_greedy;         /* supergreedy: supergreedy select (2.3.6) */
+  /* billboard */
+  int backface;         /* backface: backface culling when texturing */
+  int normal_maps;      /* nm: normal maps (2.3.1) */
+  double point_size;    /* pointsize: point size for point clouds */
+  int point_smooth;     /* pointsmooth: round points */
+  int point_skip;       /* pointskip: skip planes with fewer points */
+  double poly_skip_pct; /* polyskip: skip planes below n% coverage */
+  int prelight;         /* prelight: lighting while texturing */
+  int pure;             /* pure: only a plane's own faces in its texture */
+  int quality;          /* quality: 0 fast, 2 supersample+squash, 3 supersample */
+  int texres;           /* texres: maximum texture resolution, power of 2 */
+  /* output */
+  int format; /* format: 0 VRML2.0/Open Inventor mix, 1 VRML97 */
+} bbc_params;
+
+typedef struct bbc_param_info {
+  const char *name; /* Appendix A name, e.g. "epsilon" */
+  bbc_param_type type;
+  double min, max; /* inclusive range */
+  double default_value;
+  unsigned flags;          /* BBC_PARAM_STEP3_ONLY | BBC_PARAM_KEEPS_STEP1 */
+  const char *group;       /* "performance", "plane", "billboard", "output" */
+  const char *unit;        /* "%", "deg", "texels", "" */
+  const char *description; /* one line */
+} bbc_param_info;
+
+/* Fills every parameter with its Appendix A default. */
+void bbc_params_default(bbc_params *params);
+size_t bbc_param_count(void);
+/* i < bbc_param_count(); in Appendix A order. */
+const bbc_param_info *bbc_param_at(size_t i);
+/* NULL when no parameter has that name (case-insensitive). */
+const bbc_param_info *bbc_param_find(const char *name);
+/* Parses `text` (a number; "on"/"off"/"true"/"false" for switches) and
+ * stores it after the range check. On error the parameter is unchanged and
+ * the message names the parameter and its allowed range. */
+bbc_result bbc_params_set(bbc_params *params, const char *name, const char *text, bbc_error *err);
+/* Parses "name=value". */
+bbc_result bbc_params_set_assignment(bbc_params *params, const char *assignment, bbc_error *err);
+/* Current value of a parameter as a double. */
+double bbc_params_get(const bbc_params *params, const bbc_param_info *info);
+
+/* ------------------------------------------------------------------------ */
+/* Software rendering (no GPU): previews now, baking and evaluation later    */
+/* ------------------------------------------------------------------------ */
+
+/* An orthographic camera. The image shows the square of side
+ * 2 * half_extent around `center`, seen along `direction`. */
+typedef struct bbc_view {
+  double direction[3];   /* viewing direction, camera towards the model */
+  double up[3];          /* up hint; must not be parallel to direction */
+  double center[3];      /* model point at the image centre */
+  double half_extent;    /* half the image side, model units, > 0 */
+  int lighting;          /* 1 = Lambert shading from a light over the viewer's
+                          * left shoulder (two-sided); 0 = unlit colours */
+  float point_size_px;   /* point clouds: square splat edge in pixels (>= 1) */
+  uint8_t background[4]; /* RGBA written where nothing covers a pixel */
+} bbc_view;
+
+/* Renders `mesh` into `image` (already allocated; its size is the
+ * resolution) with a depth buffer, diffuse textures (nearest texel, repeat)
+ * times the base colour, and an alpha test at 0.5. Both faces of every
+ * triangle are drawn. A pixel is covered when its centre is inside a
+ * triangle (top-left rule on shared edges). Deterministic. */
+bbc_result bbc_render_ortho(const bbc_mesh *mesh, const bbc_view *view, bbc_image *image,
+                            bbc_error *err);
+
+/* Fills `view` to look at the whole mesh along `direction` with `up`,
+ * framing its bounding sphere with a small margin. */
+void bbc_view_frame_mesh(const bbc_mesh *mesh, const double direction[3], const double up[3],
+                         bbc_view *view);
+
+/* ------------------------------------------------------------------------ */
+/* Built-in tree generator                                                   */
+/* ------------------------------------------------------------------------ */
+
+typedef enum bbc_tree_species {
+  BBC_TREE_OAK = 0, /* broad, spreading crown */
+  BBC_TREE_PINE,    /* conifer: straight stem, whorls of branches */
+  BBC_TREE_BIRCH,   /* slender, upright, drooping twigs */
+  BBC_TREE_BUSH,    /* several stems from the ground, dense */
+  BBC_TREE_SPECIES_COUNT
+} bbc_tree_species;
+
+/* "oak", "pine", ...; NULL for an invalid value. */
+const char *bbc_tree_species_name(bbc_tree_species species);
+/* -1 when `name` names no species. */
+int bbc_tree_species_from_name(const char *name);
+
+typedef struct bbc_tree_options {
+  uint64_t seed; /* same seed and options -> identical mesh */
+  size_t leaves; /* number of leaf quads; 0 = species default */
+  bbc_tree_species species;
+  int texture_size; /* leaf texture edge in texels, power of 2 */
+  bbc_callbacks callbacks;
+} bbc_tree_options;
+
+void bbc_tree_options_default(bbc_tree_options *options);
+
+/* Generates a tree in metres, Y up, base at the origin: group "trunk"
+ * (material "bark", tapered tubes) and group "leaves" (material "leaf",
+ * quads with a generated RGBA leaf texture whose alpha is 0 or 255). */
+bbc_result bbc_tree_generate(const bbc_tree_options *options, bbc_mesh *mesh, bbc_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* BBC_H */

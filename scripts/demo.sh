@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# demo.sh — what the toolkit does today, on a fresh clone with no downloads:
+# generate the built-in tree, describe it, render it.
+set -euo pipefail
+build=${1:-build}
+bin="$build/bin/bbcgen"
+out="$build/demo"
+mkdir -p "$out"
+echo "== 1. Generate the built-in oak (seeded, deterministic)"
+"$bin" tree --species oak --seed 1 -o "$out/oak.obj" --preview "$out/oak_preview.png"
+echo "== 2. Describe it"
+"$bin" info "$out/oak.obj"
+"$bin" info --json "$out/oak.obj" > "$out/oak_info.json"
+echo "== 3. A pine, a birch and a bush too"
+for s in pine birch bush; do
+  "$bin" tree --species "$s" --seed 1 -o "$out/$s.obj" --preview "$out/${s}_preview.png"
+done
+shared="$(dirname "$0")/../../shared/data/trees/scopia/pine/pine.obj"
+if [ -f "$shared" ]; then
+  echo "== 4. A real tree from ../shared/data: the Scopia pine"
+  "$bin" info "$shared"
+  "$bin" render "$shared" -o "$out/scopia_pine.png" --size 384
+fi
+echo
+echo "Results in $out/:"
+ls -1 "$out"
+echo
+echo "The Billboard Cloud pipeline (bbcgen MODEL -o OUT.glb) is not implemented yet;"
+echo "see README.md, Status."

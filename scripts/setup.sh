@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# setup.sh — checks the Debian packages that building and testing need and
+# installs the missing ones (non-interactively) when run as root; otherwise
+# prints the exact command to run and fails. Fast when everything is present.
+#
+#   scripts/setup.sh [build|test|all]    (default: all)
+set -euo pipefail
+
+what=${1:-all}
+build_pkgs=(build-essential cmake pkg-config libassimp-dev libstb-dev libcjson-dev)
+test_pkgs=(libcmocka-dev clang-format)
+
+case "$what" in
+  build) pkgs=("${build_pkgs[@]}") ;;
+  test|all) pkgs=("${build_pkgs[@]}" "${test_pkgs[@]}") ;;
+  *) echo "setup.sh: unknown target '$what' (build, test or all)" >&2; exit 2 ;;
+esac
+
+missing=()
+status=$(dpkg-query -W -f='${Package} ${db:Status-Abbrev}\n' "${pkgs[@]}" 2>/dev/null || true)
+for p in "${pkgs[@]}"; do
+  if ! grep -q "^$p ii" <<<"$status"; then missing+=("$p"); fi
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+cmd="apt-get install -y --no-install-recommends ${missing[*]}"
+if [ "$(id -u)" -ne 0 ]; then
+  echo "setup.sh: missing Debian packages: ${missing[*]}" >&2
+  echo "Install them with:  sudo apt-get update && sudo $cmd" >&2
+  exit 1
+fi
+echo "setup.sh: installing ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+# Update the package lists only when they are missing or older than a day.
+if [ -z "$(find /var/lib/apt/lists -maxdepth 1 -name '*Packages*' -mmin -1440 2>/dev/null | head -1)" ]; then
+  apt-get update -qq
+fi
+if ! $cmd -qq; then
+  apt-get update -qq
+  $cmd -qq
+fi

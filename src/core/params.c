@@ -1,0 +1,237 @@
+/* params.c — the thesis's parameters (Appendix A, "Parameter Reference"):
+ * names, ranges, defaults, and parsing with range checks. */
+#include "internal.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+/* One table row: the public info plus where the value lives in bbc_params. */
+typedef struct param_row {
+  bbc_param_info info;
+  size_t offset;
+  int is_double; /* field is double (else int) */
+} param_row;
+
+#define F1           BBC_PARAM_KEEPS_STEP1
+#define F3           BBC_PARAM_STEP3_ONLY
+#define INT_FIELD(f) offsetof(bbc_params, f), 0
+#define DBL_FIELD(f) offsetof(bbc_params, f), 1
+
+static const param_row k_rows[] = {
+    {{"break", BBC_PARAM_INT, 5, 1e9, 100, F1, "performance", "steps",
+      "stop the recursive greedy select after n steps"},
+     INT_FIELD(break_steps)},
+    {{"breaknum", BBC_PARAM_INT, 10, 1e9, 2000, F1, "performance", "faces",
+      "... but only if more than n primitives are simply valid for the subcell"},
+     INT_FIELD(break_num)},
+    {{"debug", BBC_PARAM_INT, 0, 3, 0, F1, "performance", "",
+      "graphical debug level (0 silent ... 3)"},
+     INT_FIELD(debug)},
+    {{"res", BBC_PARAM_INT, 1, 180, 9, 0, "performance", "deg",
+      "dual grid theta/phi resolution, degrees per cell; 180 mod res = 0"},
+     INT_FIELD(res_deg)},
+    {{"vn", BBC_PARAM_BOOL, 0, 1, 1, 0, "performance", "",
+      "compute smooth vertex normals on load where the model has none"},
+     INT_FIELD(vertex_normals)},
+    {{"cardboard", BBC_PARAM_BOOL, 0, 1, 0, F1, "plane", "",
+      "cardboard plane finding (thesis 2.3.7)"},
+     INT_FIELD(cardboard)},
+    {{"cbcoverage", BBC_PARAM_REAL, 0, 99.9, 50, F3, "plane", "%",
+      "minimum cardboard coverage, % of the mother plane"},
+     DBL_FIELD(cb_coverage_pct)},
+    {{"clustering", BBC_PARAM_INT, 0, 2, 2, 0, "plane", "",
+      "face clustering: 0 off, 1 simple, 2 pre-clustering (2.3.10)"},
+     INT_FIELD(clustering)},
+    {{"epsilon", BBC_PARAM_REAL, 0.001, 99, 5, 0, "plane", "%",
+      "error threshold, % of the bounding-sphere radius"},
+     DBL_FIELD(epsilon_pct)},
+    {{"posttweak", BBC_PARAM_BOOL, 0, 1, 1, F1, "plane", "", "post-plane tweaking (2.3.3)"},
+     INT_FIELD(post_tweak)},
+    {{"punishval", BBC_PARAM_REAL, 0, 0.95, 0, F1, "plane", "",
+      "view-dependent penalty maximum (2.3.8)"},
+     DBL_FIELD(punish_value)},
+    {{"punishcutoff", BBC_PARAM_REAL, 0, 90, 30, F1, "plane", "deg",
+      "view-dependent penalty cutoff angle (2.3.8)"},
+     DBL_FIELD(punish_cutoff_deg)},
+    {{"subpenalty", BBC_PARAM_REAL, 0, 1e6, 5, F1, "plane", "",
+      "penalty factor for subcell densities"},
+     DBL_FIELD(sub_penalty)},
+    {{"supergreedy", BBC_PARAM_BOOL, 0, 1, 0, F1, "plane", "", "supergreedy select (2.3.6)"},
+     INT_FIELD(super_greedy)},
+    {{"backface", BBC_PARAM_BOOL, 0, 1, 0, F3, "billboard", "", "backface culling when texturing"},
+     INT_FIELD(backface)},
+    {{"nm", BBC_PARAM_BOOL, 0, 1, 0, F3, "billboard", "", "normal maps (2.3.1)"},
+     INT_FIELD(normal_maps)},
+    {{"pointsize", BBC_PARAM_REAL, 0, 1e6, 3.5, F3, "billboard", "px",
+      "point size for rendering point clouds"},
+     DBL_FIELD(point_size)},
+    {{"pointsmooth", BBC_PARAM_BOOL, 0, 1, 1, F3, "billboard", "", "smooth (round) points"},
+     INT_FIELD(point_smooth)},
+    {{"pointskip", BBC_PARAM_INT, 0, 1e9, 0, F3, "billboard", "points",
+      "skip planes with fewer than n points"},
+     INT_FIELD(point_skip)},
+    {{"polyskip", BBC_PARAM_REAL, 0, 99, 0, F3, "billboard", "%",
+      "skip planes whose coverage is below n% of the largest plane's (2.3.5)"},
+     DBL_FIELD(poly_skip_pct)},
+    {{"prelight", BBC_PARAM_BOOL, 0, 1, 1, F3, "billboard", "",
+      "lighting while generating textures"},
+     INT_FIELD(prelight)},
+    {{"pure", BBC_PARAM_BOOL, 0, 1, 0, F3, "billboard", "",
+      "render only the faces a plane simplifies into its texture (2.2.5)"},
+     INT_FIELD(pure)},
+    {{"quality", BBC_PARAM_INT, 0, 3, 0, F3, "billboard", "",
+      "texture quality: 0 fast, 2 supersampling + squashing, 3 supersampling only (1 = 0)"},
+     INT_FIELD(quality)},
+    {{"texres", BBC_PARAM_POW2, 4, 16384, 256, F3, "billboard", "texels",
+      "maximum texture resolution, a power of two"},
+     INT_FIELD(texres)},
+    {{"format", BBC_PARAM_INT, 0, 1, 0, 0, "output", "",
+      "VRML output: 0 VRML2.0/Open Inventor mix, 1 pure VRML97"},
+     INT_FIELD(format)},
+};
+
+#define ROW_COUNT (sizeof k_rows / sizeof k_rows[0])
+
+size_t bbc_param_count(void) {
+  return ROW_COUNT;
+}
+
+const bbc_param_info *bbc_param_at(size_t i) {
+  return i < ROW_COUNT ? &k_rows[i].info : NULL;
+}
+
+static const param_row *find_row(const char *name) {
+  for (size_t i = 0; i < ROW_COUNT; i++)
+    if (!strcasecmp(k_rows[i].info.name, name)) return &k_rows[i];
+  return NULL;
+}
+
+const bbc_param_info *bbc_param_find(const char *name) {
+  const param_row *r = name ? find_row(name) : NULL;
+  return r ? &r->info : NULL;
+}
+
+static const param_row *row_of(const bbc_param_info *info) {
+  return (const param_row *)(const void *)info; /* info is the first member */
+}
+
+static void store(bbc_params *p, const param_row *row, double v) {
+  char *base = (char *)p + row->offset;
+  if (row->is_double)
+    memcpy(base, &v, sizeof v);
+  else {
+    int iv = (int)v;
+    memcpy(base, &iv, sizeof iv);
+  }
+}
+
+double bbc_params_get(const bbc_params *p, const bbc_param_info *info) {
+  const param_row *row = row_of(info);
+  const char *base = (const char *)p + row->offset;
+  if (row->is_double) {
+    double v;
+    memcpy(&v, base, sizeof v);
+    return v;
+  }
+  int iv;
+  memcpy(&iv, base, sizeof iv);
+  return iv;
+}
+
+void bbc_params_default(bbc_params *p) {
+  memset(p, 0, sizeof *p);
+  for (size_t i = 0; i < ROW_COUNT; i++) store(p, &k_rows[i], k_rows[i].info.default_value);
+}
+
+static void describe_range(const bbc_param_info *in, char *buf, size_t n) {
+  switch (in->type) {
+  case BBC_PARAM_BOOL:
+    snprintf(buf, n, "0 or 1 (off/on)");
+    break;
+  case BBC_PARAM_INT:
+    if (in->max >= 1e9)
+      snprintf(buf, n, "an integer >= %g", in->min);
+    else
+      snprintf(buf, n, "an integer from %g to %g", in->min, in->max);
+    break;
+  case BBC_PARAM_REAL:
+    if (in->max >= 1e6)
+      snprintf(buf, n, "a number >= %g", in->min);
+    else
+      snprintf(buf, n, "a number from %g to %g", in->min, in->max);
+    break;
+  case BBC_PARAM_POW2:
+    snprintf(buf, n, "a power of two from %g to %g", in->min, in->max);
+    break;
+  }
+}
+
+bbc_result bbc_params_set(bbc_params *p, const char *name, const char *text, bbc_error *err) {
+  const param_row *row = name ? find_row(name) : NULL;
+  if (!row)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
+                     "unknown parameter '%s' (bbcgen --help lists them)", name ? name : "");
+  const bbc_param_info *in = &row->info;
+  char range[96];
+  describe_range(in, range, sizeof range);
+  if (!text || !*text)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "parameter %s needs a value: %s", in->name,
+                     range);
+  double v;
+  if (in->type == BBC_PARAM_BOOL &&
+      (!strcasecmp(text, "on") || !strcasecmp(text, "true") || !strcasecmp(text, "yes")))
+    v = 1;
+  else if (in->type == BBC_PARAM_BOOL &&
+           (!strcasecmp(text, "off") || !strcasecmp(text, "false") || !strcasecmp(text, "no")))
+    v = 0;
+  else {
+    char *end = NULL;
+    errno = 0;
+    v = strtod(text, &end);
+    while (end && isspace((unsigned char)*end)) end++;
+    if (end == text || !end || *end || errno == ERANGE || !isfinite(v))
+      return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
+                       "parameter %s: '%s' is not a number; allowed: %s", in->name, text, range);
+  }
+  if (v < in->min || v > in->max)
+    return bbc__fail(err, BBC_ERROR_OUT_OF_RANGE, "parameter %s = %s is out of range; allowed: %s",
+                     in->name, text, range);
+  if (in->type != BBC_PARAM_REAL && v != floor(v))
+    return bbc__fail(err, BBC_ERROR_OUT_OF_RANGE,
+                     "parameter %s = %s must be a whole number; allowed: %s", in->name, text,
+                     range);
+  if (in->type == BBC_PARAM_POW2) {
+    long iv = (long)v;
+    if (iv & (iv - 1))
+      return bbc__fail(err, BBC_ERROR_OUT_OF_RANGE,
+                       "parameter %s = %s is not a power of two; allowed: %s", in->name, text,
+                       range);
+  }
+  /* The dual grid has 360/res x 180/res cells: res must divide 180 (App. A). */
+  if (!strcmp(in->name, "res") && 180 % (int)v != 0)
+    return bbc__fail(err, BBC_ERROR_OUT_OF_RANGE,
+                     "parameter res = %s must divide 180 (1, 2, 3, 4, 5, 6, 9, 10, 12, 15, 18, "
+                     "20, 30, 36, 45, 60, 90, 180)",
+                     text);
+  store(p, row, v);
+  return BBC_OK;
+}
+
+bbc_result bbc_params_set_assignment(bbc_params *p, const char *assignment, bbc_error *err) {
+  const char *eq = assignment ? strchr(assignment, '=') : NULL;
+  if (!eq || eq == assignment)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "expected name=value, got '%s'",
+                     assignment ? assignment : "");
+  char name[64];
+  size_t n = (size_t)(eq - assignment);
+  if (n >= sizeof name)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "unknown parameter '%.*s'", (int)n,
+                     assignment);
+  memcpy(name, assignment, n);
+  name[n] = 0;
+  return bbc_params_set(p, name, eq + 1, err);
+}

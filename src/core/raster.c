@@ -1,0 +1,237 @@
+/* raster.c — a small software rasterizer: orthographic, depth-buffered,
+ * textured with an alpha test. Used for previews now; the texture baking of
+ * step 3 (thesis 2.1.9) and the fidelity metrics build on the same rules.
+ *
+ * Conventions: pixel (x, y) has its centre at (x + 0.5, y + 0.5) in screen
+ * units, y down. A pixel is covered when its centre lies inside the
+ * triangle; on an edge shared by two triangles the top-left rule gives it to
+ * exactly one of them. */
+#include "internal.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct camera {
+  double r[3], u[3], f[3]; /* right, up, forward (unit) */
+  double c[3];
+  double scale; /* pixels per model unit */
+  double w2, h2;
+} camera;
+
+static void normalize3(double *v) {
+  double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (l > 0)
+    for (int k = 0; k < 3; k++) v[k] /= l;
+}
+
+static void cross3(const double *a, const double *b, double *o) {
+  o[0] = a[1] * b[2] - a[2] * b[1];
+  o[1] = a[2] * b[0] - a[0] * b[2];
+  o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static int camera_setup(camera *cam, const bbc_view *v, int w, int h) {
+  memcpy(cam->f, v->direction, sizeof cam->f);
+  normalize3(cam->f);
+  cross3(cam->f, v->up, cam->r);
+  double l = sqrt(cam->r[0] * cam->r[0] + cam->r[1] * cam->r[1] + cam->r[2] * cam->r[2]);
+  if (!(l > 1e-9)) return 0;
+  normalize3(cam->r);
+  cross3(cam->r, cam->f, cam->u);
+  memcpy(cam->c, v->center, sizeof cam->c);
+  int side = w < h ? w : h;
+  cam->scale = 0.5 * side / v->half_extent;
+  cam->w2 = 0.5 * w;
+  cam->h2 = 0.5 * h;
+  return 1;
+}
+
+/* Screen position (x right, y down, pixels) and depth (model units along f). */
+static void project(const camera *cam, const double *p, double *s) {
+  double d[3] = {p[0] - cam->c[0], p[1] - cam->c[1], p[2] - cam->c[2]};
+  s[0] = cam->w2 + cam->scale * (d[0] * cam->r[0] + d[1] * cam->r[1] + d[2] * cam->r[2]);
+  s[1] = cam->h2 - cam->scale * (d[0] * cam->u[0] + d[1] * cam->u[1] + d[2] * cam->u[2]);
+  s[2] = d[0] * cam->f[0] + d[1] * cam->f[1] + d[2] * cam->f[2];
+}
+
+/* Top-left rule for edge a->b of a triangle with positive orientation in
+ * y-down screen space (clockwise on screen): top edges are horizontal with
+ * b to the right... expressed through the edge vector. */
+static int is_top_left(double ax, double ay, double bx, double by) {
+  double ex = bx - ax, ey = by - ay;
+  return (ey == 0 && ex > 0) || ey < 0;
+}
+
+static const uint8_t *sample(const bbc_image *img, float u, float v) {
+  double fu = u - floor(u), fv = v - floor(v);
+  int x = (int)(fu * img->width);
+  int y = (int)((1.0 - fv) * img->height);
+  if (x >= img->width) x = img->width - 1;
+  if (y >= img->height) y = img->height - 1;
+  if (x < 0) x = 0;
+  if (y < 0) y = 0;
+  return img->rgba + 4 * ((size_t)y * img->width + x);
+}
+
+static uint8_t to_byte(double v) {
+  if (!(v > 0)) return 0;
+  if (v >= 1) return 255;
+  return (uint8_t)(v * 255.0 + 0.5);
+}
+
+static void draw_triangle(const bbc_mesh *m, size_t t, const camera *cam, const bbc_view *view,
+                          const double *light, bbc_image *img, float *depth) {
+  const uint32_t *ix = m->indices + 3 * t;
+  double s[3][3];
+  for (int k = 0; k < 3; k++) project(cam, m->positions + 3 * ix[k], s[k]);
+  double area =
+      (s[1][0] - s[0][0]) * (s[2][1] - s[0][1]) - (s[1][1] - s[0][1]) * (s[2][0] - s[0][0]);
+  if (area == 0 || !isfinite(area)) return;
+  /* Orient so that the edge functions are positive inside. */
+  int order[3] = {0, 1, 2};
+  if (area < 0) {
+    order[1] = 2;
+    order[2] = 1;
+    area = -area;
+  }
+  const double *a = s[order[0]], *b = s[order[1]], *c = s[order[2]];
+  double minx = fmin(a[0], fmin(b[0], c[0])), maxx = fmax(a[0], fmax(b[0], c[0]));
+  double miny = fmin(a[1], fmin(b[1], c[1])), maxy = fmax(a[1], fmax(b[1], c[1]));
+  int x0 = (int)floor(minx - 0.5), x1 = (int)ceil(maxx - 0.5);
+  int y0 = (int)floor(miny - 0.5), y1 = (int)ceil(maxy - 0.5);
+  if (x0 < 0) x0 = 0;
+  if (y0 < 0) y0 = 0;
+  if (x1 > img->width - 1) x1 = img->width - 1;
+  if (y1 > img->height - 1) y1 = img->height - 1;
+  if (x0 > x1 || y0 > y1) return;
+
+  int tl0 = is_top_left(b[0], b[1], c[0], c[1]);
+  int tl1 = is_top_left(c[0], c[1], a[0], a[1]);
+  int tl2 = is_top_left(a[0], a[1], b[0], b[1]);
+
+  const bbc_material *mat = &m->materials[m->face_material[t]];
+  const bbc_image *tex = NULL;
+  if (mat->texture >= 0 && m->uvs && m->textures[mat->texture].image.rgba)
+    tex = &m->textures[mat->texture].image;
+  const float *uv[3] = {NULL, NULL, NULL};
+  const float *nv[3] = {NULL, NULL, NULL};
+  for (int k = 0; k < 3; k++) {
+    uint32_t vi = ix[order[k]];
+    if (m->uvs) uv[k] = m->uvs + 2 * vi;
+    nv[k] = m->normals + 3 * vi;
+  }
+
+  for (int y = y0; y <= y1; y++) {
+    double py = y + 0.5;
+    for (int x = x0; x <= x1; x++) {
+      double px = x + 0.5;
+      /* Edge functions: w0 opposite a, etc. */
+      double w0 = (c[0] - b[0]) * (py - b[1]) - (c[1] - b[1]) * (px - b[0]);
+      double w1 = (a[0] - c[0]) * (py - c[1]) - (a[1] - c[1]) * (px - c[0]);
+      double w2 = (b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0]);
+      if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+      if ((w0 == 0 && !tl0) || (w1 == 0 && !tl1) || (w2 == 0 && !tl2)) continue;
+      double l0 = w0 / area, l1 = w1 / area, l2 = w2 / area;
+      float z = (float)(l0 * a[2] + l1 * b[2] + l2 * c[2]);
+      size_t pi = (size_t)y * img->width + x;
+      if (z >= depth[pi]) continue;
+      double col[4] = {mat->base_color[0], mat->base_color[1], mat->base_color[2],
+                       mat->base_color[3]};
+      if (tex) {
+        float u = (float)(l0 * uv[0][0] + l1 * uv[1][0] + l2 * uv[2][0]);
+        float v = (float)(l0 * uv[0][1] + l1 * uv[1][1] + l2 * uv[2][1]);
+        const uint8_t *tx = sample(tex, u, v);
+        for (int k = 0; k < 4; k++) col[k] *= tx[k] / 255.0;
+      }
+      if (col[3] < 0.5) continue; /* alpha test */
+      if (view->lighting) {
+        double n[3];
+        for (int k = 0; k < 3; k++) n[k] = l0 * nv[0][k] + l1 * nv[1][k] + l2 * nv[2][k];
+        normalize3(n);
+        double d = fabs(n[0] * light[0] + n[1] * light[1] + n[2] * light[2]);
+        double shade = 0.35 + 0.65 * d;
+        for (int k = 0; k < 3; k++) col[k] *= shade;
+      }
+      depth[pi] = z;
+      uint8_t *o = img->rgba + 4 * pi;
+      o[0] = to_byte(col[0]);
+      o[1] = to_byte(col[1]);
+      o[2] = to_byte(col[2]);
+      o[3] = 255;
+    }
+  }
+}
+
+static void draw_point(const bbc_mesh *m, size_t v, const camera *cam, const bbc_view *view,
+                       bbc_image *img, float *depth) {
+  double s[3];
+  project(cam, m->positions + 3 * v, s);
+  double half = 0.5 * (view->point_size_px >= 1 ? view->point_size_px : 1);
+  int x0 = (int)floor(s[0] - half + 0.5), x1 = (int)floor(s[0] + half - 0.5);
+  int y0 = (int)floor(s[1] - half + 0.5), y1 = (int)floor(s[1] + half - 0.5);
+  if (x1 < x0) x1 = x0;
+  if (y1 < y0) y1 = y0;
+  uint8_t rgb[3] = {200, 200, 200};
+  if (m->colors) memcpy(rgb, m->colors + 4 * v, 3);
+  for (int y = y0 < 0 ? 0 : y0; y <= y1 && y < img->height; y++)
+    for (int x = x0 < 0 ? 0 : x0; x <= x1 && x < img->width; x++) {
+      size_t pi = (size_t)y * img->width + x;
+      if ((float)s[2] >= depth[pi]) continue;
+      depth[pi] = (float)s[2];
+      uint8_t *o = img->rgba + 4 * pi;
+      o[0] = rgb[0];
+      o[1] = rgb[1];
+      o[2] = rgb[2];
+      o[3] = 255;
+    }
+}
+
+bbc_result bbc_render_ortho(const bbc_mesh *m, const bbc_view *view, bbc_image *img,
+                            bbc_error *err) {
+  if (!img->rgba || img->width <= 0 || img->height <= 0)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "render: image not allocated");
+  if (!(view->half_extent > 0))
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "render: half_extent must be > 0");
+  camera cam;
+  if (!camera_setup(&cam, view, img->width, img->height))
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
+                     "render: up vector is parallel to the view direction");
+  size_t n = (size_t)img->width * img->height;
+  float *depth = malloc(n * sizeof *depth);
+  if (!depth) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "render: out of memory");
+  for (size_t i = 0; i < n; i++) {
+    depth[i] = FLT_MAX;
+    memcpy(img->rgba + 4 * i, view->background, 4);
+  }
+  /* Light from over the viewer's left shoulder, in model coordinates. */
+  double light[3];
+  for (int k = 0; k < 3; k++) light[k] = -0.6 * cam.f[k] + 0.6 * cam.u[k] - 0.45 * cam.r[k];
+  normalize3(light);
+  if (m->kind == BBC_MESH_POINTS) {
+    for (size_t v = 0; v < m->vertex_count; v++) draw_point(m, v, &cam, view, img, depth);
+  } else {
+    for (size_t t = 0; t < m->triangle_count; t++)
+      draw_triangle(m, t, &cam, view, light, img, depth);
+  }
+  free(depth);
+  return BBC_OK;
+}
+
+void bbc_view_frame_mesh(const bbc_mesh *m, const double direction[3], const double up[3],
+                         bbc_view *v) {
+  memset(v, 0, sizeof *v);
+  memcpy(v->direction, direction, sizeof v->direction);
+  memcpy(v->up, up, sizeof v->up);
+  /* The bounding box centre frames better than the centre of gravity. */
+  for (int k = 0; k < 3; k++) v->center[k] = 0.5 * (m->bbox_min[k] + m->bbox_max[k]);
+  double e[3] = {m->bbox_max[0] - m->bbox_min[0], m->bbox_max[1] - m->bbox_min[1],
+                 m->bbox_max[2] - m->bbox_min[2]};
+  double r = 0.5 * sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+  v->half_extent = r > 0 ? 1.02 * r : 1.0;
+  v->lighting = 1;
+  v->point_size_px = 2.0f;
+  v->background[0] = v->background[1] = v->background[2] = 255;
+  v->background[3] = 255;
+}

@@ -1,0 +1,87 @@
+/*
+ * internal.h — helpers shared by the library's source files. Not installed.
+ * Every non-static symbol here starts with `bbc__` (two underscores) so it
+ * never collides with a user's names or with the public API.
+ */
+#ifndef BBC_INTERNAL_H
+#define BBC_INTERNAL_H
+
+#include "bbc.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+
+#if defined(__GNUC__)
+#define BBC__PRINTF(fmt, args) __attribute__((format(printf, fmt, args)))
+#else
+#define BBC__PRINTF(fmt, args)
+#endif
+
+/* Sets err (when not NULL) to `code` and a formatted message; returns code. */
+bbc_result bbc__fail(bbc_error *err, bbc_result code, const char *fmt, ...) BBC__PRINTF(3, 4);
+
+/* Calls the log callback, if any, with a formatted message. */
+void bbc__log(const bbc_callbacks *cb, bbc_log_level level, const char *fmt, ...) BBC__PRINTF(3, 4);
+
+/* Calls the progress callback, if any. */
+void bbc__progress(const bbc_callbacks *cb, const char *stage, double fraction);
+
+/* strdup that returns NULL for a NULL input. */
+char *bbc__strdup(const char *s);
+
+/* Checks that `path` names a readable regular file; BBC_ERROR_NOT_FOUND,
+ * BBC_ERROR_NOT_A_FILE or BBC_ERROR_IO with a message otherwise. */
+bbc_result bbc__check_input_file(const char *path, bbc_error *err);
+
+/* Lower-case extension of `path` without the dot, written to ext (at most
+ * ext_size bytes); "" when none. */
+void bbc__path_extension(const char *path, char *ext, size_t ext_size);
+
+/* ---- atomic output files -------------------------------------------------
+ * Writes go to a temporary file in the destination folder; commit renames it
+ * over the destination, abort removes it. A crash or a failed write never
+ * leaves a half-written file under the final name. */
+typedef struct bbc__atomic_file {
+  FILE *fp;
+  char *final_path;
+  char *temp_path;
+} bbc__atomic_file;
+
+bbc_result bbc__atomic_open(bbc__atomic_file *af, const char *path, bbc_error *err);
+/* Flushes, checks for write errors, renames. Closes in every case. */
+bbc_result bbc__atomic_commit(bbc__atomic_file *af, bbc_error *err);
+void bbc__atomic_abort(bbc__atomic_file *af);
+
+/* ---- deterministic random numbers (splitmix64) --------------------------- */
+typedef struct bbc__rng {
+  uint64_t state;
+} bbc__rng;
+
+static inline uint64_t bbc__rng_next(bbc__rng *r) {
+  uint64_t z = (r->state += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+/* Uniform in [0, 1). */
+static inline double bbc__rng_uniform(bbc__rng *r) {
+  return (double)(bbc__rng_next(r) >> 11) * (1.0 / 9007199254740992.0);
+}
+/* Uniform in [lo, hi). */
+static inline double bbc__rng_range(bbc__rng *r, double lo, double hi) {
+  return lo + (hi - lo) * bbc__rng_uniform(r);
+}
+
+/* ---- loaders (src/io) ---------------------------------------------------- */
+bbc_result bbc__load_assimp(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
+                            bbc_error *err);
+/* Point clouds: PLY with vertices only, XYZ text. */
+bbc_result bbc__load_ply_points(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
+                                bbc_error *err);
+bbc_result bbc__load_xyz_points(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
+                                bbc_error *err);
+/* 1 when `path` is a PLY file whose header declares no faces (a point
+ * cloud); 0 otherwise (also when it cannot be read: the loader then reports). */
+int bbc__ply_is_point_cloud(const char *path);
+
+#endif /* BBC_INTERNAL_H */

@@ -1,0 +1,69 @@
+/* atomic_file.c — outputs written to a temporary file and renamed into place,
+ * so that a failed or interrupted run never leaves a half-written file. */
+#include "internal.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+int mkstemp(char *template_path);
+
+bbc_result bbc__atomic_open(bbc__atomic_file *af, const char *path, bbc_error *err) {
+  memset(af, 0, sizeof *af);
+  size_t n = strlen(path);
+  af->final_path = bbc__strdup(path);
+  af->temp_path = malloc(n + 16);
+  if (!af->final_path || !af->temp_path) {
+    bbc__atomic_abort(af);
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+  }
+  /* Same folder as the destination: rename() is atomic only within one file
+   * system. */
+  snprintf(af->temp_path, n + 16, "%s.tmp.XXXXXX", path);
+  int fd = mkstemp(af->temp_path);
+  if (fd < 0) {
+    int e = errno;
+    free(af->temp_path);
+    af->temp_path = NULL;
+    bbc__atomic_abort(af);
+    return bbc__fail(err, BBC_ERROR_IO, "%s: cannot create output: %s", path, strerror(e));
+  }
+  af->fp = fdopen(fd, "wb");
+  if (!af->fp) {
+    close(fd);
+    bbc__atomic_abort(af);
+    return bbc__fail(err, BBC_ERROR_IO, "%s: cannot open output", path);
+  }
+  return BBC_OK;
+}
+
+bbc_result bbc__atomic_commit(bbc__atomic_file *af, bbc_error *err) {
+  int failed = ferror(af->fp) != 0;
+  if (fflush(af->fp) != 0) failed = 1;
+  int e = errno;
+  if (fclose(af->fp) != 0) failed = 1;
+  af->fp = NULL;
+  if (!failed && rename(af->temp_path, af->final_path) != 0) {
+    e = errno;
+    failed = 1;
+  }
+  if (failed) {
+    bbc_result r =
+        bbc__fail(err, BBC_ERROR_IO, "%s: write failed: %s", af->final_path, strerror(e));
+    bbc__atomic_abort(af);
+    return r;
+  }
+  free(af->temp_path);
+  free(af->final_path);
+  af->temp_path = af->final_path = NULL;
+  return BBC_OK;
+}
+
+void bbc__atomic_abort(bbc__atomic_file *af) {
+  if (af->fp) fclose(af->fp);
+  if (af->temp_path) unlink(af->temp_path);
+  free(af->temp_path);
+  free(af->final_path);
+  memset(af, 0, sizeof *af);
+}

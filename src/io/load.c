@@ -1,0 +1,39 @@
+/* load.c — bbc_mesh_load: picks the reader for a file and finishes the mesh. */
+#include "internal.h"
+
+#include <string.h>
+
+bbc_result bbc_mesh_load(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
+                         bbc_error *err) {
+  bbc_load_options defaults;
+  if (!options) {
+    bbc_load_options_default(&defaults);
+    options = &defaults;
+  }
+  memset(mesh, 0, sizeof *mesh);
+  if (err) {
+    err->code = BBC_OK;
+    err->message[0] = 0;
+  }
+  bbc_result r = bbc__check_input_file(path, err);
+  if (r != BBC_OK) return r;
+
+  char ext[16];
+  bbc__path_extension(path, ext, sizeof ext);
+  /* Point clouds have their own readers: Assimp would either drop the points
+   * or accept damaged binary PLY bodies without complaint. */
+  if (!strcmp(ext, "xyz") || !strcmp(ext, "pts") || !strcmp(ext, "txt"))
+    r = bbc__load_xyz_points(path, options, mesh, err);
+  else if (!strcmp(ext, "ply") && bbc__ply_is_point_cloud(path))
+    r = bbc__load_ply_points(path, options, mesh, err);
+  else {
+    r = bbc__load_assimp(path, options, mesh, err);
+    if (r == BBC_OK) r = bbc_mesh_finalize(mesh, options->compute_normals, path, err);
+    if (r == BBC_OK && mesh->dropped_degenerate)
+      bbc__log(&options->callbacks, BBC_LOG_WARNING, "%s: dropped %zu zero-area triangles", path,
+               mesh->dropped_degenerate);
+    bbc__progress(&options->callbacks, "load", 1.0);
+  }
+  if (r != BBC_OK) bbc_mesh_free(mesh);
+  return r;
+}

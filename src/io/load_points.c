@@ -1,0 +1,1341 @@
+/*
+ * load_points.c — point-cloud readers (thesis section 2.4): PLY files whose
+ * header declares vertices but no faces, and XYZ text files.
+ *
+ * Why not Assimp for these? Assimp stores coordinates as float, which ruins
+ * UTM-sized scans (6e5 / 5e6 m); it does not check a binary body against the
+ * header, so a damaged file loads as garbage; and on some damaged headers it
+ * never returns. Our own reader keeps doubles, reads per-point colours and
+ * normals, and, because point clouds come straight from scanners and
+ * converters, treats every byte as untrusted: sizes are checked against the
+ * header before any record is read, and every refusal names the file and the
+ * place (line number in text, vertex index and byte offset in binary).
+ *
+ * Both readers load the whole file into memory with one fread (files are at
+ * most a few hundred MB) and parse from the buffer; the buffer is NUL
+ * terminated so strtod can never run past its end.
+ */
+#include "internal.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Coordinates beyond this are not measurements but damage (a shifted binary
+ * record read as float gives values like 1e38). */
+#define ABSURD_COORDINATE 1e30
+/* A real PLY header is a few hundred bytes; this bounds the header scan of a
+ * file that only starts with "ply". */
+#define PLY_MAX_HEADER (1u << 20)
+/* Below this many points progress is not worth reporting. */
+#define PROGRESS_MIN_POINTS 65536u
+
+/* ------------------------------------------------------------------------ */
+/* Shared helpers                                                            */
+/* ------------------------------------------------------------------------ */
+
+static int is_blank(char c) {
+  return c == ' ' || c == '\t';
+}
+
+/* Copies at most 24 characters of [s, e) into out for a message, replacing
+ * control bytes so that binary junk never ends up in a one-line message. */
+static const char *quote_token(char *out, size_t out_size, const char *s, const char *e) {
+  size_t n = 0;
+  while (s < e && n + 4 < out_size && n < 24) {
+    unsigned char c = (unsigned char)*s++;
+    out[n++] = (c < 0x20 || c == 0x7f) ? '?' : (char)c;
+  }
+  if (s < e && n + 4 <= out_size) {
+    memcpy(out + n, "...", 3);
+    n += 3;
+  }
+  out[n] = '\0';
+  return out;
+}
+
+/* Reads a whole file into a NUL-terminated buffer. */
+static bbc_result read_whole_file(const char *path, char **data, size_t *size, bbc_error *err) {
+  *data = NULL;
+  *size = 0;
+  FILE *f = fopen(path, "rb");
+  if (!f) return bbc__fail(err, BBC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+  if (fseeko(f, 0, SEEK_END) != 0) {
+    int e = errno;
+    fclose(f);
+    return bbc__fail(err, BBC_ERROR_IO, "%s: cannot seek: %s", path, strerror(e));
+  }
+  off_t end = ftello(f);
+  if (end < 0 || fseeko(f, 0, SEEK_SET) != 0) {
+    int e = errno;
+    fclose(f);
+    return bbc__fail(err, BBC_ERROR_IO, "%s: cannot determine the file size: %s", path,
+                     strerror(e));
+  }
+  if ((uintmax_t)end >= (uintmax_t)SIZE_MAX) {
+    fclose(f);
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: file is too large to load (%jd bytes)",
+                     path, (intmax_t)end);
+  }
+  size_t n = (size_t)end;
+  char *buf = malloc(n + 1);
+  if (!buf) {
+    fclose(f);
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory reading %zu bytes", path, n);
+  }
+  size_t got = n ? fread(buf, 1, n, f) : 0;
+  int read_error = ferror(f);
+  int e = errno;
+  fclose(f);
+  if (got != n) {
+    free(buf);
+    if (read_error)
+      return bbc__fail(err, BBC_ERROR_IO, "%s: read failed after %zu of %zu bytes: %s", path, got,
+                       n, strerror(e));
+    return bbc__fail(err, BBC_ERROR_IO, "%s: file shrank while reading (%zu of %zu bytes)", path,
+                     got, n);
+  }
+  buf[n] = '\0';
+  *data = buf;
+  *size = n;
+  return BBC_OK;
+}
+
+/* Line iterator over a text buffer. Accepts "\n", "\r\n" and a lone "\r"
+ * (old Mac files) as line ends. */
+typedef struct text_cursor {
+  const char *p;
+  const char *end;
+  size_t line; /* number of the line last returned, 1-based */
+} text_cursor;
+
+static int next_line(text_cursor *c, const char **ls, const char **le) {
+  if (c->p >= c->end) return 0;
+  const char *q = c->p;
+  while (q < c->end && *q != '\n' && *q != '\r') q++;
+  *ls = c->p;
+  *le = q;
+  if (q < c->end) q += (*q == '\r' && q + 1 < c->end && q[1] == '\n') ? 2 : 1;
+  c->p = q;
+  c->line++;
+  return 1;
+}
+
+/* Parses a number that starts exactly at p and must end at a blank, at the
+ * line end `le`, or (comma_ok) at a comma. Returns the position after it, or
+ * NULL when the field is not a number. strtod gets full double precision;
+ * it could skip leading white space across a line break, which the first test
+ * rules out. "nan" and "inf" parse as numbers and are refused later with a
+ * clearer message than "not a number". */
+static const char *scan_number(const char *p, const char *le, int comma_ok, double *out) {
+  if (p >= le || isspace((unsigned char)*p)) return NULL;
+  char *q;
+  double v = strtod(p, &q);
+  if (q == p || q > le) return NULL;
+  if (q < le && !is_blank(*q) && !(comma_ok && *q == ',')) return NULL;
+  *out = v;
+  return q;
+}
+
+/* End of the field starting at p (for quoting it in messages). */
+static const char *field_end(const char *p, const char *le, int comma_ok) {
+  while (p < le && !is_blank(*p) && !(comma_ok && *p == ',')) p++;
+  return p;
+}
+
+static int coordinate_ok(double v) {
+  return isfinite(v) && fabs(v) <= ABSURD_COORDINATE;
+}
+
+static int progress_step(size_t count, size_t *step) {
+  *step = count / 8 ? count / 8 : 1;
+  return count >= PROGRESS_MIN_POINTS;
+}
+
+/* ------------------------------------------------------------------------ */
+/* PLY header                                                                */
+/* ------------------------------------------------------------------------ */
+
+typedef enum ply_type {
+  PLY_NONE = 0,
+  PLY_INT8,
+  PLY_UINT8,
+  PLY_INT16,
+  PLY_UINT16,
+  PLY_INT32,
+  PLY_UINT32,
+  PLY_FLOAT32,
+  PLY_FLOAT64
+} ply_type;
+
+static const struct {
+  const char *name;
+  ply_type type;
+} ply_type_names[] = {
+    {"char", PLY_INT8},       {"int8", PLY_INT8},       {"uchar", PLY_UINT8},
+    {"uint8", PLY_UINT8},     {"short", PLY_INT16},     {"int16", PLY_INT16},
+    {"ushort", PLY_UINT16},   {"uint16", PLY_UINT16},   {"int", PLY_INT32},
+    {"int32", PLY_INT32},     {"uint", PLY_UINT32},     {"uint32", PLY_UINT32},
+    {"float", PLY_FLOAT32},   {"float32", PLY_FLOAT32}, {"double", PLY_FLOAT64},
+    {"float64", PLY_FLOAT64},
+};
+
+static size_t ply_type_size(ply_type t) {
+  switch (t) {
+  case PLY_INT8:
+  case PLY_UINT8:
+    return 1;
+  case PLY_INT16:
+  case PLY_UINT16:
+    return 2;
+  case PLY_INT32:
+  case PLY_UINT32:
+  case PLY_FLOAT32:
+    return 4;
+  case PLY_FLOAT64:
+    return 8;
+  case PLY_NONE:
+    break;
+  }
+  return 0;
+}
+
+static int ply_type_is_integer(ply_type t) {
+  return t != PLY_NONE && t != PLY_FLOAT32 && t != PLY_FLOAT64;
+}
+
+/* Largest value a list count of type t can hold (for ASCII validation). */
+static double ply_type_max(ply_type t) {
+  switch (t) {
+  case PLY_INT8:
+    return 127.0;
+  case PLY_UINT8:
+    return 255.0;
+  case PLY_INT16:
+    return 32767.0;
+  case PLY_UINT16:
+    return 65535.0;
+  case PLY_INT32:
+    return 2147483647.0;
+  case PLY_UINT32:
+    return 4294967295.0;
+  default:
+    break;
+  }
+  return 0.0;
+}
+
+typedef struct ply_property {
+  char *name;
+  ply_type type;       /* scalar type, or the item type of a list */
+  ply_type count_type; /* PLY_NONE for a scalar property */
+} ply_property;
+
+typedef struct ply_element {
+  char *name;
+  uint64_t count;
+  ply_property *props;
+  size_t prop_count;
+  size_t prop_cap;
+  /* Binary size of one record: exact when `fixed`, else the minimum (every
+   * list empty). */
+  uint64_t record_size;
+  int fixed;
+} ply_element;
+
+typedef enum ply_format { PLY_ASCII, PLY_BINARY_LE, PLY_BINARY_BE } ply_format;
+
+typedef struct ply_header {
+  ply_format format;
+  ply_element *elements;
+  size_t element_count;
+  size_t element_cap;
+  size_t body_offset;  /* first byte after the end_header line */
+  size_t header_lines; /* lines up to and including end_header */
+} ply_header;
+
+static void ply_header_free(ply_header *h) {
+  for (size_t i = 0; i < h->element_count; i++) {
+    for (size_t k = 0; k < h->elements[i].prop_count; k++) free(h->elements[i].props[k].name);
+    free(h->elements[i].props);
+    free(h->elements[i].name);
+  }
+  free(h->elements);
+  memset(h, 0, sizeof *h);
+}
+
+typedef struct token {
+  const char *s;
+  size_t n;
+} token;
+
+static int tok_is(token t, const char *word) {
+  size_t n = strlen(word);
+  return t.n == n && memcmp(t.s, word, n) == 0;
+}
+
+static char *tok_dup(token t) {
+  char *d = malloc(t.n + 1);
+  if (d) {
+    memcpy(d, t.s, t.n);
+    d[t.n] = '\0';
+  }
+  return d;
+}
+
+static ply_type ply_type_from_token(token t) {
+  for (size_t i = 0; i < sizeof ply_type_names / sizeof ply_type_names[0]; i++)
+    if (tok_is(t, ply_type_names[i].name)) return ply_type_names[i].type;
+  return PLY_NONE;
+}
+
+/* Parses a non-negative decimal count; 0 when it is not one. */
+static int parse_count(token t, uint64_t *out) {
+  uint64_t v = 0;
+  if (t.n == 0) return 0;
+  for (size_t i = 0; i < t.n; i++) {
+    unsigned d = (unsigned)(unsigned char)t.s[i] - '0';
+    if (d > 9 || v > (UINT64_MAX - d) / 10) return 0;
+    v = v * 10 + d;
+  }
+  *out = v;
+  return 1;
+}
+
+static ply_element *ply_find_element(const ply_header *h, const char *name) {
+  for (size_t i = 0; i < h->element_count; i++)
+    if (strcmp(h->elements[i].name, name) == 0) return &h->elements[i];
+  return NULL;
+}
+
+#define HEADER_MAX_TOKENS 6
+
+/* Parses the header at the start of buf[0, size). `whole` says whether buf
+ * holds the whole file (only for the wording of "no end_header"). Errors go to
+ * err (may be NULL: bbc__ply_is_point_cloud only wants a yes or no). */
+static bbc_result ply_parse_header(const char *path, const char *buf, size_t size, int whole,
+                                   ply_header *h, bbc_error *err) {
+  memset(h, 0, sizeof *h);
+  /* The magic first: anything else is not a PLY file at all. */
+  if (size < 3 || memcmp(buf, "ply", 3) != 0 || (size > 3 && buf[3] != '\n' && buf[3] != '\r'))
+    return bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
+                     "%s: not a PLY file (it does not start with the line \"ply\")", path);
+
+  size_t scan = size < PLY_MAX_HEADER ? size : PLY_MAX_HEADER;
+  text_cursor c = {buf, buf + scan, 0};
+  const char *ls, *le;
+  int have_format = 0, done = 0;
+  bbc_result r = BBC_OK;
+  char q[40];
+  next_line(&c, &ls, &le); /* "ply" */
+  while (!done && next_line(&c, &ls, &le)) {
+    token t[HEADER_MAX_TOKENS];
+    size_t nt = 0, extra = 0;
+    for (const char *p = ls; p < le;) {
+      while (p < le && is_blank(*p)) p++;
+      if (p >= le) break;
+      const char *s = p;
+      while (p < le && !is_blank(*p)) {
+        /* Control bytes in the header mean binary data, not a header line. */
+        if ((unsigned char)*p < 0x20 || *p == 0x7f) {
+          r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                        "%s: PLY header line %zu contains binary data; the header is damaged "
+                        "or has no end_header line",
+                        path, c.line);
+          goto fail;
+        }
+        p++;
+      }
+      if (nt < HEADER_MAX_TOKENS)
+        t[nt++] = (token){s, (size_t)(p - s)};
+      else
+        extra++;
+    }
+    if (nt == 0) continue; /* tolerate blank lines */
+    if (tok_is(t[0], "comment") || tok_is(t[0], "obj_info")) continue;
+    if (extra) nt = HEADER_MAX_TOKENS + 1; /* too many tokens for any keyword */
+
+    if (tok_is(t[0], "format")) {
+      if (have_format || nt != 3) {
+        r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                      "%s: PLY header line %zu: malformed format line (expected \"format "
+                      "ascii|binary_little_endian|binary_big_endian 1.0\" once)",
+                      path, c.line);
+        goto fail;
+      }
+      if (tok_is(t[1], "ascii"))
+        h->format = PLY_ASCII;
+      else if (tok_is(t[1], "binary_little_endian"))
+        h->format = PLY_BINARY_LE;
+      else if (tok_is(t[1], "binary_big_endian"))
+        h->format = PLY_BINARY_BE;
+      else {
+        r = bbc__fail(err, BBC_ERROR_CORRUPT, "%s: PLY header line %zu: unknown format '%s'", path,
+                      c.line, quote_token(q, sizeof q, t[1].s, t[1].s + t[1].n));
+        goto fail;
+      }
+      if (!tok_is(t[2], "1.0") && !tok_is(t[2], "1")) {
+        r = bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
+                      "%s: PLY header line %zu: version '%s' is not supported (only 1.0)", path,
+                      c.line, quote_token(q, sizeof q, t[2].s, t[2].s + t[2].n));
+        goto fail;
+      }
+      have_format = 1;
+    } else if (tok_is(t[0], "element")) {
+      uint64_t count;
+      if (nt != 3 || !parse_count(t[2], &count)) {
+        r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                      "%s: PLY header line %zu: malformed element line (expected \"element "
+                      "<name> <count>\" with a whole non-negative count)",
+                      path, c.line);
+        goto fail;
+      }
+      if (h->element_count == h->element_cap) {
+        size_t cap = h->element_cap ? 2 * h->element_cap : 4;
+        ply_element *ne = realloc(h->elements, cap * sizeof *ne);
+        if (!ne) goto oom;
+        h->elements = ne;
+        h->element_cap = cap;
+      }
+      ply_element *e = &h->elements[h->element_count];
+      memset(e, 0, sizeof *e);
+      e->name = tok_dup(t[1]);
+      if (!e->name) goto oom;
+      h->element_count++;
+      if (ply_find_element(h, e->name) != e) {
+        r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                      "%s: PLY header line %zu: element '%s' is declared twice", path, c.line,
+                      quote_token(q, sizeof q, t[1].s, t[1].s + t[1].n));
+        goto fail;
+      }
+      e->count = count;
+      e->fixed = 1;
+    } else if (tok_is(t[0], "property")) {
+      if (h->element_count == 0) {
+        r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                      "%s: PLY header line %zu: property before any element", path, c.line);
+        goto fail;
+      }
+      ply_element *e = &h->elements[h->element_count - 1];
+      ply_property p = {NULL, PLY_NONE, PLY_NONE};
+      token name;
+      if (nt >= 2 && tok_is(t[1], "list")) {
+        if (nt != 5) {
+          r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                        "%s: PLY header line %zu: malformed list property (expected \"property "
+                        "list <count type> <item type> <name>\")",
+                        path, c.line);
+          goto fail;
+        }
+        p.count_type = ply_type_from_token(t[2]);
+        p.type = ply_type_from_token(t[3]);
+        token bad = p.count_type == PLY_NONE ? t[2] : t[3];
+        if (p.count_type == PLY_NONE || p.type == PLY_NONE) {
+          r = bbc__fail(err, BBC_ERROR_CORRUPT, "%s: PLY header line %zu: unknown type '%s'", path,
+                        c.line, quote_token(q, sizeof q, bad.s, bad.s + bad.n));
+          goto fail;
+        }
+        if (!ply_type_is_integer(p.count_type)) {
+          r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                        "%s: PLY header line %zu: list count type must be an integer type", path,
+                        c.line);
+          goto fail;
+        }
+        name = t[4];
+      } else {
+        if (nt != 3) {
+          r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                        "%s: PLY header line %zu: malformed property (expected \"property "
+                        "<type> <name>\")",
+                        path, c.line);
+          goto fail;
+        }
+        p.type = ply_type_from_token(t[1]);
+        if (p.type == PLY_NONE) {
+          r = bbc__fail(err, BBC_ERROR_CORRUPT, "%s: PLY header line %zu: unknown type '%s'", path,
+                        c.line, quote_token(q, sizeof q, t[1].s, t[1].s + t[1].n));
+          goto fail;
+        }
+        name = t[2];
+      }
+      if (e->prop_count == e->prop_cap) {
+        size_t cap = e->prop_cap ? 2 * e->prop_cap : 8;
+        ply_property *np = realloc(e->props, cap * sizeof *np);
+        if (!np) goto oom;
+        e->props = np;
+        e->prop_cap = cap;
+      }
+      p.name = tok_dup(name);
+      if (!p.name) goto oom;
+      e->props[e->prop_count++] = p;
+      if (p.count_type != PLY_NONE) {
+        e->fixed = 0;
+        e->record_size += ply_type_size(p.count_type);
+      } else {
+        e->record_size += ply_type_size(p.type);
+      }
+    } else if (tok_is(t[0], "end_header")) {
+      if (nt != 1) {
+        r = bbc__fail(err, BBC_ERROR_CORRUPT, "%s: PLY header line %zu: malformed end_header", path,
+                      c.line);
+        goto fail;
+      }
+      done = 1;
+    } else if (isdigit((unsigned char)t[0].s[0]) || strchr("+-.", t[0].s[0])) {
+      /* Numbers where keywords belong: the data begins without end_header. */
+      r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                    "%s: PLY header line %zu starts with a number ('%s'): the header has no "
+                    "end_header line before the data",
+                    path, c.line, quote_token(q, sizeof q, t[0].s, t[0].s + t[0].n));
+      goto fail;
+    } else {
+      r = bbc__fail(err, BBC_ERROR_CORRUPT, "%s: PLY header line %zu: unknown keyword '%s'", path,
+                    c.line, quote_token(q, sizeof q, t[0].s, t[0].s + t[0].n));
+      goto fail;
+    }
+  }
+  if (!done) {
+    if (scan < size || !whole)
+      r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                    "%s: PLY header has no end_header line in its first %u bytes; the header is "
+                    "damaged",
+                    path, PLY_MAX_HEADER);
+    else
+      r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                    "%s: PLY header has no end_header line (the file ends inside the header, "
+                    "after line %zu); the file is truncated or not a complete PLY file",
+                    path, c.line);
+    goto fail;
+  }
+  if (!have_format) {
+    r = bbc__fail(err, BBC_ERROR_CORRUPT, "%s: PLY header has no format line", path);
+    goto fail;
+  }
+  h->body_offset = (size_t)(c.p - buf);
+  h->header_lines = c.line;
+  return BBC_OK;
+
+oom:
+  r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the PLY header", path);
+fail:
+  ply_header_free(h);
+  return r;
+}
+
+/* 1 when some element that Assimp would turn into faces has records. */
+static int ply_has_faces(const ply_header *h) {
+  for (size_t i = 0; i < h->element_count; i++)
+    if ((strcmp(h->elements[i].name, "face") == 0 ||
+         strcmp(h->elements[i].name, "tristrips") == 0) &&
+        h->elements[i].count > 0)
+      return 1;
+  return 0;
+}
+
+/* Says whether the point reader, not Assimp, should read a .ply file. Besides
+ * point clouds proper, that includes every file that starts like a PLY file
+ * but whose header cannot be parsed: the point reader then names the exact
+ * problem, whereas Assimp 5 never returns on some of them (a header without
+ * end_header makes it loop forever). Only files whose header is sound and
+ * declares faces go to Assimp. */
+int bbc__ply_is_point_cloud(const char *path) {
+  if (!path) return 0;
+  FILE *f = fopen(path, "rb");
+  if (!f) return 0;
+  /* Only the header matters, and it fits in PLY_MAX_HEADER. */
+  char *buf = malloc(PLY_MAX_HEADER + 1);
+  if (!buf) {
+    fclose(f);
+    return 0;
+  }
+  size_t n = fread(buf, 1, PLY_MAX_HEADER, f);
+  int failed = ferror(f);
+  fclose(f);
+  buf[n] = '\0';
+  int yes = 0;
+  if (!failed && n >= 3 && memcmp(buf, "ply", 3) == 0 &&
+      (n == 3 || buf[3] == '\n' || buf[3] == '\r')) {
+    ply_header h;
+    if (ply_parse_header(path, buf, n, n < PLY_MAX_HEADER, &h, NULL) == BBC_OK) {
+      yes = !ply_has_faces(&h);
+      ply_header_free(&h);
+    } else {
+      yes = 1;
+    }
+  }
+  free(buf);
+  return yes;
+}
+
+/* ------------------------------------------------------------------------ */
+/* PLY vertex mapping and storage                                            */
+/* ------------------------------------------------------------------------ */
+
+enum { V_X, V_Y, V_Z, V_NX, V_NY, V_NZ, V_R, V_G, V_B, V_A, V_COUNT };
+
+typedef struct ply_points {
+  const char *path;
+  const ply_element *vertex;
+  size_t prop[V_COUNT]; /* property index of each value, SIZE_MAX when absent */
+  int has_normals;
+  int has_colors;
+  int float_colors;     /* some colour channel is float: convert at the end */
+  float *raw_colors;    /* 4 per point while float_colors */
+  double raw_color_max; /* largest float colour value seen */
+  size_t zero_normals;  /* normals of length 0 in the file */
+  bbc_mesh *mesh;
+} ply_points;
+
+static size_t ply_find_property(const ply_element *e, const char *name) {
+  for (size_t k = 0; k < e->prop_count; k++)
+    if (strcmp(e->props[k].name, name) == 0) return k;
+  return SIZE_MAX;
+}
+
+/* Finds the vertex properties we read; refuses a vertex element without
+ * scalar x, y, z. Normals and colours are used only when complete. */
+static bbc_result ply_map_vertex(ply_points *pp, bbc_error *err) {
+  static const char *const names[V_COUNT] = {"x",  "y",   "z",     "nx",   "ny",
+                                             "nz", "red", "green", "blue", "alpha"};
+  static const char *const alt[V_COUNT] = {
+      NULL,           NULL,           NULL, NULL, NULL, NULL, "diffuse_red", "diffuse_green",
+      "diffuse_blue", "diffuse_alpha"};
+  const ply_element *e = pp->vertex;
+  for (int v = 0; v < V_COUNT; v++) {
+    size_t k = ply_find_property(e, names[v]);
+    if (k == SIZE_MAX && alt[v]) k = ply_find_property(e, alt[v]);
+    if (k != SIZE_MAX && e->props[k].count_type != PLY_NONE) {
+      if (v <= V_Z)
+        return bbc__fail(err, BBC_ERROR_CORRUPT,
+                         "%s: PLY vertex property '%s' is a list, not a coordinate", pp->path,
+                         e->props[k].name);
+      k = SIZE_MAX; /* a list where a scalar belongs: ignore it */
+    }
+    pp->prop[v] = k;
+  }
+  for (int v = V_X; v <= V_Z; v++)
+    if (pp->prop[v] == SIZE_MAX)
+      return bbc__fail(err, BBC_ERROR_CORRUPT,
+                       "%s: PLY vertex element has no '%s' property; cannot read points", pp->path,
+                       names[v]);
+  pp->has_normals =
+      pp->prop[V_NX] != SIZE_MAX && pp->prop[V_NY] != SIZE_MAX && pp->prop[V_NZ] != SIZE_MAX;
+  pp->has_colors =
+      pp->prop[V_R] != SIZE_MAX && pp->prop[V_G] != SIZE_MAX && pp->prop[V_B] != SIZE_MAX;
+  if (pp->has_colors)
+    for (int v = V_R; v <= V_A; v++)
+      if (pp->prop[v] != SIZE_MAX && !ply_type_is_integer(e->props[pp->prop[v]].type))
+        pp->float_colors = 1;
+  return BBC_OK;
+}
+
+static bbc_result ply_alloc_points(ply_points *pp, bbc_error *err) {
+  bbc_mesh *m = pp->mesh;
+  uint64_t n = pp->vertex->count;
+  if (n > SIZE_MAX / (3 * sizeof(double)))
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: too many points (%llu) for this machine",
+                     pp->path, (unsigned long long)n);
+  m->kind = BBC_MESH_POINTS;
+  m->positions = malloc((size_t)n * 3 * sizeof(double));
+  if (!m->positions) goto oom;
+  if (pp->has_normals) {
+    m->normals = malloc((size_t)n * 3 * sizeof(float));
+    if (!m->normals) goto oom;
+  }
+  if (pp->has_colors) {
+    m->colors = malloc((size_t)n * 4);
+    if (!m->colors) goto oom;
+    if (pp->float_colors) {
+      pp->raw_colors = malloc((size_t)n * 4 * sizeof(float));
+      if (!pp->raw_colors) goto oom;
+    }
+  }
+  m->vertex_count = (size_t)n;
+  return BBC_OK;
+oom:
+  return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %llu points", pp->path,
+                   (unsigned long long)n);
+}
+
+/* An integer colour channel as 8 bits. */
+static uint8_t color_from_integer(double v, ply_type t) {
+  if (t == PLY_UINT16) v = v / 257.0; /* 16-bit colour: scale, do not clamp */
+  if (!(v > 0)) return 0;
+  if (v >= 255) return 255;
+  return (uint8_t)(v + 0.5);
+}
+
+/* Checks and stores vertex i from its property values. Messages locate it by
+ * `line` (ASCII, 1-based) or, when line is 0, by the byte `offset` (binary). */
+static bbc_result ply_store_vertex(ply_points *pp, size_t i, const double *vals, size_t line,
+                                   uint64_t offset, bbc_error *err) {
+  bbc_mesh *m = pp->mesh;
+  double *pos = m->positions + 3 * i;
+  for (int k = 0; k < 3; k++) {
+    double v = vals[pp->prop[V_X + k]];
+    if (!coordinate_ok(v)) {
+      if (line)
+        return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
+                         "%s: line %zu: vertex %zu has a non-finite or absurd coordinate (%g)",
+                         pp->path, line, i, v);
+      return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
+                       "%s: vertex %zu (byte offset %llu) has a non-finite or absurd coordinate "
+                       "(%g)",
+                       pp->path, i, (unsigned long long)offset, v);
+    }
+    pos[k] = v;
+  }
+  if (pp->has_normals) {
+    double n[3], len = 0.0, big = 0.0;
+    for (int k = 0; k < 3; k++) {
+      n[k] = vals[pp->prop[V_NX + k]];
+      if (!isfinite(n[k])) {
+        if (line)
+          return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
+                           "%s: line %zu: vertex %zu has a non-finite normal (%g)", pp->path, line,
+                           i, n[k]);
+        return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
+                         "%s: vertex %zu (byte offset %llu) has a non-finite normal (%g)", pp->path,
+                         i, (unsigned long long)offset, n[k]);
+      }
+      if (fabs(n[k]) > big) big = fabs(n[k]);
+    }
+    float *out = m->normals + 3 * i;
+    if (big > 0.0) {
+      /* Scale first so that huge components cannot overflow the square. */
+      for (int k = 0; k < 3; k++) {
+        n[k] /= big;
+        len += n[k] * n[k];
+      }
+      len = sqrt(len);
+      for (int k = 0; k < 3; k++) out[k] = (float)(n[k] / len);
+    } else {
+      out[0] = out[1] = out[2] = 0.0f;
+      pp->zero_normals++;
+    }
+  }
+  if (pp->has_colors) {
+    for (int k = 0; k < 4; k++) {
+      size_t prop = pp->prop[V_R + k];
+      double v = prop == SIZE_MAX ? 255.0 : vals[prop];
+      if (pp->float_colors) {
+        if (isnan(v)) v = 0.0;
+        if (prop != SIZE_MAX && !ply_type_is_integer(pp->vertex->props[prop].type) &&
+            v > pp->raw_color_max)
+          pp->raw_color_max = v;
+        pp->raw_colors[4 * i + k] = (float)v;
+      } else {
+        m->colors[4 * i + k] =
+            color_from_integer(v, prop == SIZE_MAX ? PLY_UINT8 : pp->vertex->props[prop].type);
+      }
+    }
+  }
+  return BBC_OK;
+}
+
+/* Float colour channels are usually in [0, 1], but some writers store 0..255
+ * in floats; the largest value tells which. Integer channels keep their
+ * usual meaning. */
+static void ply_finish_colors(ply_points *pp) {
+  if (!pp->has_colors || !pp->float_colors) return;
+  double scale = pp->raw_color_max > 1.0 ? 1.0 : 255.0;
+  for (size_t i = 0; i < pp->mesh->vertex_count; i++)
+    for (int k = 0; k < 4; k++) {
+      size_t prop = pp->prop[V_R + k];
+      double v = pp->raw_colors[4 * i + k];
+      if (prop != SIZE_MAX && !ply_type_is_integer(pp->vertex->props[prop].type)) {
+        v *= scale;
+        pp->mesh->colors[4 * i + k] = !(v > 0) ? 0 : v >= 255 ? 255 : (uint8_t)(v + 0.5);
+      } else {
+        pp->mesh->colors[4 * i + k] =
+            color_from_integer(v, prop == SIZE_MAX ? PLY_UINT8 : pp->vertex->props[prop].type);
+      }
+    }
+}
+
+/* "the 70051 vertices" / "the 12 'face' records, ..." for size messages. */
+static void ply_describe_counts(const ply_header *h, char *out, size_t size) {
+  size_t used = 0, listed = 0, nonzero = 0;
+  for (size_t i = 0; i < h->element_count; i++) nonzero += h->elements[i].count > 0;
+  out[0] = '\0';
+  for (size_t i = 0; i < h->element_count && used + 1 < size; i++) {
+    const ply_element *e = &h->elements[i];
+    if (e->count == 0) continue;
+    const char *sep = listed == 0 ? "the " : listed + 1 == nonzero ? " and " : ", ";
+    int w;
+    if (listed == 3) {
+      w = snprintf(out + used, size - used, " and more");
+      used += w > 0 ? (size_t)w : 0;
+      break;
+    }
+    if (strcmp(e->name, "vertex") == 0)
+      w = snprintf(out + used, size - used, "%s%llu %s", sep, (unsigned long long)e->count,
+                   e->count == 1 ? "vertex" : "vertices");
+    else
+      w = snprintf(out + used, size - used, "%s%llu '%.40s' record%s", sep,
+                   (unsigned long long)e->count, e->name, e->count == 1 ? "" : "s");
+    if (w < 0) break;
+    used += (size_t)w;
+    if (used >= size) used = size - 1;
+    listed++;
+  }
+  if (listed == 0) snprintf(out, size, "the elements");
+}
+
+/* ------------------------------------------------------------------------ */
+/* PLY binary body                                                           */
+/* ------------------------------------------------------------------------ */
+
+static int host_is_big_endian(void) {
+  const uint16_t one = 1;
+  unsigned char b;
+  memcpy(&b, &one, 1);
+  return b == 0;
+}
+
+static double ply_binary_value(const unsigned char *p, ply_type t, int swap) {
+  unsigned char b[8];
+  size_t n = ply_type_size(t);
+  if (swap)
+    for (size_t i = 0; i < n; i++) b[i] = p[n - 1 - i];
+  else
+    memcpy(b, p, n);
+  switch (t) {
+  case PLY_INT8: {
+    int8_t v;
+    memcpy(&v, b, 1);
+    return v;
+  }
+  case PLY_UINT8:
+    return b[0];
+  case PLY_INT16: {
+    int16_t v;
+    memcpy(&v, b, 2);
+    return v;
+  }
+  case PLY_UINT16: {
+    uint16_t v;
+    memcpy(&v, b, 2);
+    return v;
+  }
+  case PLY_INT32: {
+    int32_t v;
+    memcpy(&v, b, 4);
+    return v;
+  }
+  case PLY_UINT32: {
+    uint32_t v;
+    memcpy(&v, b, 4);
+    return v;
+  }
+  case PLY_FLOAT32: {
+    float v;
+    memcpy(&v, b, 4);
+    return v;
+  }
+  case PLY_FLOAT64: {
+    double v;
+    memcpy(&v, b, 8);
+    return v;
+  }
+  case PLY_NONE:
+    break;
+  }
+  return 0.0;
+}
+
+typedef enum record_status { RECORD_OK, RECORD_SHORT, RECORD_NEGATIVE_LIST } record_status;
+
+/* Reads one binary record at *pp; scalar values go to vals (when not NULL).
+ * On a negative list length *bad_prop names the property. */
+static record_status ply_binary_record(const ply_element *e, const unsigned char **pp,
+                                       const unsigned char *end, int swap, double *vals,
+                                       size_t *bad_prop) {
+  const unsigned char *p = *pp;
+  for (size_t k = 0; k < e->prop_count; k++) {
+    const ply_property *pr = &e->props[k];
+    if (pr->count_type == PLY_NONE) {
+      size_t sz = ply_type_size(pr->type);
+      if ((size_t)(end - p) < sz) return RECORD_SHORT;
+      if (vals) vals[k] = ply_binary_value(p, pr->type, swap);
+      p += sz;
+    } else {
+      size_t csz = ply_type_size(pr->count_type);
+      if ((size_t)(end - p) < csz) return RECORD_SHORT;
+      double n = ply_binary_value(p, pr->count_type, swap);
+      p += csz;
+      if (n < 0) {
+        *bad_prop = k;
+        return RECORD_NEGATIVE_LIST;
+      }
+      /* n < 2^32 and item size <= 8: the product fits in 64 bits. */
+      uint64_t bytes = (uint64_t)n * ply_type_size(pr->type);
+      if ((uint64_t)(end - p) < bytes) return RECORD_SHORT;
+      p += bytes;
+    }
+  }
+  *pp = p;
+  return RECORD_OK;
+}
+
+/* a * b + c, saturating at UINT64_MAX. */
+static uint64_t mul_add_sat(uint64_t a, uint64_t b, uint64_t c) {
+  if (a != 0 && b > UINT64_MAX / a) return UINT64_MAX;
+  uint64_t m = a * b;
+  return m > UINT64_MAX - c ? UINT64_MAX : m + c;
+}
+
+static bbc_result ply_read_binary(ply_points *pp, const ply_header *h, const char *buf, size_t size,
+                                  const bbc_callbacks *cb, bbc_error *err) {
+  const char *path = pp->path;
+  const unsigned char *body = (const unsigned char *)buf + h->body_offset;
+  const unsigned char *end = (const unsigned char *)buf + size;
+  uint64_t have = (uint64_t)(end - body);
+  int swap = (h->format == PLY_BINARY_BE) != host_is_big_endian();
+  int all_fixed = 1;
+  char what[200];
+
+  /* Before reading a single record, check that the body can hold what the
+   * header declares: this refuses absurd counts without allocating, and it
+   * names truncation (the usual damage) as the reason instead of whatever
+   * garbage a shifted record would produce. */
+  uint64_t need = 0;
+  for (size_t i = 0; i < h->element_count; i++) {
+    need = mul_add_sat(h->elements[i].count, h->elements[i].record_size, need);
+    if (!h->elements[i].fixed && h->elements[i].count > 0) all_fixed = 0;
+  }
+  if (need > have) {
+    ply_describe_counts(h, what, sizeof what);
+    if (need == UINT64_MAX)
+      return bbc__fail(err, BBC_ERROR_CORRUPT,
+                       "%s: binary body has %llu bytes, far fewer than %s declared in the "
+                       "header need; the header is damaged",
+                       path, (unsigned long long)have, what);
+    return bbc__fail(err, BBC_ERROR_CORRUPT,
+                     "%s: binary body is %llu byte%s shorter than %s declared in the header "
+                     "need%s (%llu of %llu bytes); the file is truncated or damaged (a binary "
+                     "file passed through a text-mode line-ending conversion looks like this)",
+                     path, (unsigned long long)(need - have), need - have == 1 ? "" : "s", what,
+                     all_fixed ? "" : " at least", (unsigned long long)have,
+                     (unsigned long long)need);
+  }
+
+  bbc_result r = ply_alloc_points(pp, err);
+  if (r != BBC_OK) return r;
+  double *vals = malloc((pp->vertex->prop_count ? pp->vertex->prop_count : 1) * sizeof *vals);
+  if (!vals) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+
+  size_t step;
+  int report = progress_step(pp->mesh->vertex_count, &step);
+  const unsigned char *p = body;
+  for (size_t ei = 0; ei < h->element_count; ei++) {
+    const ply_element *e = &h->elements[ei];
+    int is_vertex = e == pp->vertex;
+    if (!is_vertex && e->fixed) {
+      p += e->count * e->record_size; /* within the body: checked above */
+      continue;
+    }
+    for (uint64_t i = 0; i < e->count; i++) {
+      const unsigned char *start = p;
+      size_t bad = 0;
+      record_status st = ply_binary_record(e, &p, end, swap, is_vertex ? vals : NULL, &bad);
+      if (st == RECORD_SHORT) {
+        r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                      "%s: binary body ends inside %s %llu (byte offset %llu) of the %llu the "
+                      "header declares; the file is truncated or damaged",
+                      path, e->name, (unsigned long long)i,
+                      (unsigned long long)(start - body) + h->body_offset,
+                      (unsigned long long)e->count);
+        goto done;
+      }
+      if (st == RECORD_NEGATIVE_LIST) {
+        r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                      "%s: %s %llu (byte offset %llu) has a negative length for list '%s'; the "
+                      "file is damaged",
+                      path, e->name, (unsigned long long)i,
+                      (unsigned long long)(start - body) + h->body_offset, e->props[bad].name);
+        goto done;
+      }
+      if (is_vertex) {
+        r = ply_store_vertex(pp, (size_t)i, vals, 0, (uint64_t)(start - body) + h->body_offset,
+                             err);
+        if (r != BBC_OK) goto done;
+        if (report && i % step == 0) bbc__progress(cb, "load", 0.9 * (double)i / (double)e->count);
+      }
+    }
+  }
+
+  /* Bytes left over mean the counts and the data disagree: refuse rather
+   * than guess which records are real. A final newline some writers append
+   * is harmless. */
+  uint64_t extra = (uint64_t)(end - p);
+  if (extra > 0) {
+    int harmless = extra <= 2;
+    for (const unsigned char *q = p; harmless && q < end; q++)
+      harmless = *q == '\n' || *q == '\r' || *q == ' ' || *q == '\0';
+    if (!harmless) {
+      ply_describe_counts(h, what, sizeof what);
+      r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                    "%s: binary body is %llu byte%s longer than %s declared in the header need "
+                    "(%llu of %llu bytes); the file is damaged or its header counts are wrong",
+                    path, (unsigned long long)extra, extra == 1 ? "" : "s", what,
+                    (unsigned long long)have, (unsigned long long)(have - extra));
+      goto done;
+    }
+  }
+  r = BBC_OK;
+done:
+  free(vals);
+  return r;
+}
+
+/* ------------------------------------------------------------------------ */
+/* PLY ASCII body                                                            */
+/* ------------------------------------------------------------------------ */
+
+/* Parses one ASCII record (one line) of element e. */
+static bbc_result ply_ascii_record(const char *path, const ply_element *e, uint64_t index,
+                                   const char *p, const char *le, size_t line, double *vals,
+                                   bbc_error *err) {
+  char q[40];
+  for (size_t k = 0; k < e->prop_count; k++) {
+    const ply_property *pr = &e->props[k];
+    double v;
+    while (p < le && is_blank(*p)) p++;
+    if (p >= le)
+      return bbc__fail(err, BBC_ERROR_CORRUPT,
+                       "%s: line %zu: %s %llu has too few values: property '%s' (%zu of %zu) "
+                       "is missing",
+                       path, line, e->name, (unsigned long long)index, pr->name, k + 1,
+                       e->prop_count);
+    const char *next = scan_number(p, le, 0, &v);
+    if (!next)
+      return bbc__fail(err, BBC_ERROR_CORRUPT,
+                       "%s: line %zu: %s %llu: value '%s' of property '%s' is not a number", path,
+                       line, e->name, (unsigned long long)index,
+                       quote_token(q, sizeof q, p, field_end(p, le, 0)), pr->name);
+    if (pr->count_type == PLY_NONE) {
+      if (vals) vals[k] = v;
+      p = next;
+      continue;
+    }
+    if (!(v >= 0) || v != floor(v) || v > ply_type_max(pr->count_type))
+      return bbc__fail(err, BBC_ERROR_CORRUPT,
+                       "%s: line %zu: %s %llu: list length '%s' of '%s' is not a valid count", path,
+                       line, e->name, (unsigned long long)index,
+                       quote_token(q, sizeof q, p, field_end(p, le, 0)), pr->name);
+    p = next;
+    /* Items are bounded by the line length, so a huge count cannot loop long. */
+    for (double j = 0; j < v; j++) {
+      double item;
+      while (p < le && is_blank(*p)) p++;
+      if (p >= le)
+        return bbc__fail(err, BBC_ERROR_CORRUPT,
+                         "%s: line %zu: %s %llu: list '%s' has %.0f of the %.0f items its length "
+                         "promises",
+                         path, line, e->name, (unsigned long long)index, pr->name, j, v);
+      next = scan_number(p, le, 0, &item);
+      if (!next)
+        return bbc__fail(err, BBC_ERROR_CORRUPT,
+                         "%s: line %zu: %s %llu: item '%s' of list '%s' is not a number", path,
+                         line, e->name, (unsigned long long)index,
+                         quote_token(q, sizeof q, p, field_end(p, le, 0)), pr->name);
+      p = next;
+    }
+  }
+  while (p < le && is_blank(*p)) p++;
+  if (p < le)
+    return bbc__fail(err, BBC_ERROR_CORRUPT,
+                     "%s: line %zu: %s %llu has more values than the %zu properties the header "
+                     "declares ('%s' is extra)",
+                     path, line, e->name, (unsigned long long)index, e->prop_count,
+                     quote_token(q, sizeof q, p, field_end(p, le, 0)));
+  return BBC_OK;
+}
+
+static bbc_result ply_read_ascii(ply_points *pp, const ply_header *h, const char *buf, size_t size,
+                                 const bbc_callbacks *cb, bbc_error *err) {
+  const char *path = pp->path;
+  uint64_t have = size - h->body_offset;
+  char what[200];
+
+  /* Every value takes at least one character: a cheap bound that refuses
+   * absurd counts before allocating (memory stays within a small multiple of
+   * the file size). It is loose on purpose, so that an ordinary missing value
+   * is reported by the parser with its line number. */
+  uint64_t need = 0;
+  for (size_t i = 0; i < h->element_count; i++)
+    need = mul_add_sat(h->elements[i].count, h->elements[i].prop_count, need);
+  if (need > have) {
+    ply_describe_counts(h, what, sizeof what);
+    return bbc__fail(err, BBC_ERROR_CORRUPT,
+                     "%s: ASCII body has %llu bytes, but %s declared in the header need at least "
+                     "%llu; the file is truncated or the header is damaged",
+                     path, (unsigned long long)have, what, (unsigned long long)need);
+  }
+
+  bbc_result r = ply_alloc_points(pp, err);
+  if (r != BBC_OK) return r;
+  double *vals = malloc((pp->vertex->prop_count ? pp->vertex->prop_count : 1) * sizeof *vals);
+  if (!vals) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+
+  text_cursor c = {buf + h->body_offset, buf + size, h->header_lines};
+  const char *ls = NULL, *le = NULL;
+  size_t step;
+  int report = progress_step(pp->mesh->vertex_count, &step);
+  for (size_t ei = 0; ei < h->element_count; ei++) {
+    const ply_element *e = &h->elements[ei];
+    int is_vertex = e == pp->vertex;
+    if (e->prop_count == 0) continue; /* records without values take no text */
+    for (uint64_t i = 0; i < e->count; i++) {
+      int got;
+      do { /* blank lines between records are tolerated */
+        got = next_line(&c, &ls, &le);
+        while (got && ls < le && is_blank(*ls)) ls++;
+      } while (got && ls == le);
+      if (!got) {
+        r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                      "%s: file ends after line %zu with %llu of the %llu %s records the header "
+                      "declares; the file is truncated",
+                      path, c.line, (unsigned long long)i, (unsigned long long)e->count, e->name);
+        goto done;
+      }
+      r = ply_ascii_record(path, e, i, ls, le, c.line, is_vertex ? vals : NULL, err);
+      if (r != BBC_OK) goto done;
+      if (is_vertex) {
+        r = ply_store_vertex(pp, (size_t)i, vals, c.line, 0, err);
+        if (r != BBC_OK) goto done;
+        if (report && i % step == 0) bbc__progress(cb, "load", 0.9 * (double)i / (double)e->count);
+      }
+    }
+  }
+  while (next_line(&c, &ls, &le)) {
+    while (ls < le && (is_blank(*ls) || *ls == '\0')) ls++;
+    if (ls < le) {
+      char q[40];
+      r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                    "%s: line %zu: unexpected data '%s' after the last element the header "
+                    "declares; the header's counts are wrong or the file is damaged",
+                    path, c.line, quote_token(q, sizeof q, ls, field_end(ls, le, 0)));
+      goto done;
+    }
+  }
+  r = BBC_OK;
+done:
+  free(vals);
+  return r;
+}
+
+/* ------------------------------------------------------------------------ */
+/* Loader entry points                                                       */
+/* ------------------------------------------------------------------------ */
+
+/* Runs bbc_mesh_finalize and reports the end of the stage; frees on error. */
+static bbc_result finish_points(bbc_mesh *mesh, const bbc_load_options *options, const char *path,
+                                bbc_error *err) {
+  bbc_result r = bbc_mesh_finalize(mesh, options ? options->compute_normals : 1, path, err);
+  if (r != BBC_OK) {
+    bbc_mesh_free(mesh);
+    return r;
+  }
+  bbc__progress(options ? &options->callbacks : NULL, "load", 1.0);
+  return BBC_OK;
+}
+
+bbc_result bbc__load_ply_points(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
+                                bbc_error *err) {
+  const bbc_callbacks *cb = options ? &options->callbacks : NULL;
+  memset(mesh, 0, sizeof *mesh);
+  bbc_result r = bbc__check_input_file(path, err);
+  if (r != BBC_OK) return r;
+  char *buf;
+  size_t size;
+  r = read_whole_file(path, &buf, &size, err);
+  if (r != BBC_OK) return r;
+
+  ply_header h;
+  r = ply_parse_header(path, buf, size, 1, &h, err);
+  if (r != BBC_OK) {
+    free(buf);
+    return r;
+  }
+  ply_points pp;
+  memset(&pp, 0, sizeof pp);
+  pp.path = path;
+  pp.mesh = mesh;
+  pp.vertex = ply_find_element(&h, "vertex");
+  if (!pp.vertex) {
+    r = bbc__fail(err, BBC_ERROR_EMPTY, "%s: PLY header declares no vertex element", path);
+    goto fail;
+  }
+  if (ply_has_faces(&h)) {
+    /* The router sends meshes to Assimp; reaching here is a caller's mix-up,
+     * but refusing is better than silently dropping the faces. */
+    r = bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
+                  "%s: PLY file has faces; it is a mesh, not a point cloud", path);
+    goto fail;
+  }
+  r = ply_map_vertex(&pp, err);
+  if (r != BBC_OK) goto fail;
+  if (pp.vertex->count == 0) {
+    r = bbc__fail(err, BBC_ERROR_EMPTY, "%s: PLY header declares 0 vertices; no points to load",
+                  path);
+    goto fail;
+  }
+
+  if (h.format == PLY_ASCII)
+    r = ply_read_ascii(&pp, &h, buf, size, cb, err);
+  else
+    r = ply_read_binary(&pp, &h, buf, size, cb, err);
+  if (r != BBC_OK) goto fail;
+  ply_finish_colors(&pp);
+  if (pp.zero_normals)
+    bbc__log(cb, BBC_LOG_WARNING, "%s: %zu of %zu points have a zero-length normal (kept as 0)",
+             path, pp.zero_normals, mesh->vertex_count);
+  free(pp.raw_colors);
+  ply_header_free(&h);
+  free(buf);
+  return finish_points(mesh, options, path, err);
+
+fail:
+  free(pp.raw_colors);
+  ply_header_free(&h);
+  free(buf);
+  bbc_mesh_free(mesh);
+  return r;
+}
+
+/* ------------------------------------------------------------------------ */
+/* XYZ text                                                                  */
+/* ------------------------------------------------------------------------ */
+
+/* Skips the separator between two fields: blanks with at most one comma. */
+static const char *skip_separator(const char *p, const char *le) {
+  while (p < le && is_blank(*p)) p++;
+  if (p < le && *p == ',') {
+    p++;
+    while (p < le && is_blank(*p)) p++;
+  }
+  return p;
+}
+
+bbc_result bbc__load_xyz_points(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
+                                bbc_error *err) {
+  const bbc_callbacks *cb = options ? &options->callbacks : NULL;
+  memset(mesh, 0, sizeof *mesh);
+  bbc_result r = bbc__check_input_file(path, err);
+  if (r != BBC_OK) return r;
+  char *buf;
+  size_t size;
+  r = read_whole_file(path, &buf, &size, err);
+  if (r != BBC_OK) return r;
+
+  /* A NUL byte near the start means a binary file with the wrong extension;
+   * say so instead of complaining about its first "line". */
+  const char *nul = memchr(buf, '\0', size < 65536 ? size : 65536);
+  if (nul) {
+    size_t offset = (size_t)(nul - buf);
+    free(buf);
+    return bbc__fail(err, BBC_ERROR_CORRUPT,
+                     "%s: contains binary data (a zero byte at offset %zu); an XYZ file is text",
+                     path, offset);
+  }
+
+  /* Every point has a line of its own, so the line count bounds the number
+   * of points (one quick pass); the array shrinks to fit at the end. */
+  size_t cap = 1;
+  for (size_t i = 0; i < size; i++) cap += buf[i] == '\n' || buf[i] == '\r';
+  if (cap > SIZE_MAX / (3 * sizeof(double))) {
+    free(buf);
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: file is too large", path);
+  }
+  mesh->kind = BBC_MESH_POINTS;
+  mesh->positions = malloc(cap * 3 * sizeof(double));
+  if (!mesh->positions) {
+    free(buf);
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory for up to %zu points", path,
+                     cap);
+  }
+
+  text_cursor c = {buf, buf + size, 0};
+  if (size >= 3 && memcmp(buf, "\xEF\xBB\xBF", 3) == 0) c.p += 3; /* UTF-8 byte order mark */
+  const char *ls, *le;
+  size_t n = 0, header_line = 0;
+  size_t next_report = size / 8, report = size >= 4u * 1024 * 1024;
+  char q[40];
+  while (next_line(&c, &ls, &le)) {
+    const char *p = ls;
+    while (p < le && is_blank(*p)) p++;
+    if (p == le || *p == '#' || (*p == '/' && p + 1 < le && p[1] == '/')) continue;
+    double v[3];
+    int k = 0;
+    for (; k < 3; k++) {
+      if (k > 0) {
+        p = skip_separator(p, le);
+        if (p >= le) break;
+      }
+      const char *next = scan_number(p, le, 1, &v[k]);
+      if (!next) {
+        /* Words before the first point are a column header ("x y z i"). */
+        if (k == 0 && n == 0 && header_line == 0) {
+          header_line = c.line;
+          break;
+        }
+        r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                      "%s: line %zu: field %d ('%s') is not a number; expected \"x y z\"", path,
+                      c.line, k + 1, quote_token(q, sizeof q, p, field_end(p, le, 1)));
+        goto fail;
+      }
+      p = next;
+    }
+    if (header_line == c.line) continue;
+    /* Leica PTS (routed here too) starts with a line holding the point count. */
+    if (k == 1 && n == 0 && header_line == 0 && v[0] >= 0 && v[0] == floor(v[0])) {
+      header_line = c.line;
+      continue;
+    }
+    if (k < 3) {
+      r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                    "%s: line %zu has %d number%s; a point needs three (x y z)", path, c.line, k,
+                    k == 1 ? "" : "s");
+      goto fail;
+    }
+    for (int j = 0; j < 3; j++)
+      if (!coordinate_ok(v[j])) {
+        r = bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
+                      "%s: line %zu: point %zu has a non-finite or absurd coordinate (%g)", path,
+                      c.line, n, v[j]);
+        goto fail;
+      }
+    if (n == cap) { /* cannot happen given the bound; kept as a guard */
+      r = bbc__fail(err, BBC_ERROR_CORRUPT, "%s: line %zu: more points than expected", path,
+                    c.line);
+      goto fail;
+    }
+    memcpy(mesh->positions + 3 * n, v, sizeof v);
+    n++;
+    if (report && (size_t)(c.p - buf) >= next_report) {
+      bbc__progress(cb, "load", 0.9 * (double)(c.p - buf) / (double)size);
+      next_report += size / 8;
+    }
+  }
+  free(buf);
+  buf = NULL;
+  if (n == 0) {
+    r = bbc__fail(err, BBC_ERROR_EMPTY,
+                  "%s: no points: the file has only comments, blank lines or a header", path);
+    goto fail;
+  }
+  double *shrunk = realloc(mesh->positions, n * 3 * sizeof(double));
+  if (shrunk) mesh->positions = shrunk;
+  mesh->vertex_count = n;
+  return finish_points(mesh, options, path, err);
+
+fail:
+  free(buf);
+  bbc_mesh_free(mesh);
+  return r;
+}

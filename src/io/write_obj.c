@@ -1,0 +1,138 @@
+/* write_obj.c — Wavefront OBJ + MTL + PNG textures, every file atomic. */
+#include "internal.h"
+
+#include <ctype.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Base name of a path without folder and extension, into out. */
+static void path_stem(const char *path, char *out, size_t n) {
+  const char *s = strrchr(path, '/');
+  s = s ? s + 1 : path;
+  snprintf(out, n, "%s", s);
+  char *dot = strrchr(out, '.');
+  if (dot) *dot = 0;
+}
+
+/* Names safe in file names and OBJ statements: [A-Za-z0-9_.-], others '_'. */
+static void sanitize(const char *in, char *out, size_t n) {
+  size_t i = 0;
+  for (; in[i] && i + 1 < n; i++) {
+    unsigned char c = (unsigned char)in[i];
+    out[i] = (char)(isalnum(c) || c == '_' || c == '-' || c == '.' ? c : '_');
+  }
+  out[i] = 0;
+  if (i == 0) snprintf(out, n, "unnamed");
+}
+
+bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m, bbc_error *err) {
+  size_t len = strlen(obj_path);
+  if (len < 5 || strcmp(obj_path + len - 4, ".obj"))
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: OBJ output must end in .obj", obj_path);
+  if (m->kind != BBC_MESH_TRIANGLES || m->triangle_count == 0)
+    return bbc__fail(err, BBC_ERROR_EMPTY, "%s: nothing to write (no triangles)", obj_path);
+
+  char stem[256], dir[2048];
+  path_stem(obj_path, stem, sizeof stem);
+  snprintf(dir, sizeof dir, "%s", obj_path);
+  char *slash = strrchr(dir, '/');
+  if (slash)
+    slash[1] = 0;
+  else
+    dir[0] = 0;
+
+  /* Texture file names: <stem>_<first material using it>.png */
+  char(*tex_names)[400] = calloc(m->texture_count ? m->texture_count : 1, sizeof *tex_names);
+  if (!tex_names) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", obj_path);
+  bbc_result r = BBC_OK;
+  for (size_t i = 0; i < m->material_count && r == BBC_OK; i++) {
+    int t = m->materials[i].texture;
+    if (t < 0 || tex_names[t][0] || !m->textures[t].image.rgba) continue;
+    char safe[128];
+    sanitize(m->materials[i].name, safe, sizeof safe);
+    snprintf(tex_names[t], sizeof tex_names[t], "%s_%s.png", stem, safe);
+    char full[2600];
+    snprintf(full, sizeof full, "%s%s", dir, tex_names[t]);
+    r = bbc_image_write_png(full, &m->textures[t].image, err);
+  }
+  if (r != BBC_OK) {
+    free(tex_names);
+    return r;
+  }
+
+  /* MTL */
+  char mtl_path[2400];
+  snprintf(mtl_path, sizeof mtl_path, "%s%s.mtl", dir, stem);
+  bbc__atomic_file af;
+  r = bbc__atomic_open(&af, mtl_path, err);
+  if (r != BBC_OK) {
+    free(tex_names);
+    return r;
+  }
+  fprintf(af.fp, "# written by bbcgen %s\n", BBC_VERSION_STRING);
+  for (size_t i = 0; i < m->material_count; i++) {
+    const bbc_material *mat = &m->materials[i];
+    char safe[128];
+    sanitize(mat->name, safe, sizeof safe);
+    fprintf(af.fp, "\nnewmtl %s\nKd %.6g %.6g %.6g\n", safe, mat->base_color[0], mat->base_color[1],
+            mat->base_color[2]);
+    if (mat->base_color[3] < 1.0f) fprintf(af.fp, "d %.6g\n", mat->base_color[3]);
+    if (mat->texture >= 0 && tex_names[mat->texture][0]) {
+      fprintf(af.fp, "map_Kd %s\n", tex_names[mat->texture]);
+      if (m->textures[mat->texture].has_alpha)
+        fprintf(af.fp, "map_d %s\n", tex_names[mat->texture]);
+    }
+  }
+  free(tex_names);
+  r = bbc__atomic_commit(&af, err);
+  if (r != BBC_OK) return r;
+
+  /* OBJ */
+  r = bbc__atomic_open(&af, obj_path, err);
+  if (r != BBC_OK) return r;
+  FILE *f = af.fp;
+  fprintf(f, "# written by bbcgen %s: %zu vertices, %zu triangles\nmtllib %s.mtl\n",
+          BBC_VERSION_STRING, m->vertex_count, m->triangle_count, stem);
+  for (size_t v = 0; v < m->vertex_count; v++) {
+    const double *p = m->positions + 3 * v;
+    fprintf(f, "v %.9g %.9g %.9g\n", p[0], p[1], p[2]);
+  }
+  if (m->uvs)
+    for (size_t v = 0; v < m->vertex_count; v++)
+      fprintf(f, "vt %.7g %.7g\n", m->uvs[2 * v], m->uvs[2 * v + 1]);
+  if (m->normals)
+    for (size_t v = 0; v < m->vertex_count; v++)
+      fprintf(f, "vn %.6g %.6g %.6g\n", m->normals[3 * v], m->normals[3 * v + 1],
+              m->normals[3 * v + 2]);
+  uint32_t cur_group = UINT32_MAX, cur_mat = UINT32_MAX;
+  for (size_t t = 0; t < m->triangle_count; t++) {
+    if (m->face_group[t] != cur_group) {
+      cur_group = m->face_group[t];
+      char safe[256];
+      sanitize(m->group_names[cur_group], safe, sizeof safe);
+      fprintf(f, "g %s\n", safe);
+      cur_mat = UINT32_MAX; /* restate the material inside each group */
+    }
+    if (m->face_material[t] != cur_mat) {
+      cur_mat = m->face_material[t];
+      char safe[128];
+      sanitize(m->materials[cur_mat].name, safe, sizeof safe);
+      fprintf(f, "usemtl %s\n", safe);
+    }
+    const uint32_t *ix = m->indices + 3 * t;
+    fputc('f', f);
+    for (int k = 0; k < 3; k++) {
+      unsigned long i = (unsigned long)ix[k] + 1;
+      if (m->uvs && m->normals)
+        fprintf(f, " %lu/%lu/%lu", i, i, i);
+      else if (m->uvs)
+        fprintf(f, " %lu/%lu", i, i);
+      else if (m->normals)
+        fprintf(f, " %lu//%lu", i, i);
+      else
+        fprintf(f, " %lu", i);
+    }
+    fputc('\n', f);
+  }
+  return bbc__atomic_commit(&af, err);
+}

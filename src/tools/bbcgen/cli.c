@@ -1,0 +1,158 @@
+/* cli.c — shared command-line machinery of bbcgen. */
+#include "cli.h"
+
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+void cli_init(cli *c) {
+  memset(c, 0, sizeof *c);
+  bbc_params_default(&c->params);
+  c->callbacks.progress = cli_progress;
+  c->callbacks.log = cli_log;
+  c->callbacks.user = c;
+}
+
+void cli_error(const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  fputs("bbcgen: ", stderr);
+  vfprintf(stderr, fmt, ap);
+  fputc('\n', stderr);
+  va_end(ap);
+}
+
+void cli_info(const cli *c, const char *fmt, ...) {
+  if (c->quiet) return;
+  va_list ap;
+  va_start(ap, fmt);
+  vfprintf(stderr, fmt, ap);
+  fputc('\n', stderr);
+  va_end(ap);
+}
+
+int cli_exit_code(bbc_result r, int output) {
+  switch (r) {
+  case BBC_OK:
+    return EXIT_OK;
+  case BBC_ERROR_INVALID_ARGUMENT:
+  case BBC_ERROR_OUT_OF_RANGE:
+    return EXIT_USAGE;
+  case BBC_ERROR_NOT_FOUND:
+  case BBC_ERROR_NOT_A_FILE:
+    return EXIT_INPUT;
+  case BBC_ERROR_IO:
+    return output ? EXIT_OUTPUT : EXIT_INPUT;
+  case BBC_ERROR_UNSUPPORTED_FORMAT:
+    return EXIT_FORMAT;
+  case BBC_ERROR_CORRUPT:
+  case BBC_ERROR_INVALID_GEOMETRY:
+  case BBC_ERROR_EMPTY:
+    return EXIT_DAMAGED;
+  case BBC_ERROR_OUT_OF_MEMORY:
+  case BBC_RESULT_COUNT:
+    break;
+  }
+  return EXIT_RESOURCES;
+}
+
+int cli_fail(const bbc_error *err, int output) {
+  cli_error("%s", err->message[0] ? err->message : bbc_result_string(err->code));
+  return cli_exit_code(err->code, output);
+}
+
+const char *cli_option_value(int argc, char **argv, int *i) {
+  if (*i + 1 >= argc) {
+    cli_error("option %s needs a value", argv[*i]);
+    return NULL;
+  }
+  return argv[++*i];
+}
+
+long long cli_parse_count(const char *opt, const char *text, long long max) {
+  char *end;
+  errno = 0;
+  long long v = strtoll(text, &end, 10);
+  if (end == text || *end || errno || v < 0 || v > max) {
+    cli_error("option %s: '%s' is not a whole number from 0 to %lld", opt, text, max);
+    return -1;
+  }
+  return v;
+}
+
+int cli_common_option(cli *c, int argc, char **argv, int *i) {
+  const char *a = argv[*i];
+  if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) {
+    c->quiet = 1;
+    return 1;
+  }
+  bbc_error err;
+  if (!strcmp(a, "--set")) {
+    const char *v = cli_option_value(argc, argv, i);
+    if (!v) return -1;
+    if (bbc_params_set_assignment(&c->params, v, &err) != BBC_OK) {
+      cli_error("%s", err.message);
+      return -1;
+    }
+    return 1;
+  }
+  if (!strncmp(a, "--", 2) && bbc_param_find(a + 2)) {
+    const char *v = cli_option_value(argc, argv, i);
+    if (!v) return -1;
+    if (bbc_params_set(&c->params, a + 2, v, &err) != BBC_OK) {
+      cli_error("%s", err.message);
+      return -1;
+    }
+    return 1;
+  }
+  return 0;
+}
+
+double cli_now(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void cli_log(void *user, bbc_log_level level, const char *message) {
+  const cli *c = user;
+  if (level == BBC_LOG_INFO && c->quiet) return;
+  fprintf(stderr, "bbcgen: %s%s\n", level == BBC_LOG_WARNING ? "warning: " : "", message);
+}
+
+void print_parameter_help(FILE *out) {
+  static const char *const groups[] = {"performance", "plane", "billboard", "output"};
+  fprintf(out, "Parameters (thesis Appendix A; set with --set NAME=VALUE or --NAME VALUE;\n"
+               "* = used by step 3 only, + = can change before step 2 without redoing step 1):\n");
+  for (size_t g = 0; g < sizeof groups / sizeof groups[0]; g++) {
+    fprintf(out, "  %s:\n", groups[g]);
+    for (size_t i = 0; i < bbc_param_count(); i++) {
+      const bbc_param_info *p = bbc_param_at(i);
+      if (strcmp(p->group, groups[g])) continue;
+      char range[64];
+      switch (p->type) {
+      case BBC_PARAM_BOOL:
+        snprintf(range, sizeof range, "0|1");
+        break;
+      case BBC_PARAM_POW2:
+        snprintf(range, sizeof range, "2^n %g..%g", p->min, p->max);
+        break;
+      default:
+        if (p->max >= 1e6)
+          snprintf(range, sizeof range, ">=%g", p->min);
+        else
+          snprintf(range, sizeof range, "%g..%g", p->min, p->max);
+      }
+      char name[32];
+      snprintf(name, sizeof name, "%s%s", p->name,
+               p->flags & BBC_PARAM_STEP3_ONLY ? "*"
+                                               : (p->flags & BBC_PARAM_KEEPS_STEP1 ? "+" : ""));
+      char def[32];
+      snprintf(def, sizeof def, "%g%s", p->default_value, p->unit[0] == '%' ? "%" : "");
+      fprintf(out, "    %-14s %-16s default %-7s %s\n", name, range, def, p->description);
+    }
+  }
+}

@@ -1,0 +1,64 @@
+/* cli.h — what the bbcgen commands share: exit codes, messages, parameter
+ * options, progress. The library never prints; these do. */
+#ifndef BBCGEN_CLI_H
+#define BBCGEN_CLI_H
+
+#include "bbc.h"
+
+#include <stdio.h>
+
+/* Exit codes (documented in --help and README). */
+enum {
+  EXIT_OK = 0,
+  EXIT_USAGE = 1,    /* bad command line, unknown or out-of-range parameter */
+  EXIT_INPUT = 2,    /* input missing, a folder, or unreadable */
+  EXIT_FORMAT = 3,   /* input in a format no reader knows */
+  EXIT_DAMAGED = 4,  /* input damaged, truncated, invalid or empty */
+  EXIT_OUTPUT = 5,   /* an output could not be written */
+  EXIT_RESOURCES = 6 /* out of memory */
+};
+
+/* Shared state of one bbcgen run. */
+typedef struct cli {
+  int quiet;         /* --quiet: no progress bar, no info lines */
+  bbc_params params; /* thesis parameters after --set/--NAME options */
+  bbc_callbacks callbacks;
+} cli;
+
+void cli_init(cli *c);
+/* Prints "bbcgen: <msg>" to stderr. */
+void cli_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* Prints an info line to stderr unless quiet. */
+void cli_info(const cli *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* Exit code for a library result; `output` = the failing object was an output. */
+int cli_exit_code(bbc_result r, int output);
+/* Prints the error message and returns the exit code. */
+int cli_fail(const bbc_error *err, int output);
+
+/* Tries the options every command accepts at argv[*i]: --quiet, --set
+ * NAME=VALUE, and --NAME VALUE for any thesis parameter. Returns 1 when
+ * consumed (advancing *i past its value), 0 when not an option of these, and
+ * -1 after printing an error (exit EXIT_USAGE). */
+int cli_common_option(cli *c, int argc, char **argv, int *i);
+/* Value of the option at argv[*i]; prints an error and returns NULL when missing. */
+const char *cli_option_value(int argc, char **argv, int *i);
+/* Parses a non-negative integer option value; -1 on error (printed). */
+long long cli_parse_count(const char *opt, const char *text, long long max);
+
+/* Progress bar on a terminal (stderr), nothing otherwise or when quiet. */
+void cli_progress(void *user, const char *stage, double fraction);
+void cli_log(void *user, bbc_log_level level, const char *message);
+
+/* Seconds from a monotonic clock. */
+double cli_now(void);
+
+/* Commands. */
+int cmd_info(cli *c, int argc, char **argv);
+int cmd_tree(cli *c, int argc, char **argv);
+int cmd_render(cli *c, int argc, char **argv);
+int cmd_setup(cli *c, int argc, char **argv);
+void print_parameter_help(FILE *out);
+/* Front, side and top views side by side into a PNG; returns an exit code. */
+int render_views_png(const bbc_mesh *m, int z_up, int size, int lighting, const char *out_path);
+
+#endif

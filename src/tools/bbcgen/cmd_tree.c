@@ -1,0 +1,90 @@
+/* cmd_tree.c — `bbcgen tree`: the built-in procedural tree as OBJ+MTL+PNG. */
+#include "cli.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+int cmd_tree(cli *c, int argc, char **argv) {
+  bbc_tree_options opt;
+  bbc_tree_options_default(&opt);
+  opt.callbacks = c->callbacks;
+  const char *out = NULL, *preview = NULL;
+  for (int i = 1; i < argc; i++) {
+    int k = cli_common_option(c, argc, argv, &i);
+    if (k < 0) return EXIT_USAGE;
+    if (k) continue;
+    const char *a = argv[i];
+    if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
+      if (!(out = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+    } else if (!strcmp(a, "--preview")) {
+      if (!(preview = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+    } else if (!strcmp(a, "--seed")) {
+      const char *v = cli_option_value(argc, argv, &i);
+      long long s = v ? cli_parse_count(a, v, 0x7fffffffffffffffLL) : -1;
+      if (s < 0) return EXIT_USAGE;
+      opt.seed = (uint64_t)s;
+    } else if (!strcmp(a, "--leaves")) {
+      const char *v = cli_option_value(argc, argv, &i);
+      long long n = v ? cli_parse_count(a, v, 5000000) : -1;
+      if (n < 0) return EXIT_USAGE;
+      opt.leaves = (size_t)n;
+    } else if (!strcmp(a, "--texture-size")) {
+      const char *v = cli_option_value(argc, argv, &i);
+      long long n = v ? cli_parse_count(a, v, 4096) : -1;
+      if (n < 0) return EXIT_USAGE;
+      opt.texture_size = (int)n;
+    } else if (!strcmp(a, "--species")) {
+      const char *v = cli_option_value(argc, argv, &i);
+      if (!v) return EXIT_USAGE;
+      int s = bbc_tree_species_from_name(v);
+      if (s < 0) {
+        cli_error("tree: unknown species '%s' (oak, pine, birch, bush)", v);
+        return EXIT_USAGE;
+      }
+      opt.species = (bbc_tree_species)s;
+    } else {
+      cli_error("tree: unknown option '%s'", a);
+      return EXIT_USAGE;
+    }
+  }
+  if (!out) {
+    cli_error("tree: where to? usage: bbcgen tree [--seed S] [--leaves N] [--species NAME] "
+              "-o OUT.obj");
+    return EXIT_USAGE;
+  }
+  size_t n = strlen(out);
+  if (n < 5 || strcmp(out + n - 4, ".obj")) {
+    cli_error("tree: the output must be an .obj file (OBJ + MTL + PNG), not '%s'", out);
+    return EXIT_USAGE;
+  }
+  bbc_mesh m;
+  bbc_error err;
+  double t0 = cli_now();
+  if (bbc_tree_generate(&opt, &m, &err) != BBC_OK) return cli_fail(&err, 0);
+  double t1 = cli_now();
+  if (bbc_mesh_write_obj(out, &m, &err) != BBC_OK) {
+    bbc_mesh_free(&m);
+    return cli_fail(&err, 1);
+  }
+  double t2 = cli_now();
+  size_t *counts = calloc(m.group_count ? m.group_count : 1, sizeof *counts);
+  if (counts) {
+    bbc_mesh_group_triangle_counts(&m, counts);
+    cli_info(c,
+             "wrote %s: %s tree, seed %llu, %zu triangles (%s %zu, %s %zu), height %.2f m; "
+             "generated in %.3f s, written in %.3f s",
+             out, bbc_tree_species_name(opt.species), (unsigned long long)opt.seed,
+             m.triangle_count, m.group_names[0], counts[0],
+             m.group_count > 1 ? m.group_names[1] : "-", m.group_count > 1 ? counts[1] : 0,
+             m.bbox_max[1] - m.bbox_min[1], t1 - t0, t2 - t1);
+    free(counts);
+  }
+  int rc = EXIT_OK;
+  if (preview) {
+    rc = render_views_png(&m, 0, 512, 1, preview);
+    if (rc == EXIT_OK) cli_info(c, "wrote %s", preview);
+  }
+  bbc_mesh_free(&m);
+  return rc;
+}

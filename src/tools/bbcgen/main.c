@@ -1,0 +1,77 @@
+/* bbcgen — the Billboard Cloud generator's command-line tool.
+ * One flat dispatch: each command parses its own options into the shared
+ * `cli` state and calls the library. */
+#include "cli.h"
+
+#include <locale.h>
+#include <stdio.h>
+#include <string.h>
+
+static void print_help(FILE *out) {
+  fprintf(out,
+          "bbcgen %s — Billboard Cloud generator\n"
+          "\n"
+          "Usage:\n"
+          "  bbcgen info MODEL [--json] [--no-textures]\n"
+          "      Triangles, vertices, materials (texture, alpha), groups, bounding box,\n"
+          "      centre of gravity and bounding radius of a model or point cloud.\n"
+          "  bbcgen tree [--seed S] [--leaves N] [--species NAME] [--texture-size N]\n"
+          "              -o OUT.obj [--preview OUT.png]\n"
+          "      Generate the built-in procedural tree as OBJ + MTL + PNG textures.\n"
+          "      Species: oak (default), pine, birch, bush. Leaves: number of leaf quads.\n"
+          "  bbcgen render MODEL -o OUT.png [--size PX] [--up y|z] [--unlit]\n"
+          "      Software render (no GPU) from the front, the side and above.\n"
+          "  bbcgen setup [PARAMETER OPTIONS]\n"
+          "      Print every parameter's current value (the thesis's `setup`).\n"
+          "  bbcgen --help | --version\n"
+          "\n"
+          "Not implemented yet (see README, Status): the Billboard Cloud pipeline itself\n"
+          "(`bbcgen MODEL -o OUT.glb`, `planes`, `eval`, batch files).\n"
+          "\n"
+          "Options for every command:\n"
+          "  --set NAME=VALUE   set a parameter (repeatable), e.g. --set epsilon=6\n"
+          "  --NAME VALUE       the same, e.g. --epsilon 6 (percent of the bounding radius)\n"
+          "  -q, --quiet        no progress bar and no info lines (warnings and errors stay)\n"
+          "  Progress bars are drawn only when stderr is a terminal.\n"
+          "\n",
+          BBC_VERSION_STRING);
+  print_parameter_help(out);
+  fprintf(out, "\n"
+               "Exit codes:\n"
+               "  0 success                      1 bad command line or parameter value\n"
+               "  2 input missing or unreadable  3 input format not supported\n"
+               "  4 input damaged, invalid or empty (NaN coordinates, bad indices, truncated)\n"
+               "  5 output could not be written  6 out of memory\n");
+}
+
+int main(int argc, char **argv) {
+  /* Numbers in text formats and JSON must never get a decimal comma. */
+  setlocale(LC_ALL, "C");
+  cli c;
+  cli_init(&c);
+  if (argc < 2) {
+    print_help(stderr);
+    return EXIT_USAGE;
+  }
+  const char *cmd = argv[1];
+  if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) {
+    print_help(stdout);
+    return EXIT_OK;
+  }
+  if (!strcmp(cmd, "--version") || !strcmp(cmd, "-V")) {
+    printf("bbcgen %s\n", BBC_VERSION_STRING);
+    return EXIT_OK;
+  }
+  if (!strcmp(cmd, "info")) return cmd_info(&c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "tree")) return cmd_tree(&c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "render")) return cmd_render(&c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "setup")) return cmd_setup(&c, argc - 1, argv + 1);
+  if (cmd[0] == '-') {
+    cli_error("unknown option '%s' (try bbcgen --help)", cmd);
+    return EXIT_USAGE;
+  }
+  cli_error("'%s' is not a command; generating Billboard Clouds from a model is not "
+            "implemented yet (see README, Status). Try bbcgen --help",
+            cmd);
+  return EXIT_USAGE;
+}

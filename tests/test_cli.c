@@ -1,0 +1,303 @@
+/* test_cli.c — the bbcgen tool as a user runs it: `info --json` on the real
+ * data, exit codes for hostile inputs and bad parameters, --help, tree. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+#include <cjson/cJSON.h>
+
+#include "test_util.h"
+
+static char *g_dir;
+
+static int setup(void **state) {
+  (void)state;
+  g_dir = tu_make_temp_dir();
+  return g_dir ? 0 : -1;
+}
+
+static int teardown(void **state) {
+  (void)state;
+  tu_remove_dir(g_dir);
+  free(g_dir);
+  return 0;
+}
+
+/* Runs `bbcgen ARGS`, stdout and stderr to files; returns the exit code and
+ * the outputs (caller frees). */
+static int run(const char *args, char **out, char **errout) {
+  char cmd[4096], o[1024], e[1024];
+  snprintf(o, sizeof o, "%s/stdout.txt", g_dir);
+  snprintf(e, sizeof e, "%s/stderr.txt", g_dir);
+  snprintf(cmd, sizeof cmd, "%s/bbcgen %s > '%s' 2> '%s' < /dev/null", BBC_BIN_DIR, args, o, e);
+  int st = system(cmd);
+  if (out) *out = (char *)tu_read_file(o, NULL);
+  if (errout) *errout = (char *)tu_read_file(e, NULL);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : 128;
+}
+
+static cJSON *info_json(const char *rel) {
+  char path[1024], args[2048];
+  tu_data_path(path, sizeof path, rel);
+  if (!tu_have_file(path)) return NULL;
+  snprintf(args, sizeof args, "info --json '%s'", path);
+  char *out, *err;
+  int rc = run(args, &out, &err);
+  if (rc != 0) fail_msg("bbcgen info %s: exit %d: %s", rel, rc, err);
+  cJSON *j = cJSON_Parse(out);
+  if (!j) fail_msg("not JSON: %s", out);
+  free(out);
+  free(err);
+  return j;
+}
+
+static double num(const cJSON *o, const char *key) {
+  const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+  if (!cJSON_IsNumber(v)) fail_msg("no number '%s'", key);
+  return v->valuedouble;
+}
+
+static double group_triangles(const cJSON *j, const char *name) {
+  const cJSON *g;
+  cJSON_ArrayForEach(g, cJSON_GetObjectItem(j, "groups")) {
+    if (!strcmp(cJSON_GetObjectItem(g, "name")->valuestring, name)) return num(g, "triangles");
+  }
+  return -1;
+}
+
+static void test_info_pine(void **state) {
+  (void)state;
+  cJSON *j = info_json("trees/scopia/pine/pine.obj");
+  if (!j) skip();
+  assert_int_equal((int)num(j, "triangles"), 108810);
+  assert_int_equal(cJSON_GetArraySize(cJSON_GetObjectItem(j, "groups")), 2);
+  assert_int_equal((int)group_triangles(j, "twigs_Cube.001"), 102600);
+  assert_int_equal((int)group_triangles(j, "tree"), 6210);
+  /* The documented keys are all there. */
+  const char *keys[] = {"triangles", "vertices", "materials", "groups", "bbox", "center", "radius"};
+  for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
+    assert_non_null(cJSON_GetObjectItemCaseSensitive(j, keys[i]));
+  const cJSON *bbox = cJSON_GetObjectItem(j, "bbox");
+  assert_int_equal(cJSON_GetArraySize(cJSON_GetObjectItem(bbox, "min")), 3);
+  assert_int_equal(cJSON_GetArraySize(cJSON_GetObjectItem(j, "center")), 3);
+  assert_true(num(j, "radius") > 250 && num(j, "radius") < 350);
+  cJSON_Delete(j);
+}
+
+static void test_info_cat_and_h60(void **state) {
+  (void)state;
+  cJSON *j = info_json("models/cat.3ds");
+  if (!j) skip();
+  assert_int_equal((int)num(j, "triangles"), 14348);
+  cJSON_Delete(j);
+  j = info_json("models/flightgear/H-60.ac");
+  if (!j) skip();
+  assert_int_equal((int)num(j, "triangles"), 5388);
+  int png = 0;
+  const cJSON *m;
+  cJSON_ArrayForEach(m, cJSON_GetObjectItem(j, "materials")) {
+    const cJSON *t = cJSON_GetObjectItem(m, "texture");
+    if (cJSON_IsString(t) && strstr(t->valuestring, "H-60.png")) png = 1;
+  }
+  assert_true(png);
+  cJSON_Delete(j);
+}
+
+static void test_info_oak_alpha(void **state) {
+  (void)state;
+  cJSON *j = info_json("trees/eztree/oak_medium.obj");
+  if (!j) skip();
+  int leaf_alpha = 0;
+  const cJSON *m;
+  cJSON_ArrayForEach(m, cJSON_GetObjectItem(j, "materials")) {
+    if (strstr(cJSON_GetObjectItem(m, "name")->valuestring, "leaves"))
+      leaf_alpha = cJSON_IsTrue(cJSON_GetObjectItem(m, "texture_has_alpha"));
+  }
+  assert_true(leaf_alpha);
+  cJSON_Delete(j);
+}
+
+static void test_info_points(void **state) {
+  (void)state;
+  cJSON *j = info_json("points/b9_training.ply");
+  if (!j) skip();
+  assert_string_equal(cJSON_GetObjectItem(j, "kind")->valuestring, "points");
+  assert_int_equal((int)num(j, "points"), 22300);
+  assert_int_equal((int)num(j, "triangles"), 0);
+  cJSON_Delete(j);
+}
+
+static void test_damaged_pond_refused(void **state) {
+  (void)state;
+  char path[1024], args[2048];
+  tu_data_path(path, sizeof path, "points/pond.0.ply");
+  if (!tu_have_file(path)) skip();
+  snprintf(args, sizeof args, "info --json '%s'", path);
+  char *out, *err;
+  int rc = run(args, &out, &err);
+  assert_int_equal(rc, 4);
+  assert_non_null(strstr(err, "pond.0.ply"));
+  assert_true(strstr(err, "truncated") || strstr(err, "damaged"));
+  /* One line, and no points printed. */
+  assert_int_equal(strchr(err, '\n') - err + 1, (long)strlen(err));
+  assert_true(out == NULL || out[0] == 0);
+  free(out);
+  free(err);
+}
+
+static void test_exit_codes(void **state) {
+  (void)state;
+  char args[2048];
+  char *out, *err;
+  snprintf(args, sizeof args, "info '%s/nothing.obj'", g_dir);
+  assert_int_equal(run(args, &out, &err), 2);
+  assert_non_null(strstr(err, "nothing.obj"));
+  free(out);
+  free(err);
+  snprintf(args, sizeof args, "info '%s'", g_dir);
+  assert_int_equal(run(args, &out, &err), 2);
+  assert_non_null(strstr(err, "folder"));
+  free(out);
+  free(err);
+  char *p = tu_write_file(g_dir, "nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", 34);
+  snprintf(args, sizeof args, "info '%s'", p);
+  assert_int_equal(run(args, &out, &err), 4);
+  assert_non_null(strstr(err, "nan.obj"));
+  assert_int_equal(strchr(err, '\n') - err + 1, (long)strlen(err)); /* one line */
+  free(out);
+  free(err);
+  free(p);
+  p = tu_write_file(g_dir, "x.qqq", "hello world, not a model\n", 25);
+  snprintf(args, sizeof args, "info '%s'", p);
+  assert_int_equal(run(args, &out, &err), 3);
+  free(out);
+  free(err);
+  free(p);
+  /* Parameters: out of range names the range. */
+  assert_int_equal(run("setup --epsilon 150", &out, &err), 1);
+  assert_non_null(strstr(err, "0.001 to 99"));
+  free(out);
+  free(err);
+  assert_int_equal(run("setup --set texres=100", &out, &err), 1);
+  assert_non_null(strstr(err, "power of two"));
+  free(out);
+  free(err);
+  assert_int_equal(run("setup --set res=7", &out, &err), 1);
+  free(out);
+  free(err);
+  assert_int_equal(run("setup --set nosuch=1", &out, &err), 1);
+  free(out);
+  free(err);
+  assert_int_equal(run("setup --epsilon 6 --set texres=512 --posttweak off", &out, &err), 0);
+  assert_non_null(strstr(out, "epsilon        6\n"));
+  assert_non_null(strstr(out, "texres         512\n"));
+  assert_non_null(strstr(out, "posttweak      0\n"));
+  free(out);
+  free(err);
+  assert_int_equal(run("--bogus", &out, &err), 1);
+  free(out);
+  free(err);
+}
+
+static void test_help_lists_every_parameter(void **state) {
+  (void)state;
+  char *out, *err;
+  assert_int_equal(run("--help", &out, &err), 0);
+  static const char *names[] = {
+      "break",     "breaknum",     "debug",       "res",         "vn",
+      "cardboard", "cbcoverage",   "clustering",  "epsilon",     "posttweak",
+      "punishval", "punishcutoff", "subpenalty",  "supergreedy", "backface",
+      "nm",        "pointsize",    "pointsmooth", "pointskip",   "polyskip",
+      "prelight",  "pure",         "quality",     "texres",      "format"};
+  for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+    char needle[64];
+    snprintf(needle, sizeof needle, "\n    %s", names[i]);
+    if (!strstr(out, needle)) fail_msg("--help lacks parameter %s", names[i]);
+  }
+  assert_non_null(strstr(out, "Exit codes"));
+  free(out);
+  free(err);
+  assert_int_equal(run("--version", &out, &err), 0);
+  assert_non_null(strstr(out, "bbcgen "));
+  free(out);
+  free(err);
+}
+
+static void test_tree_command(void **state) {
+  (void)state;
+  char args[2048];
+  char *out, *err;
+  snprintf(args, sizeof args, "tree --seed 7 --leaves 2000 -o '%s/t1.obj'", g_dir);
+  assert_int_equal(run(args, &out, &err), 0);
+  free(out);
+  free(err);
+  snprintf(args, sizeof args, "tree --seed 7 --leaves 2000 -o '%s/t2.obj'", g_dir);
+  assert_int_equal(run(args, &out, &err), 0);
+  /* Not a terminal: no progress bar characters in the log. */
+  assert_null(strstr(err, "\r"));
+  free(out);
+  free(err);
+  char a[1024], b[1024];
+  size_t na, nb;
+  snprintf(a, sizeof a, "%s/t1.obj", g_dir);
+  snprintf(b, sizeof b, "%s/t2.obj", g_dir);
+  unsigned char *fa = tu_read_file(a, &na), *fb = tu_read_file(b, &nb);
+  assert_non_null(fa);
+  assert_non_null(fb);
+  /* The files differ only in the mtllib name; compare after the header. */
+  assert_int_equal(na, nb);
+  const char *ba = strstr((char *)fa, "\nv "), *bb = strstr((char *)fb, "\nv ");
+  assert_non_null(ba);
+  assert_memory_equal(ba, bb, na - (size_t)(ba - (char *)fa));
+  free(fa);
+  free(fb);
+  snprintf(a, sizeof a, "%s/t1_leaf.png", g_dir);
+  snprintf(b, sizeof b, "%s/t2_leaf.png", g_dir);
+  fa = tu_read_file(a, &na);
+  fb = tu_read_file(b, &nb);
+  assert_non_null(fa);
+  assert_int_equal(na, nb);
+  assert_memory_equal(fa, fb, na);
+  free(fa);
+  free(fb);
+  /* The written tree loads back with its two groups. */
+  snprintf(args, sizeof args, "info --json '%s/t1.obj'", g_dir);
+  assert_int_equal(run(args, &out, &err), 0);
+  cJSON *j = cJSON_Parse(out);
+  assert_non_null(j);
+  assert_int_equal((int)group_triangles(j, "leaves"), 4000);
+  assert_true(group_triangles(j, "trunk") > 0);
+  cJSON_Delete(j);
+  free(out);
+  free(err);
+  /* No half-written outputs: an unwritable destination fails cleanly. */
+  snprintf(args, sizeof args, "tree -o '%s/no/such/dir/t.obj'", g_dir);
+  assert_int_equal(run(args, &out, &err), 5);
+  free(out);
+  free(err);
+  assert_int_equal(run("tree --species palm -o x.obj", &out, &err), 1);
+  free(out);
+  free(err);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_info_pine),
+      cmocka_unit_test(test_info_cat_and_h60),
+      cmocka_unit_test(test_info_oak_alpha),
+      cmocka_unit_test(test_info_points),
+      cmocka_unit_test(test_damaged_pond_refused),
+      cmocka_unit_test(test_exit_codes),
+      cmocka_unit_test(test_help_lists_every_parameter),
+      cmocka_unit_test(test_tree_command),
+  };
+  return cmocka_run_group_tests(tests, setup, teardown);
+}

@@ -1,0 +1,102 @@
+/* test_params.c — the Appendix A parameter table: defaults, parsing, ranges. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <string.h>
+
+#include "bbc.h"
+
+static void test_defaults_match_appendix_a(void **state) {
+  (void)state;
+  bbc_params p;
+  bbc_params_default(&p);
+  assert_int_equal(p.break_steps, 100);
+  assert_int_equal(p.break_num, 2000);
+  assert_int_equal(p.res_deg, 9);
+  assert_int_equal(p.vertex_normals, 1);
+  assert_int_equal(p.clustering, 2);
+  assert_true(p.epsilon_pct == 5.0);
+  assert_true(p.cb_coverage_pct == 50.0);
+  assert_int_equal(p.post_tweak, 1);
+  assert_true(p.punish_cutoff_deg == 30.0);
+  assert_true(p.sub_penalty == 5.0);
+  assert_int_equal(p.texres, 256);
+  assert_int_equal(p.prelight, 1);
+  assert_true(p.point_size == 3.5);
+  assert_int_equal(p.quality, 0);
+  assert_int_equal(p.format, 0);
+  /* Every Appendix A name is in the table. */
+  static const char *names[] = {
+      "break",     "breaknum",     "debug",       "res",         "vn",
+      "cardboard", "cbcoverage",   "clustering",  "epsilon",     "posttweak",
+      "punishval", "punishcutoff", "subpenalty",  "supergreedy", "backface",
+      "nm",        "pointsize",    "pointsmooth", "pointskip",   "polyskip",
+      "prelight",  "pure",         "quality",     "texres",      "format"};
+  assert_int_equal(bbc_param_count(), sizeof names / sizeof names[0]);
+  for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+    const bbc_param_info *in = bbc_param_find(names[i]);
+    assert_non_null(in);
+    assert_true(bbc_params_get(&p, in) == in->default_value);
+  }
+  assert_true(bbc_param_find("cbcoverage")->flags & BBC_PARAM_STEP3_ONLY);
+  assert_true(bbc_param_find("posttweak")->flags & BBC_PARAM_KEEPS_STEP1);
+  assert_null(bbc_param_find("nonsense"));
+}
+
+static void test_set_and_ranges(void **state) {
+  (void)state;
+  bbc_params p;
+  bbc_params_default(&p);
+  bbc_error err;
+  assert_int_equal(bbc_params_set(&p, "epsilon", "6", &err), BBC_OK);
+  assert_true(p.epsilon_pct == 6.0);
+  assert_int_equal(bbc_params_set_assignment(&p, "texres=512", &err), BBC_OK);
+  assert_int_equal(p.texres, 512);
+  assert_int_equal(bbc_params_set(&p, "posttweak", "off", &err), BBC_OK);
+  assert_int_equal(p.post_tweak, 0);
+  assert_int_equal(bbc_params_set(&p, "EPSILON", "7.5", &err), BBC_OK);
+  assert_true(p.epsilon_pct == 7.5);
+
+  /* Out of range: rejected, value unchanged, message names the range. */
+  assert_int_equal(bbc_params_set(&p, "epsilon", "120", &err), BBC_ERROR_OUT_OF_RANGE);
+  assert_true(p.epsilon_pct == 7.5);
+  assert_non_null(strstr(err.message, "epsilon"));
+  assert_non_null(strstr(err.message, "0.001 to 99"));
+  assert_int_equal(bbc_params_set(&p, "epsilon", "0.0001", &err), BBC_ERROR_OUT_OF_RANGE);
+  assert_int_equal(bbc_params_set(&p, "texres", "300", &err), BBC_ERROR_OUT_OF_RANGE);
+  assert_non_null(strstr(err.message, "power of two"));
+  assert_int_equal(p.texres, 512);
+  assert_int_equal(bbc_params_set(&p, "res", "7", &err), BBC_ERROR_OUT_OF_RANGE);
+  assert_non_null(strstr(err.message, "divide 180"));
+  assert_int_equal(bbc_params_set(&p, "res", "10", &err), BBC_OK);
+  assert_int_equal(p.res_deg, 10);
+  assert_int_equal(bbc_params_set(&p, "break", "4", &err), BBC_ERROR_OUT_OF_RANGE);
+  assert_int_equal(bbc_params_set(&p, "breaknum", "9", &err), BBC_ERROR_OUT_OF_RANGE);
+  assert_int_equal(bbc_params_set(&p, "quality", "2.5", &err), BBC_ERROR_OUT_OF_RANGE);
+  assert_int_equal(bbc_params_set(&p, "punishval", "0.96", &err), BBC_ERROR_OUT_OF_RANGE);
+  assert_int_equal(bbc_params_set(&p, "punishval", "0.7", &err), BBC_OK);
+  assert_int_equal(bbc_params_set(&p, "polyskip", "99.5", &err), BBC_ERROR_OUT_OF_RANGE);
+  assert_int_equal(bbc_params_set(&p, "cbcoverage", "99.9", &err), BBC_OK);
+  assert_int_equal(bbc_params_set(&p, "nm", "2", &err), BBC_ERROR_OUT_OF_RANGE);
+
+  /* Malformed. */
+  assert_int_equal(bbc_params_set(&p, "epsilon", "abc", &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(bbc_params_set(&p, "epsilon", "5x", &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(bbc_params_set(&p, "epsilon", "nan", &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(bbc_params_set(&p, "epsilon", "", &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(bbc_params_set(&p, "bogus", "1", &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_non_null(strstr(err.message, "bogus"));
+  assert_int_equal(bbc_params_set_assignment(&p, "epsilon", &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(bbc_params_set_assignment(&p, "=5", &err), BBC_ERROR_INVALID_ARGUMENT);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_defaults_match_appendix_a),
+      cmocka_unit_test(test_set_and_ranges),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

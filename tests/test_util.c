@@ -1,0 +1,93 @@
+/* test_util.c — see test_util.h. */
+#include "test_util.h"
+
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+char *mkdtemp(char *template_path);
+
+const char *tu_data_path(char *buf, size_t size, const char *rel) {
+  snprintf(buf, size, "%s/%s", BBC_DATA_DIR, rel);
+  return buf;
+}
+
+int tu_have_file(const char *path) {
+  struct stat st;
+  if (stat(path, &st) == 0) return 1;
+  printf("SKIP: data file %s is missing\n", path);
+  return 0;
+}
+
+char *tu_make_temp_dir(void) {
+  const char *base = getenv("TMPDIR");
+  if (!base || !*base) base = "/tmp";
+  mkdir(base, 0777);
+  size_t n = strlen(base) + 32;
+  char *p = malloc(n);
+  if (!p) return NULL;
+  snprintf(p, n, "%s/bbctest.XXXXXX", base);
+  if (!mkdtemp(p)) {
+    free(p);
+    return NULL;
+  }
+  return p;
+}
+
+char *tu_write_file(const char *dir, const char *name, const void *data, size_t size) {
+  size_t n = strlen(dir) + strlen(name) + 2;
+  char *p = malloc(n);
+  if (!p) return NULL;
+  snprintf(p, n, "%s/%s", dir, name);
+  FILE *f = fopen(p, "wb");
+  if (!f) {
+    free(p);
+    return NULL;
+  }
+  if (size) fwrite(data, 1, size, f);
+  fclose(f);
+  return p;
+}
+
+unsigned char *tu_read_file(const char *path, size_t *size) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  fseek(f, 0, SEEK_END);
+  long n = ftell(f);
+  fseek(f, 0, SEEK_SET);
+  unsigned char *buf = malloc((size_t)n + 1);
+  if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
+    free(buf);
+    buf = NULL;
+  }
+  fclose(f);
+  if (buf) {
+    buf[n] = 0;
+    if (size) *size = (size_t)n;
+  }
+  return buf;
+}
+
+void tu_remove_dir(const char *dir) {
+  DIR *d = opendir(dir);
+  if (!d) return;
+  struct dirent *e;
+  while ((e = readdir(d)) != NULL) {
+    if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
+    size_t n = strlen(dir) + strlen(e->d_name) + 2;
+    char *p = malloc(n);
+    if (!p) continue;
+    snprintf(p, n, "%s/%s", dir, e->d_name);
+    struct stat st;
+    if (stat(p, &st) == 0 && S_ISDIR(st.st_mode))
+      tu_remove_dir(p);
+    else
+      unlink(p);
+    free(p);
+  }
+  closedir(d);
+  rmdir(dir);
+}

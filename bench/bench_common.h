@@ -23,6 +23,15 @@ static inline double bench_median(double *v, int n) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+/* Smallest and largest of n values. */
+static inline void bench_min_max(const double *v, int n, double *mn, double *mx) {
+  *mn = *mx = v[0];
+  for (int i = 1; i < n; i++) {
+    if (v[i] < *mn) *mn = v[i];
+    if (v[i] > *mx) *mx = v[i];
+  }
+}
+
 /* Peak resident memory of this process so far, MiB. */
 static inline double bench_peak_rss_mib(void) {
   struct rusage ru;

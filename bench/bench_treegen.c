@@ -38,11 +38,8 @@ int main(int argc, char **argv) {
     tris = m.triangle_count;
     bbc_mesh_free(&m);
   }
-  double mn = t[0], mx = t[0];
-  for (int r = 0; r < runs; r++) {
-    if (t[r] < mn) mn = t[r];
-    if (t[r] > mx) mx = t[r];
-  }
+  double mn, mx;
+  bench_min_max(t, runs, &mn, &mx);
   printf("{\"bench\": \"treegen\", \"species\": \"%s\", \"leaves\": %zu, \"triangles\": %zu, "
          "\"runs\": %d, \"median_s\": %.4f, \"min_s\": %.4f, \"max_s\": %.4f, "
          "\"peak_mib\": %.1f}\n",

@@ -37,6 +37,9 @@ bbc_result bbc__check_input_file(const char *path, bbc_error *err);
  * ext_size bytes); "" when none. */
 void bbc__path_extension(const char *path, char *ext, size_t ext_size);
 
+/* Folder part of `path` including the trailing '/', or "" when none. */
+void bbc__path_folder(const char *path, char *folder, size_t folder_size);
+
 /* ---- atomic output files -------------------------------------------------
  * Writes go to a temporary file in the destination folder; commit renames it
  * over the destination, abort removes it. A crash or a failed write never

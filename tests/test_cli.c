@@ -16,27 +16,12 @@
 
 #include "test_util.h"
 
-static char *g_dir;
-
-static int setup(void **state) {
-  (void)state;
-  g_dir = tu_make_temp_dir();
-  return g_dir ? 0 : -1;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  tu_remove_dir(g_dir);
-  free(g_dir);
-  return 0;
-}
-
 /* Runs `bbcgen ARGS`, stdout and stderr to files; returns the exit code and
  * the outputs (caller frees). */
 static int run(const char *args, char **out, char **errout) {
   char cmd[4096], o[1024], e[1024];
-  snprintf(o, sizeof o, "%s/stdout.txt", g_dir);
-  snprintf(e, sizeof e, "%s/stderr.txt", g_dir);
+  snprintf(o, sizeof o, "%s/stdout.txt", tu_dir);
+  snprintf(e, sizeof e, "%s/stderr.txt", tu_dir);
   snprintf(cmd, sizeof cmd, "%s/bbcgen %s > '%s' 2> '%s' < /dev/null", BBC_BIN_DIR, args, o, e);
   int st = system(cmd);
   if (out) *out = (char *)tu_read_file(o, NULL);
@@ -157,17 +142,17 @@ static void test_exit_codes(void **state) {
   (void)state;
   char args[2048];
   char *out, *err;
-  snprintf(args, sizeof args, "info '%s/nothing.obj'", g_dir);
+  snprintf(args, sizeof args, "info '%s/nothing.obj'", tu_dir);
   assert_int_equal(run(args, &out, &err), 2);
   assert_non_null(strstr(err, "nothing.obj"));
   free(out);
   free(err);
-  snprintf(args, sizeof args, "info '%s'", g_dir);
+  snprintf(args, sizeof args, "info '%s'", tu_dir);
   assert_int_equal(run(args, &out, &err), 2);
   assert_non_null(strstr(err, "folder"));
   free(out);
   free(err);
-  char *p = tu_write_file(g_dir, "nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", 34);
+  char *p = tu_write_file(tu_dir, "nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", 34);
   snprintf(args, sizeof args, "info '%s'", p);
   assert_int_equal(run(args, &out, &err), 4);
   assert_non_null(strstr(err, "nan.obj"));
@@ -175,7 +160,7 @@ static void test_exit_codes(void **state) {
   free(out);
   free(err);
   free(p);
-  p = tu_write_file(g_dir, "x.qqq", "hello world, not a model\n", 25);
+  p = tu_write_file(tu_dir, "x.qqq", "hello world, not a model\n", 25);
   snprintf(args, sizeof args, "info '%s'", p);
   assert_int_equal(run(args, &out, &err), 3);
   free(out);
@@ -235,11 +220,11 @@ static void test_tree_command(void **state) {
   (void)state;
   char args[2048];
   char *out, *err;
-  snprintf(args, sizeof args, "tree --seed 7 --leaves 2000 -o '%s/t1.obj'", g_dir);
+  snprintf(args, sizeof args, "tree --seed 7 --leaves 2000 -o '%s/t1.obj'", tu_dir);
   assert_int_equal(run(args, &out, &err), 0);
   free(out);
   free(err);
-  snprintf(args, sizeof args, "tree --seed 7 --leaves 2000 -o '%s/t2.obj'", g_dir);
+  snprintf(args, sizeof args, "tree --seed 7 --leaves 2000 -o '%s/t2.obj'", tu_dir);
   assert_int_equal(run(args, &out, &err), 0);
   /* Not a terminal: no progress bar characters in the log. */
   assert_null(strstr(err, "\r"));
@@ -247,8 +232,8 @@ static void test_tree_command(void **state) {
   free(err);
   char a[1024], b[1024];
   size_t na, nb;
-  snprintf(a, sizeof a, "%s/t1.obj", g_dir);
-  snprintf(b, sizeof b, "%s/t2.obj", g_dir);
+  snprintf(a, sizeof a, "%s/t1.obj", tu_dir);
+  snprintf(b, sizeof b, "%s/t2.obj", tu_dir);
   unsigned char *fa = tu_read_file(a, &na), *fb = tu_read_file(b, &nb);
   assert_non_null(fa);
   assert_non_null(fb);
@@ -259,8 +244,8 @@ static void test_tree_command(void **state) {
   assert_memory_equal(ba, bb, na - (size_t)(ba - (char *)fa));
   free(fa);
   free(fb);
-  snprintf(a, sizeof a, "%s/t1_leaf.png", g_dir);
-  snprintf(b, sizeof b, "%s/t2_leaf.png", g_dir);
+  snprintf(a, sizeof a, "%s/t1_leaf.png", tu_dir);
+  snprintf(b, sizeof b, "%s/t2_leaf.png", tu_dir);
   fa = tu_read_file(a, &na);
   fb = tu_read_file(b, &nb);
   assert_non_null(fa);
@@ -269,7 +254,7 @@ static void test_tree_command(void **state) {
   free(fa);
   free(fb);
   /* The written tree loads back with its two groups. */
-  snprintf(args, sizeof args, "info --json '%s/t1.obj'", g_dir);
+  snprintf(args, sizeof args, "info --json '%s/t1.obj'", tu_dir);
   assert_int_equal(run(args, &out, &err), 0);
   cJSON *j = cJSON_Parse(out);
   assert_non_null(j);
@@ -279,7 +264,7 @@ static void test_tree_command(void **state) {
   free(out);
   free(err);
   /* No half-written outputs: an unwritable destination fails cleanly. */
-  snprintf(args, sizeof args, "tree -o '%s/no/such/dir/t.obj'", g_dir);
+  snprintf(args, sizeof args, "tree -o '%s/no/such/dir/t.obj'", tu_dir);
   assert_int_equal(run(args, &out, &err), 5);
   free(out);
   free(err);
@@ -299,5 +284,5 @@ int main(void) {
       cmocka_unit_test(test_help_lists_every_parameter),
       cmocka_unit_test(test_tree_command),
   };
-  return cmocka_run_group_tests(tests, setup, teardown);
+  return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

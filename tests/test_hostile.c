@@ -15,26 +15,11 @@
 #include "bbc.h"
 #include "test_util.h"
 
-static char *g_dir;
-
-static int setup(void **state) {
-  (void)state;
-  g_dir = tu_make_temp_dir();
-  return g_dir ? 0 : -1;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  tu_remove_dir(g_dir);
-  free(g_dir);
-  return 0;
-}
-
 /* Loads `name` with `content` and expects `code` with both the file name
  * and `needle` (when given) in the message. */
 static void expect_refused(const char *name, const void *content, size_t size, bbc_result code,
                            const char *needle) {
-  char *p = tu_write_file(g_dir, name, content, size);
+  char *p = tu_write_file(tu_dir, name, content, size);
   bbc_mesh m;
   bbc_error err;
   memset(&err, 0, sizeof err);
@@ -81,7 +66,7 @@ static void test_index_out_of_range(void **state) {
 static void test_zero_area_dropped_and_counted(void **state) {
   (void)state;
   const char obj[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 1 1 2\n";
-  char *p = tu_write_file(g_dir, "zero.obj", obj, sizeof obj - 1);
+  char *p = tu_write_file(tu_dir, "zero.obj", obj, sizeof obj - 1);
   bbc_mesh m;
   bbc_error err;
   assert_int_equal(bbc_mesh_load(p, NULL, &m, &err), BBC_OK);
@@ -139,15 +124,15 @@ static void test_paths(void **state) {
   bbc_mesh m;
   bbc_error err;
   char path[1024];
-  snprintf(path, sizeof path, "%s/folder.obj", g_dir);
+  snprintf(path, sizeof path, "%s/folder.obj", tu_dir);
   mkdir(path, 0777);
   assert_int_equal(bbc_mesh_load(path, NULL, &m, &err), BBC_ERROR_NOT_A_FILE);
   assert_non_null(strstr(err.message, "folder.obj"));
   assert_non_null(strstr(err.message, "folder"));
-  snprintf(path, sizeof path, "%s/missing.obj", g_dir);
+  snprintf(path, sizeof path, "%s/missing.obj", tu_dir);
   assert_int_equal(bbc_mesh_load(path, NULL, &m, &err), BBC_ERROR_NOT_FOUND);
   assert_non_null(strstr(err.message, "missing.obj"));
-  snprintf(path, sizeof path, "%s/nodir/missing.obj", g_dir);
+  snprintf(path, sizeof path, "%s/nodir/missing.obj", tu_dir);
   assert_int_equal(bbc_mesh_load(path, NULL, &m, &err), BBC_ERROR_NOT_FOUND);
   assert_int_equal(bbc_mesh_load("", NULL, &m, &err), BBC_ERROR_NOT_FOUND);
 }
@@ -161,5 +146,5 @@ int main(void) {
       cmocka_unit_test(test_truncated_and_garbage),
       cmocka_unit_test(test_paths),
   };
-  return cmocka_run_group_tests(tests, setup, teardown);
+  return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

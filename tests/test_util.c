@@ -91,3 +91,19 @@ void tu_remove_dir(const char *dir) {
   closedir(d);
   rmdir(dir);
 }
+
+char *tu_dir;
+
+int tu_group_setup(void **state) {
+  (void)state;
+  tu_dir = tu_make_temp_dir();
+  return tu_dir ? 0 : -1;
+}
+
+int tu_group_teardown(void **state) {
+  (void)state;
+  tu_remove_dir(tu_dir);
+  free(tu_dir);
+  tu_dir = NULL;
+  return 0;
+}

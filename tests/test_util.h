@@ -18,4 +18,9 @@ unsigned char *tu_read_file(const char *path, size_t *size);
 /* Removes a folder and everything in it (one level deep is enough here). */
 void tu_remove_dir(const char *dir);
 
+/* cmocka group fixtures: a temporary folder in tu_dir for the whole group. */
+extern char *tu_dir;
+int tu_group_setup(void **state);
+int tu_group_teardown(void **state);
+
 #endif

@@ -99,3 +99,12 @@ void bbc__path_extension(const char *path, char *ext, size_t ext_size) {
     ext[i++] = (char)tolower((unsigned char)*p);
   ext[i] = 0;
 }
+
+void bbc__path_folder(const char *path, char *folder, size_t folder_size) {
+  snprintf(folder, folder_size, "%s", path);
+  char *slash = strrchr(folder, '/');
+  if (slash)
+    slash[1] = 0;
+  else
+    folder[0] = 0;
+}

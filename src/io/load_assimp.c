@@ -219,12 +219,7 @@ static int resolve_texture(const char *model_path, const char *ref, char *out, s
   for (char *c = r; *c; c++)
     if (*c == '\\') *c = '/';
   char dir[1024];
-  snprintf(dir, sizeof dir, "%s", model_path);
-  char *slash = strrchr(dir, '/');
-  if (slash)
-    slash[1] = 0;
-  else
-    dir[0] = 0;
+  bbc__path_folder(model_path, dir, sizeof dir);
   const char *base = strrchr(r, '/') ? strrchr(r, '/') + 1 : r;
   if (r[0] == '/' && file_exists(r)) {
     snprintf(out, n, "%s", r);

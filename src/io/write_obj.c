@@ -34,12 +34,7 @@ bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m, bbc_error
 
   char stem[256], dir[2048];
   path_stem(obj_path, stem, sizeof stem);
-  snprintf(dir, sizeof dir, "%s", obj_path);
-  char *slash = strrchr(dir, '/');
-  if (slash)
-    slash[1] = 0;
-  else
-    dir[0] = 0;
+  bbc__path_folder(obj_path, dir, sizeof dir);
 
   /* Texture file names: <stem>_<first material using it>.png */
   char(*tex_names)[400] = calloc(m->texture_count ? m->texture_count : 1, sizeof *tex_names);

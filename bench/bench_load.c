@@ -16,6 +16,7 @@ int main(int argc, char **argv) {
   if (runs < 1 || runs > 99) runs = 3;
   double t[99];
   size_t tris = 0, verts = 0;
+  int is_points = 0;
   for (int r = 0; r < runs; r++) {
     bbc_mesh m;
     bbc_error err;
@@ -25,15 +26,18 @@ int main(int argc, char **argv) {
       return 1;
     }
     t[r] = bench_now() - t0;
-    tris = m.triangle_count;
+    tris = m.triangles_read;
     verts = m.vertex_count;
+    is_points = m.kind == BBC_MESH_POINTS;
     bbc_mesh_free(&m);
   }
   double mn, mx;
   bench_min_max(t, runs, &mn, &mx);
   printf("{\"bench\": \"load\", \"model\": \"%s\", \"triangles\": %zu, \"vertices\": %zu, "
+         "\"points\": %zu, "
          "\"runs\": %d, \"median_s\": %.4f, \"min_s\": %.4f, \"max_s\": %.4f, "
          "\"peak_mib\": %.1f}\n",
-         argv[1], tris, verts, runs, bench_median(t, runs), mn, mx, bench_peak_rss_mib());
+         argv[1], tris, verts, is_points ? verts : (size_t)0, runs, bench_median(t, runs), mn, mx,
+         bench_peak_rss_mib());
   return 0;
 }

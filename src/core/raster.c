@@ -224,12 +224,24 @@ void bbc_view_frame_mesh(const bbc_mesh *m, const double direction[3], const dou
   memset(v, 0, sizeof *v);
   memcpy(v->direction, direction, sizeof v->direction);
   memcpy(v->up, up, sizeof v->up);
-  /* The bounding box centre frames better than the centre of gravity. */
+  /* Frame the bounding box as seen along the view: the largest extent of
+   * its corners on the image axes, plus a small margin. */
   for (int k = 0; k < 3; k++) v->center[k] = 0.5 * (m->bbox_min[k] + m->bbox_max[k]);
-  double e[3] = {m->bbox_max[0] - m->bbox_min[0], m->bbox_max[1] - m->bbox_min[1],
-                 m->bbox_max[2] - m->bbox_min[2]};
-  double r = 0.5 * sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-  v->half_extent = r > 0 ? 1.02 * r : 1.0;
+  double f[3] = {direction[0], direction[1], direction[2]}, r[3], u[3];
+  normalize3(f);
+  cross3(f, up, r);
+  normalize3(r);
+  cross3(r, f, u);
+  double half = 0;
+  for (int c = 0; c < 8; c++) {
+    double d[3];
+    for (int k = 0; k < 3; k++)
+      d[k] = ((c >> k) & 1 ? m->bbox_max[k] : m->bbox_min[k]) - v->center[k];
+    double x = fabs(d[0] * r[0] + d[1] * r[1] + d[2] * r[2]);
+    double y = fabs(d[0] * u[0] + d[1] * u[1] + d[2] * u[2]);
+    half = fmax(half, fmax(x, y));
+  }
+  v->half_extent = half > 0 ? 1.04 * half : 1.0;
   v->lighting = 1;
   v->point_size_px = 2.0f;
   v->background[0] = v->background[1] = v->background[2] = 255;

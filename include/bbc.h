@@ -171,8 +171,9 @@ typedef struct bbc_load_options {
 
 void bbc_load_options_default(bbc_load_options *options);
 
-/* Loads a model (through Assimp: OBJ+MTL, 3DS, glTF/GLB, PLY, AC3D, FBX,
- * COLLADA, ...) or a point cloud (PLY without faces, XYZ text). Node
+/* Loads a model (through Assimp: OBJ+MTL, 3DS, glTF/GLB, AC3D, FBX,
+ * COLLADA, ...; PLY with the library's own reader: a mesh when it has faces,
+ * a point cloud otherwise) or a point cloud in XYZ text. Node
  * transforms are applied, so the result is in the file's world frame.
  * Texture paths are resolved against the model's folder; a texture that
  * cannot be found or decoded is a warning and the material keeps its base

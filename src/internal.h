@@ -78,13 +78,15 @@ static inline double bbc__rng_range(bbc__rng *r, double lo, double hi) {
 /* ---- loaders (src/io) ---------------------------------------------------- */
 bbc_result bbc__load_assimp(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
                             bbc_error *err);
-/* Point clouds: PLY with vertices only, XYZ text. */
-bbc_result bbc__load_ply_points(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
-                                bbc_error *err);
+/* PLY (src/io/load_points.c), every .ply file: a triangle mesh when the
+ * header declares `face` or `tristrips` records (polygons triangulated as
+ * fans, one material "default", one group named after the file's stem), a
+ * point cloud otherwise. Finishes the mesh with bbc_mesh_finalize and frees
+ * it on failure; `options` may be NULL (defaults). */
+bbc_result bbc__load_ply(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
+                         bbc_error *err);
+/* Point clouds in XYZ text (.xyz, .pts, .txt); same contract. */
 bbc_result bbc__load_xyz_points(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
                                 bbc_error *err);
-/* 1 when `path` is a PLY file whose header declares no faces (a point
- * cloud); 0 otherwise (also when it cannot be read: the loader then reports). */
-int bbc__ply_is_point_cloud(const char *path);
 
 #endif /* BBC_INTERNAL_H */

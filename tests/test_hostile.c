@@ -49,7 +49,7 @@ static void test_nan_and_inf(void **state) {
                  BBC_ERROR_INVALID_GEOMETRY, NULL);
   expect_refused("short.obj", TEXT("v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n"),
                  BBC_ERROR_INVALID_GEOMETRY, "line 2");
-  /* An ASCII PLY mesh with a NaN goes through Assimp; still refused. */
+  /* PLY meshes have their own reader: a NaN is refused there too. */
   expect_refused("nan.ply",
                  TEXT("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
                       "y\nproperty float z\nelement face 1\nproperty list uchar int "
@@ -61,6 +61,11 @@ static void test_index_out_of_range(void **state) {
   (void)state;
   expect_refused("idx.obj", TEXT("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n"), BBC_ERROR_CORRUPT,
                  "index");
+  expect_refused("idx.ply",
+                 TEXT("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
+                      "y\nproperty float z\nelement face 1\nproperty list uchar int "
+                      "vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n"),
+                 BBC_ERROR_INVALID_GEOMETRY, "face 0 refers to vertex 9");
 }
 
 static void test_zero_area_dropped_and_counted(void **state) {

@@ -1,11 +1,12 @@
 /*
- * test_points.c — point-cloud readers (src/io/load_points.c): the real scans
- * in ../shared/data/points and hand-made hostile files.
+ * test_points.c — the PLY reader (point clouds and meshes) and the XYZ
+ * reader (src/io/load_points.c): the real scans in ../shared/data/points and
+ * hand-made hostile files.
  *
- * Most cases go through the public bbc_mesh_load, which routes .xyz files and
- * PLY files without faces to the point readers. A PLY whose header cannot be
- * read is routed to Assimp instead (bbc__ply_is_point_cloud says no), so the
- * few header cases call the internal reader directly to check its message.
+ * Every case goes through the public bbc_mesh_load, which routes .xyz files
+ * to the XYZ reader and every .ply file (mesh, point cloud or damaged) to the
+ * PLY reader; none reaches Assimp. The PLY meshes are built here, byte by
+ * byte, so that no test depends on a converter.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -21,6 +22,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 /* ---- helpers ------------------------------------------------------------ */
 
@@ -424,7 +426,6 @@ static void test_ply_extra_elements(void **state) {
                      "3 0 1 1 7\n"
                      "0 8\n";
   char *p = write_text(state, "extra.ply", text);
-  assert_int_equal(bbc__ply_is_point_cloud(p), 1);
   bbc_mesh m;
   bbc_error err;
   assert_int_equal(load(p, &m, &err), BBC_OK);
@@ -510,7 +511,6 @@ static void test_ply_binary_endianness(void **state) {
     bytes b;
     build_binary(&b, be, 5);
     char *p = write_bytes(state, be ? "be.ply" : "le.ply", &b);
-    assert_int_equal(bbc__ply_is_point_cloud(p), 1);
     bbc_mesh m;
     bbc_error err;
     assert_int_equal(load(p, &m, &err), BBC_OK);
@@ -580,60 +580,45 @@ static void test_ply_binary_absurd_values(void **state) {
 }
 
 static void test_ply_header_errors(void **state) {
-  /* No end_header. A damaged PLY header goes to the point reader (Assimp
-   * 5.2 loops forever on this one), which says exactly what is wrong. */
+  /* No end_header: the PLY reader says exactly what is wrong (Assimp 5.2
+   * loops forever on this one, which is why no .ply goes to Assimp). */
   const char *text = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\n"
                      "property float y\nproperty float z\n0 0 0\n1 1 1\n";
   char *p = write_text(state, "noend.ply", text);
-  assert_int_equal(bbc__ply_is_point_cloud(p), 1);
   expect_failure(p, BBC_ERROR_CORRUPT, "line 7", "no end_header");
   free(p);
   p = write_text(state, "noend2.ply", "ply\nformat ascii 1.0\nelement vertex 2\n");
-  assert_int_equal(bbc__ply_is_point_cloud(p), 1);
   expect_failure(p, BBC_ERROR_CORRUPT, "no end_header", "truncated");
   free(p);
-  bbc_mesh m;
-  bbc_error err;
 
   static const struct {
     const char *name, *text, *needle;
     bbc_result code;
-    int is_point_cloud;
   } cases[] = {
+      /* Not PLY at all, despite the name: refused, not handed to Assimp. */
       {"magic.ply", "plx\nformat ascii 1.0\nend_header\n", "not a PLY file",
-       BBC_ERROR_UNSUPPORTED_FORMAT, 0},
+       BBC_ERROR_UNSUPPORTED_FORMAT},
       {"format.ply", "ply\nformat text 1.0\nelement vertex 1\nend_header\n1\n", "format 'text'",
-       BBC_ERROR_CORRUPT, 1},
+       BBC_ERROR_CORRUPT},
       {"type.ply",
        "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
        "property quad z\nend_header\n1 2 3\n",
-       "unknown type 'quad'", BBC_ERROR_CORRUPT, 1},
+       "unknown type 'quad'", BBC_ERROR_CORRUPT},
       {"keyword.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperties float x\nend_header\n",
-       "line 4", BBC_ERROR_CORRUPT, 1},
+       "line 4", BBC_ERROR_CORRUPT},
       {"count.ply", "ply\nformat ascii 1.0\nelement vertex -5\nend_header\n", "line 3",
-       BBC_ERROR_CORRUPT, 1},
+       BBC_ERROR_CORRUPT},
       {"noxyz.ply",
        "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
        "end_header\n1 2\n",
-       "'z'", BBC_ERROR_CORRUPT, 1},
+       "'z'", BBC_ERROR_CORRUPT},
       {"binary.ply", "ply\nformat ascii 1.0\nel\x01\x02ment vertex 1\nend_header\n", "binary data",
-       BBC_ERROR_CORRUPT, 1},
+       BBC_ERROR_CORRUPT},
+      {"empty.ply", "", "empty", BBC_ERROR_EMPTY},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
     p = write_text(state, cases[i].name, cases[i].text);
-    assert_int_equal(bbc__ply_is_point_cloud(p), cases[i].is_point_cloud);
-    if (cases[i].is_point_cloud) {
-      expect_failure(p, cases[i].code, cases[i].needle, NULL);
-    } else {
-      /* Not PLY at all: the router hands it to Assimp; the point reader,
-       * asked directly, refuses it. */
-      memset(&err, 0, sizeof err);
-      assert_int_equal(bbc__load_ply_points(p, NULL, &m, &err), cases[i].code);
-      printf("  %s\n", err.message);
-      assert_non_null(strstr(err.message, cases[i].needle));
-      assert_ptr_equal(strstr(err.message, p), err.message);
-      assert_null(m.positions);
-    }
+    expect_failure(p, cases[i].code, cases[i].needle, NULL);
     free(p);
   }
 }
@@ -669,20 +654,35 @@ static void test_ply_zero_vertices(void **state) {
   const char *text = "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\n"
                      "property float y\nproperty float z\nend_header\n";
   char *p = write_text(state, "zero.ply", text);
-  assert_int_equal(bbc__ply_is_point_cloud(p), 1);
   expect_failure(p, BBC_ERROR_EMPTY, "0 vertices", NULL);
   free(p);
 }
 
+/* A face element with records makes a mesh; "element face 0" does not. */
 static void test_ply_routing(void **state) {
   const char *mesh = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
                      "property float y\nproperty float z\nelement face 1\n"
                      "property list uchar int vertex_indices\nend_header\n"
                      "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   char *p = write_text(state, "mesh.ply", mesh);
-  assert_int_equal(bbc__ply_is_point_cloud(p), 0);
+  bbc_mesh m;
+  bbc_error err;
+  assert_int_equal(load(p, &m, &err), BBC_OK);
+  assert_int_equal(m.kind, BBC_MESH_TRIANGLES);
+  assert_int_equal(m.triangle_count, 1);
+  bbc_mesh_free(&m);
   free(p);
-  assert_int_equal(bbc__ply_is_point_cloud("/nonexistent/file.ply"), 0);
+  const char *cloud = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                      "property float y\nproperty float z\nelement face 0\n"
+                      "property list uchar int vertex_indices\nend_header\n"
+                      "0 0 0\n1 0 0\n0 1 0\n";
+  p = write_text(state, "cloud.ply", cloud);
+  assert_int_equal(load(p, &m, &err), BBC_OK);
+  assert_int_equal(m.kind, BBC_MESH_POINTS);
+  assert_int_equal(m.vertex_count, 3);
+  assert_int_equal(m.triangle_count, 0);
+  bbc_mesh_free(&m);
+  free(p);
 }
 
 static void test_ply_negative_list(void **state) {
@@ -706,8 +706,540 @@ static void test_missing_file(void **state) {
   bbc_error err;
   assert_int_equal(load(path, &m, &err), BBC_ERROR_NOT_FOUND);
   snprintf(path, sizeof path, "%s/absent.ply", f->dir);
-  assert_int_equal(bbc__load_ply_points(path, NULL, &m, &err), BBC_ERROR_NOT_FOUND);
+  assert_int_equal(bbc__load_ply(path, NULL, &m, &err), BBC_ERROR_NOT_FOUND);
+  assert_int_equal(load(path, &m, &err), BBC_ERROR_NOT_FOUND);
+  assert_int_equal(bbc__load_ply(f->dir, NULL, &m, &err), BBC_ERROR_NOT_A_FILE);
   assert_int_equal(bbc__load_xyz_points(f->dir, NULL, &m, &err), BBC_ERROR_NOT_A_FILE);
+}
+
+/* ---- hand-made PLY meshes ------------------------------------------------ */
+
+/* A unit square (vertices 0-3, z = 0) and a convex pentagon (vertices 4-8,
+ * z = 1), counter-clockwise seen from +z: the quad must become 2 triangles,
+ * the pentagon 3, as fans from their first corner. */
+static const double k_poly_pos[9][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1},
+                                        {2, 0, 1}, {3, 1, 1}, {1, 3, 1}, {-1, 1, 1}};
+static const uint32_t k_poly_tris[15] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7, 4, 7, 8};
+
+/* The two polygons in ASCII with normals and (s, t) texture coordinates. */
+static void poly_ascii(char *out, size_t size, const char *faces) {
+  int n = snprintf(out, size, "%s",
+                   "ply\nformat ascii 1.0\ncomment a quad and a pentagon\nelement vertex 9\n"
+                   "property float x\nproperty float y\nproperty float z\nproperty float nx\n"
+                   "property float ny\nproperty float nz\nproperty float s\nproperty float t\n"
+                   "element face 2\nproperty list uchar int vertex_indices\nend_header\n");
+  for (int i = 0; i < 9; i++) {
+    const double *p = k_poly_pos[i];
+    n += snprintf(out + n, size - (size_t)n, "%g %g %g 0 0 %d %g %g\n", p[0], p[1], p[2],
+                  i < 4 ? 1 : 3, p[0] / 4, p[1] / 4);
+  }
+  snprintf(out + n, size - (size_t)n, "%s", faces);
+}
+
+/* The same in binary with other types and names: double coordinates, float
+ * normals, (texture_u, texture_v), a colour (ignored for meshes), faces
+ * with a flag before and per-face texture coordinates after the index list
+ * ("vertex_index", uint indices), and an element after the faces. */
+static void poly_binary(bytes *b, int be) {
+  b->n = 0;
+  put_text(b,
+           be ? "ply\nformat binary_big_endian 1.0\n" : "ply\nformat binary_little_endian 1.0\n");
+  put_text(b, "element vertex 9\nproperty double x\nproperty double y\nproperty double z\n"
+              "property float nx\nproperty float ny\nproperty float nz\n"
+              "property float texture_u\nproperty float texture_v\nproperty uchar red\n"
+              "element face 2\nproperty uchar flags\nproperty list uchar uint vertex_index\n"
+              "property list uchar float texcoord\nelement edge 1\nproperty int vertex1\n"
+              "property int vertex2\nend_header\n");
+  for (int i = 0; i < 9; i++) {
+    const double *p = k_poly_pos[i];
+    for (int k = 0; k < 3; k++) put_f64(b, p[k], be);
+    put_f32(b, 0.0f, be);
+    put_f32(b, 0.0f, be);
+    put_f32(b, i < 4 ? 1.0f : 3.0f, be);
+    put_f32(b, (float)(p[0] / 4), be);
+    put_f32(b, (float)(p[1] / 4), be);
+    put_u8(b, 200);
+  }
+  for (int f = 0; f < 2; f++) {
+    int n = f == 0 ? 4 : 5, first = f == 0 ? 0 : 4;
+    put_u8(b, 7); /* flags */
+    put_u8(b, (uint8_t)n);
+    for (int j = 0; j < n; j++) put_i32(b, first + j, be);
+    put_u8(b, (uint8_t)(2 * n));
+    for (int j = 0; j < 2 * n; j++) put_f32(b, 0.5f, be);
+  }
+  put_i32(b, 0, be);
+  put_i32(b, 1, be);
+}
+
+static void check_poly_mesh(const bbc_mesh *m, const char *stem) {
+  assert_int_equal(m->kind, BBC_MESH_TRIANGLES);
+  assert_int_equal(m->vertex_count, 9);
+  assert_int_equal(m->triangle_count, 5);
+  assert_int_equal(m->triangles_read, 5);
+  assert_int_equal(m->dropped_degenerate, 0);
+  assert_memory_equal(m->indices, k_poly_tris, sizeof k_poly_tris);
+  for (int i = 0; i < 9; i++)
+    for (int k = 0; k < 3; k++) assert_true(m->positions[3 * i + k] == k_poly_pos[i][k]);
+  /* The file's normals, normalised; its texture coordinates as written. */
+  assert_non_null(m->normals);
+  assert_int_equal(m->normals_generated, 0);
+  assert_non_null(m->uvs);
+  for (int i = 0; i < 9; i++) {
+    assert_true(m->normals[3 * i] == 0.0f && m->normals[3 * i + 1] == 0.0f);
+    assert_true(m->normals[3 * i + 2] == 1.0f);
+    assert_true(m->uvs[2 * i] == (float)(k_poly_pos[i][0] / 4));
+    assert_true(m->uvs[2 * i + 1] == (float)(k_poly_pos[i][1] / 4));
+  }
+  assert_null(m->colors);
+  /* One material, one group named after the file. */
+  assert_int_equal(m->material_count, 1);
+  assert_string_equal(m->materials[0].name, "default");
+  for (int k = 0; k < 3; k++) assert_true(m->materials[0].base_color[k] == 0.8f);
+  assert_true(m->materials[0].base_color[3] == 1.0f);
+  assert_int_equal(m->materials[0].texture, -1);
+  assert_null(m->materials[0].texture_ref);
+  assert_int_equal(m->texture_count, 0);
+  assert_int_equal(m->group_count, 1);
+  assert_string_equal(m->group_names[0], stem);
+  for (size_t t = 0; t < m->triangle_count; t++) {
+    assert_int_equal(m->face_material[t], 0);
+    assert_int_equal(m->face_group[t], 0);
+  }
+  assert_true(m->radius > 0);
+}
+
+static void test_ply_mesh_ascii(void **state) {
+  char text[2048];
+  poly_ascii(text, sizeof text, "4 0 1 2 3\n5 4 5 6 7 8\n");
+  char *p = write_text(state, "polygons.ply", text);
+  bbc_mesh m;
+  bbc_error err;
+  assert_int_equal(load(p, &m, &err), BBC_OK);
+  check_poly_mesh(&m, "polygons");
+  bbc_mesh_free(&m);
+  free(p);
+}
+
+static void test_ply_mesh_binary(void **state) {
+  for (int be = 0; be <= 1; be++) {
+    bytes b;
+    poly_binary(&b, be);
+    char *p = write_bytes(state, be ? "poly_be.ply" : "poly_le.ply", &b);
+    bbc_mesh m;
+    bbc_error err;
+    assert_int_equal(load(p, &m, &err), BBC_OK);
+    check_poly_mesh(&m, be ? "poly_be" : "poly_le");
+    bbc_mesh_free(&m);
+    free(p);
+
+    /* Cut inside the last record, and cut short of the minimum size. */
+    bytes cut = b;
+    cut.n -= 5;
+    p = write_bytes(state, "poly_cut.ply", &cut);
+    expect_failure(p, BBC_ERROR_CORRUPT, "edge 0", "truncated");
+    free(p);
+    cut.n -= 200; /* below the minimum: every list empty */
+    p = write_bytes(state, "poly_short.ply", &cut);
+    expect_failure(p, BBC_ERROR_CORRUPT, "shorter", "at least");
+    free(p);
+    /* Junk after the last record. */
+    put_text(&b, "JUNK");
+    p = write_bytes(state, "poly_junk.ply", &b);
+    expect_failure(p, BBC_ERROR_CORRUPT, "4 bytes longer", NULL);
+    free(p);
+  }
+}
+
+/* One triangle with three vertices; `faces` follows the vertices. */
+static char *tri_ascii(void **state, const char *name, const char *vertices, const char *faces,
+                       int face_count) {
+  char text[1024];
+  snprintf(text, sizeof text,
+           "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+           "property float z\nelement face %d\nproperty list uchar int vertex_indices\n"
+           "end_header\n%s%s",
+           face_count, vertices ? vertices : "0 0 0\n1 0 0\n0 1 0\n", faces);
+  return write_text(state, name, text);
+}
+
+/* The same in binary: int indices (or `index_type`). Returns the header
+ * length: the vertices start there, 12 bytes each, then the face. */
+static size_t tri_binary(bytes *b, int be, const char *index_type, const int32_t *indices,
+                         int count) {
+  char header[512];
+  snprintf(header, sizeof header,
+           "ply\nformat %s 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+           "property float z\nelement face 1\nproperty list uchar %s vertex_indices\n"
+           "end_header\n",
+           be ? "binary_big_endian" : "binary_little_endian", index_type);
+  b->n = 0;
+  put_text(b, header);
+  static const float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  for (int i = 0; i < 9; i++) put_f32(b, v[i], be);
+  put_u8(b, (uint8_t)count);
+  for (int i = 0; i < count; i++) {
+    if (!strcmp(index_type, "short"))
+      put_i16(b, (int16_t)indices[i], be);
+    else
+      put_i32(b, indices[i], be);
+  }
+  return strlen(header);
+}
+
+static void test_ply_mesh_bad_faces(void **state) {
+  /* Out of range: refused with the file, the face and the numbers (Assimp
+   * read vertex 21912 from uninitialised memory for this). */
+  char *p = tri_ascii(state, "range.ply", NULL, "3 0 1 9\n3 0 1 2\n", 2);
+  expect_failure(p, BBC_ERROR_INVALID_GEOMETRY,
+                 "face 0 refers to vertex 9, but the file has 3 "
+                 "vertices",
+                 "line 13");
+  free(p);
+  p = tri_ascii(state, "negative.ply", NULL, "3 0 1 2\n3 0 -1 2\n", 2);
+  expect_failure(p, BBC_ERROR_INVALID_GEOMETRY, "face 1 refers to vertex -1", NULL);
+  free(p);
+  p = tri_ascii(state, "two.ply", NULL, "3 0 1 2\n2 0 1\n", 2);
+  expect_failure(p, BBC_ERROR_CORRUPT, "face 1 has 2 vertex indices", "at least 3");
+  free(p);
+  p = tri_ascii(state, "none.ply", NULL, "0\n", 1);
+  expect_failure(p, BBC_ERROR_CORRUPT, "face 0 has 0 vertex indices", NULL);
+  free(p);
+  p = tri_ascii(state, "fraction.ply", NULL, "3 0 1.5 2\n", 1);
+  expect_failure(p, BBC_ERROR_CORRUPT, "face 0", "whole number");
+  free(p);
+  p = tri_ascii(state, "missing.ply", NULL, "3 0 1 2\n", 2);
+  expect_failure(p, BBC_ERROR_CORRUPT, "1 of the 2 face records", "truncated");
+  free(p);
+  p = tri_ascii(state, "items.ply", NULL, "3 0 1\n", 1);
+  expect_failure(p, BBC_ERROR_CORRUPT, "line 13", "2 of the 3 items");
+  free(p);
+  p = tri_ascii(state, "nan.ply", "0 0 0\nnan 0 0\n0 1 0\n", "3 0 1 2\n", 1);
+  expect_failure(p, BBC_ERROR_INVALID_GEOMETRY, "vertex 1 ", "line 11");
+  free(p);
+  p = tri_ascii(state, "huge.ply", "0 0 0\n1 0 0\n0 1e38 0\n", "3 0 1 2\n", 1);
+  expect_failure(p, BBC_ERROR_INVALID_GEOMETRY, "vertex 2 ", "absurd");
+  free(p);
+  /* All corners on a line: finalize drops it and nothing is left. */
+  p = tri_ascii(state, "flat.ply", "0 0 0\n1 0 0\n2 0 0\n", "3 0 1 2\n", 1);
+  expect_failure(p, BBC_ERROR_EMPTY, "non-zero area", NULL);
+  free(p);
+
+  /* Binary, both byte orders. */
+  for (int be = 0; be <= 1; be++) {
+    bytes b;
+    char where[80];
+    size_t header = tri_binary(&b, be, "int", (const int32_t[]){0, 1, 9}, 3);
+    snprintf(where, sizeof where, "face 0 (byte offset %zu) refers to vertex 9", header + 36);
+    p = write_bytes(state, "range_bin.ply", &b);
+    expect_failure(p, BBC_ERROR_INVALID_GEOMETRY, where, "3 vertices");
+    free(p);
+    tri_binary(&b, be, "int", (const int32_t[]){0, -1, 2}, 3);
+    p = write_bytes(state, "negative_bin.ply", &b);
+    expect_failure(p, BBC_ERROR_INVALID_GEOMETRY, "face 0", "refers to vertex -1");
+    free(p);
+    tri_binary(&b, be, "short", (const int32_t[]){2, -7, 0}, 3);
+    p = write_bytes(state, "negative_short.ply", &b);
+    expect_failure(p, BBC_ERROR_INVALID_GEOMETRY, "face 0", "refers to vertex -7");
+    free(p);
+    tri_binary(&b, be, "int", (const int32_t[]){0, 1}, 2);
+    p = write_bytes(state, "two_bin.ply", &b);
+    snprintf(where, sizeof where, "face 0 (byte offset %zu) has 2 vertex indices", header + 36);
+    expect_failure(p, BBC_ERROR_CORRUPT, where, NULL);
+    free(p);
+    tri_binary(&b, be, "int", (const int32_t[]){2, 1, 0}, 3);
+    p = write_bytes(state, "ok_bin.ply", &b);
+    bbc_mesh m;
+    bbc_error err;
+    assert_int_equal(load(p, &m, &err), BBC_OK);
+    assert_int_equal(m.triangle_count, 1);
+    assert_memory_equal(m.indices, ((const uint32_t[]){2, 1, 0}), 3 * sizeof(uint32_t));
+    assert_int_equal(m.normals_generated, 1);
+    assert_true(m.normals[2] == -1.0f); /* clockwise from +z: faces -z */
+    bbc_mesh_free(&m);
+    free(p);
+    b.n -= 3; /* cut inside the last index */
+    p = write_bytes(state, "cut_bin.ply", &b);
+    expect_failure(p, BBC_ERROR_CORRUPT, "face 0", "truncated");
+    free(p);
+    /* NaN in the last vertex. */
+    tri_binary(&b, be, "int", (const int32_t[]){0, 1, 2}, 3);
+    unsigned char nan_bytes[4];
+    float nan = NAN;
+    memcpy(nan_bytes, &nan, 4);
+    for (int k = 0; k < 4; k++) b.data[header + 24 + 8 + k] = nan_bytes[be ? 3 - k : k];
+    p = write_bytes(state, "nan_bin.ply", &b);
+    snprintf(where, sizeof where, "vertex 2 (byte offset %zu)", header + 24);
+    expect_failure(p, BBC_ERROR_INVALID_GEOMETRY, where, "nan");
+    free(p);
+  }
+}
+
+static void test_ply_mesh_header_problems(void **state) {
+  /* No end_header: refused at once (Assimp 5.2 never returns on this). */
+  time_t start = time(NULL);
+  char *p = write_text(state, "noend_mesh.ply",
+                       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                       "property float y\nproperty float z\nelement face 1\n"
+                       "property list uchar int vertex_indices\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expect_failure(p, BBC_ERROR_CORRUPT, "line 9", "no end_header");
+  free(p);
+  bytes b;
+  tri_binary(&b, 0, "int", (const int32_t[]){0, 1, 2}, 3);
+  char *eh = strstr((char *)b.data, "end_header\n");
+  assert_non_null(eh);
+  memmove(eh, eh + 11, b.n - (size_t)((unsigned char *)eh + 11 - b.data));
+  b.n -= 11;
+  p = write_bytes(state, "noend_bin.ply", &b);
+  expect_failure(p, BBC_ERROR_CORRUPT, "binary data", "no end_header");
+  free(p);
+  /* A long header without end_header: only the first MiB is scanned. */
+  size_t big = 3u << 20;
+  char *text = malloc(big + 1);
+  assert_non_null(text);
+  size_t n = (size_t)snprintf(text, big, "ply\nformat ascii 1.0\nelement face 1\n");
+  while (n + 16 < big) n += (size_t)snprintf(text + n, big - n, "comment %06zu\n", n % 999999);
+  fixture *f = *state;
+  p = tu_write_file(f->dir, "noend_big.ply", text, n);
+  assert_non_null(p);
+  free(text);
+  expect_failure(p, BBC_ERROR_CORRUPT, "no end_header", "first 1048576 bytes");
+  free(p);
+  assert_true(time(NULL) - start < 30);
+
+  /* A face element without an index list. */
+  p = write_text(state, "nolist.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                 "property float y\nproperty float z\nelement face 1\n"
+                 "property list uchar int corners\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expect_failure(p, BBC_ERROR_CORRUPT, "'face'", "'vertex_indices'");
+  free(p);
+  p = write_text(state, "scalar.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                 "property float y\nproperty float z\nelement face 1\n"
+                 "property int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3\n");
+  expect_failure(p, BBC_ERROR_CORRUPT, "not a list", NULL);
+  free(p);
+  /* Faces declared but no vertex element at all. */
+  p = write_text(state, "novertex.ply",
+                 "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int "
+                 "vertex_indices\nend_header\n3 0 1 2\n");
+  expect_failure(p, BBC_ERROR_EMPTY, "no vertex element", NULL);
+  free(p);
+  /* Absurd face count: the size check refuses it before allocating. */
+  p = write_text(state, "faces_count.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                 "property float y\nproperty float z\nelement face 1000000000000\n"
+                 "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+                 "3 0 1 2\n");
+  expect_failure(p, BBC_ERROR_CORRUPT, "1000000000000 'face' records", "truncated");
+  free(p);
+  tri_binary(&b, 1, "int", (const int32_t[]){0, 1, 2}, 3);
+  char *fc = strstr((char *)b.data, "face 1\n");
+  assert_non_null(fc);
+  char patched[4096];
+  size_t head = (size_t)(fc - (char *)b.data);
+  memcpy(patched, b.data, head);
+  size_t m = head + (size_t)sprintf(patched + head, "face 4000000000\n");
+  size_t rest = b.n - head - 7;
+  memcpy(patched + m, fc + 7, rest);
+  memcpy(b.data, patched, m + rest);
+  b.n = m + rest;
+  p = write_bytes(state, "faces_count_bin.ply", &b);
+  expect_failure(p, BBC_ERROR_CORRUPT, "4000000000 'face' records", "at least");
+  free(p);
+}
+
+static void test_ply_tristrips(void **state) {
+  /* 0 1 2 3 is a strip of two triangles (winding alternates), -1 restarts,
+   * 4 5 6 is one triangle, and the repeated 6 and 4 are a joint that makes
+   * no triangles. */
+  const char *head = "ply\nformat ascii 1.0\nelement vertex 7\nproperty float x\n"
+                     "property float y\nproperty float z\nelement tristrips 1\n"
+                     "property list int int vertex_indices\nend_header\n"
+                     "0 0 0\n0 1 0\n1 0 0\n1 1 0\n2 0 0\n3 0 0\n2 1 0\n";
+  char text[1024];
+  snprintf(text, sizeof text, "%s10 0 1 2 3 -1 4 5 6 6 4\n", head);
+  char *p = write_text(state, "strips.ply", text);
+  bbc_mesh m;
+  bbc_error err;
+  assert_int_equal(load(p, &m, &err), BBC_OK);
+  assert_int_equal(m.kind, BBC_MESH_TRIANGLES);
+  assert_int_equal(m.triangle_count, 3);
+  assert_int_equal(m.dropped_degenerate, 0);
+  assert_memory_equal(m.indices, ((const uint32_t[]){0, 1, 2, 2, 1, 3, 4, 5, 6}),
+                      9 * sizeof(uint32_t));
+  /* Consistent winding: every flat normal points the same way. */
+  for (size_t v = 0; v < 3; v++) assert_true(m.normals[3 * v + 2] == m.normals[2]);
+  bbc_mesh_free(&m);
+  free(p);
+  snprintf(text, sizeof text, "%s4 0 1 -2 3\n", head);
+  p = write_text(state, "strips_bad.ply", text);
+  expect_failure(p, BBC_ERROR_INVALID_GEOMETRY, "tristrips 0 refers to vertex -2", "7 vertices");
+  free(p);
+}
+
+typedef struct log_capture {
+  int warnings;
+  char last[512];
+} log_capture;
+
+static void on_log(void *user, bbc_log_level level, const char *message) {
+  log_capture *c = user;
+  if (level == BBC_LOG_WARNING) c->warnings++;
+  snprintf(c->last, sizeof c->last, "%s", message);
+}
+
+static void test_ply_texture_file(void **state) {
+  fixture *f = *state;
+  bbc_image img;
+  assert_int_equal(bbc_image_alloc(&img, 2, 1), BBC_OK);
+  memset(img.rgba, 255, 8);
+  img.rgba[7] = 0; /* second texel transparent */
+  char png[1024];
+  snprintf(png, sizeof png, "%s/leaf skin.png", f->dir);
+  bbc_error err;
+  assert_int_equal(bbc_image_write_png(png, &img, &err), BBC_OK);
+  bbc_image_free(&img);
+
+  const char *faces = "4 0 1 2 3\n5 4 5 6 7 8\n";
+  char text[2048];
+  poly_ascii(text, sizeof text, faces);
+  /* Insert the comment after the format line; the name has a blank and a
+   * Windows folder that is not there (the base name is found beside). */
+  char with[2100];
+  const char *after = strstr(text, "comment");
+  snprintf(with, sizeof with, "%.*scomment TextureFile C:\\maps\\leaf skin.png  \n%s",
+           (int)(after - text), text, after);
+  char *p = write_text(state, "textured.ply", with);
+  bbc_load_options opts;
+  bbc_load_options_default(&opts);
+  log_capture cap = {0, ""};
+  opts.callbacks.log = on_log;
+  opts.callbacks.user = &cap;
+  bbc_mesh m;
+  assert_int_equal(bbc_mesh_load(p, &opts, &m, &err), BBC_OK);
+  assert_int_equal(cap.warnings, 0);
+  assert_int_equal(m.texture_count, 1);
+  assert_int_equal(m.materials[0].texture, 0);
+  assert_string_equal(m.materials[0].texture_ref, "C:\\maps\\leaf skin.png");
+  assert_string_equal(m.textures[0].path, png);
+  assert_int_equal(m.textures[0].image.width, 2);
+  assert_int_equal(m.textures[0].has_alpha, 1);
+  bbc_mesh_free(&m);
+  free(p);
+
+  /* Missing: a warning, the reference kept, the base colour used. */
+  snprintf(with, sizeof with, "%.*scomment TextureFile absent.png\n%s", (int)(after - text), text,
+           after);
+  p = write_text(state, "untextured.ply", with);
+  assert_int_equal(bbc_mesh_load(p, &opts, &m, &err), BBC_OK);
+  assert_int_equal(cap.warnings, 1);
+  assert_non_null(strstr(cap.last, "absent.png"));
+  assert_ptr_equal(strstr(cap.last, p), cap.last);
+  assert_int_equal(m.texture_count, 0);
+  assert_int_equal(m.materials[0].texture, -1);
+  assert_string_equal(m.materials[0].texture_ref, "absent.png");
+  bbc_mesh_free(&m);
+  free(p);
+}
+
+/* A cube of side 2 around the origin, six quads wound counter-clockwise
+ * seen from outside, written by hand: the centre of gravity and the radius
+ * are known exactly (the triangle centroids cancel in pairs). */
+static void test_ply_cube_frame(void **state) {
+  const char *cube = "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\n"
+                     "property float y\nproperty float z\nelement face 6\n"
+                     "property list uchar int vertex_indices\nend_header\n"
+                     "-1 -1 -1\n1 -1 -1\n-1 1 -1\n1 1 -1\n-1 -1 1\n1 -1 1\n-1 1 1\n1 1 1\n"
+                     "4 4 6 2 0\n4 1 3 7 5\n4 0 1 5 4\n4 6 7 3 2\n4 2 3 1 0\n4 4 5 7 6\n";
+  char *p = write_text(state, "cube.ply", cube);
+  bbc_load_options opts;
+  bbc_load_options_default(&opts);
+  opts.compute_normals = 0; /* flat normals: outward for this winding */
+  bbc_mesh m;
+  bbc_error err;
+  assert_int_equal(bbc_mesh_load(p, &opts, &m, &err), BBC_OK);
+  assert_int_equal(m.kind, BBC_MESH_TRIANGLES);
+  assert_int_equal(m.triangle_count, 12);
+  assert_int_equal(m.dropped_degenerate, 0);
+  for (int k = 0; k < 3; k++) {
+    assert_true(m.center[k] == 0.0);
+    assert_true(m.bbox_min[k] == -1.0);
+    assert_true(m.bbox_max[k] == 1.0);
+  }
+  assert_true(m.radius == sqrt(3.0));
+  assert_string_equal(m.group_names[0], "cube");
+  assert_int_equal(m.normals_generated, 1);
+  check_unit_normals(&m);
+  /* Every triangle faces away from the centre. */
+  for (size_t t = 0; t < m.triangle_count; t++) {
+    const uint32_t *ix = m.indices + 3 * t;
+    double c[3] = {0, 0, 0}, n[3] = {0, 0, 0};
+    for (int j = 0; j < 3; j++)
+      for (int k = 0; k < 3; k++) c[k] += m.positions[3 * ix[j] + k];
+    const double *a = m.positions + 3 * ix[0], *b = m.positions + 3 * ix[1],
+                 *d = m.positions + 3 * ix[2];
+    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double w[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+    n[0] = u[1] * w[2] - u[2] * w[1];
+    n[1] = u[2] * w[0] - u[0] * w[2];
+    n[2] = u[0] * w[1] - u[1] * w[0];
+    assert_true(c[0] * n[0] + c[1] * n[1] + c[2] * n[2] > 0);
+  }
+  bbc_mesh_free(&m);
+  free(p);
+}
+
+/* A binary grid big enough for progress reports (80,000 records): progress
+ * rises, ends at 1 exactly once, and the frame is right. */
+static void test_ply_mesh_progress(void **state) {
+  enum { N = 200 };
+  size_t cap = 1024 + (size_t)N * N * 12 + (size_t)(N - 1) * (N - 1) * 17;
+  unsigned char *buf = malloc(cap);
+  assert_non_null(buf);
+  size_t n = (size_t)snprintf((char *)buf, 1024,
+                              "ply\nformat binary_little_endian 1.0\nelement vertex %d\n"
+                              "property float x\nproperty float y\nproperty float z\n"
+                              "element face %d\nproperty list uchar int vertex_indices\n"
+                              "end_header\n",
+                              N * N, (N - 1) * (N - 1));
+  for (int y = 0; y < N; y++)
+    for (int x = 0; x < N; x++) {
+      float v[3] = {(float)x, (float)y, 0.0f};
+      memcpy(buf + n, v, 12);
+      n += 12;
+    }
+  for (int y = 0; y + 1 < N; y++)
+    for (int x = 0; x + 1 < N; x++) {
+      int32_t q[4] = {y * N + x, y * N + x + 1, (y + 1) * N + x + 1, (y + 1) * N + x};
+      buf[n++] = 4;
+      memcpy(buf + n, q, 16);
+      n += 16;
+    }
+  assert_true(n <= cap);
+  fixture *f = *state;
+  char *p = tu_write_file(f->dir, "grid.ply", buf, n);
+  free(buf);
+  assert_non_null(p);
+  bbc_load_options opts;
+  bbc_load_options_default(&opts);
+  progress_log prog = {0, 0, 0, 0.0};
+  opts.callbacks.progress = on_progress;
+  opts.callbacks.user = &prog;
+  bbc_mesh m;
+  bbc_error err;
+  assert_int_equal(bbc_mesh_load(p, &opts, &m, &err), BBC_OK);
+  assert_int_equal(m.triangle_count, 2 * (N - 1) * (N - 1));
+  assert_true(prog.calls > 2);
+  assert_int_equal(prog.ones, 1);
+  assert_true(prog.last == 1.0);
+  assert_false(prog.decreasing);
+  assert_true(fabs(m.center[0] - (N - 1) / 2.0) < 1e-9);
+  assert_true(fabs(m.center[1] - (N - 1) / 2.0) < 1e-9);
+  assert_true(m.center[2] == 0.0);
+  bbc_mesh_free(&m);
+  free(p);
 }
 
 /* ---- hand-made XYZ files ------------------------------------------------- */
@@ -794,6 +1326,14 @@ int main(void) {
       cmocka_unit_test_setup_teardown(test_ply_zero_vertices, setup, teardown),
       cmocka_unit_test_setup_teardown(test_ply_routing, setup, teardown),
       cmocka_unit_test_setup_teardown(test_ply_negative_list, setup, teardown),
+      cmocka_unit_test_setup_teardown(test_ply_mesh_ascii, setup, teardown),
+      cmocka_unit_test_setup_teardown(test_ply_mesh_binary, setup, teardown),
+      cmocka_unit_test_setup_teardown(test_ply_mesh_bad_faces, setup, teardown),
+      cmocka_unit_test_setup_teardown(test_ply_mesh_header_problems, setup, teardown),
+      cmocka_unit_test_setup_teardown(test_ply_tristrips, setup, teardown),
+      cmocka_unit_test_setup_teardown(test_ply_texture_file, setup, teardown),
+      cmocka_unit_test_setup_teardown(test_ply_cube_frame, setup, teardown),
+      cmocka_unit_test_setup_teardown(test_ply_mesh_progress, setup, teardown),
       cmocka_unit_test_setup_teardown(test_missing_file, setup, teardown),
       cmocka_unit_test_setup_teardown(test_xyz_formats, setup, teardown),
       cmocka_unit_test_setup_teardown(test_xyz_errors, setup, teardown),

@@ -20,12 +20,15 @@ bbc_result bbc_mesh_load(const char *path, const bbc_load_options *options, bbc_
 
   char ext[16];
   bbc__path_extension(path, ext, sizeof ext);
-  /* Point clouds have their own readers: Assimp would either drop the points
-   * or accept damaged binary PLY bodies without complaint. */
+  /* Point clouds and PLY have their own readers, which finish the mesh
+   * themselves. Every .ply goes to ours, mesh or point cloud: Assimp would
+   * drop the points, accept damaged binary bodies without complaint, read
+   * out-of-range face indices from uninitialised memory, and it never
+   * returns on a header without end_header. */
   if (!strcmp(ext, "xyz") || !strcmp(ext, "pts") || !strcmp(ext, "txt"))
     r = bbc__load_xyz_points(path, options, mesh, err);
-  else if (!strcmp(ext, "ply") && bbc__ply_is_point_cloud(path))
-    r = bbc__load_ply_points(path, options, mesh, err);
+  else if (!strcmp(ext, "ply"))
+    r = bbc__load_ply(path, options, mesh, err);
   else {
     r = bbc__load_assimp(path, options, mesh, err);
     if (r == BBC_OK) r = bbc_mesh_finalize(mesh, options->compute_normals, path, err);

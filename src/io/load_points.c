@@ -1,15 +1,19 @@
 /*
- * load_points.c — point-cloud readers (thesis section 2.4): PLY files whose
- * header declares vertices but no faces, and XYZ text files.
+ * load_points.c — the PLY reader (point clouds, thesis section 2.4, and
+ * polygon meshes) and the XYZ text reader.
  *
- * Why not Assimp for these? Assimp stores coordinates as float, which ruins
- * UTM-sized scans (6e5 / 5e6 m); it does not check a binary body against the
- * header, so a damaged file loads as garbage; and on some damaged headers it
- * never returns. Our own reader keeps doubles, reads per-point colours and
- * normals, and, because point clouds come straight from scanners and
- * converters, treats every byte as untrusted: sizes are checked against the
- * header before any record is read, and every refusal names the file and the
- * place (line number in text, vertex index and byte offset in binary).
+ * Every .ply file comes here, never to Assimp. A PLY whose header declares
+ * `face` or `tristrips` records loads as a triangle mesh; one with vertices
+ * only loads as a point cloud. Why not Assimp? Assimp stores coordinates as
+ * float, which ruins UTM-sized scans (6e5 / 5e6 m); it does not check a
+ * binary body against the header, so a damaged file loads as garbage; it
+ * reads face indices past the vertex array (uninitialised memory) instead of
+ * refusing them; and on some damaged headers (no end_header) it never
+ * returns. Our own reader keeps doubles, reads per-point colours, normals and
+ * texture coordinates, and treats every byte as untrusted: sizes are checked
+ * against the header before any record is read, every index is checked
+ * against the vertex count, and every refusal names the file and the place
+ * (line number in text, record index and byte offset in binary).
  *
  * Both readers load the whole file into memory with one fread (files are at
  * most a few hundred MB) and parse from the buffer; the buffer is NUL
@@ -23,6 +27,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 /* Coordinates beyond this are not measurements but damage (a shifted binary
  * record read as float gives values like 1e38). */
@@ -30,8 +35,11 @@
 /* A real PLY header is a few hundred bytes; this bounds the header scan of a
  * file that only starts with "ply". */
 #define PLY_MAX_HEADER (1u << 20)
-/* Below this many points progress is not worth reporting. */
-#define PROGRESS_MIN_POINTS 65536u
+/* Triangles reserved before reading a mesh's faces; the array grows past
+ * this as needed. */
+#define PLY_FIRST_TRIANGLES (1u << 22)
+/* Below this many records (vertices, faces) progress is not worth reporting. */
+#define PROGRESS_MIN_RECORDS 65536u
 
 /* ------------------------------------------------------------------------ */
 /* Shared helpers                                                            */
@@ -150,11 +158,6 @@ static int coordinate_ok(double v) {
   return isfinite(v) && fabs(v) <= ABSURD_COORDINATE;
 }
 
-static int progress_step(size_t count, size_t *step) {
-  *step = count / 8 ? count / 8 : 1;
-  return count >= PROGRESS_MIN_POINTS;
-}
-
 /* ------------------------------------------------------------------------ */
 /* PLY header                                                                */
 /* ------------------------------------------------------------------------ */
@@ -255,6 +258,7 @@ typedef struct ply_header {
   size_t element_cap;
   size_t body_offset;  /* first byte after the end_header line */
   size_t header_lines; /* lines up to and including end_header */
+  char *texture_file;  /* first "comment TextureFile NAME" (some exporters), or NULL */
 } ply_header;
 
 static void ply_header_free(ply_header *h) {
@@ -264,6 +268,7 @@ static void ply_header_free(ply_header *h) {
     free(h->elements[i].name);
   }
   free(h->elements);
+  free(h->texture_file);
   memset(h, 0, sizeof *h);
 }
 
@@ -313,11 +318,11 @@ static ply_element *ply_find_element(const ply_header *h, const char *name) {
 
 #define HEADER_MAX_TOKENS 6
 
-/* Parses the header at the start of buf[0, size). `whole` says whether buf
- * holds the whole file (only for the wording of "no end_header"). Errors go to
- * err (may be NULL: bbc__ply_is_point_cloud only wants a yes or no). */
-static bbc_result ply_parse_header(const char *path, const char *buf, size_t size, int whole,
-                                   ply_header *h, bbc_error *err) {
+/* Parses the header at the start of buf[0, size), the whole file. The scan
+ * stops after PLY_MAX_HEADER bytes, so a file without end_header is refused
+ * quickly whatever its size. */
+static bbc_result ply_parse_header(const char *path, const char *buf, size_t size, ply_header *h,
+                                   bbc_error *err) {
   memset(h, 0, sizeof *h);
   /* The magic first: anything else is not a PLY file at all. */
   if (size < 3 || memcmp(buf, "ply", 3) != 0 || (size > 3 && buf[3] != '\n' && buf[3] != '\r'))
@@ -355,6 +360,14 @@ static bbc_result ply_parse_header(const char *path, const char *buf, size_t siz
         extra++;
     }
     if (nt == 0) continue; /* tolerate blank lines */
+    if (tok_is(t[0], "comment") && nt >= 3 && tok_is(t[1], "TextureFile") && !h->texture_file) {
+      /* The name is the rest of the line: file names may contain blanks. */
+      const char *e = le;
+      while (e > t[2].s && is_blank(e[-1])) e--;
+      h->texture_file = tok_dup((token){t[2].s, (size_t)(e - t[2].s)});
+      if (!h->texture_file) goto oom;
+      continue;
+    }
     if (tok_is(t[0], "comment") || tok_is(t[0], "obj_info")) continue;
     if (extra) nt = HEADER_MAX_TOKENS + 1; /* too many tokens for any keyword */
 
@@ -498,7 +511,7 @@ static bbc_result ply_parse_header(const char *path, const char *buf, size_t siz
     }
   }
   if (!done) {
-    if (scan < size || !whole)
+    if (scan < size)
       r = bbc__fail(err, BBC_ERROR_CORRUPT,
                     "%s: PLY header has no end_header line in its first %u bytes; the header is "
                     "damaged",
@@ -525,7 +538,9 @@ fail:
   return r;
 }
 
-/* 1 when some element that Assimp would turn into faces has records. */
+/* 1 when the file is a mesh: some `face` or `tristrips` element has records.
+ * A header that declares "element face 0" (some scanners write one) is a
+ * point cloud. */
 static int ply_has_faces(const ply_header *h) {
   for (size_t i = 0; i < h->element_count; i++)
     if ((strcmp(h->elements[i].name, "face") == 0 ||
@@ -535,59 +550,63 @@ static int ply_has_faces(const ply_header *h) {
   return 0;
 }
 
-/* Says whether the point reader, not Assimp, should read a .ply file. Besides
- * point clouds proper, that includes every file that starts like a PLY file
- * but whose header cannot be parsed: the point reader then names the exact
- * problem, whereas Assimp 5 never returns on some of them (a header without
- * end_header makes it loop forever). Only files whose header is sound and
- * declares faces go to Assimp. */
-int bbc__ply_is_point_cloud(const char *path) {
-  if (!path) return 0;
-  FILE *f = fopen(path, "rb");
-  if (!f) return 0;
-  /* Only the header matters, and it fits in PLY_MAX_HEADER. */
-  char *buf = malloc(PLY_MAX_HEADER + 1);
-  if (!buf) {
-    fclose(f);
-    return 0;
-  }
-  size_t n = fread(buf, 1, PLY_MAX_HEADER, f);
-  int failed = ferror(f);
-  fclose(f);
-  buf[n] = '\0';
-  int yes = 0;
-  if (!failed && n >= 3 && memcmp(buf, "ply", 3) == 0 &&
-      (n == 3 || buf[3] == '\n' || buf[3] == '\r')) {
-    ply_header h;
-    if (ply_parse_header(path, buf, n, n < PLY_MAX_HEADER, &h, NULL) == BBC_OK) {
-      yes = !ply_has_faces(&h);
-      ply_header_free(&h);
-    } else {
-      yes = 1;
-    }
-  }
-  free(buf);
-  return yes;
-}
-
 /* ------------------------------------------------------------------------ */
-/* PLY vertex mapping and storage                                            */
+/* PLY element mapping and storage                                           */
 /* ------------------------------------------------------------------------ */
 
-enum { V_X, V_Y, V_Z, V_NX, V_NY, V_NZ, V_R, V_G, V_B, V_A, V_COUNT };
+/* Vertex values we read; V_U and V_V (texture coordinates) only for meshes,
+ * colours only for point clouds. */
+enum { V_X, V_Y, V_Z, V_NX, V_NY, V_NZ, V_R, V_G, V_B, V_A, V_U, V_V, V_COUNT };
 
-typedef struct ply_points {
+/* The items of one list property of the record being read (the vertex
+ * indices of a face or a strip). */
+typedef struct ply_list {
+  size_t prop; /* property index in its element; SIZE_MAX: capture none */
+  double *items;
+  size_t count;
+  size_t cap;
+} ply_list;
+
+typedef struct ply_reader {
   const char *path;
+  const bbc_callbacks *cb;
   const ply_element *vertex;
   size_t prop[V_COUNT]; /* property index of each value, SIZE_MAX when absent */
   int has_normals;
-  int has_colors;
+  int has_colors;       /* point clouds only */
+  int has_uvs;          /* meshes only */
   int float_colors;     /* some colour channel is float: convert at the end */
   float *raw_colors;    /* 4 per point while float_colors */
   double raw_color_max; /* largest float colour value seen */
   size_t zero_normals;  /* normals of length 0 in the file */
+  /* Meshes: the face and triangle-strip elements (NULL when absent or
+   * empty) and the property index of their index lists. */
+  int is_mesh;
+  const ply_element *face;
+  size_t face_list;
+  const ply_element *strips;
+  size_t strip_list;
+  size_t triangle_cap;
+  ply_list list; /* indices of the current face or strip */
+  /* Progress over the records of the elements read into the mesh. */
+  uint64_t records_done, records_total, progress_step;
   bbc_mesh *mesh;
-} ply_points;
+} ply_reader;
+
+/* Where a record is, for messages: "line 12: " before the record's name in
+ * text, " (byte offset 345)" after it in binary. */
+typedef struct ply_place {
+  char pre[32];
+  char post[48];
+} ply_place;
+
+static void ply_place_set(ply_place *pl, size_t line, uint64_t offset) {
+  pl->pre[0] = pl->post[0] = '\0';
+  if (line)
+    snprintf(pl->pre, sizeof pl->pre, "line %zu: ", line);
+  else
+    snprintf(pl->post, sizeof pl->post, " (byte offset %llu)", (unsigned long long)offset);
+}
 
 static size_t ply_find_property(const ply_element *e, const char *name) {
   for (size_t k = 0; k < e->prop_count; k++)
@@ -596,15 +615,19 @@ static size_t ply_find_property(const ply_element *e, const char *name) {
 }
 
 /* Finds the vertex properties we read; refuses a vertex element without
- * scalar x, y, z. Normals and colours are used only when complete. */
-static bbc_result ply_map_vertex(ply_points *pp, bbc_error *err) {
-  static const char *const names[V_COUNT] = {"x",  "y",   "z",     "nx",   "ny",
-                                             "nz", "red", "green", "blue", "alpha"};
-  static const char *const alt[V_COUNT] = {
+ * scalar x, y, z. Normals, colours and texture coordinates are used only
+ * when complete. */
+static bbc_result ply_map_vertex(ply_reader *pp, bbc_error *err) {
+  static const char *const names[V_U] = {"x",  "y",   "z",     "nx",   "ny",
+                                         "nz", "red", "green", "blue", "alpha"};
+  static const char *const alt[V_U] = {
       NULL,           NULL,           NULL, NULL, NULL, NULL, "diffuse_red", "diffuse_green",
       "diffuse_blue", "diffuse_alpha"};
+  /* Texture coordinate names in use, most common first. */
+  static const char *const uv_names[][2] = {
+      {"s", "t"}, {"u", "v"}, {"texture_u", "texture_v"}, {"texture_s", "texture_t"}};
   const ply_element *e = pp->vertex;
-  for (int v = 0; v < V_COUNT; v++) {
+  for (int v = 0; v < V_U; v++) {
     size_t k = ply_find_property(e, names[v]);
     if (k == SIZE_MAX && alt[v]) k = ply_find_property(e, alt[v]);
     if (k != SIZE_MAX && e->props[k].count_type != PLY_NONE) {
@@ -619,31 +642,90 @@ static bbc_result ply_map_vertex(ply_points *pp, bbc_error *err) {
   for (int v = V_X; v <= V_Z; v++)
     if (pp->prop[v] == SIZE_MAX)
       return bbc__fail(err, BBC_ERROR_CORRUPT,
-                       "%s: PLY vertex element has no '%s' property; cannot read points", pp->path,
-                       names[v]);
+                       "%s: PLY vertex element has no '%s' property; cannot read %s", pp->path,
+                       names[v], pp->is_mesh ? "the mesh" : "points");
   pp->has_normals =
       pp->prop[V_NX] != SIZE_MAX && pp->prop[V_NY] != SIZE_MAX && pp->prop[V_NZ] != SIZE_MAX;
-  pp->has_colors =
-      pp->prop[V_R] != SIZE_MAX && pp->prop[V_G] != SIZE_MAX && pp->prop[V_B] != SIZE_MAX;
+  /* Per-vertex colours are a point-cloud feature; meshes carry materials. */
+  pp->has_colors = !pp->is_mesh && pp->prop[V_R] != SIZE_MAX && pp->prop[V_G] != SIZE_MAX &&
+                   pp->prop[V_B] != SIZE_MAX;
   if (pp->has_colors)
     for (int v = V_R; v <= V_A; v++)
       if (pp->prop[v] != SIZE_MAX && !ply_type_is_integer(e->props[pp->prop[v]].type))
         pp->float_colors = 1;
+  pp->prop[V_U] = pp->prop[V_V] = SIZE_MAX;
+  for (size_t i = 0; pp->is_mesh && i < sizeof uv_names / sizeof uv_names[0]; i++) {
+    size_t ku = ply_find_property(e, uv_names[i][0]);
+    size_t kv = ply_find_property(e, uv_names[i][1]);
+    if (ku != SIZE_MAX && kv != SIZE_MAX && e->props[ku].count_type == PLY_NONE &&
+        e->props[kv].count_type == PLY_NONE) {
+      pp->prop[V_U] = ku;
+      pp->prop[V_V] = kv;
+      pp->has_uvs = 1;
+      break;
+    }
+  }
   return BBC_OK;
 }
 
-static bbc_result ply_alloc_points(ply_points *pp, bbc_error *err) {
+/* Finds the index list of a face or tristrips element with records:
+ * "vertex_indices" (the standard name) or "vertex_index" (Assimp and some
+ * scanners write that). Other face properties (flags, per-face texture
+ * coordinates) are read past and ignored. */
+static bbc_result ply_map_index_list(const ply_reader *pp, const ply_element *e, size_t *out,
+                                     bbc_error *err) {
+  size_t k = ply_find_property(e, "vertex_indices");
+  if (k == SIZE_MAX) k = ply_find_property(e, "vertex_index");
+  if (k == SIZE_MAX)
+    return bbc__fail(err, BBC_ERROR_CORRUPT,
+                     "%s: PLY element '%s' has no 'vertex_indices' list property; cannot read "
+                     "its %llu records",
+                     pp->path, e->name, (unsigned long long)e->count);
+  if (e->props[k].count_type == PLY_NONE)
+    return bbc__fail(err, BBC_ERROR_CORRUPT,
+                     "%s: PLY %s property '%s' is a single value, not a list of vertex indices",
+                     pp->path, e->name, e->props[k].name);
+  *out = k;
+  return BBC_OK;
+}
+
+/* Looks up the elements a mesh is made of. */
+static bbc_result ply_map_faces(ply_reader *pp, const ply_header *h, bbc_error *err) {
+  const ply_element *face = ply_find_element(h, "face");
+  const ply_element *strips = ply_find_element(h, "tristrips");
+  pp->face = face && face->count > 0 ? face : NULL;
+  pp->strips = strips && strips->count > 0 ? strips : NULL;
+  bbc_result r = BBC_OK;
+  if (pp->face) r = ply_map_index_list(pp, pp->face, &pp->face_list, err);
+  if (r == BBC_OK && pp->strips) r = ply_map_index_list(pp, pp->strips, &pp->strip_list, err);
+  if (r == BBC_OK && pp->vertex->count > UINT32_MAX)
+    r = bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
+                  "%s: PLY mesh has %llu vertices; at most %lu are supported (32-bit indices)",
+                  pp->path, (unsigned long long)pp->vertex->count, (unsigned long)UINT32_MAX);
+  return r;
+}
+
+/* Allocates the vertex arrays and, for a mesh, room for one triangle per
+ * face (more are added as polygons need them). Called after the body size
+ * check, so the counts are bounded by the file size; the first triangle
+ * reservation is capped all the same, since a face may take a single byte
+ * on the way to being refused. */
+static bbc_result ply_alloc(ply_reader *pp, bbc_error *err) {
   bbc_mesh *m = pp->mesh;
   uint64_t n = pp->vertex->count;
   if (n > SIZE_MAX / (3 * sizeof(double)))
-    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: too many points (%llu) for this machine",
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: too many vertices (%llu) for this machine",
                      pp->path, (unsigned long long)n);
-  m->kind = BBC_MESH_POINTS;
+  m->kind = pp->is_mesh ? BBC_MESH_TRIANGLES : BBC_MESH_POINTS;
   m->positions = malloc((size_t)n * 3 * sizeof(double));
   if (!m->positions) goto oom;
   if (pp->has_normals) {
     m->normals = malloc((size_t)n * 3 * sizeof(float));
     if (!m->normals) goto oom;
+  }
+  if (pp->has_uvs) {
+    m->uvs = malloc((size_t)n * 2 * sizeof(float));
+    if (!m->uvs) goto oom;
   }
   if (pp->has_colors) {
     m->colors = malloc((size_t)n * 4);
@@ -654,10 +736,38 @@ static bbc_result ply_alloc_points(ply_points *pp, bbc_error *err) {
     }
   }
   m->vertex_count = (size_t)n;
+  if (pp->is_mesh) {
+    uint64_t cap = (pp->face ? pp->face->count : 0) + (pp->strips ? pp->strips->count : 0);
+    if (cap > PLY_FIRST_TRIANGLES) cap = PLY_FIRST_TRIANGLES;
+    m->indices = malloc((size_t)cap * 3 * sizeof(uint32_t));
+    if (!m->indices) goto oom;
+    pp->triangle_cap = (size_t)cap;
+  }
   return BBC_OK;
 oom:
-  return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %llu points", pp->path,
+  return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %llu vertices", pp->path,
                    (unsigned long long)n);
+}
+
+/* Makes room for at least n list items. */
+static int ply_list_reserve(ply_list *l, size_t n) {
+  if (n <= l->cap) return 1;
+  size_t cap = l->cap ? 2 * l->cap : 16;
+  if (cap < n) cap = n;
+  if (cap > SIZE_MAX / sizeof(double)) return 0;
+  double *items = realloc(l->items, cap * sizeof *items);
+  if (!items) return 0;
+  l->items = items;
+  l->cap = cap;
+  return 1;
+}
+
+/* One record of an element read into the mesh: reports progress now and
+ * then (never for small files). */
+static void ply_progress(ply_reader *pp) {
+  pp->records_done++;
+  if (pp->progress_step && pp->records_done % pp->progress_step == 0)
+    bbc__progress(pp->cb, "load", 0.9 * (double)pp->records_done / (double)pp->records_total);
 }
 
 /* An integer colour channel as 8 bits. */
@@ -670,21 +780,18 @@ static uint8_t color_from_integer(double v, ply_type t) {
 
 /* Checks and stores vertex i from its property values. Messages locate it by
  * `line` (ASCII, 1-based) or, when line is 0, by the byte `offset` (binary). */
-static bbc_result ply_store_vertex(ply_points *pp, size_t i, const double *vals, size_t line,
+static bbc_result ply_store_vertex(ply_reader *pp, size_t i, const double *vals, size_t line,
                                    uint64_t offset, bbc_error *err) {
   bbc_mesh *m = pp->mesh;
   double *pos = m->positions + 3 * i;
+  ply_place pl;
   for (int k = 0; k < 3; k++) {
     double v = vals[pp->prop[V_X + k]];
     if (!coordinate_ok(v)) {
-      if (line)
-        return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
-                         "%s: line %zu: vertex %zu has a non-finite or absurd coordinate (%g)",
-                         pp->path, line, i, v);
+      ply_place_set(&pl, line, offset);
       return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
-                       "%s: vertex %zu (byte offset %llu) has a non-finite or absurd coordinate "
-                       "(%g)",
-                       pp->path, i, (unsigned long long)offset, v);
+                       "%s: %svertex %zu%s has a non-finite or absurd coordinate (%g)", pp->path,
+                       pl.pre, i, pl.post, v);
     }
     pos[k] = v;
   }
@@ -693,13 +800,10 @@ static bbc_result ply_store_vertex(ply_points *pp, size_t i, const double *vals,
     for (int k = 0; k < 3; k++) {
       n[k] = vals[pp->prop[V_NX + k]];
       if (!isfinite(n[k])) {
-        if (line)
-          return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
-                           "%s: line %zu: vertex %zu has a non-finite normal (%g)", pp->path, line,
-                           i, n[k]);
+        ply_place_set(&pl, line, offset);
         return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
-                         "%s: vertex %zu (byte offset %llu) has a non-finite normal (%g)", pp->path,
-                         i, (unsigned long long)offset, n[k]);
+                         "%s: %svertex %zu%s has a non-finite normal (%g)", pp->path, pl.pre, i,
+                         pl.post, n[k]);
       }
       if (fabs(n[k]) > big) big = fabs(n[k]);
     }
@@ -713,8 +817,21 @@ static bbc_result ply_store_vertex(ply_points *pp, size_t i, const double *vals,
       len = sqrt(len);
       for (int k = 0; k < 3; k++) out[k] = (float)(n[k] / len);
     } else {
+      /* Kept as 0: bbc_mesh_finalize computes it for a mesh. */
       out[0] = out[1] = out[2] = 0.0f;
       pp->zero_normals++;
+    }
+  }
+  if (pp->has_uvs) {
+    for (int k = 0; k < 2; k++) {
+      double v = vals[pp->prop[V_U + k]];
+      if (!coordinate_ok(v)) {
+        ply_place_set(&pl, line, offset);
+        return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
+                         "%s: %svertex %zu%s has a non-finite or absurd texture coordinate (%g)",
+                         pp->path, pl.pre, i, pl.post, v);
+      }
+      m->uvs[2 * i + k] = (float)v;
     }
   }
   if (pp->has_colors) {
@@ -736,10 +853,90 @@ static bbc_result ply_store_vertex(ply_points *pp, size_t i, const double *vals,
   return BBC_OK;
 }
 
+static bbc_result ply_add_triangle(ply_reader *pp, uint32_t a, uint32_t b, uint32_t c,
+                                   bbc_error *err) {
+  bbc_mesh *m = pp->mesh;
+  if (m->triangle_count == pp->triangle_cap) {
+    size_t cap = pp->triangle_cap ? 2 * pp->triangle_cap : 64;
+    uint32_t *ni = NULL;
+    if (cap <= SIZE_MAX / (3 * sizeof *ni)) ni = realloc(m->indices, cap * 3 * sizeof *ni);
+    if (!ni)
+      return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %zu triangles",
+                       pp->path, cap);
+    m->indices = ni;
+    pp->triangle_cap = cap;
+  }
+  uint32_t *t = m->indices + 3 * m->triangle_count++;
+  t[0] = a;
+  t[1] = b;
+  t[2] = c;
+  return BBC_OK;
+}
+
+/* Checks the vertex indices of record `index` of a face element (strip 0)
+ * or a tristrips element (strip 1), held in pp->list, and adds its
+ * triangles. A face with n >= 3 corners becomes the fan (0, i, i+1). In a
+ * strip, -1 restarts the strip and every other index makes a triangle with
+ * the two before it, the winding alternating so that all face the same way;
+ * strip triangles that repeat an index are the usual joints between strips,
+ * not surface, and are skipped. Messages locate the record as in
+ * ply_store_vertex. */
+static bbc_result ply_store_polygon(ply_reader *pp, const ply_element *e, int strip, uint64_t index,
+                                    size_t line, uint64_t offset, bbc_error *err) {
+  const double *v = pp->list.items;
+  size_t n = pp->list.count;
+  uint64_t nv = pp->vertex->count;
+  ply_place pl;
+  if (!strip && n < 3) {
+    ply_place_set(&pl, line, offset);
+    return bbc__fail(err, BBC_ERROR_CORRUPT,
+                     "%s: %sface %llu%s has %zu vertex ind%s; a face needs at least 3", pp->path,
+                     pl.pre, (unsigned long long)index, pl.post, n, n == 1 ? "ex" : "ices");
+  }
+  for (size_t j = 0; j < n; j++) {
+    double x = v[j];
+    if (strip && x == -1.0) continue;
+    if (!isfinite(x) || x != floor(x)) {
+      ply_place_set(&pl, line, offset);
+      return bbc__fail(err, BBC_ERROR_CORRUPT,
+                       "%s: %s%s %llu%s: vertex index %g is not a whole number", pp->path, pl.pre,
+                       e->name, (unsigned long long)index, pl.post, x);
+    }
+    if (x < 0 || x >= (double)nv) {
+      ply_place_set(&pl, line, offset);
+      return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
+                       "%s: %s%s %llu%s refers to vertex %.0f, but the file has %llu vert%s",
+                       pp->path, pl.pre, e->name, (unsigned long long)index, pl.post, x,
+                       (unsigned long long)nv, nv == 1 ? "ex" : "ices");
+    }
+  }
+  bbc_result r = BBC_OK;
+  if (!strip) {
+    for (size_t j = 1; r == BBC_OK && j + 1 < n; j++)
+      r = ply_add_triangle(pp, (uint32_t)v[0], (uint32_t)v[j], (uint32_t)v[j + 1], err);
+    return r;
+  }
+  size_t run = 0; /* indices so far in the current strip */
+  uint32_t a = 0, b = 0;
+  for (size_t j = 0; r == BBC_OK && j < n; j++) {
+    if (v[j] == -1.0) {
+      run = 0;
+      continue;
+    }
+    uint32_t c = (uint32_t)v[j];
+    if (run >= 2 && a != b && b != c && a != c)
+      r = run % 2 == 0 ? ply_add_triangle(pp, a, b, c, err) : ply_add_triangle(pp, b, a, c, err);
+    a = b;
+    b = c;
+    run++;
+  }
+  return r;
+}
+
 /* Float colour channels are usually in [0, 1], but some writers store 0..255
  * in floats; the largest value tells which. Integer channels keep their
  * usual meaning. */
-static void ply_finish_colors(ply_points *pp) {
+static void ply_finish_colors(ply_reader *pp) {
   if (!pp->has_colors || !pp->float_colors) return;
   double scale = pp->raw_color_max > 1.0 ? 1.0 : 255.0;
   for (size_t i = 0; i < pp->mesh->vertex_count; i++)
@@ -847,14 +1044,21 @@ static double ply_binary_value(const unsigned char *p, ply_type t, int swap) {
   return 0.0;
 }
 
-typedef enum record_status { RECORD_OK, RECORD_SHORT, RECORD_NEGATIVE_LIST } record_status;
+typedef enum record_status {
+  RECORD_OK,
+  RECORD_SHORT,
+  RECORD_NEGATIVE_LIST,
+  RECORD_NO_MEMORY
+} record_status;
 
-/* Reads one binary record at *pp; scalar values go to vals (when not NULL).
- * On a negative list length *bad_prop names the property. */
+/* Reads one binary record at *pp; scalar values go to vals (when not NULL),
+ * the items of list property list->prop to list (when not NULL). On a
+ * negative list length *bad_prop names the property. */
 static record_status ply_binary_record(const ply_element *e, const unsigned char **pp,
                                        const unsigned char *end, int swap, double *vals,
-                                       size_t *bad_prop) {
+                                       ply_list *list, size_t *bad_prop) {
   const unsigned char *p = *pp;
+  if (list) list->count = 0;
   for (size_t k = 0; k < e->prop_count; k++) {
     const ply_property *pr = &e->props[k];
     if (pr->count_type == PLY_NONE) {
@@ -872,8 +1076,17 @@ static record_status ply_binary_record(const ply_element *e, const unsigned char
         return RECORD_NEGATIVE_LIST;
       }
       /* n < 2^32 and item size <= 8: the product fits in 64 bits. */
-      uint64_t bytes = (uint64_t)n * ply_type_size(pr->type);
+      size_t item_size = ply_type_size(pr->type);
+      uint64_t bytes = (uint64_t)n * item_size;
       if ((uint64_t)(end - p) < bytes) return RECORD_SHORT;
+      if (list && k == list->prop) {
+        /* Bounded by the bytes just checked: at most 8 doubles per byte. */
+        size_t items = (size_t)n;
+        if (!ply_list_reserve(list, items)) return RECORD_NO_MEMORY;
+        for (size_t j = 0; j < items; j++)
+          list->items[j] = ply_binary_value(p + j * item_size, pr->type, swap);
+        list->count = items;
+      }
       p += bytes;
     }
   }
@@ -888,8 +1101,8 @@ static uint64_t mul_add_sat(uint64_t a, uint64_t b, uint64_t c) {
   return m > UINT64_MAX - c ? UINT64_MAX : m + c;
 }
 
-static bbc_result ply_read_binary(ply_points *pp, const ply_header *h, const char *buf, size_t size,
-                                  const bbc_callbacks *cb, bbc_error *err) {
+static bbc_result ply_read_binary(ply_reader *pp, const ply_header *h, const char *buf, size_t size,
+                                  bbc_error *err) {
   const char *path = pp->path;
   const unsigned char *body = (const unsigned char *)buf + h->body_offset;
   const unsigned char *end = (const unsigned char *)buf + size;
@@ -923,31 +1136,53 @@ static bbc_result ply_read_binary(ply_points *pp, const ply_header *h, const cha
                      (unsigned long long)need);
   }
 
-  bbc_result r = ply_alloc_points(pp, err);
+  bbc_result r = ply_alloc(pp, err);
   if (r != BBC_OK) return r;
   double *vals = malloc((pp->vertex->prop_count ? pp->vertex->prop_count : 1) * sizeof *vals);
   if (!vals) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
 
-  size_t step;
-  int report = progress_step(pp->mesh->vertex_count, &step);
   const unsigned char *p = body;
   for (size_t ei = 0; ei < h->element_count; ei++) {
     const ply_element *e = &h->elements[ei];
     int is_vertex = e == pp->vertex;
-    if (!is_vertex && e->fixed) {
-      p += e->count * e->record_size; /* within the body: checked above */
-      continue;
-    }
-    for (uint64_t i = 0; i < e->count; i++) {
-      const unsigned char *start = p;
-      size_t bad = 0;
-      record_status st = ply_binary_record(e, &p, end, swap, is_vertex ? vals : NULL, &bad);
-      if (st == RECORD_SHORT) {
+    int is_polygon = e == pp->face || e == pp->strips;
+    if (!is_vertex && !is_polygon && e->fixed) {
+      /* The check above bounds the product, but lists before this element
+       * may have used more than their minimum: check what is left. */
+      uint64_t bytes = e->count * e->record_size;
+      if ((uint64_t)(end - p) < bytes) {
+        uint64_t i = (uint64_t)(end - p) / e->record_size;
         r = bbc__fail(err, BBC_ERROR_CORRUPT,
                       "%s: binary body ends inside %s %llu (byte offset %llu) of the %llu the "
                       "header declares; the file is truncated or damaged",
                       path, e->name, (unsigned long long)i,
-                      (unsigned long long)(start - body) + h->body_offset,
+                      (unsigned long long)(p - body) + h->body_offset + i * e->record_size,
+                      (unsigned long long)e->count);
+        goto done;
+      }
+      p += bytes;
+      continue;
+    }
+    ply_list *list = NULL;
+    if (is_polygon) {
+      pp->list.prop = e == pp->face ? pp->face_list : pp->strip_list;
+      list = &pp->list;
+    }
+    for (uint64_t i = 0; i < e->count; i++) {
+      const unsigned char *start = p;
+      uint64_t offset = (uint64_t)(start - body) + h->body_offset;
+      size_t bad = 0;
+      record_status st = ply_binary_record(e, &p, end, swap, is_vertex ? vals : NULL, list, &bad);
+      if (st == RECORD_NO_MEMORY) {
+        r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory reading %s %llu", path,
+                      e->name, (unsigned long long)i);
+        goto done;
+      }
+      if (st == RECORD_SHORT) {
+        r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                      "%s: binary body ends inside %s %llu (byte offset %llu) of the %llu the "
+                      "header declares; the file is truncated or damaged",
+                      path, e->name, (unsigned long long)i, (unsigned long long)offset,
                       (unsigned long long)e->count);
         goto done;
       }
@@ -955,16 +1190,16 @@ static bbc_result ply_read_binary(ply_points *pp, const ply_header *h, const cha
         r = bbc__fail(err, BBC_ERROR_CORRUPT,
                       "%s: %s %llu (byte offset %llu) has a negative length for list '%s'; the "
                       "file is damaged",
-                      path, e->name, (unsigned long long)i,
-                      (unsigned long long)(start - body) + h->body_offset, e->props[bad].name);
+                      path, e->name, (unsigned long long)i, (unsigned long long)offset,
+                      e->props[bad].name);
         goto done;
       }
-      if (is_vertex) {
-        r = ply_store_vertex(pp, (size_t)i, vals, 0, (uint64_t)(start - body) + h->body_offset,
-                             err);
-        if (r != BBC_OK) goto done;
-        if (report && i % step == 0) bbc__progress(cb, "load", 0.9 * (double)i / (double)e->count);
-      }
+      if (is_vertex)
+        r = ply_store_vertex(pp, (size_t)i, vals, 0, offset, err);
+      else if (is_polygon)
+        r = ply_store_polygon(pp, e, e == pp->strips, i, 0, offset, err);
+      if (r != BBC_OK) goto done;
+      if (is_vertex || is_polygon) ply_progress(pp);
     }
   }
 
@@ -996,11 +1231,14 @@ done:
 /* PLY ASCII body                                                            */
 /* ------------------------------------------------------------------------ */
 
-/* Parses one ASCII record (one line) of element e. */
+/* Parses one ASCII record (one line) of element e: scalar values go to vals
+ * (when not NULL), the items of list property list->prop to list (when not
+ * NULL). */
 static bbc_result ply_ascii_record(const char *path, const ply_element *e, uint64_t index,
                                    const char *p, const char *le, size_t line, double *vals,
-                                   bbc_error *err) {
+                                   ply_list *list, bbc_error *err) {
   char q[40];
+  if (list) list->count = 0;
   for (size_t k = 0; k < e->prop_count; k++) {
     const ply_property *pr = &e->props[k];
     double v;
@@ -1028,7 +1266,9 @@ static bbc_result ply_ascii_record(const char *path, const ply_element *e, uint6
                        line, e->name, (unsigned long long)index,
                        quote_token(q, sizeof q, p, field_end(p, le, 0)), pr->name);
     p = next;
-    /* Items are bounded by the line length, so a huge count cannot loop long. */
+    ply_list *out = list && k == list->prop ? list : NULL;
+    /* Items are bounded by the line length, so a huge count cannot loop long
+     * (nor make the list grow beyond the line). */
     for (double j = 0; j < v; j++) {
       double item;
       while (p < le && is_blank(*p)) p++;
@@ -1044,6 +1284,11 @@ static bbc_result ply_ascii_record(const char *path, const ply_element *e, uint6
                          line, e->name, (unsigned long long)index,
                          quote_token(q, sizeof q, p, field_end(p, le, 0)), pr->name);
       p = next;
+      if (out) {
+        if (!ply_list_reserve(out, out->count + 1))
+          return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: line %zu: out of memory", path, line);
+        out->items[out->count++] = item;
+      }
     }
   }
   while (p < le && is_blank(*p)) p++;
@@ -1056,8 +1301,8 @@ static bbc_result ply_ascii_record(const char *path, const ply_element *e, uint6
   return BBC_OK;
 }
 
-static bbc_result ply_read_ascii(ply_points *pp, const ply_header *h, const char *buf, size_t size,
-                                 const bbc_callbacks *cb, bbc_error *err) {
+static bbc_result ply_read_ascii(ply_reader *pp, const ply_header *h, const char *buf, size_t size,
+                                 bbc_error *err) {
   const char *path = pp->path;
   uint64_t have = size - h->body_offset;
   char what[200];
@@ -1077,19 +1322,23 @@ static bbc_result ply_read_ascii(ply_points *pp, const ply_header *h, const char
                      path, (unsigned long long)have, what, (unsigned long long)need);
   }
 
-  bbc_result r = ply_alloc_points(pp, err);
+  bbc_result r = ply_alloc(pp, err);
   if (r != BBC_OK) return r;
   double *vals = malloc((pp->vertex->prop_count ? pp->vertex->prop_count : 1) * sizeof *vals);
   if (!vals) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
 
   text_cursor c = {buf + h->body_offset, buf + size, h->header_lines};
   const char *ls = NULL, *le = NULL;
-  size_t step;
-  int report = progress_step(pp->mesh->vertex_count, &step);
   for (size_t ei = 0; ei < h->element_count; ei++) {
     const ply_element *e = &h->elements[ei];
     int is_vertex = e == pp->vertex;
+    int is_polygon = e == pp->face || e == pp->strips;
     if (e->prop_count == 0) continue; /* records without values take no text */
+    ply_list *list = NULL;
+    if (is_polygon) {
+      pp->list.prop = e == pp->face ? pp->face_list : pp->strip_list;
+      list = &pp->list;
+    }
     for (uint64_t i = 0; i < e->count; i++) {
       int got;
       do { /* blank lines between records are tolerated */
@@ -1103,13 +1352,14 @@ static bbc_result ply_read_ascii(ply_points *pp, const ply_header *h, const char
                       path, c.line, (unsigned long long)i, (unsigned long long)e->count, e->name);
         goto done;
       }
-      r = ply_ascii_record(path, e, i, ls, le, c.line, is_vertex ? vals : NULL, err);
+      r = ply_ascii_record(path, e, i, ls, le, c.line, is_vertex ? vals : NULL, list, err);
       if (r != BBC_OK) goto done;
-      if (is_vertex) {
+      if (is_vertex)
         r = ply_store_vertex(pp, (size_t)i, vals, c.line, 0, err);
-        if (r != BBC_OK) goto done;
-        if (report && i % step == 0) bbc__progress(cb, "load", 0.9 * (double)i / (double)e->count);
-      }
+      else if (is_polygon)
+        r = ply_store_polygon(pp, e, e == pp->strips, i, c.line, 0, err);
+      if (r != BBC_OK) goto done;
+      if (is_vertex || is_polygon) ply_progress(pp);
     }
   }
   while (next_line(&c, &ls, &le)) {
@@ -1130,24 +1380,151 @@ done:
 }
 
 /* ------------------------------------------------------------------------ */
+/* PLY meshes: material, group, texture                                      */
+/* ------------------------------------------------------------------------ */
+
+static int regular_file(const char *path) {
+  struct stat st;
+  return stat(path, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+/* Finds the file a "comment TextureFile NAME" line names: NAME as written
+ * when it is absolute, else NAME relative to the PLY file's folder, then its
+ * base name in that folder. Backslashes (Windows exporters) count as
+ * slashes. Writes the path found to out; 0 when there is none. */
+static int ply_resolve_texture(const char *ply_path, const char *ref, char *out, size_t n) {
+  char r[1024];
+  int w = snprintf(r, sizeof r, "%s", ref);
+  if (w <= 0 || (size_t)w >= sizeof r) return 0;
+  for (char *c = r; *c; c++)
+    if (*c == '\\') *c = '/';
+  if (r[0] == '/') {
+    w = snprintf(out, n, "%s", r);
+    if (w > 0 && (size_t)w < n && regular_file(out)) return 1;
+  }
+  const char *slash = strrchr(ply_path, '/');
+  int dir_len = slash ? (int)(slash - ply_path + 1) : 0;
+  const char *base = strrchr(r, '/') ? strrchr(r, '/') + 1 : r;
+  const char *candidates[2] = {r[0] == '/' ? base : r, base};
+  for (int i = 0; i < 2; i++) {
+    if (!candidates[i][0]) continue;
+    w = snprintf(out, n, "%.*s%s", dir_len, ply_path, candidates[i]);
+    if (w > 0 && (size_t)w < n && regular_file(out)) return 1;
+  }
+  return 0;
+}
+
+/* Gives the material the texture a "comment TextureFile" line names. A
+ * texture that cannot be found or decoded is a warning, not an error: the
+ * material keeps its base colour and texture_ref. */
+static bbc_result ply_load_texture(ply_reader *pp, const char *ref, const bbc_load_options *opt,
+                                   bbc_error *err) {
+  bbc_mesh *m = pp->mesh;
+  bbc_material *mat = &m->materials[0];
+  mat->texture_ref = bbc__strdup(ref);
+  if (!mat->texture_ref) goto oom;
+  char resolved[4096];
+  if (!ply_resolve_texture(pp->path, ref, resolved, sizeof resolved)) {
+    bbc__log(&opt->callbacks, BBC_LOG_WARNING,
+             "%s: texture '%s' (named by the header's TextureFile comment) not found beside the "
+             "model; using the base colour",
+             pp->path, ref);
+    return BBC_OK;
+  }
+  bbc_image img;
+  memset(&img, 0, sizeof img);
+  if (opt->load_textures) {
+    bbc_error ierr;
+    memset(&ierr, 0, sizeof ierr);
+    if (bbc_image_load(resolved, &img, &ierr) != BBC_OK) {
+      bbc__log(&opt->callbacks, BBC_LOG_WARNING, "%s: texture: %s; using the base colour", pp->path,
+               ierr.message);
+      return BBC_OK;
+    }
+  }
+  m->textures = calloc(1, sizeof *m->textures);
+  if (!m->textures) {
+    bbc_image_free(&img);
+    goto oom;
+  }
+  m->textures[0].image = img; /* owned by the mesh from here on */
+  m->textures[0].has_alpha = bbc_image_has_transparency(&img);
+  m->texture_count = 1;
+  m->textures[0].path = bbc__strdup(resolved);
+  if (!m->textures[0].path) goto oom;
+  mat->texture = 0;
+  return BBC_OK;
+oom:
+  return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", pp->path);
+}
+
+/* Completes a mesh read from PLY: PLY has no materials or groups, so every
+ * triangle gets material 0, "default" (grey 0.8, opaque, textured when the
+ * header names a TextureFile), and group 0, named after the file's stem
+ * ("bunny" for "scans/bunny.ply") so that the group says where the geometry
+ * came from, as OBJ groups do. */
+static bbc_result ply_finish_mesh(ply_reader *pp, const ply_header *h, const bbc_load_options *opt,
+                                  bbc_error *err) {
+  bbc_mesh *m = pp->mesh;
+  size_t n = m->triangle_count ? m->triangle_count : 1;
+  if (m->triangle_count && m->triangle_count < pp->triangle_cap) {
+    uint32_t *shrunk = realloc(m->indices, m->triangle_count * 3 * sizeof *shrunk);
+    if (shrunk) m->indices = shrunk;
+  }
+  m->face_material = calloc(n, sizeof *m->face_material);
+  m->face_group = calloc(n, sizeof *m->face_group);
+  m->materials = calloc(1, sizeof *m->materials);
+  m->group_names = calloc(1, sizeof *m->group_names);
+  if (!m->face_material || !m->face_group || !m->materials || !m->group_names) goto oom;
+  m->material_count = 1;
+  bbc_material *mat = &m->materials[0];
+  mat->name = bbc__strdup("default");
+  if (!mat->name) goto oom;
+  mat->base_color[0] = mat->base_color[1] = mat->base_color[2] = 0.8f;
+  mat->base_color[3] = 1.0f;
+  mat->texture = -1;
+  mat->texture_ref = NULL;
+  const char *base = strrchr(pp->path, '/') ? strrchr(pp->path, '/') + 1 : pp->path;
+  const char *dot = strrchr(base, '.');
+  size_t stem = dot && dot != base ? (size_t)(dot - base) : strlen(base);
+  m->group_names[0] = tok_dup((token){base, stem});
+  if (!m->group_names[0]) goto oom;
+  m->group_count = 1;
+  if (h->texture_file) return ply_load_texture(pp, h->texture_file, opt, err);
+  return BBC_OK;
+oom:
+  return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", pp->path);
+}
+
+/* ------------------------------------------------------------------------ */
 /* Loader entry points                                                       */
 /* ------------------------------------------------------------------------ */
 
-/* Runs bbc_mesh_finalize and reports the end of the stage; frees on error. */
-static bbc_result finish_points(bbc_mesh *mesh, const bbc_load_options *options, const char *path,
-                                bbc_error *err) {
+/* Runs bbc_mesh_finalize, reports dropped triangles and the end of the
+ * stage; frees on error. */
+static bbc_result finish_mesh(bbc_mesh *mesh, const bbc_load_options *options, const char *path,
+                              bbc_error *err) {
+  const bbc_callbacks *cb = options ? &options->callbacks : NULL;
   bbc_result r = bbc_mesh_finalize(mesh, options ? options->compute_normals : 1, path, err);
   if (r != BBC_OK) {
     bbc_mesh_free(mesh);
     return r;
   }
-  bbc__progress(options ? &options->callbacks : NULL, "load", 1.0);
+  if (mesh->kind == BBC_MESH_TRIANGLES && mesh->dropped_degenerate)
+    bbc__log(cb, BBC_LOG_WARNING, "%s: dropped %zu zero-area triangles", path,
+             mesh->dropped_degenerate);
+  bbc__progress(cb, "load", 1.0);
   return BBC_OK;
 }
 
-bbc_result bbc__load_ply_points(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
-                                bbc_error *err) {
-  const bbc_callbacks *cb = options ? &options->callbacks : NULL;
+bbc_result bbc__load_ply(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
+                         bbc_error *err) {
+  bbc_load_options defaults;
+  if (!options) {
+    bbc_load_options_default(&defaults);
+    options = &defaults;
+  }
+  const bbc_callbacks *cb = &options->callbacks;
   memset(mesh, 0, sizeof *mesh);
   bbc_result r = bbc__check_input_file(path, err);
   if (r != BBC_OK) return r;
@@ -1157,51 +1534,62 @@ bbc_result bbc__load_ply_points(const char *path, const bbc_load_options *option
   if (r != BBC_OK) return r;
 
   ply_header h;
-  r = ply_parse_header(path, buf, size, 1, &h, err);
+  r = ply_parse_header(path, buf, size, &h, err);
   if (r != BBC_OK) {
     free(buf);
     return r;
   }
-  ply_points pp;
+  ply_reader pp;
   memset(&pp, 0, sizeof pp);
   pp.path = path;
+  pp.cb = cb;
   pp.mesh = mesh;
+  pp.list.prop = SIZE_MAX;
   pp.vertex = ply_find_element(&h, "vertex");
   if (!pp.vertex) {
     r = bbc__fail(err, BBC_ERROR_EMPTY, "%s: PLY header declares no vertex element", path);
     goto fail;
   }
-  if (ply_has_faces(&h)) {
-    /* The router sends meshes to Assimp; reaching here is a caller's mix-up,
-     * but refusing is better than silently dropping the faces. */
-    r = bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
-                  "%s: PLY file has faces; it is a mesh, not a point cloud", path);
-    goto fail;
+  pp.is_mesh = ply_has_faces(&h);
+  if (pp.is_mesh) {
+    r = ply_map_faces(&pp, &h, err);
+    if (r != BBC_OK) goto fail;
   }
   r = ply_map_vertex(&pp, err);
   if (r != BBC_OK) goto fail;
   if (pp.vertex->count == 0) {
-    r = bbc__fail(err, BBC_ERROR_EMPTY, "%s: PLY header declares 0 vertices; no points to load",
-                  path);
+    r = bbc__fail(err, BBC_ERROR_EMPTY, "%s: PLY header declares 0 vertices; no %s to load", path,
+                  pp.is_mesh ? "mesh" : "points");
     goto fail;
   }
+  pp.records_total =
+      pp.vertex->count + (pp.face ? pp.face->count : 0) + (pp.strips ? pp.strips->count : 0);
+  if (pp.records_total >= PROGRESS_MIN_RECORDS) pp.progress_step = pp.records_total / 8;
 
   if (h.format == PLY_ASCII)
-    r = ply_read_ascii(&pp, &h, buf, size, cb, err);
+    r = ply_read_ascii(&pp, &h, buf, size, err);
   else
-    r = ply_read_binary(&pp, &h, buf, size, cb, err);
+    r = ply_read_binary(&pp, &h, buf, size, err);
   if (r != BBC_OK) goto fail;
-  ply_finish_colors(&pp);
-  if (pp.zero_normals)
-    bbc__log(cb, BBC_LOG_WARNING, "%s: %zu of %zu points have a zero-length normal (kept as 0)",
-             path, pp.zero_normals, mesh->vertex_count);
-  free(pp.raw_colors);
-  ply_header_free(&h);
   free(buf);
-  return finish_points(mesh, options, path, err);
+  buf = NULL;
+  if (pp.is_mesh) {
+    r = ply_finish_mesh(&pp, &h, options, err);
+    if (r != BBC_OK) goto fail;
+  } else {
+    ply_finish_colors(&pp);
+    if (pp.zero_normals)
+      bbc__log(cb, BBC_LOG_WARNING, "%s: %zu of %zu points have a zero-length normal (kept as 0)",
+               path, pp.zero_normals, mesh->vertex_count);
+  }
+  free(pp.raw_colors);
+  free(pp.list.items);
+  ply_header_free(&h);
+  return finish_mesh(mesh, options, path, err);
 
 fail:
   free(pp.raw_colors);
+  free(pp.list.items);
   ply_header_free(&h);
   free(buf);
   bbc_mesh_free(mesh);
@@ -1332,7 +1720,7 @@ bbc_result bbc__load_xyz_points(const char *path, const bbc_load_options *option
   double *shrunk = realloc(mesh->positions, n * 3 * sizeof(double));
   if (shrunk) mesh->positions = shrunk;
   mesh->vertex_count = n;
-  return finish_points(mesh, options, path, err);
+  return finish_mesh(mesh, options, path, err);
 
 fail:
   free(buf);

@@ -35,7 +35,15 @@ export DEBIAN_FRONTEND=noninteractive
 if [ -z "$(find /var/lib/apt/lists -maxdepth 1 -name '*Packages*' -mmin -1440 2>/dev/null | head -1)" ]; then
   apt-get update -qq
 fi
-if ! $cmd -qq; then
-  apt-get update -qq
-  $cmd -qq
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+# Quiet on success; the whole apt log on failure.
+if ! $cmd -qq > "$log" 2>&1; then
+  apt-get update -qq > "$log" 2>&1 || true
+  if ! $cmd -qq > "$log" 2>&1; then
+    cat "$log" >&2
+    echo "setup.sh: installing ${missing[*]} failed" >&2
+    exit 1
+  fi
 fi
+echo "setup.sh: installed ${missing[*]}" >&2

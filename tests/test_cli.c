@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <dirent.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 
@@ -263,6 +264,19 @@ static void test_tree_command(void **state) {
   cJSON_Delete(j);
   free(out);
   free(err);
+  /* Outputs get the permissions the umask asks for (not a temp file's 0600),
+   * and no temporary file is left beside them. */
+  mode_t mask = umask(022);
+  umask(mask);
+  struct stat st;
+  snprintf(a, sizeof a, "%s/t1.obj", tu_dir);
+  assert_int_equal(stat(a, &st), 0);
+  assert_int_equal(st.st_mode & 0777, 0666 & ~mask);
+  DIR *d = opendir(tu_dir);
+  struct dirent *e;
+  while ((e = readdir(d)) != NULL)
+    if (strstr(e->d_name, ".tmp.")) fail_msg("temporary file left: %s", e->d_name);
+  closedir(d);
   /* No half-written outputs: an unwritable destination fails cleanly. */
   snprintf(args, sizeof args, "tree -o '%s/no/such/dir/t.obj'", tu_dir);
   assert_int_equal(run(args, &out, &err), 5);

@@ -3,27 +3,38 @@
 #include "internal.h"
 
 #include <errno.h>
+#include <fcntl.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
-int mkstemp(char *template_path);
+/* Distinguishes temporary names of one process; the file system's O_EXCL
+ * makes the final choice, so this is not a correctness-critical global. */
+static atomic_uint g_temp_counter;
 
 bbc_result bbc__atomic_open(bbc__atomic_file *af, const char *path, bbc_error *err) {
   memset(af, 0, sizeof *af);
   size_t n = strlen(path);
   af->final_path = bbc__strdup(path);
-  af->temp_path = malloc(n + 16);
+  af->temp_path = malloc(n + 40);
   if (!af->final_path || !af->temp_path) {
     bbc__atomic_abort(af);
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
   }
   /* Same folder as the destination: rename() is atomic only within one file
-   * system. */
-  snprintf(af->temp_path, n + 16, "%s.tmp.XXXXXX", path);
-  int fd = mkstemp(af->temp_path);
+   * system. open(O_EXCL) with mode 0666 (not mkstemp's 0600) so the output
+   * gets the permissions the user's umask asks for. */
+  int fd = -1, e = 0;
+  for (int attempt = 0; attempt < 100 && fd < 0; attempt++) {
+    unsigned k = atomic_fetch_add(&g_temp_counter, 1u);
+    snprintf(af->temp_path, n + 40, "%s.tmp.%ld.%u", path, (long)getpid(), k);
+    fd = open(af->temp_path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    e = errno;
+    if (fd < 0 && e != EEXIST) break;
+  }
   if (fd < 0) {
-    int e = errno;
     free(af->temp_path);
     af->temp_path = NULL;
     bbc__atomic_abort(af);

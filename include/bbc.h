@@ -205,6 +205,10 @@ void bbc_mesh_group_triangle_counts(const bbc_mesh *mesh, size_t *counts);
  * ".obj". */
 bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *mesh, bbc_error *err);
 
+/* Writes `size` bytes to `path` atomically (temporary file, then rename):
+ * reports, JSON and other text outputs of the tools. */
+bbc_result bbc_write_file_atomic(const char *path, const void *data, size_t size, bbc_error *err);
+
 /* ------------------------------------------------------------------------ */
 /* Parameters (thesis Appendix A, "Parameter Reference")                      */
 /* ------------------------------------------------------------------------ */
@@ -250,6 +254,14 @@ typedef struct bbc_params {
   int texres;           /* texres: maximum texture resolution, power of 2 */
   /* output */
   int format; /* format: 0 VRML2.0/Open Inventor mix, 1 VRML97 */
+  /* extensions beyond Appendix A */
+  int up_axis;    /* upaxis: the model's up axis, 0 = x, 1 = y, 2 = z
+                   * (view-dependent penalty, previews) */
+  int threads;    /* threads: worker threads, 0 = all cores; never changes results */
+  int merge;      /* merge: after step 2, dissolve planes whose faces all fit other
+                   * planes (smallest first) */
+  int candidates; /* candidates: densest cells refined per plane, the plane
+                   * simplifying the largest projected area wins (1 = thesis) */
 } bbc_params;
 
 typedef struct bbc_param_info {
@@ -258,7 +270,8 @@ typedef struct bbc_param_info {
   double min, max; /* inclusive range */
   double default_value;
   unsigned flags;          /* BBC_PARAM_STEP3_ONLY | BBC_PARAM_KEEPS_STEP1 */
-  const char *group;       /* "performance", "plane", "billboard", "output" */
+  const char *group;       /* "performance", "plane", "billboard", "output",
+                            * "extension" (not in Appendix A) */
   const char *unit;        /* "%", "deg", "texels", "" */
   const char *description; /* one line */
 } bbc_param_info;
@@ -278,6 +291,114 @@ bbc_result bbc_params_set(bbc_params *params, const char *name, const char *text
 bbc_result bbc_params_set_assignment(bbc_params *params, const char *assignment, bbc_error *err);
 /* Current value of a parameter as a double. */
 double bbc_params_get(const bbc_params *params, const bbc_param_info *info);
+
+/* ------------------------------------------------------------------------ */
+/* Plane selection: steps 1 and 2 of the Billboard Cloud algorithm          */
+/* ------------------------------------------------------------------------ */
+
+/* Why a plane exists; the thesis's colour code in brackets. */
+typedef enum bbc_plane_kind {
+  BBC_PLANE_STANDARD = 0, /* found by the recursive greedy select [light blue] */
+  BBC_PLANE_COPLANAR,     /* replaced by its coplanar faces' plane, 2.3.2 [orange] */
+  BBC_PLANE_POSTTWEAKED,  /* refined by post-plane tweaking, 2.3.3 [pink] */
+  BBC_PLANE_CARDBOARD,    /* perpendicular to its mother plane, 2.3.7 [green] */
+  BBC_PLANE_PARACHUTE,    /* found by the fail-safe, 2.3.4 [cyan] */
+  BBC_PLANE_KIND_COUNT
+} bbc_plane_kind;
+
+/* "standard", "coplanar", "posttweaked", "cardboard", "parachute". */
+const char *bbc_plane_kind_name(bbc_plane_kind kind);
+
+typedef struct bbc_plane {
+  double normal[3]; /* unit normal n; the plane is n . x = d */
+  double d;         /* model units, in the model's own frame */
+  bbc_plane_kind kind;
+  uint32_t part;       /* index into bbc_planeset.parts */
+  size_t face_count;   /* faces it simplifies (cardboard: mother's faces
+                        * valid for it, which stay assigned to the mother) */
+  double area;         /* sum of those faces' areas projected onto it */
+  int32_t mother;      /* cardboard: index of the mother plane, else -1 */
+  double coverage_pct; /* cardboard: area / mother's area * 100, else 100 */
+} bbc_plane;
+
+/* A part of a model simplified on its own (thesis 2.2.4, 3.1.1). */
+typedef struct bbc_part_result {
+  char name[32];      /* "trunk", "foliage", "all" or a user's name */
+  double epsilon_abs; /* its error threshold, model units */
+  double center[3];   /* centre of the dual grid (the part's centre of gravity) */
+  double radius;      /* the part's bounding radius around that centre */
+  size_t face_count;
+  size_t plane_count;
+  double step1_s;    /* wall-clock seconds of step 1 (grid and density) */
+  double step2_s;    /* ... of step 2 (greedy select) */
+  size_t grid_cells; /* cells of its dual grid */
+} bbc_part_result;
+
+typedef struct bbc_planeset {
+  double radius;      /* the whole model's bounding radius */
+  double epsilon_abs; /* the largest epsilon used by any part */
+  size_t plane_count;
+  bbc_plane *planes;    /* parts' planes one part after another */
+  size_t face_count;    /* = mesh->triangle_count */
+  uint32_t *face_plane; /* per triangle of the mesh (its order): the plane
+                         * that simplifies it; never a cardboard plane */
+  size_t part_count;
+  bbc_part_result *parts;
+  uint32_t *face_part; /* per triangle: index into parts */
+} bbc_planeset;
+
+void bbc_planeset_free(bbc_planeset *set);
+
+/* How faces are split into parts. */
+typedef enum bbc_split_mode {
+  BBC_SPLIT_AUTO = 0, /* by names where they tell, else by geometry */
+  BBC_SPLIT_NONE,     /* one part, "all" */
+  BBC_SPLIT_NAMES,    /* by group/material names only (trunk/bark/stem/... vs
+                       * leaf/leaves/twig/foliage/needle/...) */
+  BBC_SPLIT_GEOMETRY, /* the few large connected pieces are the trunk */
+  BBC_SPLIT_PATTERNS  /* the user's patterns in bbc_split_options */
+} bbc_split_mode;
+
+typedef struct bbc_split_options {
+  bbc_split_mode mode;
+  /* BBC_SPLIT_PATTERNS: comma-separated, case-insensitive glob patterns
+   * ('*', '?') matched against each face's group and material names. A
+   * face matching trunk_patterns is trunk, else matching foliage_patterns is
+   * foliage, else it goes to `rest` ("trunk" or "foliage"). */
+  const char *trunk_patterns;
+  const char *foliage_patterns;
+  const char *rest;
+} bbc_split_options;
+
+/* Splits the faces of `mesh` into parts: writes part names (at most 2 parts:
+ * "trunk" then "foliage"; or one part "all") and face_part[triangle_count].
+ * Returns the number of parts (1 or 2) in *part_count. `why` (may be NULL)
+ * receives a short explanation ("names: material Leaves / Trunk"). */
+bbc_result bbc_split_parts(const bbc_mesh *mesh, const bbc_split_options *options,
+                           uint32_t *face_part, size_t *part_count, char names[2][32], char *why,
+                           size_t why_size, bbc_error *err);
+
+typedef struct bbc_planes_options {
+  bbc_params params;          /* for every part unless overridden */
+  size_t part_override_count; /* parameters per part: */
+  struct {
+    char part[32]; /* "trunk", "foliage" or "all" */
+    bbc_params params;
+  } part_overrides[4];
+  bbc_split_options split;
+  bbc_callbacks callbacks;
+} bbc_planes_options;
+
+void bbc_planes_options_default(bbc_planes_options *options);
+
+/* Steps 1 and 2 of the thesis (2.1.3-2.1.8 with the extensions of 2.3):
+ * finds planes such that every triangle of `mesh` is simplified by exactly
+ * one plane and each of its vertices lies within the part's epsilon of it.
+ * epsilon is in percent of the whole model's radius for every part.
+ * Deterministic: the same input and options give identical results with any
+ * thread count. */
+bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *options,
+                           bbc_planeset *set, bbc_error *err);
 
 /* ------------------------------------------------------------------------ */
 /* Software rendering (no GPU): previews now, baking and evaluation later    */

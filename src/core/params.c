@@ -92,6 +92,18 @@ static const param_row k_rows[] = {
     {{"format", BBC_PARAM_INT, 0, 1, 0, 0, "output", "",
       "VRML output: 0 VRML2.0/Open Inventor mix, 1 pure VRML97"},
      INT_FIELD(format)},
+    {{"upaxis", BBC_PARAM_INT, 0, 2, 1, F1, "extension", "",
+      "the model's up axis: 0 = x, 1 = y, 2 = z (also x, y, z)"},
+     INT_FIELD(up_axis)},
+    {{"threads", BBC_PARAM_INT, 0, 1024, 0, F1, "extension", "",
+      "worker threads, 0 = all cores (results never depend on it)"},
+     INT_FIELD(threads)},
+    {{"merge", BBC_PARAM_BOOL, 0, 1, 1, F1, "extension", "",
+      "dissolve planes whose faces all fit other planes (after step 2)"},
+     INT_FIELD(merge)},
+    {{"candidates", BBC_PARAM_INT, 1, 4, 1, F1, "extension", "",
+      "densest cells refined per plane; the one simplifying most area wins (1 = thesis)"},
+     INT_FIELD(candidates)},
 };
 
 #define ROW_COUNT (sizeof k_rows / sizeof k_rows[0])
@@ -188,6 +200,8 @@ bbc_result bbc_params_set(bbc_params *p, const char *name, const char *text, bbc
   else if (in->type == BBC_PARAM_BOOL &&
            (!strcasecmp(text, "off") || !strcasecmp(text, "false") || !strcasecmp(text, "no")))
     v = 0;
+  else if (!strcmp(in->name, "upaxis") && strlen(text) == 1 && strchr("xyzXYZ", text[0]))
+    v = tolower((unsigned char)text[0]) - 'x';
   else {
     char *end = NULL;
     errno = 0;

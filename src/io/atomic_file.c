@@ -78,3 +78,15 @@ void bbc__atomic_abort(bbc__atomic_file *af) {
   free(af->final_path);
   memset(af, 0, sizeof *af);
 }
+
+bbc_result bbc_write_file_atomic(const char *path, const void *data, size_t size,
+                                 bbc_error *err) {
+  bbc__atomic_file af;
+  bbc_result r = bbc__atomic_open(&af, path, err);
+  if (r != BBC_OK) return r;
+  if (size && fwrite(data, 1, size, af.fp) != size) {
+    bbc__atomic_abort(&af);
+    return bbc__fail(err, BBC_ERROR_IO, "%s: write failed", path);
+  }
+  return bbc__atomic_commit(&af, err);
+}

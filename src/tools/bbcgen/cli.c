@@ -90,9 +90,53 @@ int cli_common_option(cli *c, int argc, char **argv, int *i) {
     return 1;
   }
   bbc_error err;
+  if (!strcmp(a, "--split")) {
+    const char *v = cli_option_value(argc, argv, i);
+    if (!v) return -1;
+    static const char *const modes[] = {"auto", "none", "names", "geometry"};
+    for (int m = 0; m < 4; m++)
+      if (!strcmp(v, modes[m])) {
+        c->split.mode = (bbc_split_mode)m;
+        return 1;
+      }
+    cli_error("--split must be auto, none, names or geometry, not '%s'", v);
+    return -1;
+  }
+  if (!strcmp(a, "--trunk") || !strcmp(a, "--foliage")) {
+    const char *v = cli_option_value(argc, argv, i);
+    if (!v) return -1;
+    c->split.mode = BBC_SPLIT_PATTERNS;
+    if (a[2] == 't') {
+      c->split.trunk_patterns = v;
+      if (!c->split.rest) c->split.rest = "foliage";
+    } else {
+      c->split.foliage_patterns = v;
+      c->split.rest = "trunk";
+    }
+    return 1;
+  }
   if (!strcmp(a, "--set")) {
     const char *v = cli_option_value(argc, argv, i);
     if (!v) return -1;
+    const char *dot = strchr(v, '.'), *eq = strchr(v, '=');
+    if (dot && eq && dot < eq) {
+      /* A part's own parameter: check it now against a scratch copy. */
+      bbc_params scratch = c->params;
+      if (bbc_params_set_assignment(&scratch, dot + 1, &err) != BBC_OK) {
+        cli_error("%.*s: %s", (int)(dot - v), v, err.message);
+        return -1;
+      }
+      if (c->part_setting_count >= sizeof c->part_settings / sizeof c->part_settings[0] ||
+          (size_t)(dot - v) >= sizeof c->part_settings[0].part ||
+          strlen(dot + 1) >= sizeof c->part_settings[0].assignment) {
+        cli_error("too many or too long part settings ('%s')", v);
+        return -1;
+      }
+      cli_part_setting *ps = &c->part_settings[c->part_setting_count++];
+      snprintf(ps->part, sizeof ps->part, "%.*s", (int)(dot - v), v);
+      snprintf(ps->assignment, sizeof ps->assignment, "%s", dot + 1);
+      return 1;
+    }
     if (bbc_params_set_assignment(&c->params, v, &err) != BBC_OK) {
       cli_error("%s", err.message);
       return -1;
@@ -124,7 +168,7 @@ void cli_log(void *user, bbc_log_level level, const char *message) {
 }
 
 void print_parameter_help(FILE *out) {
-  static const char *const groups[] = {"performance", "plane", "billboard", "output"};
+  static const char *const groups[] = {"performance", "plane", "billboard", "output", "extension"};
   fprintf(out, "Parameters (thesis Appendix A; set with --set NAME=VALUE or --NAME VALUE;\n"
                "* = used by step 3 only, + = can change before step 2 without redoing step 1):\n");
   for (size_t g = 0; g < sizeof groups / sizeof groups[0]; g++) {
@@ -155,4 +199,31 @@ void print_parameter_help(FILE *out) {
       fprintf(out, "    %-14s %-16s default %-7s %s\n", name, range, def, p->description);
     }
   }
+}
+
+int cli_planes_options(const cli *c, bbc_planes_options *o) {
+  bbc_planes_options_default(o);
+  o->params = c->params;
+  o->split = c->split;
+  o->callbacks = c->callbacks;
+  for (size_t i = 0; i < c->part_setting_count; i++) {
+    const cli_part_setting *ps = &c->part_settings[i];
+    size_t k = 0;
+    while (k < o->part_override_count && strcmp(o->part_overrides[k].part, ps->part)) k++;
+    if (k == o->part_override_count) {
+      if (k >= sizeof o->part_overrides / sizeof o->part_overrides[0]) {
+        cli_error("parameters for at most %zu parts", k);
+        return EXIT_USAGE;
+      }
+      snprintf(o->part_overrides[k].part, sizeof o->part_overrides[k].part, "%s", ps->part);
+      o->part_overrides[k].params = c->params;
+      o->part_override_count++;
+    }
+    bbc_error err;
+    if (bbc_params_set_assignment(&o->part_overrides[k].params, ps->assignment, &err) != BBC_OK) {
+      cli_error("%s: %s", ps->part, err.message);
+      return EXIT_USAGE;
+    }
+  }
+  return EXIT_OK;
 }

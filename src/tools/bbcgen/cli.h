@@ -19,10 +19,21 @@ enum {
 };
 
 /* Shared state of one bbcgen run. */
+/* A parameter for one part only: `--set trunk.cardboard=1`. Applied on
+ * top of the global parameters once all options are read, so the order of
+ * options does not matter. */
+typedef struct cli_part_setting {
+  char part[32];
+  char assignment[96]; /* name=value */
+} cli_part_setting;
+
 typedef struct cli {
   int quiet;         /* --quiet: no progress bar, no info lines */
   bbc_params params; /* thesis parameters after --set/--NAME options */
   bbc_callbacks callbacks;
+  size_t part_setting_count;
+  cli_part_setting part_settings[32];
+  bbc_split_options split; /* --split, --trunk, --foliage */
 } cli;
 
 void cli_init(cli *c);
@@ -36,7 +47,8 @@ int cli_exit_code(bbc_result r, int output);
 int cli_fail(const bbc_error *err, int output);
 
 /* Tries the options every command accepts at argv[*i]: --quiet, --set
- * NAME=VALUE, and --NAME VALUE for any thesis parameter. Returns 1 when
+ * [PART.]NAME=VALUE, --NAME VALUE for any thesis parameter, and the part
+ * options --split MODE, --trunk PATTERNS, --foliage PATTERNS. Returns 1 when
  * consumed (advancing *i past its value), 0 when not an option of these, and
  * -1 after printing an error (exit EXIT_USAGE). */
 int cli_common_option(cli *c, int argc, char **argv, int *i);
@@ -52,11 +64,16 @@ void cli_log(void *user, bbc_log_level level, const char *message);
 /* Seconds from a monotonic clock. */
 double cli_now(void);
 
+/* Fills planes options from the command line: global parameters, the
+ * split, and per-part parameters. Prints and returns EXIT_USAGE on error. */
+int cli_planes_options(const cli *c, bbc_planes_options *o);
+
 /* Commands. */
 int cmd_info(cli *c, int argc, char **argv);
 int cmd_tree(cli *c, int argc, char **argv);
 int cmd_render(cli *c, int argc, char **argv);
 int cmd_setup(cli *c, int argc, char **argv);
+int cmd_planes(cli *c, int argc, char **argv);
 void print_parameter_help(FILE *out);
 /* Front, side and top views side by side into a PNG; returns an exit code. */
 int render_views_png(const bbc_mesh *m, int z_up, int size, int lighting, const char *out_path);

@@ -21,15 +21,25 @@ static void print_help(FILE *out) {
           "      Species: oak (default), pine, birch, bush. Leaves: number of leaf quads.\n"
           "  bbcgen render MODEL -o OUT.png [--size PX] [--up y|z] [--unlit]\n"
           "      Software render (no GPU) from the front, the side and above.\n"
+          "  bbcgen planes MODEL [PARAMETER OPTIONS] [--json OUT.json]\n"
+          "      Steps 1 and 2: the planes (n . x = d) and which plane simplifies each\n"
+          "      triangle. Trunk and foliage are simplified apart (--split).\n"
           "  bbcgen setup [PARAMETER OPTIONS]\n"
           "      Print every parameter's current value (the thesis's `setup`).\n"
           "  bbcgen --help | --version\n"
           "\n"
           "Not implemented yet (see README, Status): the Billboard Cloud pipeline itself\n"
-          "(`bbcgen MODEL -o OUT.glb`, `planes`, `eval`, batch files).\n"
+          "(`bbcgen MODEL -o OUT.glb`, `eval`, batch files).\n"
           "\n"
           "Options for every command:\n"
           "  --set NAME=VALUE   set a parameter (repeatable), e.g. --set epsilon=6\n"
+          "  --set PART.NAME=VALUE  a parameter for one part only: trunk, foliage or all,\n"
+          "                     e.g. --set trunk.cardboard=1 --set foliage.epsilon=8\n"
+          "  --split MODE       parts: auto (default: by names, else by geometry), none,\n"
+          "                     names, geometry\n"
+          "  --trunk PATTERNS   trunk = faces whose group or material matches a pattern\n"
+          "                     (comma-separated, * and ?), the rest foliage\n"
+          "  --foliage PATTERNS foliage = faces matching, the rest trunk\n"
           "  --NAME VALUE       the same, e.g. --epsilon 6 (percent of the bounding radius)\n"
           "  -q, --quiet        no progress bar and no info lines (warnings and errors stay)\n"
           "  Progress bars are drawn only when stderr is a terminal.\n"
@@ -66,6 +76,7 @@ int main(int argc, char **argv) {
   if (!strcmp(cmd, "tree")) return cmd_tree(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "render")) return cmd_render(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "setup")) return cmd_setup(&c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "planes")) return cmd_planes(&c, argc - 1, argv + 1);
   if (cmd[0] == '-') {
     cli_error("unknown option '%s' (try bbcgen --help)", cmd);
     return EXIT_USAGE;

@@ -1,0 +1,183 @@
+/*
+ * dual.h — internal interface of plane selection (thesis 2.1.3-2.1.8, 2.3):
+ * the dual grid and its density (dualgrid.c), face clustering (cluster.c),
+ * the greedy select with its refinement (select.c) and the plane tweaks
+ * (tweak.c). Not installed.
+ *
+ * Conventions, stated once:
+ *   - Everything here works in a part's grid frame: model coordinates minus
+ *     the part's centre of gravity (thesis 2.1.4), so |rho| <= radius + eps.
+ *   - A direction (theta, phi) maps to the unit normal
+ *       n = cos(theta) cos(phi) a + sin(theta) cos(phi) b + sin(phi) up
+ *     where `up` is the model's up axis and (a, b, up) is right-handed: the
+ *     grid's poles (phi = +-90 deg) are horizontal planes, which is where the
+ *     view-dependent penalty of 2.3.8 acts. theta in [-pi, pi), phi in
+ *     [-pi/2, pi/2].
+ *   - A plane is (n, rho): n . x = rho, rho >= 0 in the grid (the plane
+ *     (n, -rho) is (-n, rho), thesis Eq. 2-2).
+ *   - Density is accumulated in 64-bit integers (fixed point), so adding
+ *     and later removing a face's share is exact, and the sum does not
+ *     depend on the order of faces or on the number of threads.
+ */
+#ifndef BBC_DUAL_H
+#define BBC_DUAL_H
+
+#include "internal.h"
+
+#include <math.h>
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+#ifndef M_SQRT1_2
+#define M_SQRT1_2 0.70710678118654752440
+#endif
+
+/* One triangle of a part, in the grid frame. */
+typedef struct dual_face {
+  double c[3];         /* centroid */
+  double d[3][3];      /* vertex offsets from the centroid */
+  double n[3];         /* unit normal */
+  double area;         /* model units squared */
+  double c_len;        /* |c| */
+  double d_max;        /* max |d_i| */
+  uint32_t mesh_index; /* triangle index in the mesh */
+} dual_face;
+
+/* A box of plane space: theta x phi x rho ranges (radians, model units). */
+typedef struct dual_box {
+  double t0, t1, p0, p1, r0, r1;
+} dual_box;
+
+/* Geometry of a (sub)cell's direction range, for conservative bounds. */
+typedef struct dual_dir {
+  double n[3];   /* unit normal at the centre direction */
+  double radius; /* chord radius: every direction of the range is within this
+                  * distance of n (an upper bound) */
+  double phi;    /* centre phi, radians */
+} dual_dir;
+
+typedef struct dual_frame {
+  double axis_a[3], axis_b[3], axis_up[3];
+} dual_frame;
+
+/* The dual grid of one part (thesis 2.1.4-2.1.7). */
+typedef struct dual_grid {
+  dual_frame frame;
+  int n_theta, n_phi, n_rho;
+  double res_rad;        /* theta/phi cell size, radians */
+  double rho_res;        /* rho cell size, model units (2 eps, Eq. 2-6) */
+  double rho_min;        /* lower rho of cell 0: -rho_res / 2 */
+  double eps;            /* error threshold, model units */
+  double scale;          /* fixed point: density units per model area unit */
+  dual_dir *dirs;        /* n_theta * n_phi, index phi_row * n_theta + theta_col */
+  int64_t *contrib;      /* per cell (dir * n_rho + k) */
+  int64_t *penalty;      /* per cell, already multiplied by the penalty factor */
+  double penalty_factor; /* 10 for the grid (2.1.7) */
+  int threads;
+} dual_grid;
+
+/* Unit normal of direction (theta, phi) in the frame. */
+void dual_normal(const dual_frame *f, double theta, double phi, double n[3]);
+/* Centre normal, chord radius and centre phi of a direction range. */
+void dual_dir_of_box(const dual_frame *f, const dual_box *b, dual_dir *out);
+/* Builds the frame for up axis 0/1/2 (x/y/z). */
+void dual_frame_init(dual_frame *f, int up_axis);
+
+static inline double dual_max(double a, double b) {
+  return a > b ? a : b;
+}
+static inline double dual_min(double a, double b) {
+  return a < b ? a : b;
+}
+
+/* Conservative simple validity (thesis 2.1.4, tightened and made safe; the
+ * derivation is in dualgrid.c): writes [lo, hi] such that every plane of the
+ * direction range whose rho lies outside it is invalid for the face; returns
+ * 0 when no plane of the direction range can be valid at all (the face is
+ * thicker than 2 eps along every direction of it). Never misses a valid
+ * plane. Inline: it is the innermost operation of steps 1 and 2. */
+static inline int dual_face_range(const dual_face *f, const dual_dir *dir, double eps, double *lo,
+                                  double *hi) {
+  const double *n = dir->n;
+  double cc = f->c[0] * n[0] + f->c[1] * n[1] + f->c[2] * n[2];
+  double a0 = f->d[0][0] * n[0] + f->d[0][1] * n[1] + f->d[0][2] * n[2];
+  double a1 = f->d[1][0] * n[0] + f->d[1][1] * n[1] + f->d[1][2] * n[2];
+  double a2 = f->d[2][0] * n[0] + f->d[2][1] * n[1] + f->d[2][2] * n[2];
+  double amax = dual_max(a0, dual_max(a1, a2)), amin = dual_min(a0, dual_min(a1, a2));
+  double slack = 1e-12 * (f->c_len + f->d_max + eps);
+  if (amax - amin - 2 * f->d_max * dir->radius > 2 * eps + slack) return 0;
+  double w = (f->c_len + f->d_max) * dir->radius + eps + slack;
+  *lo = cc + amax - w;
+  *hi = cc + amin + w;
+  return 1;
+}
+
+/* Exact validity: every vertex within eps of the plane n . x = rho. */
+int dual_face_valid(const dual_face *f, const double n[3], double rho, double eps);
+
+/* Projected area of the face onto a plane with normal n (Eq. 2-5). */
+static inline double dual_projected_area(const dual_face *f, const double n[3]) {
+  return f->area * fabs(f->n[0] * n[0] + f->n[1] * n[1] + f->n[2] * n[2]);
+}
+
+/* Prepares the faces of a part: `tris` lists mesh triangle indices. */
+bbc_result dual_faces_build(const bbc_mesh *mesh, const uint32_t *tris, size_t count,
+                            const double center[3], dual_face **out);
+
+bbc_result dual_grid_init(dual_grid *g, int res_deg, double eps, double radius, int up_axis,
+                          double total_area, int threads);
+void dual_grid_free(dual_grid *g);
+
+/* Adds (sign = +1) or removes (sign = -1) the density of faces (thesis 2.1.5
+ * step 2, and the grid update of 2.1.8). */
+void dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint32_t *which, size_t count,
+                          int sign, const bbc_callbacks *cb);
+
+/* Fixed-point contribution and penalty of a face range [lo, hi] over a rho
+ * box [r0, r1]: weighted by the fraction of the box's rho extent covered
+ * (Fig. 2-15). The penalty range is [lo - eps, lo]: planes just below the
+ * valid range barely miss the face that lies in front of them (2.1.7,
+ * Fig. 2-14). Values are >= 0, so rounding is +0.5 and truncation. */
+static inline void dual_range_density(double lo, double hi, double eps, double proj_fixed,
+                                      double r0, double r1, int64_t *contrib,
+                                      int64_t *penalty_unit) {
+  double k = proj_fixed / (r1 - r0);
+  double c = dual_min(hi, r1) - dual_max(lo, r0);
+  double p = dual_min(lo, r1) - dual_max(lo - eps, r0);
+  *contrib = c > 0 ? (int64_t)(k * c + 0.5) : 0;
+  *penalty_unit = p > 0 ? (int64_t)(k * p + 0.5) : 0;
+}
+
+/* Box of grid cell (dir index, k). */
+void dual_grid_cell_box(const dual_grid *g, size_t dir, int k, dual_box *b);
+
+/* ---- clustering (2.3.10) ------------------------------------------------- */
+
+/* Isolation-step clustering of faces projected onto the plane with normal n:
+ * splits along the plane's two axes and both diagonals, allowing gaps up to
+ * `gap`, until stable. Writes a cluster label per face (0 = the cluster with
+ * the largest projected area) and returns the number of clusters. */
+size_t dual_cluster(const dual_face *faces, const uint32_t *which, size_t count, const double n[3],
+                    double gap, uint32_t *label);
+
+/* ---- plane tweaks (2.3.2, 2.3.3, 2.3.7) ---------------------------------- */
+
+/* 1 when every face lies in one plane (within a small tolerance); writes it. */
+int dual_coplanar(const dual_face *faces, const uint32_t *which, size_t count, double tol,
+                  double n[3], double *rho);
+/* Post-plane tweaking (Eq. 2-7, 2-8) with both reference points; returns 1
+ * and replaces (n, rho) when a refined plane keeps every face valid and its
+ * projected area does not shrink. */
+int dual_posttweak(const dual_face *faces, const uint32_t *which, size_t count, double eps,
+                   double n[3], double *rho);
+/* Least-squares plane of the faces' vertices (area-weighted); returns 1
+ * and replaces (n, rho) when it keeps every face valid. Orientation kept. */
+int dual_fit_plane(const dual_face *faces, const uint32_t *which, size_t count, double eps,
+                   double n[3], double *rho);
+/* Minimum-area bounding rectangle of the faces projected onto the plane:
+ * writes its in-plane axes u, w (unit) and the rectangle's extents. */
+void dual_min_rect(const dual_face *faces, const uint32_t *which, size_t count, const double n[3],
+                   double u[3], double w[3], double min_uv[2], double max_uv[2]);
+
+#endif /* BBC_DUAL_H */

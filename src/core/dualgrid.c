@@ -1,0 +1,291 @@
+/*
+ * dualgrid.c — step 1 of the Billboard Cloud algorithm: the dual grid of
+ * plane space, simple validity and density (thesis 2.1.3-2.1.7).
+ *
+ * Simple validity, made safe. The thesis bounds a vertex's validity range
+ * over a cell by evaluating its dual sheet (Eq. 2-3) at the cell's four
+ * corners; the sheet can peak inside the cell, so that bound can miss valid
+ * planes. Here the bound is derived instead of sampled. For any direction n
+ * of a cell whose directions lie within chord distance r of the centre n_c
+ * (|n - n_c| <= r), and a face with centroid c and vertex offsets d_i:
+ *     v_i . n = c . n + d_i . n,  |c . (n - n_c)| <= |c| r,
+ *     |d_i . (n - n_c)| <= |d_i| r.
+ * A plane (n, rho) is valid when max_i v_i.n - eps <= rho <= min_i v_i.n + eps,
+ * so every valid rho of the cell lies in
+ *     [c.n_c + max_i d_i.n_c - (|c| + dmax) r - eps,
+ *      c.n_c + min_i d_i.n_c + (|c| + dmax) r + eps],
+ * and no plane of the cell is valid when the face's thickness along n_c,
+ * max_i d_i.n_c - min_i d_i.n_c, exceeds 2 eps + 2 dmax r. Coupling the
+ * vertices through the shared centroid term makes this tighter than
+ * intersecting per-vertex bounds, and it never misses a valid plane. It costs
+ * four dot products per face and direction.
+ */
+#include "dual.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+void dual_frame_init(dual_frame *f, int up_axis) {
+  memset(f, 0, sizeof *f);
+  /* (a, b, up) right-handed: a x b = up (cyclic axis order). */
+  int a = (up_axis + 1) % 3, b = (up_axis + 2) % 3;
+  f->axis_a[a] = 1;
+  f->axis_b[b] = 1;
+  f->axis_up[up_axis] = 1;
+}
+
+void dual_normal(const dual_frame *f, double theta, double phi, double n[3]) {
+  double ct = cos(theta), st = sin(theta), cp = cos(phi), sp = sin(phi);
+  for (int k = 0; k < 3; k++)
+    n[k] = ct * cp * f->axis_a[k] + st * cp * f->axis_b[k] + sp * f->axis_up[k];
+}
+
+void dual_dir_of_box(const dual_frame *f, const dual_box *b, dual_dir *out) {
+  double tc = 0.5 * (b->t0 + b->t1), pc = 0.5 * (b->p0 + b->p1);
+  dual_normal(f, tc, pc, out->n);
+  out->phi = pc;
+  /* The farthest direction of a theta-phi rectangle from its centre is a
+   * corner: along an edge of constant phi the distance grows with
+   * |theta - tc|, and along an edge of constant theta n . n_c is a cosine
+   * of phi minus an angle within [-90, 90] deg, whose minimum over an
+   * interval of [-90, 90] deg is at an end. */
+  double r2 = 0;
+  const double ts[2] = {b->t0, b->t1}, ps[2] = {b->p0, b->p1};
+  for (int i = 0; i < 2; i++)
+    for (int j = 0; j < 2; j++) {
+      double m[3];
+      dual_normal(f, ts[i], ps[j], m);
+      double dx = m[0] - out->n[0], dy = m[1] - out->n[1], dz = m[2] - out->n[2];
+      double q = dx * dx + dy * dy + dz * dz;
+      if (q > r2) r2 = q;
+    }
+  out->radius = sqrt(r2) * (1 + 1e-12) + 1e-15; /* rounding margin */
+}
+
+int dual_face_valid(const dual_face *f, const double n[3], double rho, double eps) {
+  double cc = f->c[0] * n[0] + f->c[1] * n[1] + f->c[2] * n[2] - rho;
+  double tol = eps * (1 + 1e-12);
+  for (int i = 0; i < 3; i++) {
+    double dist = cc + f->d[i][0] * n[0] + f->d[i][1] * n[1] + f->d[i][2] * n[2];
+    if (fabs(dist) > tol) return 0;
+  }
+  return 1;
+}
+
+bbc_result dual_faces_build(const bbc_mesh *m, const uint32_t *tris, size_t count,
+                            const double center[3], dual_face **out) {
+  dual_face *fs = malloc((count ? count : 1) * sizeof *fs);
+  if (!fs) return BBC_ERROR_OUT_OF_MEMORY;
+  for (size_t i = 0; i < count; i++) {
+    dual_face *f = &fs[i];
+    uint32_t t = tris[i];
+    const uint32_t *ix = m->indices + 3 * t;
+    double v[3][3];
+    for (int j = 0; j < 3; j++)
+      for (int k = 0; k < 3; k++) v[j][k] = m->positions[3 * ix[j] + k] - center[k];
+    for (int k = 0; k < 3; k++) f->c[k] = (v[0][k] + v[1][k] + v[2][k]) / 3.0;
+    f->d_max = 0;
+    for (int j = 0; j < 3; j++) {
+      double l2 = 0;
+      for (int k = 0; k < 3; k++) {
+        f->d[j][k] = v[j][k] - f->c[k];
+        l2 += f->d[j][k] * f->d[j][k];
+      }
+      if (l2 > f->d_max * f->d_max) f->d_max = sqrt(l2);
+    }
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; k++) {
+      e1[k] = v[1][k] - v[0][k];
+      e2[k] = v[2][k] - v[0][k];
+    }
+    double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                    e1[0] * e2[1] - e1[1] * e2[0]};
+    double l = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+    f->area = 0.5 * l;
+    for (int k = 0; k < 3; k++) f->n[k] = l > 0 ? cr[k] / l : 0;
+    f->c_len = sqrt(f->c[0] * f->c[0] + f->c[1] * f->c[1] + f->c[2] * f->c[2]);
+    f->mesh_index = t;
+  }
+  *out = fs;
+  return BBC_OK;
+}
+
+bbc_result dual_grid_init(dual_grid *g, int res_deg, double eps, double radius, int up_axis,
+                          double total_area, int threads) {
+  memset(g, 0, sizeof *g);
+  dual_frame_init(&g->frame, up_axis);
+  g->n_theta = 360 / res_deg;
+  g->n_phi = 180 / res_deg;
+  g->res_rad = res_deg * M_PI / 180.0;
+  g->eps = eps;
+  /* rho resolution 2 eps (Eq. 2-6); at most 4096 rho cells so that a tiny
+   * eps cannot make the grid explode (memory stays below ~60 MB at res 9). */
+  double rho_max = radius + eps;
+  g->rho_res = 2 * eps;
+  if (rho_max / g->rho_res > 4096) g->rho_res = rho_max / 4096;
+  /* The first cell is centred on rho = 0: planes through the centre of
+   * gravity then lie inside one cell instead of on the grid's edge, where
+   * their density would be split between a direction and its opposite. */
+  g->rho_min = -0.5 * g->rho_res;
+  g->n_rho = (int)ceil((rho_max - g->rho_min) / g->rho_res);
+  if (g->n_rho < 1) g->n_rho = 1;
+  g->penalty_factor = 10.0;                                       /* thesis 2.1.7 */
+  g->scale = total_area > 0 ? 1099511627776.0 / total_area : 1.0; /* 2^40 */
+  g->threads = threads;
+  size_t nd = (size_t)g->n_theta * g->n_phi, nc = nd * g->n_rho;
+  g->dirs = malloc(nd * sizeof *g->dirs);
+  g->contrib = calloc(nc, sizeof *g->contrib);
+  g->penalty = calloc(nc, sizeof *g->penalty);
+  if (!g->dirs || !g->contrib || !g->penalty) {
+    dual_grid_free(g);
+    return BBC_ERROR_OUT_OF_MEMORY;
+  }
+  for (int j = 0; j < g->n_phi; j++)
+    for (int i = 0; i < g->n_theta; i++) {
+      dual_box b = {-M_PI + i * g->res_rad,
+                    -M_PI + (i + 1) * g->res_rad,
+                    -M_PI / 2 + j * g->res_rad,
+                    -M_PI / 2 + (j + 1) * g->res_rad,
+                    0,
+                    0};
+      dual_dir_of_box(&g->frame, &b, &g->dirs[(size_t)j * g->n_theta + i]);
+    }
+  return BBC_OK;
+}
+
+void dual_grid_free(dual_grid *g) {
+  free(g->dirs);
+  free(g->contrib);
+  free(g->penalty);
+  memset(g, 0, sizeof *g);
+}
+
+void dual_grid_cell_box(const dual_grid *g, size_t dir, int k, dual_box *b) {
+  int i = (int)(dir % (size_t)g->n_theta), j = (int)(dir / (size_t)g->n_theta);
+  b->t0 = -M_PI + i * g->res_rad;
+  b->t1 = b->t0 + g->res_rad;
+  b->p0 = -M_PI / 2 + j * g->res_rad;
+  b->p1 = b->p0 + g->res_rad;
+  b->r0 = g->rho_min + k * g->rho_res;
+  b->r1 = b->r0 + g->rho_res;
+}
+
+/* Adds a face's share (range [lo, hi], fixed-point projected area proj) to
+ * one direction column. Cells inside [lo, hi] get the full share; only the
+ * two end cells and the penalty cells below lo need fractions. */
+static void scatter(dual_grid *g, size_t dir, double lo, double hi, double proj, int sign) {
+  double rmin = g->rho_min, res = g->rho_res, inv = 1.0 / res;
+  int k0 = (int)floor((lo - g->eps - rmin) * inv), k1 = (int)floor((hi - rmin) * inv);
+  if (k0 < 0) k0 = 0;
+  if (k1 > g->n_rho - 1) k1 = g->n_rho - 1;
+  if (k0 > k1) return;
+  int64_t *cc = g->contrib + dir * (size_t)g->n_rho, *pp = g->penalty + dir * (size_t)g->n_rho;
+  int64_t full = (int64_t)(proj + 0.5);
+  for (int k = k0; k <= k1; k++) {
+    double r0 = rmin + k * res, r1 = r0 + res;
+    if (r0 >= lo && r1 <= hi) {
+      cc[k] += sign * full;
+      continue;
+    }
+    int64_t c, p;
+    dual_range_density(lo, hi, g->eps, proj, r0, r1, &c, &p);
+    cc[k] += sign * c;
+    pp[k] += sign * p;
+  }
+}
+
+void dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint32_t *which, size_t count,
+                          int sign, const bbc_callbacks *cb) {
+  /* Directions come in opposite pairs: (i, j) and (i + n_theta/2, n_phi-1-j)
+   * have opposite normals, so one evaluation serves both (the range of -n is
+   * [-hi, -lo]). Pairs are numbered by their first member. */
+  int nth = g->n_theta, nph = g->n_phi;
+  size_t npairs = (size_t)nth * nph / 2;
+  int nt = g->threads;
+#ifdef _OPENMP
+  if (nt <= 0) nt = omp_get_max_threads();
+#else
+  nt = 1;
+#endif
+    /* Each thread owns a fixed block of pairs and adds every face to them: no
+     * two threads write the same cell, and integer sums make the result
+     * independent of the partition. */
+#ifdef _OPENMP
+#pragma omp parallel num_threads(nt)
+#endif
+  {
+    int tid = 0, tn = 1;
+#ifdef _OPENMP
+    tid = omp_get_thread_num();
+    tn = omp_get_num_threads();
+#endif
+    size_t p0 = npairs * (size_t)tid / (size_t)tn, p1 = npairs * (size_t)(tid + 1) / (size_t)tn;
+    size_t nb = p1 > p0 ? p1 - p0 : 1;
+    /* Structure-of-arrays copies of this block's directions, so the range
+     * pass below vectorises. */
+    double *buf = malloc(nb * 9 * sizeof *buf);
+    size_t *dir_a = malloc(nb * 2 * sizeof *dir_a);
+    if (buf && dir_a) {
+      double *nx = buf, *ny = buf + nb, *nz = buf + 2 * nb, *rad = buf + 3 * nb;
+      double *lo = buf + 4 * nb, *hi = buf + 5 * nb, *proj = buf + 6 * nb, *ok = buf + 7 * nb;
+      size_t *dir_b = dir_a + nb;
+      for (size_t q = p0; q < p1; q++) {
+        /* Pair q: rows j < n_phi-1-j, then the first half of a middle row. */
+        size_t half_rows = (size_t)(nph / 2), i, j;
+        if (q < half_rows * nth) {
+          j = q / nth;
+          i = q % nth;
+        } else {
+          j = (size_t)nph / 2;
+          i = q - half_rows * nth;
+        }
+        size_t a = j * nth + i;
+        size_t b = (size_t)(nph - 1 - (int)j) * nth + (i + nth / 2) % nth;
+        const dual_dir *d = &g->dirs[a];
+        nx[q - p0] = d->n[0];
+        ny[q - p0] = d->n[1];
+        nz[q - p0] = d->n[2];
+        rad[q - p0] = d->radius;
+        dir_a[q - p0] = a;
+        dir_b[q - p0] = b;
+      }
+      size_t m = p1 - p0, step = count / 50 + 1;
+      double eps = g->eps, scale = g->scale;
+      for (size_t f = 0; f < count; f++) {
+        const dual_face *fc = &faces[which ? which[f] : f];
+        const double cx = fc->c[0], cy = fc->c[1], cz = fc->c[2];
+        const double(*dd)[3] = fc->d;
+        double slack = 1e-12 * (fc->c_len + fc->d_max + eps);
+        double wlen = fc->c_len + fc->d_max, parea = fc->area * scale;
+        /* Range pass (same arithmetic as dual_face_range). */
+        for (size_t q = 0; q < m; q++) {
+          double x = nx[q], y = ny[q], z = nz[q];
+          double cc = cx * x + cy * y + cz * z;
+          double a0 = dd[0][0] * x + dd[0][1] * y + dd[0][2] * z;
+          double a1 = dd[1][0] * x + dd[1][1] * y + dd[1][2] * z;
+          double a2 = dd[2][0] * x + dd[2][1] * y + dd[2][2] * z;
+          double amax = dual_max(a0, dual_max(a1, a2)), amin = dual_min(a0, dual_min(a1, a2));
+          double w = wlen * rad[q] + eps + slack;
+          ok[q] = amax - amin - 2 * fc->d_max * rad[q] <= 2 * eps + slack;
+          lo[q] = cc + amax - w;
+          hi[q] = cc + amin + w;
+          double pn = fc->n[0] * x + fc->n[1] * y + fc->n[2] * z;
+          proj[q] = parea * (pn < 0 ? -pn : pn);
+        }
+        /* Scatter pass: the direction and its opposite. */
+        for (size_t q = 0; q < m; q++) {
+          if (ok[q] == 0 || proj[q] <= 0) continue;
+          if (hi[q] >= g->rho_min) scatter(g, dir_a[q], lo[q], hi[q], proj[q], sign);
+          if (-lo[q] >= g->rho_min) scatter(g, dir_b[q], -hi[q], -lo[q], proj[q], sign);
+        }
+        if (tid == 0 && cb && f % step == 0) bbc__progress(cb, "grid", (double)f / count);
+      }
+    }
+    free(buf);
+    free(dir_a);
+  }
+}

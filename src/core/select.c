@@ -1,0 +1,713 @@
+/*
+ * select.c — step 2 of the Billboard Cloud algorithm for one part: the
+ * greedy select with recursive refinement (thesis 2.1.8) and the extensions
+ * that act on it: fail-safe "parachute" (2.3.4), supergreedy (2.3.6),
+ * cardboard planes (2.3.7), view-dependent penalty (2.3.8), simple and
+ * pre-clustering (2.3.10), coplanar optimisation and post-plane tweaking
+ * (2.3.2, 2.3.3, in tweak.c).
+ *
+ * Per plane: pick the densest grid cell; take the unassigned faces simply
+ * valid for it (the largest cluster of them when clustering); refine: while
+ * the centre plane of the current box does not simplify every face of the
+ * set, split the box and its 26 neighbours into 8 subcells each (216), keep
+ * the densest subcell (densities from the current set only, subpenalty as
+ * penalty factor) and the faces simply valid for it. Refinement evaluates a
+ * face once per sub-direction (6 x 6) and bins the result into the 6 rho
+ * slices, rather than once per subcell.
+ */
+#include "select.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+typedef struct ctx {
+  const dual_face *faces;
+  size_t nf;
+  dual_grid *g;
+  const bbc_params *p;
+  double eps;
+  double gap;        /* clustering gap (2 % of the part radius) */
+  uint8_t *assigned; /* per face */
+  size_t remaining;
+  int threads;
+  const bbc_callbacks *cb;
+  select_result *out;
+  uint8_t *flag;     /* scratch per face */
+  uint32_t *scratch; /* scratch per face */
+  uint32_t *label;   /* scratch per face */
+} ctx;
+
+static int thread_count(const ctx *c) {
+#ifdef _OPENMP
+  return c->threads > 0 ? c->threads : omp_get_max_threads();
+#else
+  (void)c;
+  return 1;
+#endif
+}
+
+/* View-dependent penalty (2.3.8): density factor for a normal elevation phi,
+ * 1 - punishval at the poles (horizontal planes), 1 below the cutoff angle,
+ * linear in between. */
+static double view_factor(const bbc_params *p, double phi) {
+  if (p->punish_value <= 0) return 1;
+  double a = fabs(phi) * 180.0 / M_PI, cut = p->punish_cutoff_deg;
+  if (a <= cut) return 1;
+  double t = cut >= 90 ? 1 : (a - cut) / (90 - cut);
+  if (t > 1) t = 1;
+  return 1 - p->punish_value * t;
+}
+
+static double read_density(const ctx *c, int64_t contrib, int64_t penalty, double factor,
+                           double phi) {
+  double d = (double)contrib - factor * (double)penalty;
+  return d > 0 ? d * view_factor(c->p, phi) : d;
+}
+
+/* Faces of `in` (or all unassigned faces when in == NULL) simply valid for
+ * box b, written to out in ascending order; returns their number. */
+static size_t simply_valid(ctx *c, const dual_box *b, const uint32_t *in, size_t n_in,
+                           uint32_t *out) {
+  dual_dir dir;
+  dual_dir_of_box(&c->g->frame, b, &dir);
+  size_t n = in ? n_in : c->nf;
+  int nt = thread_count(c);
+  (void)nt;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) num_threads(nt) if (n > 4096)
+#endif
+  for (size_t i = 0; i < n; i++) {
+    size_t f = in ? in[i] : i;
+    double lo, hi;
+    c->flag[i] = (in || !c->assigned[f]) && dual_face_range(&c->faces[f], &dir, c->eps, &lo, &hi) &&
+                 hi >= b->r0 && lo <= b->r1;
+  }
+  size_t k = 0;
+  for (size_t i = 0; i < n; i++)
+    if (c->flag[i]) out[k++] = (uint32_t)(in ? in[i] : i);
+  return k;
+}
+
+/* Keeps only the largest cluster of `set` projected onto normal n. */
+static size_t largest_cluster(ctx *c, uint32_t *set, size_t n, const double normal[3],
+                              double *fraction) {
+  if (n < 2) {
+    if (fraction) *fraction = 1;
+    return n;
+  }
+  size_t nc = dual_cluster(c->faces, set, n, normal, c->gap, c->label);
+  double all = 0, kept_area = 0;
+  size_t k = 0;
+  for (size_t i = 0; i < n; i++) {
+    double a = dual_projected_area(&c->faces[set[i]], normal);
+    all += a;
+    if (c->label[i] == 0) {
+      kept_area += a;
+      set[k++] = set[i];
+    }
+  }
+  if (fraction) *fraction = all > 0 ? kept_area / all : 1;
+  (void)nc;
+  return k;
+}
+
+/* Faces of set (all unassigned faces when set == NULL) valid for plane
+ * (n, rho): count and fixed-point projected area. */
+static size_t count_valid(ctx *c, const uint32_t *set, size_t n, const double normal[3], double rho,
+                          int64_t *area_fixed) {
+  size_t count = 0;
+  int64_t area = 0;
+  size_t total = set ? n : c->nf;
+  int nt = thread_count(c);
+  (void)nt;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) reduction(+ : count, area) num_threads(nt) if (total > 4096)
+#endif
+  for (size_t i = 0; i < total; i++) {
+    if (!set && c->assigned[i]) continue;
+    const dual_face *f = &c->faces[set ? set[i] : i];
+    if (dual_face_valid(f, normal, rho, c->eps)) {
+      count++;
+      area += llround(dual_projected_area(f, normal) * c->g->scale);
+    }
+  }
+  if (area_fixed) *area_fixed = area;
+  return count;
+}
+
+/* One refinement step: the densest of the 216 subcells of box b and its 26
+ * neighbours, from the faces of set. Returns 0 when none has density > 0. */
+static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n, dual_box *best) {
+  enum { ND = 6, NR = 6 };
+  double dt = 0.5 * (b->t1 - b->t0), dp = 0.5 * (b->p1 - b->p0), dr = 0.5 * (b->r1 - b->r0);
+  int64_t contrib[ND * ND][NR], penalty[ND * ND][NR];
+  int valid_dir[ND * ND];
+  dual_dir dirs[ND * ND];
+  for (int j = 0; j < ND; j++)
+    for (int i = 0; i < ND; i++) {
+      int s = j * ND + i;
+      dual_box sb = {b->t0 - 2 * dt + i * dt,
+                     b->t0 - dt + i * dt,
+                     b->p0 - 2 * dp + j * dp,
+                     b->p0 - dp + j * dp,
+                     0,
+                     0};
+      /* Beyond a pole the directions repeat those on the other side. */
+      valid_dir[s] = sb.p0 >= -M_PI / 2 - 1e-12 && sb.p1 <= M_PI / 2 + 1e-12;
+      if (valid_dir[s]) dual_dir_of_box(&c->g->frame, &sb, &dirs[s]);
+    }
+  int nt = thread_count(c);
+  (void)nt;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) num_threads(nt) if (n > 512)
+#endif
+  for (int s = 0; s < ND * ND; s++) {
+    for (int r = 0; r < NR; r++) contrib[s][r] = penalty[s][r] = 0;
+    if (!valid_dir[s]) continue;
+    const dual_dir *dd = &dirs[s];
+    for (size_t i = 0; i < n; i++) {
+      const dual_face *f = &c->faces[set[i]];
+      double lo, hi;
+      if (!dual_face_range(f, dd, c->eps, &lo, &hi)) continue;
+      double proj = dual_projected_area(f, dd->n) * c->g->scale;
+      for (int r = 0; r < NR; r++) {
+        double r0 = b->r0 - 2 * dr + r * dr, r1 = r0 + dr;
+        if (hi < r0 || lo - c->eps > r1) continue;
+        int64_t cc, pp;
+        dual_range_density(lo, hi, c->eps, proj, r0, r1, &cc, &pp);
+        contrib[s][r] += cc;
+        penalty[s][r] += pp;
+      }
+    }
+  }
+  double best_d = 0;
+  int found = 0;
+  for (int s = 0; s < ND * ND; s++) {
+    if (!valid_dir[s]) continue;
+    for (int r = 0; r < NR; r++) {
+      double d = read_density(c, contrib[s][r], penalty[s][r], c->p->sub_penalty, dirs[s].phi);
+      if (d > best_d) {
+        best_d = d;
+        found = 1;
+        int i = s % ND, j = s / ND;
+        best->t0 = b->t0 - 2 * dt + i * dt;
+        best->t1 = best->t0 + dt;
+        best->p0 = b->p0 - 2 * dp + j * dp;
+        best->p1 = best->p0 + dp;
+        best->r0 = b->r0 - 2 * dr + r * dr;
+        best->r1 = best->r0 + dr;
+      }
+    }
+  }
+  return found;
+}
+
+typedef struct found_plane {
+  double n[3];
+  double rho;
+  bbc_plane_kind kind;
+} found_plane;
+
+typedef struct area_index {
+  double area;
+  uint32_t index;
+} area_index;
+
+static int area_index_cmp(const void *a, const void *b) {
+  const area_index *x = a, *y = b;
+  if (x->area != y->area) return x->area > y->area ? -1 : 1;
+  return (x->index > y->index) - (x->index < y->index);
+}
+
+/* Fail-safe (2.3.4): the supporting plane of one of the set's faces that is
+ * valid for the most faces of the set (candidates: the 64 largest faces),
+ * or their area-weighted average plane if that is valid for more. */
+static found_plane parachute(ctx *c, const uint32_t *set, size_t n) {
+  found_plane fp = {{0, 0, 1}, 0, BBC_PLANE_PARACHUTE};
+  area_index *cand = malloc(n * sizeof *cand);
+  if (!cand) return fp; /* out of memory: the first face's plane below */
+  for (size_t i = 0; i < n; i++) {
+    cand[i].area = c->faces[set[i]].area;
+    cand[i].index = set[i];
+  }
+  qsort(cand, n, sizeof *cand, area_index_cmp);
+  size_t nc = n < 64 ? n : 64, best_count = 0;
+  int64_t best_area = -1;
+  for (size_t i = 0; i < nc + 1; i++) {
+    double nn[3], rho;
+    if (i < nc) {
+      const dual_face *f = &c->faces[cand[i].index];
+      memcpy(nn, f->n, sizeof nn);
+      rho = nn[0] * f->c[0] + nn[1] * f->c[1] + nn[2] * f->c[2];
+    } else {
+      /* Weighted average plane (Eq. 2-7/2-8, origin as reference). */
+      memcpy(nn, fp.n, sizeof nn);
+      rho = fp.rho;
+      if (!dual_posttweak(c->faces, set, n, INFINITY, nn, &rho)) continue;
+    }
+    int64_t area;
+    size_t cnt = count_valid(c, set, n, nn, rho, &area);
+    if (cnt > best_count || (cnt == best_count && area > best_area)) {
+      best_count = cnt;
+      best_area = area;
+      memcpy(fp.n, nn, sizeof nn);
+      fp.rho = rho;
+    }
+  }
+  free(cand);
+  return fp;
+}
+
+/* The densest grid cells, best first (at most `want`), with pre-clustering
+ * weights for the top cells (Eq. 2-9) when clustering = 2. Returns how many
+ * cells have density > 0 (up to want). */
+static int densest_cells(ctx *c, size_t *cells, int want) {
+  dual_grid *g = c->g;
+  size_t nd = (size_t)g->n_theta * g->n_phi, ncell = nd * g->n_rho;
+  enum { TOP = 20, LIST = 24 };
+  size_t top[LIST];
+  double topd[LIST];
+  int ntop = 0;
+  int list = c->p->clustering == 2 ? TOP + want : want;
+  if (list > LIST) list = LIST;
+  for (size_t cell = 0; cell < ncell; cell++) {
+    double d = read_density(c, g->contrib[cell], g->penalty[cell], g->penalty_factor,
+                            g->dirs[cell / g->n_rho].phi);
+    if (!(d > 0)) continue;
+    /* Sorted descending; ties keep the lower cell index first. */
+    int pos = ntop;
+    while (pos > 0 && topd[pos - 1] < d) pos--;
+    if (pos >= list) continue;
+    int last = ntop < list ? ntop : list - 1;
+    for (int k = last; k > pos; k--) {
+      top[k] = top[k - 1];
+      topd[k] = topd[k - 1];
+    }
+    top[pos] = cell;
+    topd[pos] = d;
+    if (ntop < list) ntop++;
+  }
+  if (c->p->clustering == 2) {
+    /* Pre-clustering (Eq. 2-9): the top cells' densities weighted by their
+     * largest cluster's share of their faces' coverage; the cells after
+     * them keep their plain density. Then re-sort (stable). */
+    for (int k = 0; k < ntop && k < TOP; k++) {
+      dual_box b;
+      dual_grid_cell_box(g, top[k] / g->n_rho, (int)(top[k] % g->n_rho), &b);
+      size_t n = simply_valid(c, &b, NULL, 0, c->scratch);
+      double frac = 1;
+      if (n > 1) largest_cluster(c, c->scratch, n, g->dirs[top[k] / g->n_rho].n, &frac);
+      topd[k] *= frac;
+    }
+    for (int i = 1; i < ntop; i++) {
+      size_t x = top[i];
+      double xd = topd[i];
+      int j = i;
+      while (j > 0 && topd[j - 1] < xd) {
+        top[j] = top[j - 1];
+        topd[j] = topd[j - 1];
+        j--;
+      }
+      top[j] = x;
+      topd[j] = xd;
+    }
+  }
+  int n = ntop < want ? ntop : want;
+  for (int k = 0; k < n; k++) cells[k] = top[k];
+  return n;
+}
+
+/* Recursive refinement (2.1.8) from box over the faces set0[n0] (work
+ * buffer `set`): stops when the centre plane simplifies every face of the
+ * current set, and takes that plane. (Keeping instead the centre plane that
+ * simplified the most on the way was tried: it takes more faces per plane
+ * early but needs about 20 % more planes in all on the Scopia pine, because
+ * such planes cut through foliage layers instead of lying in them.) After
+ * `break` steps with more than `breaknum` faces left, the best centre plane
+ * seen is taken. Returns 0 when no plane was found (parachute). */
+static int refine_plane(ctx *c, dual_box box, const uint32_t *set0, size_t n0, uint32_t *set,
+                        found_plane *fp) {
+  const bbc_params *p = c->p;
+  memcpy(set, set0, n0 * sizeof *set);
+  size_t n = n0;
+  found_plane best = {{0, 0, 0}, 0, BBC_PLANE_STANDARD};
+  int64_t best_area = 0;
+  for (int step = 0;; step++) {
+    dual_dir dd;
+    dual_dir_of_box(&c->g->frame, &box, &dd);
+    double rho = 0.5 * (box.r0 + box.r1);
+    int64_t area;
+    size_t cnt = count_valid(c, set, n, dd.n, rho, &area);
+    if (area > best_area) {
+      best_area = area;
+      memcpy(best.n, dd.n, sizeof best.n);
+      best.rho = rho;
+    }
+    if (cnt == n) {
+      memcpy(fp->n, dd.n, sizeof fp->n);
+      fp->rho = rho;
+      fp->kind = BBC_PLANE_STANDARD;
+      return 1;
+    }
+    int tiny = (box.t1 - box.t0) < 1e-9 && (box.r1 - box.r0) < 1e-9 * c->eps;
+    if ((step >= p->break_steps && n > (size_t)p->break_num) || tiny || step > 200) {
+      *fp = best;
+      return best_area > 0;
+    }
+    dual_box sub;
+    if (!refine_step(c, &box, set, n, &sub)) return 0;
+    size_t m = simply_valid(c, &sub, set, n, c->scratch);
+    if (m == 0) return 0;
+    memcpy(set, c->scratch, m * sizeof *set);
+    n = m;
+    box = sub;
+  }
+}
+
+static bbc_result push_plane(ctx *c, const found_plane *fp, size_t face_count, double area,
+                             int32_t mother, double coverage) {
+  select_result *o = c->out;
+  if (o->plane_count == o->plane_cap) {
+    size_t cap = o->plane_cap ? 2 * o->plane_cap : 32;
+    bbc_plane *p = realloc(o->planes, cap * sizeof *p);
+    if (!p) return BBC_ERROR_OUT_OF_MEMORY;
+    o->planes = p;
+    o->plane_cap = cap;
+  }
+  bbc_plane *pl = &o->planes[o->plane_count++];
+  memset(pl, 0, sizeof *pl);
+  memcpy(pl->normal, fp->n, sizeof pl->normal);
+  pl->d = fp->rho; /* grid frame; the caller moves it to the model frame */
+  pl->kind = fp->kind;
+  pl->face_count = face_count;
+  pl->area = area;
+  pl->mother = mother;
+  pl->coverage_pct = coverage;
+  return BBC_OK;
+}
+
+/* Cardboard plane (2.3.7) for mother (n, rho) and its faces. */
+static bbc_result add_cardboard(ctx *c, const found_plane *mother, const uint32_t *set, size_t n,
+                                double mother_area, int32_t mother_index) {
+  double u[3], w[3], mn[2], mx[2];
+  dual_min_rect(c->faces, set, n, mother->n, u, w, mn, mx);
+  /* Through the centre of gravity of the projected faces. */
+  double cg[3] = {0, 0, 0}, a = 0;
+  for (size_t i = 0; i < n; i++) {
+    const dual_face *f = &c->faces[set[i]];
+    double pa = dual_projected_area(f, mother->n);
+    for (int k = 0; k < 3; k++) cg[k] += pa * f->c[k];
+    a += pa;
+  }
+  if (!(a > 0)) return BBC_OK;
+  for (int k = 0; k < 3; k++) cg[k] /= a;
+  const double *axes[2] = {u, w};
+  found_plane best = {{0, 0, 0}, 0, BBC_PLANE_CARDBOARD};
+  size_t best_n = 0;
+  double best_area = 0;
+  for (int k = 0; k < 2; k++) {
+    found_plane cand = {{axes[k][0], axes[k][1], axes[k][2]}, 0, BBC_PLANE_CARDBOARD};
+    cand.rho = cand.n[0] * cg[0] + cand.n[1] * cg[1] + cand.n[2] * cg[2];
+    size_t cnt = 0;
+    double area = 0;
+    for (size_t i = 0; i < n; i++) {
+      const dual_face *f = &c->faces[set[i]];
+      if (dual_face_valid(f, cand.n, cand.rho, c->eps)) {
+        cnt++;
+        area += dual_projected_area(f, cand.n);
+      }
+    }
+    if (area > best_area) {
+      best = cand;
+      best_n = cnt;
+      best_area = area;
+    }
+  }
+  if (best_n == 0) return BBC_OK;
+  return push_plane(c, &best, best_n, best_area, mother_index, 100.0 * best_area / mother_area);
+}
+
+/* Faces assigned to plane pi, into list; returns their number. */
+static size_t faces_of(const select_result *out, size_t nf, uint32_t pi, uint32_t *list) {
+  size_t n = 0;
+  for (size_t f = 0; f < nf; f++)
+    if (out->face_plane[f] == pi) list[n++] = (uint32_t)f;
+  return n;
+}
+
+static void move_faces(select_result *out, const uint32_t *list, size_t n, uint32_t to) {
+  for (size_t i = 0; i < n; i++) out->face_plane[list[i]] = to;
+  out->planes[to].face_count += n;
+}
+
+static void recompute_area(const dual_face *faces, select_result *out, size_t nf, uint32_t pi) {
+  double a = 0;
+  for (size_t f = 0; f < nf; f++)
+    if (out->face_plane[f] == pi) a += dual_projected_area(&faces[f], out->planes[pi].normal);
+  out->planes[pi].area = a;
+}
+
+/* Merging (an extension, parameter `merge`), smallest planes first:
+ *  (a) a plane whose every face is also valid for some other plane is
+ *      dissolved, each face going to the plane that suits its orientation
+ *      best (the greedy select restricts a plane to the faces simply valid
+ *      for its grid cell, so late planes often hold faces an earlier plane
+ *      could have taken);
+ *  (b) otherwise, a plane whose faces all lie within 2 eps of a larger
+ *      plane is merged into it when one plane -- the larger one, the post-tweaked
+ *      plane (Eq. 2-7/2-8) of both sets of faces, or their least-squares
+ *      plane -- keeps every face valid
+ *      (clustering often splits one layer of sparse leaves in two). */
+static bbc_result merge_planes(const dual_face *faces, size_t nf, double eps, select_result *out) {
+  size_t np = out->plane_count;
+  if (np < 2) return BBC_OK;
+  uint32_t *list = malloc(nf * sizeof *list), *other = malloc(nf * sizeof *other);
+  uint32_t *target = malloc(nf * sizeof *target), *order = malloc(np * sizeof *order);
+  uint8_t *alive = malloc(np);
+  if (!list || !other || !target || !order || !alive) {
+    free(list);
+    free(other);
+    free(target);
+    free(order);
+    free(alive);
+    return BBC_ERROR_OUT_OF_MEMORY;
+  }
+  for (size_t i = 0; i < np; i++) {
+    order[i] = (uint32_t)i;
+    alive[i] = 1;
+  }
+  /* Ascending face count, ties by index (insertion sort: np is small). */
+  for (size_t i = 1; i < np; i++) {
+    uint32_t x = order[i];
+    size_t j = i;
+    while (j > 0 && out->planes[order[j - 1]].face_count > out->planes[x].face_count) {
+      order[j] = order[j - 1];
+      j--;
+    }
+    order[j] = x;
+  }
+  for (size_t oi = 0; oi < np; oi++) {
+    uint32_t pi = order[oi];
+    if (out->planes[pi].kind == BBC_PLANE_CARDBOARD || !alive[pi]) continue;
+    size_t n = faces_of(out, nf, pi, list);
+    /* (a) dissolve */
+    int ok = 1;
+    for (size_t i = 0; i < n && ok; i++) {
+      double best = -1;
+      uint32_t best_q = UINT32_MAX;
+      for (size_t q = 0; q < np; q++) {
+        const bbc_plane *pq = &out->planes[q];
+        if (q == pi || !alive[q] || pq->kind == BBC_PLANE_CARDBOARD) continue;
+        if (!dual_face_valid(&faces[list[i]], pq->normal, pq->d, eps)) continue;
+        double a = dual_projected_area(&faces[list[i]], pq->normal);
+        if (a > best) {
+          best = a;
+          best_q = (uint32_t)q;
+        }
+      }
+      target[i] = best_q;
+      ok = best_q != UINT32_MAX;
+    }
+    uint32_t into = UINT32_MAX;
+    if (ok) {
+      for (size_t i = 0; i < n; i++) {
+        out->face_plane[list[i]] = target[i];
+        out->planes[target[i]].face_count++;
+        out->planes[target[i]].area +=
+            dual_projected_area(&faces[list[i]], out->planes[target[i]].normal);
+      }
+    } else {
+      /* (b) merge into a nearly parallel larger plane, largest first. */
+      for (size_t oj = np; oj-- > oi + 1 && into == UINT32_MAX;) {
+        uint32_t q = order[oj];
+        bbc_plane *pq = &out->planes[q], *pp = &out->planes[pi];
+        if (!alive[q] || pq->kind == BBC_PLANE_CARDBOARD) continue;
+        /* Only planes the faces lie close to (within 2 eps) are tried. */
+        int near = 1;
+        for (size_t i = 0; i < n && near; i++)
+          near = dual_face_valid(&faces[list[i]], pq->normal, pq->d, 2 * eps);
+        if (!near) continue;
+        (void)pp;
+        size_t m = faces_of(out, nf, q, other);
+        int all = 1;
+        for (size_t i = 0; i < n && all; i++)
+          all = dual_face_valid(&faces[list[i]], pq->normal, pq->d, eps);
+        if (all) {
+          into = q;
+          break;
+        }
+        memcpy(other + m, list, n * sizeof *list);
+        double nn[3] = {pq->normal[0], pq->normal[1], pq->normal[2]}, rr = pq->d;
+        if (dual_posttweak(faces, other, m + n, eps, nn, &rr) ||
+            dual_fit_plane(faces, other, m + n, eps, nn, &rr)) {
+          memcpy(pq->normal, nn, sizeof nn);
+          pq->d = rr;
+          if (pq->kind == BBC_PLANE_STANDARD) pq->kind = BBC_PLANE_POSTTWEAKED;
+          into = q;
+        }
+      }
+      if (into == UINT32_MAX) continue;
+      move_faces(out, list, n, into);
+      recompute_area(faces, out, nf, into);
+    }
+    alive[pi] = 0;
+    for (size_t q = 0; q < np; q++) /* its cardboard plane goes with it */
+      if (out->planes[q].kind == BBC_PLANE_CARDBOARD && out->planes[q].mother == (int32_t)pi)
+        alive[q] = 0;
+  }
+  /* Compact. */
+  uint32_t *remap = order; /* reuse */
+  size_t k = 0;
+  for (size_t i = 0; i < np; i++) {
+    remap[i] = alive[i] ? (uint32_t)k : UINT32_MAX;
+    if (alive[i]) out->planes[k++] = out->planes[i];
+  }
+  out->plane_count = k;
+  for (size_t i = 0; i < k; i++)
+    if (out->planes[i].mother >= 0) out->planes[i].mother = (int32_t)remap[out->planes[i].mother];
+  for (size_t f = 0; f < nf; f++) out->face_plane[f] = remap[out->face_plane[f]];
+  free(list);
+  free(other);
+  free(target);
+  free(order);
+  free(alive);
+  return BBC_OK;
+}
+
+bbc_result select_planes(const dual_face *faces, size_t nf, dual_grid *g, const bbc_params *p,
+                         double eps, double part_radius, const bbc_callbacks *cb,
+                         select_result *out) {
+  memset(out, 0, sizeof *out);
+  ctx c;
+  memset(&c, 0, sizeof c);
+  c.faces = faces;
+  c.nf = nf;
+  c.g = g;
+  c.p = p;
+  c.eps = eps;
+  c.gap = 0.02 * part_radius;
+  c.threads = p->threads;
+  c.cb = cb;
+  c.out = out;
+  c.remaining = nf;
+  c.assigned = calloc(nf ? nf : 1, 1);
+  c.flag = malloc(nf ? nf : 1);
+  c.scratch = malloc((nf ? nf : 1) * sizeof *c.scratch);
+  c.label = malloc((nf ? nf : 1) * sizeof *c.label);
+  uint32_t *set = malloc((nf ? nf : 1) * sizeof *set);
+  uint32_t *set0 = malloc((nf ? nf : 1) * sizeof *set0);
+  uint32_t *cand0 = malloc((nf ? nf : 1) * sizeof *cand0);
+  uint32_t *cand = malloc((nf ? nf : 1) * sizeof *cand);
+  uint32_t *work = malloc((nf ? nf : 1) * sizeof *work);
+  out->face_plane = malloc((nf ? nf : 1) * sizeof *out->face_plane);
+  bbc_result r = BBC_OK;
+  (void)set0;
+  if (!c.assigned || !c.flag || !c.scratch || !c.label || !set || !set0 || !cand0 || !cand ||
+      !work || !out->face_plane)
+    r = BBC_ERROR_OUT_OF_MEMORY;
+
+  int want = p->candidates < 1 ? 1 : (p->candidates > 4 ? 4 : p->candidates);
+  while (r == BBC_OK && c.remaining > 0) {
+    /* Candidates: the densest cells (one in the thesis; more with the
+     * `candidates` extension), each refined to a plane; the plane that
+     * simplifies the largest projected area wins. */
+    size_t cells[4];
+    int ncand = densest_cells(&c, cells, want);
+    size_t n = 0, n0 = 0;
+    found_plane fp = {{0, 0, 0}, 0, BBC_PLANE_STANDARD};
+    double best_area = -1;
+    for (int k = 0; k < ncand; k++) {
+      dual_box box;
+      dual_grid_cell_box(g, cells[k] / g->n_rho, (int)(cells[k] % g->n_rho), &box);
+      size_t m0 = simply_valid(&c, &box, NULL, 0, cand0);
+      if (m0 == 0) continue;
+      if (p->clustering > 0)
+        m0 = largest_cluster(&c, cand0, m0, g->dirs[cells[k] / g->n_rho].n, NULL);
+      found_plane cp;
+      if (!refine_plane(&c, box, cand0, m0, work, &cp)) cp = parachute(&c, cand0, m0);
+      /* The faces it simplifies: those of the cell's set valid for it. */
+      size_t m = 0;
+      double area = 0;
+      for (size_t i = 0; i < m0; i++)
+        if (dual_face_valid(&faces[cand0[i]], cp.n, cp.rho, eps)) {
+          cand[m++] = cand0[i];
+          area += dual_projected_area(&faces[cand0[i]], cp.n);
+        }
+      if (area > best_area) {
+        best_area = area;
+        fp = cp;
+        memcpy(set, cand, m * sizeof *set);
+        n = m;
+        memcpy(set0, cand0, m0 * sizeof *set0);
+        n0 = m0;
+      }
+    }
+    if (n == 0) {
+      /* No positive density left (penalties dominate) or rounding: the
+       * parachute over every unassigned face always progresses. */
+      n0 = 0;
+      for (size_t f = 0; f < nf; f++)
+        if (!c.assigned[f]) set0[n0++] = (uint32_t)f;
+      fp = parachute(&c, set0, n0);
+      for (size_t i = 0; i < n0; i++)
+        if (dual_face_valid(&faces[set0[i]], fp.n, fp.rho, eps)) set[n++] = set0[i];
+    }
+    /* Tweaks (2.3.2, 2.3.3). */
+    if (fp.kind == BBC_PLANE_STANDARD) {
+      if (dual_coplanar(faces, set, n, 1e-9 * (part_radius + eps), fp.n, &fp.rho))
+        fp.kind = BBC_PLANE_COPLANAR;
+      else if (p->post_tweak && dual_posttweak(faces, set, n, eps, fp.n, &fp.rho))
+        fp.kind = BBC_PLANE_POSTTWEAKED;
+    }
+    /* Supergreedy (2.3.6) after the tweaks: a tweaked plane lies closer to
+     * its faces' own plane, and so takes more of the faces around it. */
+    if (p->super_greedy) {
+      for (size_t i = 0; i < n; i++) c.assigned[set[i]] = 2; /* in the set already */
+      size_t k = n;
+      for (size_t f = 0; f < nf; f++)
+        if (!c.assigned[f] && dual_face_valid(&faces[f], fp.n, fp.rho, eps)) set[k++] = (uint32_t)f;
+      for (size_t i = 0; i < n; i++) c.assigned[set[i]] = 0;
+      n = k;
+    }
+    if (n == 0) { /* cannot happen: a face is valid for its own plane */
+      r = BBC_ERROR_INVALID_GEOMETRY;
+      break;
+    }
+    double area = 0;
+    for (size_t i = 0; i < n; i++) area += dual_projected_area(&faces[set[i]], fp.n);
+    int32_t index = (int32_t)out->plane_count;
+    r = push_plane(&c, &fp, n, area, -1, 100.0);
+    if (r != BBC_OK) break;
+    for (size_t i = 0; i < n; i++) {
+      c.assigned[set[i]] = 1;
+      out->face_plane[set[i]] = (uint32_t)index;
+    }
+    c.remaining -= n;
+    if (p->cardboard && (r = add_cardboard(&c, &fp, set, n, area, index)) != BBC_OK) break;
+    /* Grid update: exactly reverse the simplified faces' density (2.1.8). */
+    dual_grid_accumulate(g, faces, set, n, -1, NULL);
+    bbc__progress(cb, "select", 1.0 - (double)c.remaining / (double)nf);
+  }
+  if (r == BBC_OK && p->merge) r = merge_planes(faces, nf, eps, out);
+  free(c.assigned);
+  free(c.flag);
+  free(c.scratch);
+  free(c.label);
+  free(set);
+  free(set0);
+  free(cand0);
+  free(cand);
+  free(work);
+  if (r != BBC_OK) select_result_free(out);
+  return r;
+}
+
+void select_result_free(select_result *r) {
+  free(r->planes);
+  free(r->face_plane);
+  memset(r, 0, sizeof *r);
+}

@@ -42,6 +42,25 @@ for m in trees/scopia/pine/pine.obj trees/scopia/copperBeech/copperBeech.obj \
   fi
 done
 
+# Plane selection (steps 1 and 2) on the data trees: epsilon 6 and 10, and
+# 15 with the view-dependent penalty 70 %/55 deg (the thesis's Tupelo table),
+# clustering off (recommended for trees); the pine also with the Appendix A
+# defaults (pre-clustering); and a generated tree of over 1M triangles.
+trees=$(cd "$data" && ls trees/scopia/*/*.obj trees/eztree/*.obj trees/quaternius/OBJ/*.obj 2>/dev/null || true)
+for t in $trees; do
+  for cfg in "epsilon=6" "epsilon=10" "epsilon=15 punishval=0.7 punishcutoff=55"; do
+    # shellcheck disable=SC2086
+    "$build/bin/bench_planes" "$data/$t" 3 $cfg clustering=0 | tee -a "$json"
+  done
+done
+if [ -f "$data/trees/scopia/pine/pine.obj" ]; then
+  "$build/bin/bench_planes" "$data/trees/scopia/pine/pine.obj" 3 epsilon=6 | tee -a "$json"
+fi
+big=$(mktemp -d)
+"$build/bin/bbcgen" tree --leaves 450000 -q -o "$big/big_oak.obj"
+"$build/bin/bench_planes" "$big/big_oak.obj" 1 epsilon=6 clustering=0 | tee -a "$json"
+rm -rf "$big"
+
 {
   echo "# Benchmarks"
   echo
@@ -53,10 +72,31 @@ done
 import json, sys, os
 for line in open(sys.argv[1]):
     r = json.loads(line)
+    if r['bench'] == 'planes':
+        continue
     name = f"{r['species']} leaves={r['leaves']}" if r['bench'] in ('treegen', 'tree_cli') else os.path.relpath(r['model'], os.path.join(os.path.dirname(sys.argv[1]), '../../../shared/data'))
     peak = f"{r['peak_mib']:.0f}" if r['peak_mib'] else "-"
     size = f"{r['triangles']:,}" if r['triangles'] else f"({r.get('points', 0):,})"
     print(f"| {r['bench']} | {name} | {size} | {r['median_s']:.3f} | {r['min_s']:.3f} | {r['max_s']:.3f} | {peak} |")
+PY
+  echo
+  echo "## Plane selection (steps 1 and 2)"
+  echo
+  echo "Medians of 3 runs (1 for the generated tree); peak memory of the whole process (model loading included); planes as trunk + foliage."
+  echo
+  echo "| model | parameters | triangles | planes | step 1 s | step 2 s | steps 1+2 s | peak MiB |"
+  echo "|---|---|---:|---:|---:|---:|---:|---:|"
+  python3 - "$json" <<'PY'
+import json, sys, os
+for line in open(sys.argv[1]):
+    r = json.loads(line)
+    if r['bench'] != 'planes':
+        continue
+    name = r['model']
+    i = name.find('shared/data/')
+    name = name[i + 12:] if i >= 0 else 'generated oak (bbcgen tree --leaves 450000)'
+    planes = f"{r['planes']} ({r['planes_part0']}+{r['planes_part1']})" if r['parts'] == 2 else str(r['planes'])
+    print(f"| {name} | {r['params']} | {r['triangles']:,} | {planes} | {r['step1_s']:.2f} | {r['step2_s']:.2f} | {r['median_s']:.2f} | {r['peak_mib']:.0f} |")
 PY
 } > "$res/latest.md.tmp.$$"
 mv "$json" "$res/latest.json"

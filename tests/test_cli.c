@@ -287,6 +287,110 @@ static void test_tree_command(void **state) {
   free(err);
 }
 
+/* `bbcgen planes`: 1 and 2 threads, and two runs, write identical JSON; the
+ * JSON has the documented keys; per-part settings are applied. */
+static void test_planes_json_identical(void **state) {
+  (void)state;
+  char path[1024], args[2048];
+  tu_data_path(path, sizeof path, "trees/eztree/oak_medium.obj");
+  if (!tu_have_file(path)) skip();
+  const char *extra = "--epsilon 6 --supergreedy 1 --set trunk.cardboard=1 --punishval 0.7 "
+                      "--punishcutoff 55";
+  unsigned char *text[3];
+  size_t len[3];
+  for (int i = 0; i < 3; i++) {
+    snprintf(args, sizeof args, "planes '%s' %s --threads %d -q --json '%s/p%d.json'", path, extra,
+             i == 0 ? 1 : 2, tu_dir, i);
+    char *out, *err;
+    if (run(args, &out, &err) != 0) fail_msg("bbcgen planes failed: %s", err);
+    free(out);
+    free(err);
+    char jp[1024];
+    snprintf(jp, sizeof jp, "%s/p%d.json", tu_dir, i);
+    text[i] = tu_read_file(jp, &len[i]);
+    assert_non_null(text[i]);
+  }
+  assert_int_equal(len[0], len[1]);
+  assert_memory_equal(text[0], text[1], len[0]);
+  assert_int_equal(len[1], len[2]);
+  assert_memory_equal(text[1], text[2], len[1]);
+  cJSON *j = cJSON_Parse((const char *)text[0]);
+  assert_non_null(j);
+  assert_true(num(j, "epsilon_abs") > 0);
+  assert_true(num(j, "radius") > 0);
+  const cJSON *planes = cJSON_GetObjectItem(j, "planes");
+  assert_true(cJSON_GetArraySize(planes) > 0);
+  int cardboard = 0;
+  const cJSON *p;
+  cJSON_ArrayForEach(p, planes) {
+    assert_int_equal(cJSON_GetArraySize(cJSON_GetObjectItem(p, "normal")), 3);
+    assert_true(cJSON_IsNumber(cJSON_GetObjectItem(p, "d")));
+    assert_true(cJSON_IsString(cJSON_GetObjectItem(p, "kind")));
+    assert_true(num(p, "faces") > 0);
+    assert_true(cJSON_IsNumber(cJSON_GetObjectItem(p, "area")));
+    if (!strcmp(cJSON_GetObjectItem(p, "kind")->valuestring, "cardboard")) {
+      cardboard++;
+      /* Cardboard planes only for the trunk (set per part). */
+      assert_string_equal(cJSON_GetObjectItem(p, "part")->valuestring, "trunk");
+    }
+  }
+  assert_true(cardboard > 0);
+  /* One plane index per triangle. */
+  assert_int_equal(cJSON_GetArraySize(cJSON_GetObjectItem(j, "face_plane")), 13806);
+  cJSON_Delete(j);
+  for (int i = 0; i < 3; i++) free(text[i]);
+  /* Bad per-part settings are refused with the range. */
+  char *out, *err;
+  snprintf(args, sizeof args, "planes '%s' --set trunk.epsilon=200", path);
+  assert_int_equal(run(args, &out, &err), 1);
+  assert_non_null(strstr(err, "0.001 to 99"));
+  free(out);
+  free(err);
+}
+
+/* Batch files: the same planes as the flags, errors name file and line. */
+static void test_exec_batch(void **state) {
+  (void)state;
+  char path[1024], args[2048], text[2048];
+  tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
+  if (!tu_have_file(path)) skip();
+  snprintf(text, sizeof text,
+           "# a comment\nload %s\nset epsilon 8\nset trunk.cardboard 1\nsplit auto\n"
+           "planes %s/batch.json\n",
+           path, tu_dir);
+  char *bf = tu_write_file(tu_dir, "job.bbc", text, strlen(text));
+  snprintf(args, sizeof args, "exec '%s' -q", bf);
+  char *out, *err;
+  assert_int_equal(run(args, &out, &err), 0);
+  free(out);
+  free(err);
+  snprintf(args, sizeof args,
+           "planes '%s' --epsilon 8 --set trunk.cardboard=1 -q --json '%s/flags.json'", path,
+           tu_dir);
+  assert_int_equal(run(args, &out, &err), 0);
+  free(out);
+  free(err);
+  char a[1024], b[1024];
+  snprintf(a, sizeof a, "%s/batch.json", tu_dir);
+  snprintf(b, sizeof b, "%s/flags.json", tu_dir);
+  size_t na, nb;
+  unsigned char *ta = tu_read_file(a, &na), *tb = tu_read_file(b, &nb);
+  assert_non_null(ta);
+  assert_non_null(tb);
+  assert_int_equal(na, nb);
+  assert_memory_equal(ta, tb, na);
+  free(ta);
+  free(tb);
+  free(bf);
+  bf = tu_write_file(tu_dir, "bad.bbc", "set epsilon 5\nfrobnicate\n", 25);
+  snprintf(args, sizeof args, "exec '%s'", bf);
+  assert_int_equal(run(args, &out, &err), 1);
+  assert_non_null(strstr(err, "bad.bbc:2"));
+  free(out);
+  free(err);
+  free(bf);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_info_pine),
@@ -297,6 +401,8 @@ int main(void) {
       cmocka_unit_test(test_exit_codes),
       cmocka_unit_test(test_help_lists_every_parameter),
       cmocka_unit_test(test_tree_command),
+      cmocka_unit_test(test_planes_json_identical),
+      cmocka_unit_test(test_exec_batch),
   };
   return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

@@ -74,6 +74,9 @@ int cmd_tree(cli *c, int argc, char **argv);
 int cmd_render(cli *c, int argc, char **argv);
 int cmd_setup(cli *c, int argc, char **argv);
 int cmd_planes(cli *c, int argc, char **argv);
+int cmd_exec(cli *c, int argc, char **argv);
+/* Steps 1 and 2 on a model file; JSON to json_path when not NULL. */
+int run_planes(const cli *c, const char *path, const char *json_path);
 void print_parameter_help(FILE *out);
 /* Front, side and top views side by side into a PNG; returns an exit code. */
 int render_views_png(const bbc_mesh *m, int z_up, int size, int lighting, const char *out_path);

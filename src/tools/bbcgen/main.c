@@ -24,12 +24,15 @@ static void print_help(FILE *out) {
           "  bbcgen planes MODEL [PARAMETER OPTIONS] [--json OUT.json]\n"
           "      Steps 1 and 2: the planes (n . x = d) and which plane simplifies each\n"
           "      triangle. Trunk and foliage are simplified apart (--split).\n"
+          "  bbcgen exec BATCHFILE\n"
+          "      Run a batch file of commands (load, set, split, bbc1, bbc2, planes, setup);\n"
+          "      see README.\n"
           "  bbcgen setup [PARAMETER OPTIONS]\n"
           "      Print every parameter's current value (the thesis's `setup`).\n"
           "  bbcgen --help | --version\n"
           "\n"
           "Not implemented yet (see README, Status): the Billboard Cloud pipeline itself\n"
-          "(`bbcgen MODEL -o OUT.glb`, `eval`, batch files).\n"
+          "(`bbcgen MODEL -o OUT.glb`, `eval`, batch commands bbc3/save/shade/show).\n"
           "\n"
           "Options for every command:\n"
           "  --set NAME=VALUE   set a parameter (repeatable), e.g. --set epsilon=6\n"
@@ -77,6 +80,7 @@ int main(int argc, char **argv) {
   if (!strcmp(cmd, "render")) return cmd_render(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "setup")) return cmd_setup(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "planes")) return cmd_planes(&c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "exec")) return cmd_exec(&c, argc - 1, argv + 1);
   if (cmd[0] == '-') {
     cli_error("unknown option '%s' (try bbcgen --help)", cmd);
     return EXIT_USAGE;

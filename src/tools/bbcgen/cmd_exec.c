@@ -1,0 +1,121 @@
+/* cmd_exec.c — `bbcgen exec FILE`: batch files in the thesis's command
+ * language (Appendix A), as far as the toolkit implements it today. One
+ * command per line; '#' starts a comment line.
+ *
+ *   load PATH            the model for the following commands
+ *   set NAME VALUE       a parameter (also PART.NAME: trunk, foliage, all)
+ *   split MODE           auto | none | names | geometry
+ *   split trunk=PATTERNS   or  split foliage=PATTERNS   (group/material globs)
+ *   bbc1, bbc2           steps 1 and 2 (they run together at bbc2)
+ *   planes [OUT.json]    steps 1 and 2, the planes as JSON
+ *   setup                print the parameters
+ *   q, quit              stop
+ * Not yet: bbc3, bbc, save, shade, show, bbcload (see README, Status). */
+#include "cli.h"
+
+#include <ctype.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static char *trim(char *s) {
+  while (isspace((unsigned char)*s)) s++;
+  size_t n = strlen(s);
+  while (n && isspace((unsigned char)s[n - 1])) s[--n] = 0;
+  return s;
+}
+
+int cmd_exec(cli *c, int argc, char **argv) {
+  const char *file = NULL;
+  for (int i = 1; i < argc; i++) {
+    int k = cli_common_option(c, argc, argv, &i);
+    if (k < 0) return EXIT_USAGE;
+    if (k) continue;
+    if (!file && argv[i][0] != '-')
+      file = argv[i];
+    else {
+      cli_error("exec: usage: bbcgen exec BATCHFILE");
+      return EXIT_USAGE;
+    }
+  }
+  if (!file) {
+    cli_error("exec: usage: bbcgen exec BATCHFILE");
+    return EXIT_USAGE;
+  }
+  FILE *f = fopen(file, "r");
+  if (!f) {
+    cli_error("%s: cannot open batch file", file);
+    return EXIT_INPUT;
+  }
+  char line[4096], model[4096] = "", pattern[2][4096];
+  int lineno = 0, rc = EXIT_OK, want_steps = 0;
+  while (rc == EXIT_OK && fgets(line, sizeof line, f)) {
+    lineno++;
+    char *s = trim(line);
+    if (!*s || *s == '#') continue;
+    char *cmd = strtok(s, " \t");
+    char *a1 = strtok(NULL, " \t");
+    char *a2 = strtok(NULL, "");
+    if (a2) a2 = trim(a2);
+    if (!strcmp(cmd, "q") || !strcmp(cmd, "quit")) break;
+    if (!strcmp(cmd, "load")) {
+      if (!a1) goto missing;
+      snprintf(model, sizeof model, "%s", a1);
+      want_steps = 0;
+    } else if (!strcmp(cmd, "set")) {
+      if (!a1 || !a2) goto missing;
+      char assignment[512];
+      snprintf(assignment, sizeof assignment, "%s=%s", a1, a2);
+      char *fake[2] = {"--set", assignment};
+      int i = 0;
+      if (cli_common_option(c, 2, fake, &i) != 1) {
+        cli_error("%s:%d: bad set command", file, lineno);
+        rc = EXIT_USAGE;
+      }
+    } else if (!strcmp(cmd, "split")) {
+      if (!a1) goto missing;
+      if (!strncmp(a1, "trunk=", 6) || !strncmp(a1, "foliage=", 8)) {
+        int t = a1[0] == 't';
+        snprintf(pattern[t], sizeof pattern[t], "%s", strchr(a1, '=') + 1);
+        char opt[16];
+        snprintf(opt, sizeof opt, "--%s", t ? "trunk" : "foliage");
+        char *fake[2] = {opt, pattern[t]};
+        int i = 0;
+        cli_common_option(c, 2, fake, &i);
+      } else {
+        char *fake[2] = {"--split", a1};
+        int i = 0;
+        if (cli_common_option(c, 2, fake, &i) != 1) rc = EXIT_USAGE;
+      }
+    } else if (!strcmp(cmd, "setup")) {
+      char *fake[1] = {"setup"};
+      rc = cmd_setup(c, 1, fake);
+    } else if (!strcmp(cmd, "bbc1")) {
+      if (!model[0]) goto noload;
+      want_steps = 1;
+    } else if (!strcmp(cmd, "bbc2") || !strcmp(cmd, "planes")) {
+      if (!model[0]) goto noload;
+      if (!strcmp(cmd, "bbc2") && !want_steps) {
+        cli_error("%s:%d: bbc2 needs bbc1 first", file, lineno);
+        rc = EXIT_USAGE;
+        break;
+      }
+      rc = run_planes(c, model, !strcmp(cmd, "planes") ? a1 : NULL);
+      want_steps = 0;
+    } else {
+      cli_error("%s:%d: '%s' is not a batch command (or not implemented yet)", file, lineno, cmd);
+      rc = EXIT_USAGE;
+    }
+    continue;
+  missing:
+    cli_error("%s:%d: %s needs %s", file, lineno, cmd,
+              !strcmp(cmd, "set") ? "NAME VALUE" : "an argument");
+    rc = EXIT_USAGE;
+    continue;
+  noload:
+    cli_error("%s:%d: %s before load", file, lineno, cmd);
+    rc = EXIT_USAGE;
+  }
+  fclose(f);
+  return rc;
+}

@@ -79,8 +79,7 @@ void bbc__atomic_abort(bbc__atomic_file *af) {
   memset(af, 0, sizeof *af);
 }
 
-bbc_result bbc_write_file_atomic(const char *path, const void *data, size_t size,
-                                 bbc_error *err) {
+bbc_result bbc_write_file_atomic(const char *path, const void *data, size_t size, bbc_error *err) {
   bbc__atomic_file af;
   bbc_result r = bbc__atomic_open(&af, path, err);
   if (r != BBC_OK) return r;

@@ -345,6 +345,7 @@ typedef struct bbc_planeset {
   size_t part_count;
   bbc_part_result *parts;
   uint32_t *face_part; /* per triangle: index into parts */
+  char split_why[320]; /* how the parts were chosen, for people */
 } bbc_planeset;
 
 void bbc_planeset_free(bbc_planeset *set);
@@ -368,6 +369,12 @@ typedef struct bbc_split_options {
   const char *trunk_patterns;
   const char *foliage_patterns;
   const char *rest;
+  /* 1 = the trunk part keeps only the stem; the branches join the foliage,
+   * among whose leaves they lie (thesis 2.2.4: "separate the stem and the
+   * foliage plus branches"). The stem is followed up the up axis from the
+   * trunk's base. 0 = the trunk part keeps every trunk face. */
+  int stem_only;
+  int up_axis; /* 0 = x, 1 = y, 2 = z: for stem_only */
 } bbc_split_options;
 
 /* Splits the faces of `mesh` into parts: writes part names (at most 2 parts:

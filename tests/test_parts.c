@@ -822,8 +822,61 @@ static void test_builtin_tree(void **state) {
   bbc_mesh_free(&m);
 }
 
+/* stem_only: the pine's trunk keeps its stem, the branches join the
+ * foliage; every trunk face lies near the stem's axis. */
+static void test_stem_only_pine(void **state) {
+  (void)state;
+  char path[1024];
+  tu_data_path(path, sizeof path, "trees/scopia/pine/pine.obj");
+  if (!tu_have_file(path)) skip();
+  bbc_load_options lo;
+  bbc_load_options_default(&lo);
+  lo.load_textures = 0;
+  bbc_mesh m;
+  bbc_error err;
+  if (bbc_mesh_load(path, &lo, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  bbc_split_options o;
+  memset(&o, 0, sizeof o);
+  o.mode = BBC_SPLIT_AUTO;
+  o.stem_only = 1;
+  o.up_axis = 1;
+  uint32_t *fp = malloc(m.triangle_count * sizeof *fp);
+  size_t parts;
+  char names[2][32], why[320];
+  assert_int_equal(bbc_split_parts(&m, &o, fp, &parts, names, why, sizeof why, &err), BBC_OK);
+  assert_int_equal(parts, 2);
+  assert_non_null(strstr(why, "stem only"));
+  size_t trunk = 0;
+  double xmin = 1e300, xmax = -1e300, zmin = 1e300, zmax = -1e300, ymax = -1e300;
+  for (size_t t = 0; t < m.triangle_count; t++) {
+    if (fp[t] != 0) continue;
+    trunk++;
+    for (int j = 0; j < 3; j++) {
+      const double *p = m.positions + 3 * m.indices[3 * t + j];
+      xmin = p[0] < xmin ? p[0] : xmin;
+      xmax = p[0] > xmax ? p[0] : xmax;
+      zmin = p[2] < zmin ? p[2] : zmin;
+      zmax = p[2] > zmax ? p[2] : zmax;
+      ymax = p[1] > ymax ? p[1] : ymax;
+    }
+  }
+  /* A stem: a few hundred triangles, narrow (the crown is ~4 m wide), tall. */
+  assert_true(trunk > 300 && trunk < 3000);
+  assert_true(xmax - xmin < 80 && zmax - zmin < 80);
+  assert_true(ymax > 300);
+  /* Without stem_only the trunk keeps its 6,210 triangles. */
+  o.stem_only = 0;
+  assert_int_equal(bbc_split_parts(&m, &o, fp, &parts, names, NULL, 0, &err), BBC_OK);
+  trunk = 0;
+  for (size_t t = 0; t < m.triangle_count; t++) trunk += fp[t] == 0;
+  assert_int_equal(trunk, 6210);
+  free(fp);
+  bbc_mesh_free(&m);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_stem_only_pine),
       cmocka_unit_test(test_geometry_tube_and_leaves),
       cmocka_unit_test(test_geometry_weld_is_exact),
       cmocka_unit_test(test_geometry_weld_star),

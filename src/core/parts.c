@@ -21,6 +21,7 @@
 #include "internal.h"
 
 #include <assert.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -839,6 +840,98 @@ static const char *mode_name(bbc_split_mode mode) {
 }
 
 /* `options` may be NULL: BBC_SPLIT_AUTO. */
+
+/* ---- the stem within the trunk (stem_only) -------------------------------- */
+
+/* Keeps in the trunk part only the faces near the stem's axis; the others
+ * (branches) join the foliage. The axis is followed in 32 slices up the up
+ * axis: each slice's centre is the mean of the trunk face centroids in it
+ * that lie within 1.5 base radii of the slice below's centre, so a leaning
+ * trunk keeps its stem. Returns the number of faces moved, or SIZE_MAX when
+ * out of memory. */
+static size_t keep_stem_only(const bbc_mesh *m, uint32_t *face_part, int up) {
+  enum { SLICES = 32 };
+  size_t nf = m->triangle_count;
+  int a = (up + 1) % 3, b = (up + 2) % 3;
+  size_t nt = 0;
+  for (size_t t = 0; t < nf; t++) nt += face_part[t] == PART_TRUNK;
+  if (nt == 0) return 0;
+  double *q = malloc(nt * 3 * sizeof *q); /* trunk face centroids */
+  uint32_t *which = malloc(nt * sizeof *which);
+  if (!q || !which) {
+    free(q);
+    free(which);
+    return SIZE_MAX;
+  }
+  double hmin = INFINITY, hmax = -INFINITY;
+  size_t k = 0;
+  for (size_t t = 0; t < nf; t++) {
+    if (face_part[t] != PART_TRUNK) continue;
+    for (int i = 0; i < 3; i++) {
+      q[3 * k + i] = 0;
+      for (int j = 0; j < 3; j++) q[3 * k + i] += m->positions[3 * m->indices[3 * t + j] + i] / 3;
+    }
+    hmin = fmin(hmin, q[3 * k + up]);
+    hmax = fmax(hmax, q[3 * k + up]);
+    which[k++] = (uint32_t)t;
+  }
+  size_t moved = 0;
+  if (hmax > hmin) {
+    double dh = (hmax - hmin) / SLICES;
+    int *slice = malloc(nt * sizeof *slice);
+    if (!slice) {
+      free(q);
+      free(which);
+      return SIZE_MAX;
+    }
+    for (size_t i = 0; i < nt; i++) {
+      int s = (int)((q[3 * i + up] - hmin) / dh);
+      slice[i] = s < 0 ? 0 : (s >= SLICES ? SLICES - 1 : s);
+    }
+    /* Base: centre and radius of the lowest slice. */
+    double ca = 0, cb = 0, n = 0, r0 = 0;
+    for (size_t i = 0; i < nt; i++)
+      if (slice[i] == 0) {
+        ca += q[3 * i + a];
+        cb += q[3 * i + b];
+        n++;
+      }
+    ca /= n;
+    cb /= n;
+    for (size_t i = 0; i < nt; i++)
+      if (slice[i] == 0) r0 = fmax(r0, hypot(q[3 * i + a] - ca, q[3 * i + b] - cb));
+    double reach = 1.5 * r0;
+    double cx[SLICES], cy[SLICES];
+    int found[SLICES];
+    for (int s = 0; s < SLICES; s++) {
+      double sa = 0, sb = 0, cnt = 0;
+      for (size_t i = 0; i < nt; i++)
+        if (slice[i] == s && hypot(q[3 * i + a] - ca, q[3 * i + b] - cb) <= reach) {
+          sa += q[3 * i + a];
+          sb += q[3 * i + b];
+          cnt++;
+        }
+      found[s] = cnt > 0;
+      if (cnt > 0) {
+        ca = sa / cnt;
+        cb = sb / cnt;
+      }
+      cx[s] = ca;
+      cy[s] = cb;
+    }
+    for (size_t i = 0; i < nt; i++) {
+      int s = slice[i];
+      if (found[s] && hypot(q[3 * i + a] - cx[s], q[3 * i + b] - cy[s]) <= reach) continue;
+      face_part[which[i]] = PART_FOLIAGE;
+      moved++;
+    }
+    free(slice);
+  }
+  free(q);
+  free(which);
+  return moved;
+}
+
 bbc_result bbc_split_parts(const bbc_mesh *mesh, const bbc_split_options *options,
                            uint32_t *face_part, size_t *part_count, char names[2][32], char *why,
                            size_t why_size, bbc_error *err) {
@@ -911,6 +1004,16 @@ bbc_result bbc_split_parts(const bbc_mesh *mesh, const bbc_split_options *option
   }
   pattern_list_free(&trunk_pl);
   pattern_list_free(&foliage_pl);
+  if (r == BBC_OK && options->stem_only && *part_count == 2) {
+    int up = options->up_axis >= 0 && options->up_axis <= 2 ? options->up_axis : 1;
+    size_t moved = keep_stem_only(mesh, face_part, up);
+    if (moved == SIZE_MAX)
+      r = BBC_ERROR_OUT_OF_MEMORY;
+    else if (moved && why && why_size) {
+      size_t l = strlen(why);
+      snprintf(why + l, why_size - l, "; stem only: %zu branch triangles join the foliage", moved);
+    }
+  }
   if (r == BBC_ERROR_OUT_OF_MEMORY)
     return bbc__fail(err, r, "out of memory splitting %zu triangles into parts (split mode %s)",
                      mesh->triangle_count, mode_name(options->mode));

@@ -27,6 +27,7 @@ void bbc_planes_options_default(bbc_planes_options *o) {
   memset(o, 0, sizeof *o);
   bbc_params_default(&o->params);
   o->split.mode = BBC_SPLIT_AUTO;
+  o->split.stem_only = 1;
 }
 
 void bbc_planeset_free(bbc_planeset *s) {
@@ -98,7 +99,10 @@ bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bb
   }
   char names[2][32];
   size_t part_count = 0;
-  bbc_result r = bbc_split_parts(mesh, &o->split, set->face_part, &part_count, names, NULL, 0, err);
+  bbc_split_options split = o->split;
+  split.up_axis = o->params.up_axis;
+  bbc_result r = bbc_split_parts(mesh, &split, set->face_part, &part_count, names, set->split_why,
+                                 sizeof set->split_why, err);
   if (r == BBC_OK) {
     set->parts = calloc(part_count, sizeof *set->parts);
     if (!set->parts) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");

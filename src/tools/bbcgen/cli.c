@@ -102,6 +102,16 @@ int cli_common_option(cli *c, int argc, char **argv, int *i) {
     cli_error("--split must be auto, none, names or geometry, not '%s'", v);
     return -1;
   }
+  if (!strcmp(a, "--branches")) {
+    const char *v = cli_option_value(argc, argv, i);
+    if (!v) return -1;
+    if (strcmp(v, "trunk") && strcmp(v, "foliage")) {
+      cli_error("--branches must be trunk or foliage, not '%s'", v);
+      return -1;
+    }
+    c->branches_with_trunk = !strcmp(v, "trunk");
+    return 1;
+  }
   if (!strcmp(a, "--trunk") || !strcmp(a, "--foliage")) {
     const char *v = cli_option_value(argc, argv, i);
     if (!v) return -1;
@@ -205,6 +215,7 @@ int cli_planes_options(const cli *c, bbc_planes_options *o) {
   bbc_planes_options_default(o);
   o->params = c->params;
   o->split = c->split;
+  o->split.stem_only = !c->branches_with_trunk;
   o->callbacks = c->callbacks;
   for (size_t i = 0; i < c->part_setting_count; i++) {
     const cli_part_setting *ps = &c->part_settings[i];

@@ -34,6 +34,7 @@ typedef struct cli {
   size_t part_setting_count;
   cli_part_setting part_settings[32];
   bbc_split_options split; /* --split, --trunk, --foliage */
+  int branches_with_trunk; /* --branches trunk (default: with the foliage) */
 } cli;
 
 void cli_init(cli *c);

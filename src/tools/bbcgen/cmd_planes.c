@@ -14,6 +14,7 @@ static cJSON *planes_json(const bbc_planeset *s) {
   cJSON *root = cJSON_CreateObject();
   cJSON_AddNumberToObject(root, "epsilon_abs", s->epsilon_abs);
   cJSON_AddNumberToObject(root, "radius", s->radius);
+  cJSON_AddStringToObject(root, "split", s->split_why);
   cJSON *parts = cJSON_AddArrayToObject(root, "parts");
   for (size_t i = 0; i < s->part_count; i++) {
     const bbc_part_result *p = &s->parts[i];
@@ -94,6 +95,7 @@ int run_planes(const cli *c, const char *path, const char *json_path) {
     return cli_fail(&err, 0);
   }
   double t1 = cli_now();
+  cli_info(c, "parts: %s", set.split_why);
   for (size_t i = 0; i < set.part_count; i++) {
     const bbc_part_result *p = &set.parts[i];
     cli_info(c, "%-8s %7zu faces  eps %-9.4g %3zu planes  step 1 %.2f s  step 2 %.2f s", p->name,

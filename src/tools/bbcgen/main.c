@@ -43,6 +43,8 @@ static void print_help(FILE *out) {
           "  --trunk PATTERNS   trunk = faces whose group or material matches a pattern\n"
           "                     (comma-separated, * and ?), the rest foliage\n"
           "  --foliage PATTERNS foliage = faces matching, the rest trunk\n"
+          "  --branches foliage|trunk  the trunk part keeps only the stem and the branches\n"
+          "                     go with the foliage (default, thesis 2.2.4), or keep them\n"
           "  --NAME VALUE       the same, e.g. --epsilon 6 (percent of the bounding radius)\n"
           "  -q, --quiet        no progress bar and no info lines (warnings and errors stay)\n"
           "  Progress bars are drawn only when stderr is a terminal.\n"

@@ -12,42 +12,34 @@
 
 #include "core/dual.h"
 
-/* Random triangles in a ball of radius 10, sizes from tiny to large. */
+/* Random triangles in a ball of radius 10, sizes from tiny to large, made
+ * into dual faces by the library's own dual_faces_build (grid centre at the
+ * origin). */
 static dual_face *random_faces(size_t n, uint64_t seed) {
   bbc__rng r = {seed};
-  dual_face *f = calloc(n, sizeof *f);
+  bbc_mesh m;
+  memset(&m, 0, sizeof m);
+  m.vertex_count = 3 * n;
+  m.triangle_count = n;
+  m.positions = malloc(9 * n * sizeof *m.positions);
+  m.indices = malloc(3 * n * sizeof *m.indices);
+  uint32_t *tris = malloc(n * sizeof *tris);
   for (size_t i = 0; i < n; i++) {
     double size = i % 3 == 0 ? 0.05 : (i % 3 == 1 ? 0.5 : 3.0);
     double c[3] = {bbc__rng_range(&r, -7, 7), bbc__rng_range(&r, -7, 7), bbc__rng_range(&r, -7, 7)};
-    double v[3][3], m[3] = {0, 0, 0};
-    for (int j = 0; j < 3; j++)
-      for (int k = 0; k < 3; k++) {
-        v[j][k] = c[k] + bbc__rng_range(&r, -size, size);
-        m[k] += v[j][k] / 3;
-      }
-    memcpy(f[i].c, m, sizeof m);
-    f[i].d_max = 0;
     for (int j = 0; j < 3; j++) {
-      double l2 = 0;
-      for (int k = 0; k < 3; k++) {
-        f[i].d[j][k] = v[j][k] - m[k];
-        l2 += f[i].d[j][k] * f[i].d[j][k];
-      }
-      if (sqrt(l2) > f[i].d_max) f[i].d_max = sqrt(l2);
+      for (int k = 0; k < 3; k++)
+        m.positions[9 * i + 3 * j + k] = c[k] + bbc__rng_range(&r, -size, size);
+      m.indices[3 * i + j] = (uint32_t)(3 * i + j);
     }
-    double e1[3], e2[3];
-    for (int k = 0; k < 3; k++) {
-      e1[k] = v[1][k] - v[0][k];
-      e2[k] = v[2][k] - v[0][k];
-    }
-    double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                    e1[0] * e2[1] - e1[1] * e2[0]};
-    double l = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
-    f[i].area = 0.5 * l;
-    for (int k = 0; k < 3; k++) f[i].n[k] = cr[k] / l;
-    f[i].c_len = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-    f[i].mesh_index = (uint32_t)i;
+    tris[i] = (uint32_t)i;
   }
+  const double origin[3] = {0, 0, 0};
+  dual_face *f = NULL;
+  assert_int_equal(dual_faces_build(&m, tris, n, origin, &f), BBC_OK);
+  free(m.positions);
+  free(m.indices);
+  free(tris);
   return f;
 }
 

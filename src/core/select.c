@@ -99,7 +99,7 @@ static size_t largest_cluster(ctx *c, uint32_t *set, size_t n, const double norm
     if (fraction) *fraction = 1;
     return n;
   }
-  size_t nc = dual_cluster(c->faces, set, n, normal, c->gap, c->label);
+  dual_cluster(c->faces, set, n, normal, c->gap, c->label);
   double all = 0, kept_area = 0;
   size_t k = 0;
   for (size_t i = 0; i < n; i++) {
@@ -111,7 +111,6 @@ static size_t largest_cluster(ctx *c, uint32_t *set, size_t n, const double norm
     }
   }
   if (fraction) *fraction = all > 0 ? kept_area / all : 1;
-  (void)nc;
   return k;
 }
 
@@ -521,17 +520,16 @@ static bbc_result merge_planes(const dual_face *faces, size_t nf, double eps, se
             dual_projected_area(&faces[list[i]], out->planes[target[i]].normal);
       }
     } else {
-      /* (b) merge into a nearly parallel larger plane, largest first. */
+      /* (b) merge into a larger plane the faces lie close to, largest first. */
       for (size_t oj = np; oj-- > oi + 1 && into == UINT32_MAX;) {
         uint32_t q = order[oj];
-        bbc_plane *pq = &out->planes[q], *pp = &out->planes[pi];
+        bbc_plane *pq = &out->planes[q];
         if (!alive[q] || pq->kind == BBC_PLANE_CARDBOARD) continue;
         /* Only planes the faces lie close to (within 2 eps) are tried. */
         int near = 1;
         for (size_t i = 0; i < n && near; i++)
           near = dual_face_valid(&faces[list[i]], pq->normal, pq->d, 2 * eps);
         if (!near) continue;
-        (void)pp;
         size_t m = faces_of(out, nf, q, other);
         int all = 1;
         for (size_t i = 0; i < n && all; i++)
@@ -605,7 +603,6 @@ bbc_result select_planes(const dual_face *faces, size_t nf, dual_grid *g, const 
   uint32_t *work = malloc((nf ? nf : 1) * sizeof *work);
   out->face_plane = malloc((nf ? nf : 1) * sizeof *out->face_plane);
   bbc_result r = BBC_OK;
-  (void)set0;
   if (!c.assigned || !c.flag || !c.scratch || !c.label || !set || !set0 || !cand0 || !cand ||
       !work || !out->face_plane)
     r = BBC_ERROR_OUT_OF_MEMORY;

@@ -11,13 +11,15 @@ echo "== 1. Generate the built-in oak (seeded, deterministic)"
 echo "== 2. Describe it"
 "$bin" info "$out/oak.obj"
 "$bin" info --json "$out/oak.obj" > "$out/oak_info.json"
-echo "== 3. A pine, a birch and a bush too"
+echo "== 3. Steps 1 and 2 of the Billboard Cloud algorithm: its planes (epsilon 6 %)"
+"$bin" planes "$out/oak.obj" --epsilon 6 --clustering 0 --json "$out/oak_planes.json"
+echo "== 4. A pine, a birch and a bush too"
 for s in pine birch bush; do
   "$bin" tree --species "$s" --seed 1 -o "$out/$s.obj" --preview "$out/${s}_preview.png"
 done
 shared="$(dirname "$0")/../../shared/data/trees/scopia/pine/pine.obj"
 if [ -f "$shared" ]; then
-  echo "== 4. A real tree from ../shared/data: the Scopia pine"
+  echo "== 5. A real tree from ../shared/data: the Scopia pine"
   "$bin" info "$shared"
   "$bin" render "$shared" -o "$out/scopia_pine.png" --size 384
 fi
@@ -25,5 +27,5 @@ echo
 echo "Results in $out/:"
 ls -1 "$out"
 echo
-echo "The Billboard Cloud pipeline (bbcgen MODEL -o OUT.glb) is not implemented yet;"
-echo "see README.md, Status."
+echo "Texturing the planes into a Billboard Cloud (bbcgen MODEL -o OUT.glb) is not"
+echo "implemented yet; see README.md, Status."

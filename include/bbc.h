@@ -209,6 +209,46 @@ bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *mesh, bbc_er
  * reports, JSON and other text outputs of the tools. */
 bbc_result bbc_write_file_atomic(const char *path, const void *data, size_t size, bbc_error *err);
 
+/* glTF 2.0 output of a textured triangle mesh (billboard clouds, baselines).
+ * Every material becomes a glTF material (baseColorFactor = base_color,
+ * baseColorTexture = its texture as PNG), alphaMode MASK with alphaCutoff
+ * 0.5, doubleSided; positions (float, with min/max), normals when present,
+ * TEXCOORD_0 when present (v flipped to glTF's top-left origin), indices
+ * (uint16 when they fit, else uint32); one primitive per material, one mesh,
+ * one node. `extras_json`, when not NULL, must be exactly one JSON object;
+ * it is stored verbatim as the asset's "extras" (anything else is
+ * BBC_ERROR_INVALID_ARGUMENT and nothing is written). For .gltf the side files
+ * are <stem>.bin and <stem>_<n>.png, with characters outside [A-Za-z0-9_.-]
+ * of the stem replaced by '_'. Normals are written renormalised. */
+typedef struct bbc_gltf_options {
+  int binary;              /* 1 = .glb (one file), 0 = .gltf + .bin + .png files */
+  const char *extras_json; /* may be NULL */
+} bbc_gltf_options;
+
+/* Writes `mesh` as glTF 2.0, atomically (every file). options may be NULL:
+ * the format then follows the extension (.glb or .gltf). */
+bbc_result bbc_mesh_write_gltf(const char *path, const bbc_mesh *mesh,
+                               const bbc_gltf_options *options, bbc_error *err);
+
+/* ------------------------------------------------------------------------ */
+/* Texture atlas                                                             */
+/* ------------------------------------------------------------------------ */
+
+typedef struct bbc_atlas_rect {
+  int x, y;          /* top-left texel of the image inside the atlas */
+  int width, height; /* = the image's size */
+} bbc_atlas_rect;
+
+/* Packs `count` images into one power-of-two RGBA atlas (square or 2:1),
+ * leaving `padding` texels around each image, and dilates the colour of
+ * opaque texels into neighbouring transparent ones (alpha stays 0) so that
+ * filtering and mipmaps do not bleed dark fringes. rects[count] receives
+ * where each image went. Deterministic. BBC_ERROR_OUT_OF_RANGE when the
+ * images do not fit in max_size x max_size. count = 0 gives a 1x1
+ * transparent atlas (rects may then be NULL). */
+bbc_result bbc_atlas_pack(const bbc_image *images, size_t count, int padding, int max_size,
+                          bbc_image *atlas, bbc_atlas_rect *rects, bbc_error *err);
+
 /* ------------------------------------------------------------------------ */
 /* Parameters (thesis Appendix A, "Parameter Reference")                      */
 /* ------------------------------------------------------------------------ */

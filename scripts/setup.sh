@@ -8,7 +8,7 @@ set -euo pipefail
 
 what=${1:-all}
 build_pkgs=(build-essential cmake pkg-config libassimp-dev libstb-dev libcjson-dev)
-test_pkgs=(libcmocka-dev clang-format)
+test_pkgs=(libcmocka-dev clang-format nodejs)
 
 case "$what" in
   build) pkgs=("${build_pkgs[@]}") ;;
@@ -21,6 +21,8 @@ status=$(dpkg-query -W -f='${Package} ${db:Status-Abbrev}\n' "${pkgs[@]}" 2>/dev
 for p in "${pkgs[@]}"; do
   if ! grep -q "^$p ii" <<<"$status"; then missing+=("$p"); fi
 done
+# npm: part of some nodejs builds (NodeSource), a package of its own in Debian.
+if [ "$what" != build ] && ! command -v npm > /dev/null; then missing+=(npm); fi
 [ ${#missing[@]} -eq 0 ] && exit 0
 
 cmd="apt-get install -y --no-install-recommends ${missing[*]}"

@@ -447,6 +447,22 @@ void bbc_planes_options_default(bbc_planes_options *options);
 bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *options,
                            bbc_planeset *set, bbc_error *err);
 
+/* The billboard of a plane (thesis 2.1.9): the minimum-area rectangle, on
+ * the plane, around its faces' projected vertices (convex hull and rotating
+ * calipers). A cardboard plane's rectangle surrounds its mother's faces that
+ * are valid for it. Points of the rectangle are
+ *   origin + s * width * u + t * height * w,  s, t in [0, 1]. */
+typedef struct bbc_billboard {
+  uint32_t plane;       /* index into bbc_planeset.planes */
+  double origin[3];     /* corner, model coordinates */
+  double u[3], w[3];    /* unit in-plane axes, u x w = the plane's normal */
+  double width, height; /* extents along u and w, model units (width >= height) */
+} bbc_billboard;
+
+/* One billboard per plane of `set` into billboards[set->plane_count]. */
+bbc_result bbc_billboards_compute(const bbc_mesh *mesh, const bbc_planeset *set,
+                                  bbc_billboard *billboards, bbc_error *err);
+
 /* ------------------------------------------------------------------------ */
 /* Software rendering (no GPU): previews now, baking and evaluation later    */
 /* ------------------------------------------------------------------------ */

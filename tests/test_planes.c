@@ -306,6 +306,80 @@ static void test_house(void **state) {
   bbc_mesh_free(&b.m);
 }
 
+/* ---- billboards --------------------------------------------------------------- */
+
+/* Every face's vertices, projected onto its plane, lie in the billboard. */
+static void check_billboards(const bbc_mesh *m, const bbc_planeset *s) {
+  bbc_billboard *bb = calloc(s->plane_count, sizeof *bb);
+  bbc_error err;
+  assert_int_equal(bbc_billboards_compute(m, s, bb, &err), BBC_OK);
+  double tol = 1e-7 * (m->radius + 1);
+  for (size_t t = 0; t < m->triangle_count; t++) {
+    const bbc_billboard *b = &bb[s->face_plane[t]];
+    for (int k = 0; k < 3; k++) {
+      const double *v = m->positions + 3 * m->indices[3 * t + k];
+      double a = 0, c = 0;
+      for (int i = 0; i < 3; i++) {
+        a += (v[i] - b->origin[i]) * b->u[i];
+        c += (v[i] - b->origin[i]) * b->w[i];
+      }
+      if (a < -tol || a > b->width + tol || c < -tol || c > b->height + tol)
+        fail_msg("face %zu vertex %d outside its billboard (%g, %g of %g x %g)", t, k, a, c,
+                 b->width, b->height);
+    }
+  }
+  for (size_t i = 0; i < s->plane_count; i++) {
+    const bbc_billboard *b = &bb[i];
+    const bbc_plane *p = &s->planes[i];
+    assert_true(b->width >= b->height);
+    /* u x w = n, origin on the plane. */
+    double cr[3] = {b->u[1] * b->w[2] - b->u[2] * b->w[1], b->u[2] * b->w[0] - b->u[0] * b->w[2],
+                    b->u[0] * b->w[1] - b->u[1] * b->w[0]};
+    for (int k = 0; k < 3; k++) assert_true(fabs(cr[k] - p->normal[k]) < 1e-9);
+    double on = p->normal[0] * b->origin[0] + p->normal[1] * b->origin[1] +
+                p->normal[2] * b->origin[2] - p->d;
+    assert_true(fabs(on) < tol);
+  }
+  free(bb);
+}
+
+/* A 4 x 1 rectangle rotated by 30 degrees in the plane z = 2: its billboard
+ * is that rectangle. */
+static void test_billboard_rotated_rectangle(void **state) {
+  (void)state;
+  builder b;
+  b_init(&b);
+  double c = cos(M_PI / 6), sn = sin(M_PI / 6);
+  double corner[4][3];
+  const double uv[4][2] = {{0, 0}, {4, 0}, {4, 1}, {0, 1}};
+  for (int i = 0; i < 4; i++) {
+    corner[i][0] = 1 + uv[i][0] * c - uv[i][1] * sn;
+    corner[i][1] = -3 + uv[i][0] * sn + uv[i][1] * c;
+    corner[i][2] = 2;
+  }
+  b_quad(&b, corner[0], corner[1], corner[2], corner[3]);
+  b_finish(&b);
+  bbc_planeset s;
+  find_planes(&b.m, 5, 0, &s);
+  assert_int_equal(s.plane_count, 1);
+  bbc_billboard bb;
+  bbc_error err;
+  assert_int_equal(bbc_billboards_compute(&b.m, &s, &bb, &err), BBC_OK);
+  assert_true(fabs(bb.width - 4) < 1e-9);
+  assert_true(fabs(bb.height - 1) < 1e-9);
+  /* The origin is one of the corners. */
+  double best = 1e9;
+  for (int i = 0; i < 4; i++) {
+    double d = 0;
+    for (int k = 0; k < 3; k++) d += (bb.origin[k] - corner[i][k]) * (bb.origin[k] - corner[i][k]);
+    best = fmin(best, sqrt(d));
+  }
+  assert_true(best < 1e-9);
+  check_billboards(&b.m, &s);
+  bbc_planeset_free(&s);
+  bbc_mesh_free(&b.m);
+}
+
 /* ---- real models ------------------------------------------------------------ */
 
 static size_t real_model(const char *rel, double eps_pct) {
@@ -321,6 +395,7 @@ static size_t real_model(const char *rel, double eps_pct) {
   bbc_planeset s;
   find_planes(&m, eps_pct, 0, &s);
   check_invariants(&m, &s);
+  check_billboards(&m, &s);
   printf("%s: eps %g%%: %zu planes, %zu parts (%s)\n", rel, eps_pct, s.plane_count, s.part_count,
          s.split_why);
   size_t planes = s.plane_count;
@@ -443,17 +518,29 @@ static void test_threads_identical(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_one_plane),    cmocka_unit_test(test_three_planes),
-      cmocka_unit_test(test_eight_planes), cmocka_unit_test(test_cube),
-      cmocka_unit_test(test_house),        cmocka_unit_test(test_threads_identical),
-      cmocka_unit_test(test_aspen),        cmocka_unit_test(test_oak),
-      cmocka_unit_test(test_ezbush),       cmocka_unit_test(test_ezpine),
-      cmocka_unit_test(test_q_birch),      cmocka_unit_test(test_q_dead),
-      cmocka_unit_test(test_q_pine),       cmocka_unit_test(test_q_tree1),
-      cmocka_unit_test(test_q_tree3),      cmocka_unit_test(test_cat),
-      cmocka_unit_test(test_h60),          cmocka_unit_test(test_ash),
-      cmocka_unit_test(test_pine),         cmocka_unit_test(test_beech),
-      cmocka_unit_test(test_palm),         cmocka_unit_test(test_scopia_bush),
+      cmocka_unit_test(test_one_plane),
+      cmocka_unit_test(test_three_planes),
+      cmocka_unit_test(test_eight_planes),
+      cmocka_unit_test(test_cube),
+      cmocka_unit_test(test_house),
+      cmocka_unit_test(test_billboard_rotated_rectangle),
+      cmocka_unit_test(test_threads_identical),
+      cmocka_unit_test(test_aspen),
+      cmocka_unit_test(test_oak),
+      cmocka_unit_test(test_ezbush),
+      cmocka_unit_test(test_ezpine),
+      cmocka_unit_test(test_q_birch),
+      cmocka_unit_test(test_q_dead),
+      cmocka_unit_test(test_q_pine),
+      cmocka_unit_test(test_q_tree1),
+      cmocka_unit_test(test_q_tree3),
+      cmocka_unit_test(test_cat),
+      cmocka_unit_test(test_h60),
+      cmocka_unit_test(test_ash),
+      cmocka_unit_test(test_pine),
+      cmocka_unit_test(test_beech),
+      cmocka_unit_test(test_palm),
+      cmocka_unit_test(test_scopia_bush),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

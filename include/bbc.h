@@ -463,6 +463,23 @@ typedef struct bbc_billboard {
 bbc_result bbc_billboards_compute(const bbc_mesh *mesh, const bbc_planeset *set,
                                   bbc_billboard *billboards, bbc_error *err);
 
+/* Step 3 (thesis 2.1.9, first version): bakes every kept plane's billboard
+ * and builds the Billboard Cloud as a mesh of textured quads (4 vertices,
+ * 2 triangles each, normal = the plane's) sharing one atlas texture (one
+ * material "billboards", groups = parts). Kept: planes whose projected area
+ * is at least `polyskip` % of the part's largest (2.3.5), cardboard planes
+ * with coverage >= `cbcoverage`. Texture sizes: the longest billboard side
+ * gets `texres` texels, the others the next smaller power of two at the same
+ * texel size (2.1.9). Each texture shows the faces within +-epsilon of the
+ * plane (`pure`: only its own faces, 2.2.5) seen from the front; `quality`
+ * 2 renders 4 x 4 supersampled and keeps a texel opaque when any of its
+ * samples is, with the mean colour of the opaque ones (2.3.9), 3 keeps the
+ * supersampled texture. `prelight` shades with a light over the viewer's
+ * shoulder. The quads are meant to be drawn double-sided; back images,
+ * normal maps and voxel shadowing are not done yet. */
+bbc_result bbc_cloud_build(const bbc_mesh *mesh, const bbc_planeset *set, const bbc_params *params,
+                           bbc_mesh *cloud, bbc_error *err);
+
 /* ------------------------------------------------------------------------ */
 /* Software rendering (no GPU): previews now, baking and evaluation later    */
 /* ------------------------------------------------------------------------ */
@@ -478,6 +495,13 @@ typedef struct bbc_view {
                           * left shoulder (two-sided); 0 = unlit colours */
   float point_size_px;   /* point clouds: square splat edge in pixels (>= 1) */
   uint8_t background[4]; /* RGBA written where nothing covers a pixel */
+  /* Baking (all optional, zero = off): */
+  double half_extent_y;        /* > 0: the image shows 2 half_extent x 2 half_extent_y
+                                * (independent scales in x and y) */
+  double depth_min, depth_max; /* when depth_max > depth_min: only surface points
+                                * whose depth along `direction` from `center` lies
+                                * in [depth_min, depth_max] are drawn (a slab) */
+  const uint8_t *face_mask;    /* when not NULL: triangle t drawn only if mask[t] */
 } bbc_view;
 
 /* Renders `mesh` into `image` (already allocated; its size is the

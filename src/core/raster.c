@@ -16,7 +16,8 @@
 typedef struct camera {
   double r[3], u[3], f[3]; /* right, up, forward (unit) */
   double c[3];
-  double scale; /* pixels per model unit */
+  double scale;   /* pixels per model unit, x */
+  double scale_y; /* pixels per model unit, y */
   double w2, h2;
 } camera;
 
@@ -43,6 +44,11 @@ static int camera_setup(camera *cam, const bbc_view *v, int w, int h) {
   memcpy(cam->c, v->center, sizeof cam->c);
   int side = w < h ? w : h;
   cam->scale = 0.5 * side / v->half_extent;
+  cam->scale_y = cam->scale;
+  if (v->half_extent_y > 0) { /* independent scales: the rectangle fills the image */
+    cam->scale = 0.5 * w / v->half_extent;
+    cam->scale_y = 0.5 * h / v->half_extent_y;
+  }
   cam->w2 = 0.5 * w;
   cam->h2 = 0.5 * h;
   return 1;
@@ -52,7 +58,7 @@ static int camera_setup(camera *cam, const bbc_view *v, int w, int h) {
 static void project(const camera *cam, const double *p, double *s) {
   double d[3] = {p[0] - cam->c[0], p[1] - cam->c[1], p[2] - cam->c[2]};
   s[0] = cam->w2 + cam->scale * (d[0] * cam->r[0] + d[1] * cam->r[1] + d[2] * cam->r[2]);
-  s[1] = cam->h2 - cam->scale * (d[0] * cam->u[0] + d[1] * cam->u[1] + d[2] * cam->u[2]);
+  s[1] = cam->h2 - cam->scale_y * (d[0] * cam->u[0] + d[1] * cam->u[1] + d[2] * cam->u[2]);
   s[2] = d[0] * cam->f[0] + d[1] * cam->f[1] + d[2] * cam->f[2];
 }
 
@@ -137,6 +143,8 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const camera *cam, const 
       float z = (float)(l0 * a[2] + l1 * b[2] + l2 * c[2]);
       size_t pi = (size_t)y * img->width + x;
       if (z >= depth[pi]) continue;
+      if (view->depth_max > view->depth_min && (z < view->depth_min || z > view->depth_max))
+        continue; /* outside the slab: the triangle is clipped there */
       double col[4] = {mat->base_color[0], mat->base_color[1], mat->base_color[2],
                        mat->base_color[3]};
       if (tex) {
@@ -213,7 +221,8 @@ bbc_result bbc_render_ortho(const bbc_mesh *m, const bbc_view *view, bbc_image *
     for (size_t v = 0; v < m->vertex_count; v++) draw_point(m, v, &cam, view, img, depth);
   } else {
     for (size_t t = 0; t < m->triangle_count; t++)
-      draw_triangle(m, t, &cam, view, light, img, depth);
+      if (!view->face_mask || view->face_mask[t])
+        draw_triangle(m, t, &cam, view, light, img, depth);
   }
   free(depth);
   return BBC_OK;

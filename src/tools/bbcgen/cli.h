@@ -76,6 +76,7 @@ int cmd_render(cli *c, int argc, char **argv);
 int cmd_setup(cli *c, int argc, char **argv);
 int cmd_planes(cli *c, int argc, char **argv);
 int cmd_exec(cli *c, int argc, char **argv);
+int cmd_cloud(cli *c, int argc, char **argv);
 /* Steps 1 and 2 on a model file; JSON to json_path when not NULL. */
 int run_planes(const cli *c, const char *path, const char *json_path);
 void print_parameter_help(FILE *out);

@@ -12,6 +12,9 @@ static void print_help(FILE *out) {
           "bbcgen %s — Billboard Cloud generator\n"
           "\n"
           "Usage:\n"
+          "  bbcgen MODEL -o OUT.glb|OUT.gltf|OUT.obj [PARAMETER OPTIONS]\n"
+          "      The Billboard Cloud of a model: steps 1 to 3 (step 3 is a first version:\n"
+          "      front images only, no normal maps, no shadowing; see README, Status).\n"
           "  bbcgen info MODEL [--json] [--no-textures]\n"
           "      Triangles, vertices, materials (texture, alpha), groups, bounding box,\n"
           "      centre of gravity and bounding radius of a model or point cloud.\n"
@@ -31,8 +34,8 @@ static void print_help(FILE *out) {
           "      Print every parameter's current value (the thesis's `setup`).\n"
           "  bbcgen --help | --version\n"
           "\n"
-          "Not implemented yet (see README, Status): the Billboard Cloud pipeline itself\n"
-          "(`bbcgen MODEL -o OUT.glb`, `eval`, batch commands bbc3/save/shade/show).\n"
+          "Not implemented yet (see README, Status): VRML output, reports, previews,\n"
+          "`eval`, batch commands bbc3/save/shade/show.\n"
           "\n"
           "Options for every command:\n"
           "  --set NAME=VALUE   set a parameter (repeatable), e.g. --set epsilon=6\n"
@@ -87,8 +90,6 @@ int main(int argc, char **argv) {
     cli_error("unknown option '%s' (try bbcgen --help)", cmd);
     return EXIT_USAGE;
   }
-  cli_error("'%s' is not a command; generating Billboard Clouds from a model is not "
-            "implemented yet (see README, Status). Try bbcgen --help",
-            cmd);
-  return EXIT_USAGE;
+  /* Anything else is a model: the whole pipeline. */
+  return cmd_cloud(&c, argc - 1, argv + 1);
 }

@@ -299,17 +299,6 @@ typedef struct view {
   int target; /* 34962 vertex data, 34963 indices, 0 none (images) */
 } view;
 
-static bbc_result write_all(const char *path, const void *data, size_t size, bbc_error *err) {
-  bbc__atomic_file af;
-  bbc_result r = bbc__atomic_open(&af, path, err);
-  if (r != BBC_OK) return r;
-  if (size && fwrite(data, 1, size, af.fp) != size) {
-    bbc__atomic_abort(&af);
-    return bbc__fail(err, BBC_ERROR_IO, "%s: write failed", path);
-  }
-  return bbc__atomic_commit(&af, err);
-}
-
 bbc_result bbc_mesh_write_gltf(const char *path, const bbc_mesh *m, const bbc_gltf_options *options,
                                bbc_error *err) {
   char ext[16];
@@ -466,7 +455,7 @@ bbc_result bbc_mesh_write_gltf(const char *path, const bbc_mesh *m, const bbc_gl
     } else {
       char full[2600];
       snprintf(full, sizeof full, "%s%s_%d.png", dir, stem, tex_gltf[t]);
-      r = write_all(full, png.data, png.size, err);
+      r = bbc_write_file_atomic(full, png.data, png.size, err);
     }
     png_size[tex_gltf[t]] = png.size;
     free(png.data);
@@ -603,13 +592,13 @@ bbc_result bbc_mesh_write_gltf(const char *path, const bbc_mesh *m, const bbc_gl
       r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
       goto done;
     }
-    r = write_all(path, out.data, out.size, err);
+    r = bbc_write_file_atomic(path, out.data, out.size, err);
   } else {
     /* The .bin before the .gltf, so the .gltf never names a missing file. */
     char full[2600];
     snprintf(full, sizeof full, "%s%s.bin", dir, stem);
-    r = write_all(full, bin.data, bin.size, err);
-    if (r == BBC_OK) r = write_all(path, json.data, json.size, err);
+    r = bbc_write_file_atomic(full, bin.data, bin.size, err);
+    if (r == BBC_OK) r = bbc_write_file_atomic(path, json.data, json.size, err);
   }
 
 done:

@@ -116,6 +116,10 @@ typedef struct bbc_material {
   int texture;         /* diffuse texture: index into mesh->textures, -1 none */
   char *texture_ref;   /* the texture path as the file wrote it, NULL when the
                         * material names none; kept when the file is missing */
+  int normal_map;      /* tangent-space normal map: 1 + index into mesh->textures,
+                        * 0 = none (zeroed materials have none) */
+  int single_sided;    /* 1 = only the counter-clockwise side is drawn (glTF
+                        * doubleSided false); 0 = both sides */
 } bbc_material;
 
 typedef enum bbc_mesh_kind {
@@ -131,6 +135,8 @@ typedef struct bbc_mesh {
   float *normals;    /* 3 per vertex, unit length; NULL for points without */
   float *uvs;        /* 2 per vertex; NULL when the model has none */
   uint8_t *colors;   /* 4 per vertex (RGBA), NULL when none (points only) */
+  float *tangents;   /* 4 per vertex (unit tangent along +u, handedness w = +-1,
+                      * glTF TANGENT): for normal maps; NULL when none */
 
   size_t triangle_count;
   uint32_t *indices;       /* 3 per triangle, counter-clockwise = front */
@@ -223,12 +229,28 @@ bbc_result bbc_write_file_atomic(const char *path, const void *data, size_t size
 typedef struct bbc_gltf_options {
   int binary;              /* 1 = .glb (one file), 0 = .gltf + .bin + .png files */
   const char *extras_json; /* may be NULL */
+  int lod_chain;           /* bbc_scene_write_gltf: 1 = the nodes are levels of detail
+                            * of one object, finest first: the scene holds node 0,
+                            * which names the others through MSFT_lod */
 } bbc_gltf_options;
 
 /* Writes `mesh` as glTF 2.0, atomically (every file). options may be NULL:
  * the format then follows the extension (.glb or .gltf). */
 bbc_result bbc_mesh_write_gltf(const char *path, const bbc_mesh *mesh,
                                const bbc_gltf_options *options, bbc_error *err);
+
+/* Several meshes in one glTF file, one node each (name and extras optional,
+ * extras one JSON object), as bbc_mesh_write_gltf writes one. Materials with
+ * a normal_map get normalTexture (when the mesh has tangents, written as
+ * TANGENT); single_sided materials are doubleSided false. */
+typedef struct bbc_gltf_node {
+  const bbc_mesh *mesh;
+  const char *name;
+  const char *extras_json;
+} bbc_gltf_node;
+
+bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, size_t node_count,
+                                const bbc_gltf_options *options, bbc_error *err);
 
 /* ------------------------------------------------------------------------ */
 /* Texture atlas                                                             */
@@ -295,13 +317,19 @@ typedef struct bbc_params {
   /* output */
   int format; /* format: 0 VRML2.0/Open Inventor mix, 1 VRML97 */
   /* extensions beyond Appendix A */
-  int up_axis;    /* upaxis: the model's up axis, 0 = x, 1 = y, 2 = z
-                   * (view-dependent penalty, previews) */
-  int threads;    /* threads: worker threads, 0 = all cores; never changes results */
-  int merge;      /* merge: after step 2, dissolve planes whose faces all fit other
-                   * planes (smallest first) */
-  int candidates; /* candidates: densest cells refined per plane, the plane
-                   * simplifying the largest projected area wins (1 = thesis) */
+  int up_axis;           /* upaxis: the model's up axis, 0 = x, 1 = y, 2 = z
+                          * (view-dependent penalty, previews) */
+  int threads;           /* threads: worker threads, 0 = all cores; never changes results */
+  int merge;             /* merge: after step 2, dissolve planes whose faces all fit other
+                          * planes (smallest first) */
+  int candidates;        /* candidates: densest cells refined per plane, the plane
+                          * simplifying the largest projected area wins (1 = thesis) */
+  int back_images;       /* backimages: 1 = each billboard is two one-sided quads,
+                          * front and back image; 0 = one double-sided quad */
+  double light_elev_deg; /* lightelev: prelight direction, degrees above the horizon */
+  double light_azim_deg; /* lightazim: ... degrees around the up axis */
+  int shade_voxels;      /* shade: voxel shadowing grid, voxels per axis, 0 off (2.3.11) */
+  double shade_ambient;  /* shadeambient: ambient share of voxel shadowing, 0..1 */
 } bbc_params;
 
 typedef struct bbc_param_info {
@@ -463,22 +491,75 @@ typedef struct bbc_billboard {
 bbc_result bbc_billboards_compute(const bbc_mesh *mesh, const bbc_planeset *set,
                                   bbc_billboard *billboards, bbc_error *err);
 
-/* Step 3 (thesis 2.1.9, first version): bakes every kept plane's billboard
- * and builds the Billboard Cloud as a mesh of textured quads (4 vertices,
- * 2 triangles each, normal = the plane's) sharing one atlas texture (one
- * material "billboards", groups = parts). Kept: planes whose projected area
- * is at least `polyskip` % of the part's largest (2.3.5), cardboard planes
- * with coverage >= `cbcoverage`. Texture sizes: the longest billboard side
- * gets `texres` texels, the others the next smaller power of two at the same
- * texel size (2.1.9). Each texture shows the faces within +-epsilon of the
- * plane (`pure`: only its own faces, 2.2.5) seen from the front; `quality`
- * 2 renders 4 x 4 supersampled and keeps a texel opaque when any of its
- * samples is, with the mean colour of the opaque ones (2.3.9), 3 keeps the
- * supersampled texture. `prelight` shades with a light over the viewer's
- * shoulder. The quads are meant to be drawn double-sided; back images,
- * normal maps and voxel shadowing are not done yet. */
+/* One billboard of a cloud. */
+typedef struct bbc_cloud_billboard {
+  bbc_billboard rect;         /* its plane's rectangle (2.1.9) */
+  bbc_plane_kind kind;        /* its plane's kind */
+  uint32_t part;              /* its plane's part */
+  double normal[3];           /* the front side's normal (the plane's) */
+  double d;                   /* the plane: normal . x = d */
+  int tex_width, tex_height;  /* texels of each of its images */
+  bbc_atlas_rect front, back; /* where its images lie in the atlas (back: all 0
+                               * when backimages = 0) */
+  size_t face_count;          /* triangles drawn into its images */
+  int corner_count;           /* its outline, 3..10 corners: the rectangle
+                               * clipped to the bounds (+- epsilon) of the faces
+                               * drawn, so the cloud stays inside the model's
+                               * bounding box grown by epsilon */
+  double corners[10][2];      /* (s, t) in [0, 1] on the rectangle, counter-
+                               * clockwise seen from the front */
+} bbc_cloud_billboard;
+
+typedef struct bbc_cloud {
+  /* The cloud as a mesh, in the original model's frame: per billboard its
+   * outline fan-triangulated, facing the front with the front image, and
+   * (backimages = 1) a second copy facing the back with the back image;
+   * material 0 "billboards" (single-sided with back images, else
+   * double-sided) whose texture 0 is the colour atlas; with nm its
+   * normal_map is texture 1, the normal atlas (same layout), and the mesh
+   * has tangents. Groups are the parts. */
+  bbc_mesh mesh;
+  size_t billboard_count;
+  bbc_cloud_billboard *billboards;
+  double epsilon_abs; /* the planes' (largest) epsilon, model units */
+  size_t texels;      /* texels of all images (front and back) */
+  double atlas_fill;  /* texels / atlas texels */
+  double bake_s;      /* wall-clock seconds: baking */
+  double atlas_s;     /* ... packing the atlas and building the mesh */
+} bbc_cloud;
+
+/* Step 3 (thesis 2.1.9, 2.2.5, 2.3.1, 2.3.5, 2.3.9, 2.3.11): bakes every
+ * kept plane's billboard and builds the Billboard Cloud. Kept: planes whose
+ * projected area is at least `polyskip` % of the part's largest (2.3.5),
+ * cardboard planes with coverage >= `cbcoverage`. Texture sizes: the longest
+ * billboard side gets `texres` texels, the others the next smaller power of
+ * two at the same texel size (2.1.9). Each billboard's images show the faces
+ * within +-epsilon of its plane, clipped to that slab (`pure`: only its own
+ * faces, 2.2.5), the front image as seen from the front, the back image from
+ * behind (`backimages`), with `backface` culling; `quality` 2 renders 4 x 4
+ * supersampled and keeps a texel opaque when any of its samples is, with the
+ * mean colour of the opaque ones (2.3.9), 3 keeps the supersampled images.
+ * `prelight`: Lambert shading (two-sided, 0.35 ambient) from the directional
+ * light `lightelev`/`lightazim` in the model's frame (`upaxis` is up);
+ * `shade` > 0: voxel shadowing (bbc_shade_vertices); `nm`: normal maps in
+ * the billboard's tangent space. Planes are baked in parallel (`threads`);
+ * the result does not depend on the thread count. `callbacks` may be NULL. */
 bbc_result bbc_cloud_build(const bbc_mesh *mesh, const bbc_planeset *set, const bbc_params *params,
-                           bbc_mesh *cloud, bbc_error *err);
+                           const bbc_callbacks *callbacks, bbc_cloud *cloud, bbc_error *err);
+void bbc_cloud_free(bbc_cloud *cloud);
+
+/* The unit direction towards the prelight light (lightelev, lightazim,
+ * upaxis of `params`) in the model's frame. */
+void bbc_params_light_direction(const bbc_params *params, double light[3]);
+
+/* Voxel shadowing (thesis 2.3.11): a grid of `voxels` cubes along the
+ * model's longest axis (1..512) counts the vertices in each voxel; each voxel's
+ * shadow is the count of the voxels above it (along `up_axis`) within 40 %
+ * of the bounding radius, weighted down linearly with the distance; the
+ * 95th percentile of the shadowed vertices' shadows maps to `ambient`, no shadow to
+ * 1. Writes one factor in [ambient, 1] per vertex into shade[vertex_count]. */
+bbc_result bbc_shade_vertices(const bbc_mesh *mesh, int voxels, double ambient, int up_axis,
+                              float *shade, bbc_error *err);
 
 /* ------------------------------------------------------------------------ */
 /* Software rendering (no GPU): previews now, baking and evaluation later    */
@@ -502,13 +583,20 @@ typedef struct bbc_view {
                                 * whose depth along `direction` from `center` lies
                                 * in [depth_min, depth_max] are drawn (a slab) */
   const uint8_t *face_mask;    /* when not NULL: triangle t drawn only if mask[t] */
+  /* Lighting (optional): */
+  double light[3];           /* not zero: with `lighting`, the direction towards a
+                              * directional light in the model's frame (else the
+                              * light follows the camera, as described below) */
+  const float *vertex_shade; /* not NULL: per vertex factor in [0, 1] multiplying
+                              * the colour (voxel shadowing, bbc_shade_vertices) */
 } bbc_view;
 
 /* Renders `mesh` into `image` (already allocated; its size is the
  * resolution) with a depth buffer, diffuse textures (nearest texel, repeat)
  * times the base colour, and an alpha test at 0.5. Both faces of every
- * triangle are drawn. A pixel is covered when its centre is inside a
- * triangle (top-left rule on shared edges). Deterministic. */
+ * triangle are drawn, except for materials marked single_sided. Lighting
+ * (Lambert, two-sided) multiplies the colour by 0.35 + 0.65 |n . l|. A pixel is covered when its
+ * centre is inside a triangle (top-left rule on shared edges). Deterministic. */
 bbc_result bbc_render_ortho(const bbc_mesh *mesh, const bbc_view *view, bbc_image *image,
                             bbc_error *err);
 

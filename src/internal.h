@@ -89,4 +89,33 @@ bbc_result bbc__load_ply(const char *path, const bbc_load_options *options, bbc_
 bbc_result bbc__load_xyz_points(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
                                 bbc_error *err);
 
+/* ---- baking (src/core/raster.c) ------------------------------------------
+ * One rasterization of `faces` (indices into mesh triangles; all when NULL)
+ * for a billboard seen along view->direction (= minus the plane's normal),
+ * filling the front image (the nearest surface seen from the front, along
+ * +direction) and, when `back` is not NULL, the back image (the nearest
+ * seen from behind) at once, with two depth buffers. Both images are laid out
+ * in the plane's frame (texel x along the camera's right, rows top first), so
+ * the same texel shows the same point of the plane. The view's slab, lighting,
+ * light and vertex_shade apply. Normal maps (when not NULL) receive the
+ * interpolated vertex normal in the billboard's tangent space (x = right,
+ * y = up, z = towards that image's viewer, flipped to face it), encoded as
+ * rgb = 255 (n + 1) / 2, alpha as the colour image. `backface`: each image
+ * shows only faces whose winding faces its viewer. Images must be allocated
+ * width x height and cleared by the caller. */
+typedef struct bbc__bake {
+  int width, height;
+  uint8_t *front, *back;       /* RGBA */
+  uint8_t *front_nm, *back_nm; /* RGBA, may be NULL */
+  int backface;
+} bbc__bake;
+
+bbc_result bbc__render_bake(const bbc_mesh *mesh, const uint32_t *faces, size_t face_count,
+                            const bbc_view *view, bbc__bake *bake, bbc_error *err);
+
+/* Screen position (pixels, y down) of model point p in a width x height
+ * image rendered with `view`; 0 when the view is invalid. */
+int bbc__view_project(const bbc_view *view, int width, int height, const double p[3],
+                      double out[2]);
+
 #endif /* BBC_INTERNAL_H */

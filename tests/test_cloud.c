@@ -1,6 +1,8 @@
-/* test_cloud.c — step 3, first version: the cloud of a real tree is a
- * mesh of textured quads lying on their planes, inside the original's
- * bounds (+- epsilon), deterministic, and it survives glTF output. */
+/* test_cloud.c — step 3: baking with analytic answers (texel-centre
+ * coverage, small leaves surviving supersampling, front/back images, normal
+ * maps), voxel shadowing, and the cloud of a real tree: outlines on their
+ * planes inside the model's bounds + epsilon, disjoint atlas rectangles,
+ * binary alpha, determinism across thread counts, glTF round trip. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -15,16 +17,339 @@
 #include "bbc.h"
 #include "test_util.h"
 
-static void build(const bbc_mesh *m, int quality, bbc_planeset *s, bbc_mesh *cloud) {
+/* ---- a small hand-built scene ------------------------------------------- */
+
+typedef struct scene {
+  bbc_mesh m;
+  bbc_planeset s;
+} scene;
+
+/* Material 0: invisible (alpha 0) frame; 1: red; 2: blue; all opaque but 0. */
+static void scene_begin(scene *sc, size_t max_tris) {
+  memset(sc, 0, sizeof *sc);
+  bbc_mesh *m = &sc->m;
+  m->kind = BBC_MESH_TRIANGLES;
+  m->positions = calloc(9 * max_tris, sizeof(double));
+  m->indices = calloc(3 * max_tris, sizeof(uint32_t));
+  m->face_material = calloc(max_tris, sizeof(uint32_t));
+  m->face_group = calloc(max_tris, sizeof(uint32_t));
+  m->materials = calloc(3, sizeof(bbc_material));
+  m->material_count = 3;
+  const float col[3][4] = {{1, 1, 1, 0}, {1, 0, 0, 1}, {0, 0, 1, 1}};
+  const char *names[3] = {"frame", "red", "blue"};
+  for (int i = 0; i < 3; i++) {
+    m->materials[i].name = strdup(names[i]);
+    m->materials[i].texture = -1;
+    memcpy(m->materials[i].base_color, col[i], sizeof col[i]);
+  }
+  m->group_count = 1;
+  m->group_names = calloc(1, sizeof(char *));
+  m->group_names[0] = strdup("g");
+}
+
+static void scene_tri(scene *sc, const double *a, const double *b, const double *c,
+                      uint32_t material) {
+  bbc_mesh *m = &sc->m;
+  size_t t = m->triangle_count++, v = m->vertex_count;
+  memcpy(m->positions + 3 * v, a, 3 * sizeof(double));
+  memcpy(m->positions + 3 * v + 3, b, 3 * sizeof(double));
+  memcpy(m->positions + 3 * v + 6, c, 3 * sizeof(double));
+  for (int k = 0; k < 3; k++) m->indices[3 * t + k] = (uint32_t)(v + k);
+  m->vertex_count += 3;
+  m->face_material[t] = material;
+}
+
+/* The unit square [0,1]^2 at z = 0, invisible: it fixes the billboard. */
+static void scene_frame(scene *sc) {
+  const double p[4][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  scene_tri(sc, p[0], p[1], p[2], 0);
+  scene_tri(sc, p[0], p[2], p[3], 0);
+}
+
+/* Finishes the mesh and one plane z = 0 (normal +z) holding every face. */
+static void scene_end(scene *sc, double eps) {
+  bbc_error err;
+  if (bbc_mesh_finalize(&sc->m, 0, "scene", &err) != BBC_OK) fail_msg("%s", err.message);
+  bbc_planeset *s = &sc->s;
+  size_t nf = sc->m.triangle_count;
+  s->radius = sc->m.radius;
+  s->epsilon_abs = eps;
+  s->plane_count = 1;
+  s->planes = calloc(1, sizeof *s->planes);
+  s->planes[0].normal[2] = 1;
+  s->planes[0].kind = BBC_PLANE_STANDARD;
+  s->planes[0].face_count = nf;
+  s->planes[0].area = 1;
+  s->planes[0].mother = -1;
+  s->planes[0].coverage_pct = 100;
+  s->face_count = nf;
+  s->face_plane = calloc(nf, sizeof *s->face_plane);
+  s->face_part = calloc(nf, sizeof *s->face_part);
+  s->part_count = 1;
+  s->parts = calloc(1, sizeof *s->parts);
+  strcpy(s->parts[0].name, "all");
+  s->parts[0].epsilon_abs = eps;
+  s->parts[0].face_count = nf;
+  s->parts[0].plane_count = 1;
+}
+
+static void scene_free(scene *sc) {
+  bbc_mesh_free(&sc->m);
+  bbc_planeset_free(&sc->s);
+}
+
+static void params_for(bbc_params *p, int texres, int quality) {
+  bbc_params_default(p);
+  p->texres = texres;
+  p->quality = quality;
+  p->prelight = 0;
+  p->threads = 1;
+}
+
+/* The atlas texel showing model point q on billboard b (front or back). */
+static const uint8_t *texel_at(const bbc_cloud *c, const bbc_cloud_billboard *b, int back,
+                               const double *q) {
+  const bbc_billboard *r = &b->rect;
+  double d[3] = {q[0] - r->origin[0], q[1] - r->origin[1], q[2] - r->origin[2]};
+  double s = (d[0] * r->u[0] + d[1] * r->u[1] + d[2] * r->u[2]) / r->width;
+  double t = (d[0] * r->w[0] + d[1] * r->w[1] + d[2] * r->w[2]) / r->height;
+  const bbc_atlas_rect *rc = back ? &b->back : &b->front;
+  int x = (int)floor(s * rc->width), y = (int)floor((1 - t) * rc->height);
+  assert_true(x >= 0 && x < rc->width && y >= 0 && y < rc->height);
+  const bbc_image *a = &c->mesh.textures[0].image;
+  return a->rgba + 4 * ((size_t)(rc->y + y) * a->width + rc->x + x);
+}
+
+/* Signed distance-like test: > 0 inside triangle abc (2D, counter-clockwise). */
+static double inside2(const double *a, const double *b, const double *c, double x, double y) {
+  double e0 = (b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0]);
+  double e1 = (c[0] - b[0]) * (y - b[1]) - (c[1] - b[1]) * (x - b[0]);
+  double e2 = (a[0] - c[0]) * (y - c[1]) - (a[1] - c[1]) * (x - c[0]);
+  return fmin(e0, fmin(e1, e2));
+}
+
+static void test_texel_centres_quality0(void **state) {
+  (void)state;
+  scene sc;
+  scene_begin(&sc, 8);
+  scene_frame(&sc);
+  const double a[3] = {0.137, 0.081, 0.001}, b[3] = {0.913, 0.347, 0.001},
+               c[3] = {0.402, 0.871, 0.001};
+  scene_tri(&sc, a, b, c, 1);
+  scene_end(&sc, 0.01);
+  bbc_params p;
+  params_for(&p, 32, 0);
+  p.back_images = 0;
+  bbc_cloud cl;
+  bbc_error err;
+  if (bbc_cloud_build(&sc.m, &sc.s, &p, NULL, &cl, &err) != BBC_OK) fail_msg("%s", err.message);
+  assert_int_equal(cl.billboard_count, 1);
+  const bbc_cloud_billboard *bb = &cl.billboards[0];
+  assert_int_equal(bb->tex_width, 32);
+  assert_int_equal(bb->tex_height, 32);
+  assert_int_equal(bb->front.width, 32);
+  size_t red = 0, expected = 0;
+  for (int j = 0; j < 32; j++)
+    for (int i = 0; i < 32; i++) {
+      double q[3] = {(i + 0.5) / 32, (j + 0.5) / 32, 0};
+      double in = inside2(a, b, c, q[0], q[1]);
+      const uint8_t *t = texel_at(&cl, bb, 0, q);
+      if (fabs(in) < 1e-9) continue; /* on an edge: either answer is right */
+      if (in > 0) {
+        expected++;
+        assert_true(t[3] == 255 && t[0] == 255 && t[1] == 0 && t[2] == 0);
+        red++;
+      } else {
+        assert_int_equal(t[3], 0);
+      }
+    }
+  assert_true(expected > 100 && red == expected);
+  /* One double-sided outline without back images. */
+  assert_int_equal(cl.mesh.materials[0].single_sided, 0);
+  assert_int_equal(cl.mesh.triangle_count, (size_t)bb->corner_count - 2);
+  bbc_cloud_free(&cl);
+  scene_free(&sc);
+}
+
+static void test_small_leaf_survives_quality2(void **state) {
+  (void)state;
+  scene sc;
+  scene_begin(&sc, 8);
+  scene_frame(&sc);
+  /* A leaf 0.2 texels across around a 4x4 sample position of texel (5, 9)
+   * of a 16-texel grid, away from the texel centre. */
+  const int N = 16;
+  double cx = (5 + 0.375) / N, cy = (9 + 0.375) / N, r = 0.1 / N;
+  const double a[3] = {cx - r, cy - r, 0.002}, b[3] = {cx + r, cy - r, 0.002},
+               c[3] = {cx, cy + r, 0.002};
+  scene_tri(&sc, a, b, c, 2);
+  scene_end(&sc, 0.01);
+  const double q[3] = {cx, cy, 0};
+  for (int quality = 0; quality <= 2; quality += 2) {
+    bbc_params p;
+    params_for(&p, N, quality);
+    bbc_cloud cl;
+    bbc_error err;
+    if (bbc_cloud_build(&sc.m, &sc.s, &p, NULL, &cl, &err) != BBC_OK) fail_msg("%s", err.message);
+    const bbc_cloud_billboard *bb = &cl.billboards[0];
+    assert_int_equal(bb->front.width, N);
+    const uint8_t *t = texel_at(&cl, bb, 0, q);
+    if (quality == 0) {
+      assert_int_equal(t[3], 0); /* lost: it covers no texel centre */
+    } else {
+      assert_int_equal(t[3], 255); /* grown: one of its 16 samples is opaque */
+      assert_true(t[2] == 255 && t[0] == 0);
+    }
+    /* Alpha stays binary in the whole atlas. */
+    const bbc_image *at = &cl.mesh.textures[0].image;
+    size_t opaque = 0;
+    for (size_t i = 0; i < (size_t)at->width * at->height; i++) {
+      uint8_t al = at->rgba[4 * i + 3];
+      assert_true(al == 0 || al == 255);
+      opaque += al == 255;
+    }
+    /* Front and back each show the leaf in exactly one texel. */
+    assert_int_equal(opaque, quality ? 2 : 0);
+    bbc_cloud_free(&cl);
+  }
+  scene_free(&sc);
+}
+
+static void test_front_and_back(void **state) {
+  (void)state;
+  scene sc;
+  scene_begin(&sc, 8);
+  scene_frame(&sc);
+  /* Red in front (+z side) over the left half, blue behind over all. */
+  const double r0[3] = {0.05, 0.05, 0.004}, r1[3] = {0.45, 0.05, 0.004},
+               r2[3] = {0.05, 0.95, 0.004};
+  const double b0[3] = {0.02, 0.02, -0.004}, b1[3] = {0.98, 0.02, -0.004},
+               b2[3] = {0.02, 0.98, -0.004};
+  scene_tri(&sc, r0, r1, r2, 1);
+  scene_tri(&sc, b0, b1, b2, 2);
+  scene_end(&sc, 0.01);
+  bbc_params p;
+  params_for(&p, 64, 0);
+  p.normal_maps = 1;
+  bbc_cloud cl;
+  bbc_error err;
+  if (bbc_cloud_build(&sc.m, &sc.s, &p, NULL, &cl, &err) != BBC_OK) fail_msg("%s", err.message);
+  const bbc_cloud_billboard *bb = &cl.billboards[0];
+  const double both[3] = {0.15, 0.15, 0}, blue_only[3] = {0.6, 0.2, 0}, none[3] = {0.9, 0.9, 0};
+  const uint8_t *f = texel_at(&cl, bb, 0, both), *k = texel_at(&cl, bb, 1, both);
+  assert_true(f[3] == 255 && f[0] == 255 && f[2] == 0); /* front: red */
+  assert_true(k[3] == 255 && k[2] == 255 && k[0] == 0); /* back: blue */
+  f = texel_at(&cl, bb, 0, blue_only);
+  k = texel_at(&cl, bb, 1, blue_only);
+  assert_true(f[3] == 255 && f[2] == 255 && k[3] == 255 && k[2] == 255);
+  assert_int_equal(texel_at(&cl, bb, 0, none)[3], 0);
+  assert_int_equal(texel_at(&cl, bb, 1, none)[3], 0);
+  /* Two one-sided copies of the outline, facing opposite ways. */
+  assert_int_equal(cl.mesh.materials[0].single_sided, 1);
+  assert_int_equal(cl.mesh.triangle_count, 2 * ((size_t)bb->corner_count - 2));
+  const float *n0 = cl.mesh.normals, *n1 = cl.mesh.normals + 3 * (size_t)bb->corner_count;
+  assert_true(n0[2] > 0.99f && n1[2] < -0.99f);
+  /* The normal maps: faces parallel to the plane give (0, 0, 1) facing
+   * each image's viewer. */
+  assert_int_equal(cl.mesh.texture_count, 2);
+  assert_int_equal(cl.mesh.materials[0].normal_map, 2);
+  assert_non_null(cl.mesh.tangents);
+  const bbc_image *nm = &cl.mesh.textures[1].image;
+  for (int back = 0; back < 2; back++) {
+    const uint8_t *t = nm->rgba + (texel_at(&cl, bb, back, both) - cl.mesh.textures[0].image.rgba);
+    assert_int_equal(t[3], 255);
+    assert_true(abs(t[0] - 128) <= 1 && abs(t[1] - 128) <= 1 && t[2] == 255);
+  }
+  bbc_cloud_free(&cl);
+  /* backface: each image shows only faces wound towards its viewer. Both
+   * triangles are counter-clockwise seen from +z: the back image is empty. */
+  p.backface = 1;
+  p.normal_maps = 0;
+  if (bbc_cloud_build(&sc.m, &sc.s, &p, NULL, &cl, &err) != BBC_OK) fail_msg("%s", err.message);
+  bb = &cl.billboards[0];
+  assert_int_equal(texel_at(&cl, bb, 0, both)[0], 255);
+  assert_int_equal(texel_at(&cl, bb, 1, both)[3], 0);
+  bbc_cloud_free(&cl);
+  scene_free(&sc);
+}
+
+static void test_tilted_normal_map(void **state) {
+  (void)state;
+  scene sc;
+  scene_begin(&sc, 8);
+  scene_frame(&sc);
+  /* A face tilted 0.5 degrees about y; its normal n = (-sin, 0, cos). */
+  double ang = 0.5 * 3.14159265358979323846 / 180, sl = tan(ang);
+  const double a[3] = {0.1, 0.1, 0.1 * sl}, b[3] = {0.9, 0.1, 0.9 * sl},
+               c[3] = {0.1, 0.9, 0.1 * sl};
+  scene_tri(&sc, a, b, c, 1);
+  scene_end(&sc, 0.02);
+  bbc_params p;
+  params_for(&p, 32, 0);
+  p.normal_maps = 1;
+  bbc_cloud cl;
+  bbc_error err;
+  if (bbc_cloud_build(&sc.m, &sc.s, &p, NULL, &cl, &err) != BBC_OK) fail_msg("%s", err.message);
+  const bbc_cloud_billboard *bb = &cl.billboards[0];
+  const bbc_image *nm = &cl.mesh.textures[1].image;
+  const double q[3] = {0.3, 0.3, 0};
+  const uint8_t *col = texel_at(&cl, bb, 0, q);
+  assert_int_equal(col[3], 255);
+  const uint8_t *t = nm->rgba + (col - cl.mesh.textures[0].image.rgba);
+  double tn[3], n[3];
+  for (int k = 0; k < 3; k++) tn[k] = t[k] / 127.5 - 1.0;
+  for (int k = 0; k < 3; k++)
+    n[k] = tn[0] * bb->rect.u[k] + tn[1] * bb->rect.w[k] + tn[2] * bb->normal[k];
+  double expect[3] = {-sin(ang), 0, cos(ang)};
+  for (int k = 0; k < 3; k++) assert_true(fabs(n[k] - expect[k]) < 0.012);
+  bbc_cloud_free(&cl);
+  scene_free(&sc);
+}
+
+static void test_voxel_shading(void **state) {
+  (void)state;
+  /* A dense layer of small faces above a lone face: the lone face is in
+   * shadow (ambient), the layer's top stays lit. */
+  scene sc;
+  scene_begin(&sc, 402);
+  for (int i = 0; i < 400; i++) {
+    double x = (i % 20) / 20.0, z = (i / 20) / 20.0;
+    const double a[3] = {x, 1.0, z}, b[3] = {x + 0.04, 1.0, z}, c[3] = {x, 1.0, z + 0.04};
+    scene_tri(&sc, a, b, c, 1);
+  }
+  const double a[3] = {0.5, 0.8, 0.5}, b[3] = {0.54, 0.8, 0.5}, c[3] = {0.5, 0.8, 0.54};
+  scene_tri(&sc, a, b, c, 1);
+  bbc_error err;
+  if (bbc_mesh_finalize(&sc.m, 0, "scene", &err) != BBC_OK) fail_msg("%s", err.message);
+  float *sh = malloc(sc.m.vertex_count * sizeof *sh);
+  assert_int_equal(bbc_shade_vertices(&sc.m, 20, 0.4, 1, sh, &err), BBC_OK);
+  for (size_t v = 0; v < 1200; v++) assert_true(sh[v] > 0.99f); /* nothing above */
+  for (size_t v = 1200; v < 1203; v++) assert_true(sh[v] < 0.5f && sh[v] >= 0.4f - 1e-6f);
+  assert_int_equal(bbc_shade_vertices(&sc.m, 0, 0.4, 1, sh, &err), BBC_ERROR_INVALID_ARGUMENT);
+  free(sh);
+  scene_free(&sc);
+}
+
+/* ---- a real tree ----------------------------------------------------------- */
+
+static void build(const bbc_mesh *m, int quality, int threads, bbc_planeset *s, bbc_cloud *cloud) {
   bbc_planes_options o;
   bbc_planes_options_default(&o);
   o.params.epsilon_pct = 6;
   o.params.clustering = 0;
   o.params.quality = quality;
   o.params.texres = 128;
+  o.params.threads = threads;
+  o.params.normal_maps = quality == 2;
+  o.params.shade_voxels = quality == 2 ? 40 : 0;
   bbc_error err;
   if (bbc_planes_find(m, &o, s, &err) != BBC_OK) fail_msg("%s", err.message);
-  if (bbc_cloud_build(m, s, &o.params, cloud, &err) != BBC_OK) fail_msg("%s", err.message);
+  if (bbc_cloud_build(m, s, &o.params, NULL, cloud, &err) != BBC_OK) fail_msg("%s", err.message);
+}
+
+static int rects_overlap(const bbc_atlas_rect *a, const bbc_atlas_rect *b) {
+  return a->x < b->x + b->width && b->x < a->x + a->width && a->y < b->y + b->height &&
+         b->y < a->y + a->height;
 }
 
 static void test_cloud_of_a_tree(void **state) {
@@ -37,32 +362,50 @@ static void test_cloud_of_a_tree(void **state) {
   if (bbc_mesh_load(path, NULL, &m, &err) != BBC_OK) fail_msg("%s", err.message);
   for (int quality = 0; quality <= 2; quality += 2) {
     bbc_planeset s;
-    bbc_mesh cloud;
-    build(&m, quality, &s, &cloud);
-    /* One quad per plane (polyskip 0, no cardboard planes). */
-    assert_int_equal(cloud.triangle_count, 2 * s.plane_count);
-    assert_int_equal(cloud.vertex_count, 4 * s.plane_count);
-    /* Every quad corner lies on its plane; the quads' bounds stay near the
-     * original's (a minimum-area rectangle's corners can stick out of the
-     * faces' own bounds, so this is looser than epsilon; see README). */
-    for (size_t q = 0; q < cloud.triangle_count / 2; q++) {
-      const float *nn = cloud.normals + 3 * cloud.indices[6 * q];
-      const double *p0 = cloud.positions + 3 * cloud.indices[6 * q];
-      for (int c = 1; c < 4; c++) {
-        const double *pc = cloud.positions + 3 * (cloud.indices[6 * q] + (uint32_t)c);
-        double d = 0;
-        for (int k = 0; k < 3; k++) d += (pc[k] - p0[k]) * nn[k];
-        assert_true(fabs(d) < 1e-5 * m.radius);
+    bbc_cloud cl;
+    build(&m, quality, 1, &s, &cl);
+    const bbc_mesh *cm = &cl.mesh;
+    assert_int_equal(cl.billboard_count, s.plane_count); /* polyskip 0, no cardboard */
+    size_t tris = 0, verts = 0;
+    for (size_t k = 0; k < cl.billboard_count; k++) {
+      const bbc_cloud_billboard *b = &cl.billboards[k];
+      assert_true(b->corner_count >= 3 && b->corner_count <= 10);
+      tris += 2 * ((size_t)b->corner_count - 2);
+      verts += 2 * (size_t)b->corner_count;
+      /* Atlas rectangles: inside the atlas, disjoint. */
+      const bbc_atlas_rect *r[2] = {&b->front, &b->back};
+      const bbc_image *a = &cm->textures[0].image;
+      for (int i = 0; i < 2; i++) {
+        assert_true(r[i]->x >= 0 && r[i]->y >= 0 && r[i]->x + r[i]->width <= a->width &&
+                    r[i]->y + r[i]->height <= a->height);
+        assert_int_equal(r[i]->width, b->tex_width);
+      }
+      assert_false(rects_overlap(r[0], r[1]));
+      for (size_t j = 0; j < k; j++) {
+        const bbc_cloud_billboard *o = &cl.billboards[j];
+        assert_false(rects_overlap(r[0], &o->front) || rects_overlap(r[0], &o->back) ||
+                     rects_overlap(r[1], &o->front) || rects_overlap(r[1], &o->back));
       }
     }
-    for (int k = 0; k < 3; k++) {
-      printf("axis %d: cloud [%g, %g] model [%g, %g] eps %g\n", k, cloud.bbox_min[k],
-             cloud.bbox_max[k], m.bbox_min[k], m.bbox_max[k], s.epsilon_abs);
-      assert_true(cloud.bbox_min[k] >= m.bbox_min[k] - 0.25 * m.radius);
-      assert_true(cloud.bbox_max[k] <= m.bbox_max[k] + 0.25 * m.radius);
+    assert_int_equal(cm->triangle_count, tris);
+    assert_int_equal(cm->vertex_count, verts);
+    /* Every vertex lies on its billboard's plane. */
+    size_t v = 0;
+    for (size_t k = 0; k < cl.billboard_count; k++) {
+      const bbc_cloud_billboard *b = &cl.billboards[k];
+      for (int c = 0; c < 2 * b->corner_count; c++, v++) {
+        const double *x = cm->positions + 3 * v;
+        double d = b->normal[0] * x[0] + b->normal[1] * x[1] + b->normal[2] * x[2] - b->d;
+        assert_true(fabs(d) < 1e-6 * m.radius);
+      }
     }
-    /* The atlas has real transparency: alpha 0 and 255 only at quality 2. */
-    const bbc_image *a = &cloud.textures[0].image;
+    /* The cloud stays within the model's bounds grown by epsilon. */
+    for (int k = 0; k < 3; k++) {
+      assert_true(cm->bbox_min[k] >= m.bbox_min[k] - s.epsilon_abs * (1 + 1e-6));
+      assert_true(cm->bbox_max[k] <= m.bbox_max[k] + s.epsilon_abs * (1 + 1e-6));
+    }
+    /* The atlas has real transparency, alpha 0 and 255 only at quality 2. */
+    const bbc_image *a = &cm->textures[0].image;
     size_t zero = 0, full = 0, other = 0;
     for (size_t i = 0; i < (size_t)a->width * a->height; i++) {
       uint8_t al = a->rgba[4 * i + 3];
@@ -72,28 +415,33 @@ static void test_cloud_of_a_tree(void **state) {
     }
     assert_true(zero > 0 && full > 0);
     assert_int_equal(other, 0);
-    /* Deterministic. */
+    assert_true(cl.atlas_fill > 0.2 && cl.atlas_fill <= 1.0);
+    /* Deterministic, with any number of threads. */
     bbc_planeset s2;
-    bbc_mesh c2;
-    build(&m, quality, &s2, &c2);
-    assert_int_equal(c2.textures[0].image.width, a->width);
-    assert_memory_equal(c2.textures[0].image.rgba, a->rgba, (size_t)a->width * a->height * 4);
-    assert_memory_equal(c2.positions, cloud.positions, cloud.vertex_count * 3 * sizeof(double));
-    bbc_mesh_free(&c2);
+    bbc_cloud c2;
+    build(&m, quality, 2, &s2, &c2);
+    assert_int_equal(c2.mesh.textures[0].image.width, a->width);
+    assert_memory_equal(c2.mesh.textures[0].image.rgba, a->rgba, (size_t)a->width * a->height * 4);
+    assert_memory_equal(c2.mesh.positions, cm->positions, cm->vertex_count * 3 * sizeof(double));
+    assert_int_equal(c2.mesh.texture_count, cm->texture_count);
+    if (cm->texture_count == 2)
+      assert_memory_equal(c2.mesh.textures[1].image.rgba, cm->textures[1].image.rgba,
+                          (size_t)a->width * a->height * 4);
+    bbc_cloud_free(&c2);
     bbc_planeset_free(&s2);
     /* glTF round trip. */
     char *dir = tu_make_temp_dir();
     char out[1024];
     snprintf(out, sizeof out, "%s/aspen.glb", dir);
-    assert_int_equal(bbc_mesh_write_gltf(out, &cloud, NULL, &err), BBC_OK);
+    assert_int_equal(bbc_mesh_write_gltf(out, cm, NULL, &err), BBC_OK);
     bbc_mesh back;
     if (bbc_mesh_load(out, NULL, &back, &err) != BBC_OK) fail_msg("%s", err.message);
-    assert_int_equal(back.triangle_count, cloud.triangle_count);
-    assert_true(back.texture_count == 1 && back.textures[0].has_alpha);
+    assert_int_equal(back.triangle_count, cm->triangle_count);
+    assert_true(back.textures[0].has_alpha);
     bbc_mesh_free(&back);
     tu_remove_dir(dir);
     free(dir);
-    bbc_mesh_free(&cloud);
+    bbc_cloud_free(&cl);
     bbc_planeset_free(&s);
   }
   bbc_mesh_free(&m);
@@ -101,6 +449,11 @@ static void test_cloud_of_a_tree(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_texel_centres_quality0),
+      cmocka_unit_test(test_small_leaf_survives_quality2),
+      cmocka_unit_test(test_front_and_back),
+      cmocka_unit_test(test_tilted_normal_map),
+      cmocka_unit_test(test_voxel_shading),
       cmocka_unit_test(test_cloud_of_a_tree),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -98,7 +98,7 @@ static char *join(const char *dir, const char *name) {
 }
 
 static void write_ok(const char *path, const bbc_mesh *m, int binary, const char *extras) {
-  bbc_gltf_options opt = {binary, extras};
+  bbc_gltf_options opt = {binary, extras, 0};
   bbc_error err;
   bbc_result r = bbc_mesh_write_gltf(path, m, &opt, &err);
   if (r != BBC_OK) fail_msg("%s", err.message);
@@ -467,7 +467,7 @@ static void test_extras(void **state) {
                        "{\"a\": 01}", "",  "null",      "{'a': 1}"};
   char *other = join(tu_dir, "bad_extras.glb");
   for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
-    bbc_gltf_options opt = {1, bad[i]};
+    bbc_gltf_options opt = {1, bad[i], 0};
     bbc_error err;
     assert_int_equal(bbc_mesh_write_gltf(other, &m, &opt, &err), BBC_ERROR_INVALID_ARGUMENT);
     assert_non_null(strstr(err.message, "bad_extras.glb"));
@@ -485,7 +485,7 @@ static void test_errors(void **state) {
   bbc_mesh m;
   make_quads(&m, 1, 0);
   bbc_error err;
-  bbc_gltf_options glb = {1, NULL}, gltf = {0, NULL};
+  bbc_gltf_options glb = {1, NULL, 0}, gltf = {0, NULL, 0};
   char *p = join(tu_dir, "wrong.gltf");
   assert_int_equal(bbc_mesh_write_gltf(p, &m, &glb, &err), BBC_ERROR_INVALID_ARGUMENT);
   assert_non_null(strstr(err.message, "wrong.gltf"));

@@ -1,10 +1,23 @@
-/* cloud.c — step 3, first version: billboards baked with the software
- * rasterizer, packed into one atlas, assembled as a mesh of quads
- * (thesis 2.1.9, 2.2.5, 2.3.5, 2.3.9). */
+/* cloud.c — step 3: billboards baked with the software rasterizer (front
+ * and back images, normal maps, prelighting, voxel shadowing), packed into
+ * one atlas and assembled as a mesh (thesis 2.1.9, 2.2.5, 2.3.1, 2.3.5,
+ * 2.3.9, 2.3.11). */
 #include "dual.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+static double now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
 
 static int floor_pow2(double x) {
   int p = 1;
@@ -12,13 +25,178 @@ static int floor_pow2(double x) {
   return p;
 }
 
-/* Renders the faces within +-eps of the billboard's plane, seen from the
- * front (from the side the normal points to), into img (w x h texels). */
-static bbc_result bake_front(const bbc_mesh *m, const bbc_billboard *b, const bbc_plane *p,
-                             double eps, const uint8_t *mask, int lighting, int w, int h,
-                             bbc_image *img, bbc_error *err) {
-  bbc_result r = bbc_image_alloc(img, w, h);
-  if (r != BBC_OK) return bbc__fail(err, r, "baking: out of memory for a %dx%d texture", w, h);
+void bbc_params_light_direction(const bbc_params *prm, double light[3]) {
+  int up = prm->up_axis >= 0 && prm->up_axis <= 2 ? prm->up_axis : 1;
+  int a = (up + 1) % 3, b = (up + 2) % 3; /* (a, b, up) is right-handed */
+  double el = prm->light_elev_deg * M_PI / 180, az = prm->light_azim_deg * M_PI / 180;
+  light[up] = sin(el);
+  light[a] = cos(el) * cos(az);
+  light[b] = cos(el) * sin(az);
+}
+
+/* The images of one billboard before packing. */
+typedef struct baked {
+  bbc_image front, back, front_nm, back_nm;
+  bbc_error err;
+  bbc_result r;
+} baked;
+
+/* quality 2 (2.3.9): a texel is opaque when any of its k x k samples is, with
+ * the mean colour of the opaque samples, so small leaves do not vanish and
+ * alpha stays 0 or 255. Normal maps: the mean normal, renormalised. */
+static bbc_result downsample_grow(bbc_image *img, int k, int is_normal) {
+  bbc_image dst;
+  bbc_result r = bbc_image_alloc(&dst, img->width / k, img->height / k);
+  if (r != BBC_OK) return r;
+  for (int y = 0; y < dst.height; y++)
+    for (int x = 0; x < dst.width; x++) {
+      unsigned sum[3] = {0, 0, 0}, n = 0;
+      for (int j = 0; j < k; j++)
+        for (int i = 0; i < k; i++) {
+          const uint8_t *s = img->rgba + 4 * ((size_t)(y * k + j) * img->width + (x * k + i));
+          if (s[3] < 128) continue;
+          for (int c = 0; c < 3; c++) sum[c] += s[c];
+          n++;
+        }
+      uint8_t *d = dst.rgba + 4 * ((size_t)y * dst.width + x);
+      if (!n) continue;
+      if (is_normal) {
+        double v[3], len = 0;
+        for (int c = 0; c < 3; c++) {
+          v[c] = (double)sum[c] / n / 127.5 - 1.0;
+          len += v[c] * v[c];
+        }
+        len = sqrt(len);
+        for (int c = 0; c < 3; c++) {
+          double e = len > 1e-9 ? 127.5 * (v[c] / len + 1.0) : (c == 2 ? 255 : 127.5);
+          d[c] = (uint8_t)(e > 255 ? 255 : e < 0 ? 0 : e + 0.5 > 255 ? 255 : e + 0.5);
+        }
+      } else {
+        for (int c = 0; c < 3; c++) d[c] = (uint8_t)((sum[c] + n / 2) / n);
+      }
+      d[3] = 255;
+    }
+  bbc_image_free(img);
+  *img = dst;
+  return BBC_OK;
+}
+
+/* Sutherland-Hodgman: keeps the part of polygon p (n corners, (s, t)) where
+ * a s + b t <= c. Returns the new corner count (<= n + 1). */
+static int clip_half(double p[][2], int n, double a, double b, double c) {
+  double out[12][2];
+  int m = 0;
+  for (int i = 0; i < n; i++) {
+    const double *P = p[i], *Q = p[(i + 1) % n];
+    double fp = a * P[0] + b * P[1] - c, fq = a * Q[0] + b * Q[1] - c;
+    if (fp <= 0 && m < 12) {
+      out[m][0] = P[0];
+      out[m][1] = P[1];
+      m++;
+    }
+    if (((fp < 0 && fq > 0) || (fp > 0 && fq < 0)) && m < 12) {
+      double t = fp / (fp - fq);
+      out[m][0] = P[0] + t * (Q[0] - P[0]);
+      out[m][1] = P[1] + t * (Q[1] - P[1]);
+      m++;
+    }
+  }
+  memcpy(p, out, (size_t)m * sizeof out[0]);
+  return m;
+}
+
+static double polygon_area(double p[][2], int n) {
+  double a = 0;
+  for (int i = 0; i < n; i++) a += p[i][0] * p[(i + 1) % n][1] - p[(i + 1) % n][0] * p[i][1];
+  return 0.5 * a;
+}
+
+/* The rectangle clipped to the box lo..hi (model units): in (s, t) of the
+ * rectangle, s, t in [0, 1]. Falls back to the whole rectangle when the
+ * clip leaves (almost) nothing, which only rounding can cause. */
+static void outline(const bbc_billboard *b, const double lo[3], const double hi[3],
+                    bbc_cloud_billboard *cb) {
+  double p[12][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  int n = 4;
+  double W = b->width, H = b->height;
+  for (int k = 0; k < 3 && n >= 3; k++) {
+    /* x_k = origin_k + s W u_k + t H w_k */
+    double a = W * b->u[k], c = H * b->w[k];
+    n = clip_half(p, n, a, c, hi[k] - b->origin[k]);
+    if (n >= 3) n = clip_half(p, n, -a, -c, b->origin[k] - lo[k]);
+  }
+  if (n < 3 || n > 10 || polygon_area(p, n) < 1e-9) {
+    double r[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    memcpy(p, r, sizeof r);
+    n = 4;
+  }
+  cb->corner_count = n;
+  memcpy(cb->corners, p, (size_t)n * sizeof p[0]);
+}
+
+/* Faces drawn into a billboard: those crossing the +-eps slab (or, pure,
+ * its plane's own), and their bounds. Returns the count. */
+static size_t slab_faces(const bbc_mesh *m, const bbc_planeset *set, const bbc_plane *p,
+                         uint32_t owner, double eps, int pure, uint32_t *faces, double lo[3],
+                         double hi[3]) {
+  size_t n = 0;
+  for (int k = 0; k < 3; k++) {
+    lo[k] = INFINITY;
+    hi[k] = -INFINITY;
+  }
+  for (size_t t = 0; t < m->triangle_count; t++) {
+    if (pure && set->face_plane[t] != owner) continue;
+    double dmin = INFINITY, dmax = -INFINITY;
+    const uint32_t *ix = m->indices + 3 * t;
+    for (int c = 0; c < 3; c++) {
+      const double *x = m->positions + 3 * ix[c];
+      double d = p->normal[0] * x[0] + p->normal[1] * x[1] + p->normal[2] * x[2] - p->d;
+      dmin = fmin(dmin, d);
+      dmax = fmax(dmax, d);
+    }
+    if (dmin > eps || dmax < -eps) continue;
+    faces[n++] = (uint32_t)t;
+    for (int c = 0; c < 3; c++)
+      for (int k = 0; k < 3; k++) {
+        lo[k] = fmin(lo[k], m->positions[3 * ix[c] + k]);
+        hi[k] = fmax(hi[k], m->positions[3 * ix[c] + k]);
+      }
+  }
+  return n;
+}
+
+static void bake_one(const bbc_mesh *m, const bbc_planeset *set, const bbc_params *prm,
+                     const float *vshade, const double *light, size_t plane_index,
+                     bbc_cloud_billboard *cb, uint32_t *faces, baked *out) {
+  const bbc_plane *p = &set->planes[plane_index];
+  const bbc_billboard *b = &cb->rect;
+  double eps = set->parts[p->part].epsilon_abs;
+  uint32_t owner = p->kind == BBC_PLANE_CARDBOARD ? (uint32_t)p->mother : (uint32_t)plane_index;
+  double lo[3], hi[3];
+  cb->face_count = slab_faces(m, set, p, owner, eps, prm->pure, faces, lo, hi);
+  if (cb->face_count) {
+    for (int k = 0; k < 3; k++) { /* never beyond the model's own bounds */
+      lo[k] = fmax(lo[k], m->bbox_min[k]) - eps;
+      hi[k] = fmin(hi[k], m->bbox_max[k]) + eps;
+    }
+    outline(b, lo, hi, cb);
+  } else {
+    for (int k = 0; k < 3; k++) {
+      lo[k] = m->bbox_min[k] - eps;
+      hi[k] = m->bbox_max[k] + eps;
+    }
+    outline(b, lo, hi, cb);
+  }
+  int ss = prm->quality >= 2 ? 4 : 1;
+  int w = cb->tex_width * ss, h = cb->tex_height * ss;
+  bbc_result r = bbc_image_alloc(&out->front, w, h);
+  if (r == BBC_OK && prm->back_images) r = bbc_image_alloc(&out->back, w, h);
+  if (r == BBC_OK && prm->normal_maps) r = bbc_image_alloc(&out->front_nm, w, h);
+  if (r == BBC_OK && prm->normal_maps && prm->back_images) r = bbc_image_alloc(&out->back_nm, w, h);
+  if (r != BBC_OK) {
+    out->r = bbc__fail(&out->err, r, "step 3: out of memory for a %dx%d texture", w, h);
+    return;
+  }
   bbc_view v;
   memset(&v, 0, sizeof v);
   for (int k = 0; k < 3; k++) {
@@ -26,168 +204,276 @@ static bbc_result bake_front(const bbc_mesh *m, const bbc_billboard *b, const bb
     v.up[k] = b->w[k];
     v.center[k] = b->origin[k] + 0.5 * b->width * b->u[k] + 0.5 * b->height * b->w[k];
   }
-  /* Degenerate (single-point or single-line) rectangles still get a texel. */
+  /* Degenerate (single-point or single-line) rectangles still get texels. */
   v.half_extent = 0.5 * (b->width > 0 ? b->width : eps);
   v.half_extent_y = 0.5 * (b->height > 0 ? b->height : eps);
   v.depth_min = -eps;
   v.depth_max = eps;
-  v.face_mask = mask;
-  v.lighting = lighting;
-  r = bbc_render_ortho(m, &v, img, err);
-  if (r != BBC_OK) bbc_image_free(img);
-  return r;
+  v.lighting = prm->prelight;
+  memcpy(v.light, light, sizeof v.light);
+  v.vertex_shade = vshade;
+  bbc__bake bk = {
+      w, h, out->front.rgba, out->back.rgba, out->front_nm.rgba, out->back_nm.rgba, prm->backface};
+  r = bbc__render_bake(m, faces, cb->face_count, &v, &bk, &out->err);
+  if (r == BBC_OK && prm->quality == 2) {
+    bbc_image *im[4] = {&out->front, &out->back, &out->front_nm, &out->back_nm};
+    for (int i = 0; i < 4 && r == BBC_OK; i++)
+      if (im[i]->rgba) r = downsample_grow(im[i], ss, i >= 2);
+    if (r != BBC_OK) r = bbc__fail(&out->err, r, "step 3: out of memory");
+  }
+  out->r = r;
 }
 
-/* quality 2 (2.3.9): a texel is opaque when any of its k x k samples is, with
- * the mean colour of the opaque samples, so small leaves do not vanish and
- * alpha stays 0 or 255. */
-static bbc_result downsample_grow(const bbc_image *src, int k, bbc_image *dst) {
-  bbc_result r = bbc_image_alloc(dst, src->width / k, src->height / k);
-  if (r != BBC_OK) return r;
-  for (int y = 0; y < dst->height; y++)
-    for (int x = 0; x < dst->width; x++) {
-      unsigned sum[3] = {0, 0, 0}, n = 0;
-      for (int j = 0; j < k; j++)
-        for (int i = 0; i < k; i++) {
-          const uint8_t *s = src->rgba + 4 * ((size_t)(y * k + j) * src->width + (x * k + i));
-          if (s[3] < 128) continue;
-          for (int c = 0; c < 3; c++) sum[c] += s[c];
-          n++;
+static void baked_free(baked *b) {
+  bbc_image_free(&b->front);
+  bbc_image_free(&b->back);
+  bbc_image_free(&b->front_nm);
+  bbc_image_free(&b->back_nm);
+}
+
+void bbc_cloud_free(bbc_cloud *cloud) {
+  if (!cloud) return;
+  bbc_mesh_free(&cloud->mesh);
+  free(cloud->billboards);
+  memset(cloud, 0, sizeof *cloud);
+}
+
+/* Fills the mesh: per billboard its outline, front (and back) facing. */
+static bbc_result build_mesh(const bbc_planeset *set, const bbc_params *prm, bbc_cloud *cl,
+                             bbc_image *atlas, bbc_image *nm_atlas, bbc_error *err) {
+  bbc_mesh *me = &cl->mesh;
+  int sides = prm->back_images ? 2 : 1;
+  size_t nv = 0, nt = 0;
+  for (size_t k = 0; k < cl->billboard_count; k++) {
+    nv += (size_t)sides * cl->billboards[k].corner_count;
+    nt += (size_t)sides * (cl->billboards[k].corner_count - 2);
+  }
+  me->kind = BBC_MESH_TRIANGLES;
+  me->vertex_count = nv;
+  me->triangle_count = nt;
+  me->positions = malloc(3 * nv * sizeof *me->positions);
+  me->normals = malloc(3 * nv * sizeof *me->normals);
+  me->uvs = malloc(2 * nv * sizeof *me->uvs);
+  if (nm_atlas) me->tangents = malloc(4 * nv * sizeof *me->tangents);
+  me->indices = malloc(3 * nt * sizeof *me->indices);
+  me->face_material = calloc(nt, sizeof *me->face_material);
+  me->face_group = malloc(nt * sizeof *me->face_group);
+  me->materials = calloc(1, sizeof *me->materials);
+  me->textures = calloc(2, sizeof *me->textures);
+  me->group_names = calloc(set->part_count, sizeof *me->group_names);
+  if (!me->positions || !me->normals || !me->uvs || (nm_atlas && !me->tangents) || !me->indices ||
+      !me->face_material || !me->face_group || !me->materials || !me->textures || !me->group_names)
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
+  me->material_count = 1;
+  bbc_material *mat = &me->materials[0];
+  mat->name = bbc__strdup("billboards");
+  mat->texture = 0;
+  mat->single_sided = prm->back_images;
+  for (int c = 0; c < 4; c++) mat->base_color[c] = 1.0f;
+  me->texture_count = nm_atlas ? 2 : 1;
+  me->textures[0].image = *atlas;
+  me->textures[0].has_alpha = bbc_image_has_transparency(atlas);
+  memset(atlas, 0, sizeof *atlas);
+  if (nm_atlas) {
+    me->textures[1].image = *nm_atlas;
+    memset(nm_atlas, 0, sizeof *nm_atlas);
+    mat->normal_map = 2;
+  }
+  me->group_count = set->part_count;
+  for (size_t g = 0; g < set->part_count; g++) {
+    me->group_names[g] = bbc__strdup(set->parts[g].name);
+    if (!me->group_names[g]) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "out of memory");
+  }
+  if (!mat->name) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "out of memory");
+  double aw = me->textures[0].image.width, ah = me->textures[0].image.height;
+  size_t v = 0, t = 0;
+  for (size_t k = 0; k < cl->billboard_count; k++) {
+    const bbc_cloud_billboard *cb = &cl->billboards[k];
+    const bbc_billboard *b = &cb->rect;
+    int nc = cb->corner_count;
+    for (int side = 0; side < sides; side++) {
+      const bbc_atlas_rect *rc = side ? &cb->back : &cb->front;
+      double sign = side ? -1.0 : 1.0;
+      size_t base = v;
+      for (int c = 0; c < nc; c++, v++) {
+        double s = cb->corners[c][0], tt = cb->corners[c][1];
+        for (int j = 0; j < 3; j++) {
+          me->positions[3 * v + j] =
+              b->origin[j] + s * b->width * b->u[j] + tt * b->height * b->w[j];
+          me->normals[3 * v + j] = (float)(sign * cb->normal[j]);
+          if (me->tangents) me->tangents[4 * v + j] = (float)b->u[j];
         }
-      uint8_t *d = dst->rgba + 4 * ((size_t)y * dst->width + x);
-      if (n) {
-        for (int c = 0; c < 3; c++) d[c] = (uint8_t)((sum[c] + n / 2) / n);
-        d[3] = 255;
+        if (me->tangents) me->tangents[4 * v + 3] = (float)sign;
+        /* Image rows run top first; v = 0 is the image's bottom row. */
+        me->uvs[2 * v] = (float)((rc->x + s * rc->width) / aw);
+        me->uvs[2 * v + 1] = (float)(1.0 - (rc->y + (1 - tt) * rc->height) / ah);
+      }
+      for (int c = 1; c + 1 < nc; c++, t++) {
+        uint32_t a = (uint32_t)base, b1 = (uint32_t)(base + c), b2 = (uint32_t)(base + c + 1);
+        me->indices[3 * t] = a;
+        me->indices[3 * t + 1] = side ? b2 : b1;
+        me->indices[3 * t + 2] = side ? b1 : b2;
+        me->face_group[t] = cb->part;
       }
     }
+  }
   return BBC_OK;
 }
 
 bbc_result bbc_cloud_build(const bbc_mesh *m, const bbc_planeset *set, const bbc_params *prm,
-                           bbc_mesh *cloud, bbc_error *err) {
-  memset(cloud, 0, sizeof *cloud);
-  size_t np = set->plane_count, nf = set->face_count;
+                           const bbc_callbacks *cbk, bbc_cloud *cl, bbc_error *err) {
+  memset(cl, 0, sizeof *cl);
+  if (m->kind != BBC_MESH_TRIANGLES)
+    return bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
+                     "step 3: point clouds are not supported yet");
+  if (set->face_count != m->triangle_count)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
+                     "step 3: the planes were found for another mesh (%zu faces, mesh has %zu)",
+                     set->face_count, m->triangle_count);
+  double t0 = now_s();
+  size_t np = set->plane_count, nf = m->triangle_count;
   bbc_billboard *bb = calloc(np ? np : 1, sizeof *bb);
-  uint8_t *keep = calloc(np ? np : 1, 1), *mask = malloc(nf ? nf : 1);
-  bbc_image *imgs = calloc(np ? np : 1, sizeof *imgs);
-  bbc_atlas_rect *rects = calloc(np ? np : 1, sizeof *rects);
   size_t *order = malloc((np ? np : 1) * sizeof *order);
-  bbc_image atlas;
-  memset(&atlas, 0, sizeof atlas);
+  float *vshade = NULL;
   bbc_result r = BBC_OK;
-  if (!bb || !keep || !mask || !imgs || !rects || !order)
-    r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
+  if (!bb || !order) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
   if (r == BBC_OK) r = bbc_billboards_compute(m, set, bb, err);
+  if (r == BBC_OK && prm->shade_voxels > 0) {
+    vshade = malloc((m->vertex_count ? m->vertex_count : 1) * sizeof *vshade);
+    if (!vshade)
+      r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
+    else
+      r = bbc_shade_vertices(m, prm->shade_voxels, prm->shade_ambient, prm->up_axis, vshade, err);
+  }
   /* Which planes get a billboard (2.3.5, 2.3.7). */
   size_t nk = 0;
   double longest = 0;
-  if (r == BBC_OK) {
-    for (size_t i = 0; i < np; i++) {
-      const bbc_plane *p = &set->planes[i];
-      double largest = 0;
-      for (size_t j = 0; j < np; j++)
-        if (set->planes[j].part == p->part && set->planes[j].kind != BBC_PLANE_CARDBOARD &&
-            set->planes[j].area > largest)
-          largest = set->planes[j].area;
-      if (p->kind == BBC_PLANE_CARDBOARD)
-        keep[i] = p->coverage_pct >= prm->cb_coverage_pct;
-      else
-        keep[i] = p->area >= prm->poly_skip_pct / 100.0 * largest;
-      if (keep[i]) {
-        order[nk++] = i;
-        if (bb[i].width > longest) longest = bb[i].width;
-      }
-    }
-    if (nk == 0) r = bbc__fail(err, BBC_ERROR_EMPTY, "step 3: every plane was skipped");
-  }
-  /* Bake (2.1.9): the longest side gets texres texels. */
-  int ss = prm->quality >= 2 ? 4 : 1;
-  for (size_t k = 0; r == BBC_OK && k < nk; k++) {
-    size_t i = order[k];
+  for (size_t i = 0; r == BBC_OK && i < np; i++) {
     const bbc_plane *p = &set->planes[i];
-    double texel = longest / prm->texres;
-    int w = floor_pow2(bb[i].width / texel), h = floor_pow2(bb[i].height / texel);
-    if (w < 4) w = 4;
-    if (h < 4) h = 4;
-    uint32_t owner = p->kind == BBC_PLANE_CARDBOARD ? (uint32_t)p->mother : (uint32_t)i;
-    for (size_t t = 0; t < nf; t++) mask[t] = !prm->pure || set->face_plane[t] == owner;
-    double eps = set->parts[p->part].epsilon_abs;
-    bbc_image big;
-    r = bake_front(m, &bb[i], p, eps, mask, prm->prelight, w * ss, h * ss, &big, err);
-    if (r != BBC_OK) break;
-    if (prm->quality == 2) {
-      r = downsample_grow(&big, ss, &imgs[k]);
-      bbc_image_free(&big);
-      if (r != BBC_OK) r = bbc__fail(err, r, "step 3: out of memory");
-    } else {
-      imgs[k] = big;
+    double largest = 0;
+    for (size_t j = 0; j < np; j++)
+      if (set->planes[j].part == p->part && set->planes[j].kind != BBC_PLANE_CARDBOARD &&
+          set->planes[j].area > largest)
+        largest = set->planes[j].area;
+    int keep = p->kind == BBC_PLANE_CARDBOARD ? p->coverage_pct >= prm->cb_coverage_pct
+                                              : p->area >= prm->poly_skip_pct / 100.0 * largest;
+    if (keep) {
+      order[nk++] = i;
+      if (bb[i].width > longest) longest = bb[i].width;
     }
   }
-  if (r == BBC_OK) r = bbc_atlas_pack(imgs, nk, 2, 16384, &atlas, rects, err);
-  /* The cloud: one quad per billboard. */
+  if (r == BBC_OK && nk == 0)
+    r = bbc__fail(err, BBC_ERROR_EMPTY, "step 3: every plane was skipped");
+  baked *bk = NULL;
   if (r == BBC_OK) {
-    cloud->kind = BBC_MESH_TRIANGLES;
-    cloud->vertex_count = 4 * nk;
-    cloud->triangle_count = 2 * nk;
-    cloud->positions = malloc(12 * nk * sizeof *cloud->positions);
-    cloud->normals = malloc(12 * nk * sizeof *cloud->normals);
-    cloud->uvs = malloc(8 * nk * sizeof *cloud->uvs);
-    cloud->indices = malloc(6 * nk * sizeof *cloud->indices);
-    cloud->face_material = calloc(2 * nk, sizeof *cloud->face_material);
-    cloud->face_group = malloc(2 * nk * sizeof *cloud->face_group);
-    cloud->materials = calloc(1, sizeof *cloud->materials);
-    cloud->textures = calloc(1, sizeof *cloud->textures);
-    cloud->group_names = calloc(set->part_count, sizeof *cloud->group_names);
-    if (!cloud->positions || !cloud->normals || !cloud->uvs || !cloud->indices ||
-        !cloud->face_material || !cloud->face_group || !cloud->materials || !cloud->textures ||
-        !cloud->group_names)
+    cl->billboards = calloc(nk, sizeof *cl->billboards);
+    bk = calloc(nk, sizeof *bk);
+    if (!cl->billboards || !bk)
       r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
   }
   if (r == BBC_OK) {
-    cloud->material_count = 1;
-    cloud->materials[0].name = bbc__strdup("billboards");
-    cloud->materials[0].texture = 0;
-    for (int c = 0; c < 4; c++) cloud->materials[0].base_color[c] = 1.0f;
-    cloud->texture_count = 1;
-    cloud->textures[0].image = atlas;
-    cloud->textures[0].has_alpha = bbc_image_has_transparency(&atlas);
-    memset(&atlas, 0, sizeof atlas);
-    cloud->group_count = set->part_count;
-    for (size_t g = 0; g < set->part_count; g++)
-      cloud->group_names[g] = bbc__strdup(set->parts[g].name);
-    double aw = cloud->textures[0].image.width, ah = cloud->textures[0].image.height;
+    cl->billboard_count = nk;
+    cl->epsilon_abs = set->epsilon_abs;
+    double texel = longest / prm->texres;
     for (size_t k = 0; k < nk; k++) {
-      const bbc_billboard *b = &bb[order[k]];
+      bbc_cloud_billboard *cb = &cl->billboards[k];
       const bbc_plane *p = &set->planes[order[k]];
-      static const double st[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-      for (int c = 0; c < 4; c++) {
-        size_t v = 4 * k + (size_t)c;
-        for (int j = 0; j < 3; j++) {
-          cloud->positions[3 * v + j] =
-              b->origin[j] + st[c][0] * b->width * b->u[j] + st[c][1] * b->height * b->w[j];
-          cloud->normals[3 * v + j] = (float)p->normal[j];
-        }
-        /* Image rows run top first; v = 0 is the image's bottom row. */
-        const bbc_atlas_rect *rc = &rects[k];
-        cloud->uvs[2 * v] = (float)((rc->x + st[c][0] * rc->width) / aw);
-        cloud->uvs[2 * v + 1] = (float)(1.0 - (rc->y + (1 - st[c][1]) * rc->height) / ah);
-      }
-      uint32_t base = (uint32_t)(4 * k);
-      const uint32_t q[6] = {base, base + 1, base + 2, base, base + 2, base + 3};
-      memcpy(cloud->indices + 6 * k, q, sizeof q);
-      cloud->face_group[2 * k] = cloud->face_group[2 * k + 1] = p->part;
+      cb->rect = bb[order[k]];
+      cb->kind = p->kind;
+      cb->part = p->part;
+      memcpy(cb->normal, p->normal, sizeof cb->normal);
+      cb->d = p->d;
+      cb->tex_width = floor_pow2(texel > 0 ? cb->rect.width / texel : 1);
+      cb->tex_height = floor_pow2(texel > 0 ? cb->rect.height / texel : 1);
+      if (cb->tex_width < 4) cb->tex_width = 4;
+      if (cb->tex_height < 4) cb->tex_height = 4;
     }
-    if (!cloud->materials[0].name) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "out of memory");
-    if (r == BBC_OK) r = bbc_mesh_finalize(cloud, 0, "billboard cloud", err);
+    double light[3];
+    bbc_params_light_direction(prm, light);
+    int nt = prm->threads;
+#ifdef _OPENMP
+    if (nt <= 0) nt = omp_get_max_threads();
+#else
+    nt = 1;
+#endif
+    size_t done = 0;
+    const bbc_callbacks *cbp = cbk;
+#pragma omp parallel num_threads(nt)
+    {
+      uint32_t *faces = malloc((nf ? nf : 1) * sizeof *faces);
+#pragma omp for schedule(dynamic, 1)
+      for (size_t k = 0; k < nk; k++) {
+        if (!faces) {
+          bk[k].r = bbc__fail(&bk[k].err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
+          continue;
+        }
+        bake_one(m, set, prm, vshade, light, order[k], &cl->billboards[k], faces, &bk[k]);
+#pragma omp critical(bbc_cloud_progress)
+        {
+          done++;
+          if (cbp) bbc__progress(cbp, "baking", (double)done / (double)nk);
+        }
+      }
+      free(faces);
+    }
+    for (size_t k = 0; k < nk && r == BBC_OK; k++)
+      if (bk[k].r != BBC_OK) {
+        r = bk[k].r;
+        if (err) *err = bk[k].err;
+      }
   }
-  for (size_t k = 0; k < nk; k++) bbc_image_free(&imgs[k]);
+  double t1 = now_s();
+  cl->bake_s = t1 - t0;
+  /* The atlas: front images then back images; the normal atlas packs
+   * images of the same sizes in the same order, so it has the same layout. */
+  int sides = prm->back_images ? 2 : 1;
+  bbc_image *imgs = NULL, atlas = {0, 0, NULL}, nm_atlas = {0, 0, NULL};
+  bbc_atlas_rect *rects = NULL;
+  if (r == BBC_OK) {
+    imgs = calloc((size_t)sides * nk, sizeof *imgs);
+    rects = calloc((size_t)sides * nk, sizeof *rects);
+    if (!imgs || !rects) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
+  }
+  if (r == BBC_OK) {
+    for (size_t k = 0; k < nk; k++) {
+      imgs[k] = bk[k].front;
+      if (sides == 2) imgs[nk + k] = bk[k].back;
+    }
+    r = bbc_atlas_pack(imgs, (size_t)sides * nk, 2, 16384, &atlas, rects, err);
+  }
+  if (r == BBC_OK) {
+    for (size_t k = 0; k < nk; k++) {
+      cl->billboards[k].front = rects[k];
+      if (sides == 2) cl->billboards[k].back = rects[nk + k];
+      cl->texels += (size_t)sides * bk[k].front.width * bk[k].front.height;
+    }
+    cl->atlas_fill = (double)cl->texels / ((double)atlas.width * atlas.height);
+  }
+  if (r == BBC_OK && prm->normal_maps) {
+    for (size_t k = 0; k < nk; k++) {
+      imgs[k] = bk[k].front_nm;
+      if (sides == 2) imgs[nk + k] = bk[k].back_nm;
+    }
+    bbc_atlas_rect *r2 = calloc((size_t)sides * nk, sizeof *r2);
+    if (!r2) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
+    if (r == BBC_OK) r = bbc_atlas_pack(imgs, (size_t)sides * nk, 2, 16384, &nm_atlas, r2, err);
+    if (r == BBC_OK && (nm_atlas.width != atlas.width || nm_atlas.height != atlas.height ||
+                        memcmp(r2, rects, (size_t)sides * nk * sizeof *r2)))
+      r = bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "step 3: the normal atlas's layout differs");
+    free(r2);
+  }
+  if (r == BBC_OK) r = build_mesh(set, prm, cl, &atlas, prm->normal_maps ? &nm_atlas : NULL, err);
+  if (r == BBC_OK) r = bbc_mesh_finalize(&cl->mesh, 0, "billboard cloud", err);
+  cl->atlas_s = now_s() - t1;
+  for (size_t k = 0; bk && k < nk; k++) baked_free(&bk[k]);
   bbc_image_free(&atlas);
-  free(bb);
-  free(keep);
-  free(mask);
+  bbc_image_free(&nm_atlas);
+  free(bk);
   free(imgs);
   free(rects);
+  free(bb);
   free(order);
-  if (r != BBC_OK) bbc_mesh_free(cloud);
+  free(vshade);
+  if (r != BBC_OK) bbc_cloud_free(cl);
   return r;
 }

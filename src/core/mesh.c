@@ -22,6 +22,7 @@ void bbc_mesh_free(bbc_mesh *mesh) {
   free(mesh->normals);
   free(mesh->uvs);
   free(mesh->colors);
+  free(mesh->tangents);
   free(mesh->indices);
   free(mesh->face_material);
   free(mesh->face_group);

@@ -104,6 +104,21 @@ static const param_row k_rows[] = {
     {{"candidates", BBC_PARAM_INT, 1, 4, 1, F1, "extension", "",
       "densest cells refined per plane; the one simplifying most area wins (1 = thesis)"},
      INT_FIELD(candidates)},
+    {{"backimages", BBC_PARAM_BOOL, 0, 1, 1, F3, "extension", "",
+      "1 = front and back image per billboard (two one-sided quads), 0 = front only"},
+     INT_FIELD(back_images)},
+    {{"lightelev", BBC_PARAM_REAL, -90, 90, 60, F3, "extension", "deg",
+      "prelight: the light's elevation above the horizon (model frame)"},
+     DBL_FIELD(light_elev_deg)},
+    {{"lightazim", BBC_PARAM_REAL, -360, 360, 30, F3, "extension", "deg",
+      "prelight: the light's azimuth around the up axis"},
+     DBL_FIELD(light_azim_deg)},
+    {{"shade", BBC_PARAM_INT, 0, 512, 0, F3, "extension", "voxels",
+      "voxel shadowing (2.3.11): voxels per axis, 0 = off (40-150 suit trees)"},
+     INT_FIELD(shade_voxels)},
+    {{"shadeambient", BBC_PARAM_REAL, 0, 1, 0.4, F3, "extension", "",
+      "voxel shadowing: brightness of the darkest voxel (ambient light)"},
+     DBL_FIELD(shade_ambient)},
 };
 
 #define ROW_COUNT (sizeof k_rows / sizeof k_rows[0])

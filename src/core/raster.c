@@ -87,14 +87,53 @@ static uint8_t to_byte(double v) {
   return (uint8_t)(v * 255.0 + 0.5);
 }
 
-static void draw_triangle(const bbc_mesh *m, size_t t, const camera *cam, const bbc_view *view,
-                          const double *light, bbc_image *img, float *depth) {
+/* Everything a triangle needs besides its index. */
+typedef struct target {
+  const camera *cam;
+  const bbc_view *view;
+  double light[3];
+  int width, height;
+  uint8_t *rgba; /* front (or the only) image */
+  float *depth;  /* nearest depth so far (smaller = nearer the camera) */
+  /* Baking only: */
+  const bbc__bake *bake;
+  float *depth_back; /* farthest depth so far (nearest from behind) */
+} target;
+
+static void put_normal(uint8_t *o, const double *n, const camera *cam, double toward) {
+  double x = n[0] * cam->r[0] + n[1] * cam->r[1] + n[2] * cam->r[2];
+  double y = n[0] * cam->u[0] + n[1] * cam->u[1] + n[2] * cam->u[2];
+  double z = -toward * (n[0] * cam->f[0] + n[1] * cam->f[1] + n[2] * cam->f[2]);
+  if (z < 0) { /* two-sided surfaces: the normal faces this image's viewer */
+    x = -x;
+    y = -y;
+    z = -z;
+  }
+  o[0] = to_byte(0.5 * x + 0.5);
+  o[1] = to_byte(0.5 * y + 0.5);
+  o[2] = to_byte(0.5 * z + 0.5);
+  o[3] = 255;
+}
+
+static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
+  const camera *cam = tg->cam;
+  const bbc_view *view = tg->view;
   const uint32_t *ix = m->indices + 3 * t;
   double s[3][3];
   for (int k = 0; k < 3; k++) project(cam, m->positions + 3 * ix[k], s[k]);
   double area =
       (s[1][0] - s[0][0]) * (s[2][1] - s[0][1]) - (s[1][1] - s[0][1]) * (s[2][0] - s[0][0]);
   if (area == 0 || !isfinite(area)) return;
+  /* Counter-clockwise seen by the camera turns clockwise on the y-down
+   * screen: area < 0 means the triangle's front faces the camera. */
+  int faces_camera = area < 0;
+  const bbc_material *mat = &m->materials[m->face_material[t]];
+  int want_front = 1, want_back = tg->bake && tg->bake->back;
+  if (tg->bake ? tg->bake->backface : mat->single_sided) {
+    want_front = faces_camera;
+    want_back = want_back && !faces_camera;
+  }
+  if (!want_front && !want_back) return;
   /* Orient so that the edge functions are positive inside. */
   int order[3] = {0, 1, 2};
   if (area < 0) {
@@ -109,25 +148,28 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const camera *cam, const 
   int y0 = (int)floor(miny - 0.5), y1 = (int)ceil(maxy - 0.5);
   if (x0 < 0) x0 = 0;
   if (y0 < 0) y0 = 0;
-  if (x1 > img->width - 1) x1 = img->width - 1;
-  if (y1 > img->height - 1) y1 = img->height - 1;
+  if (x1 > tg->width - 1) x1 = tg->width - 1;
+  if (y1 > tg->height - 1) y1 = tg->height - 1;
   if (x0 > x1 || y0 > y1) return;
 
   int tl0 = is_top_left(b[0], b[1], c[0], c[1]);
   int tl1 = is_top_left(c[0], c[1], a[0], a[1]);
   int tl2 = is_top_left(a[0], a[1], b[0], b[1]);
 
-  const bbc_material *mat = &m->materials[m->face_material[t]];
   const bbc_image *tex = NULL;
   if (mat->texture >= 0 && m->uvs && m->textures[mat->texture].image.rgba)
     tex = &m->textures[mat->texture].image;
   const float *uv[3] = {NULL, NULL, NULL};
   const float *nv[3] = {NULL, NULL, NULL};
+  float sh[3] = {1, 1, 1};
   for (int k = 0; k < 3; k++) {
     uint32_t vi = ix[order[k]];
     if (m->uvs) uv[k] = m->uvs + 2 * vi;
     nv[k] = m->normals + 3 * vi;
+    if (view->vertex_shade) sh[k] = view->vertex_shade[vi];
   }
+  int slab = view->depth_max > view->depth_min;
+  int need_normal = view->lighting || (tg->bake && (tg->bake->front_nm || tg->bake->back_nm));
 
   for (int y = y0; y <= y1; y++) {
     double py = y + 0.5;
@@ -141,9 +183,11 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const camera *cam, const 
       if ((w0 == 0 && !tl0) || (w1 == 0 && !tl1) || (w2 == 0 && !tl2)) continue;
       double l0 = w0 / area, l1 = w1 / area, l2 = w2 / area;
       float z = (float)(l0 * a[2] + l1 * b[2] + l2 * c[2]);
-      size_t pi = (size_t)y * img->width + x;
-      if (z >= depth[pi]) continue;
-      if (view->depth_max > view->depth_min && (z < view->depth_min || z > view->depth_max))
+      size_t pi = (size_t)y * tg->width + x;
+      int front = want_front && z < tg->depth[pi];
+      int back = want_back && z > tg->depth_back[pi];
+      if (!front && !back) continue;
+      if (slab && (z < view->depth_min || z > view->depth_max))
         continue; /* outside the slab: the triangle is clipped there */
       double col[4] = {mat->base_color[0], mat->base_color[1], mat->base_color[2],
                        mat->base_color[3]};
@@ -154,20 +198,27 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const camera *cam, const 
         for (int k = 0; k < 4; k++) col[k] *= tx[k] / 255.0;
       }
       if (col[3] < 0.5) continue; /* alpha test */
-      if (view->lighting) {
-        double n[3];
+      double n[3] = {0, 0, 1};
+      if (need_normal) {
         for (int k = 0; k < 3; k++) n[k] = l0 * nv[0][k] + l1 * nv[1][k] + l2 * nv[2][k];
         normalize3(n);
-        double d = fabs(n[0] * light[0] + n[1] * light[1] + n[2] * light[2]);
-        double shade = 0.35 + 0.65 * d;
-        for (int k = 0; k < 3; k++) col[k] *= shade;
       }
-      depth[pi] = z;
-      uint8_t *o = img->rgba + 4 * pi;
-      o[0] = to_byte(col[0]);
-      o[1] = to_byte(col[1]);
-      o[2] = to_byte(col[2]);
-      o[3] = 255;
+      double shade = 1.0;
+      if (view->lighting)
+        shade = 0.35 + 0.65 * fabs(n[0] * tg->light[0] + n[1] * tg->light[1] + n[2] * tg->light[2]);
+      if (view->vertex_shade) shade *= l0 * sh[0] + l1 * sh[1] + l2 * sh[2];
+      uint8_t px4[4] = {to_byte(col[0] * shade), to_byte(col[1] * shade), to_byte(col[2] * shade),
+                        255};
+      if (front) {
+        tg->depth[pi] = z;
+        memcpy(tg->rgba + 4 * pi, px4, 4);
+        if (tg->bake && tg->bake->front_nm) put_normal(tg->bake->front_nm + 4 * pi, n, cam, 1);
+      }
+      if (back) {
+        tg->depth_back[pi] = z;
+        memcpy(tg->bake->back + 4 * pi, px4, 4);
+        if (tg->bake->back_nm) put_normal(tg->bake->back_nm + 4 * pi, n, cam, -1);
+      }
     }
   }
 }
@@ -196,16 +247,32 @@ static void draw_point(const bbc_mesh *m, size_t v, const camera *cam, const bbc
     }
 }
 
-bbc_result bbc_render_ortho(const bbc_mesh *m, const bbc_view *view, bbc_image *img,
-                            bbc_error *err) {
-  if (!img->rgba || img->width <= 0 || img->height <= 0)
+static void setup_light(const camera *cam, const bbc_view *view, double *light) {
+  if (view->light[0] != 0 || view->light[1] != 0 || view->light[2] != 0) {
+    memcpy(light, view->light, 3 * sizeof *light);
+  } else { /* from over the viewer's left shoulder */
+    for (int k = 0; k < 3; k++) light[k] = -0.6 * cam->f[k] + 0.6 * cam->u[k] - 0.45 * cam->r[k];
+  }
+  normalize3(light);
+}
+
+static bbc_result check_view(const bbc_view *view, int w, int h, camera *cam, bbc_error *err) {
+  if (w <= 0 || h <= 0)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "render: image not allocated");
   if (!(view->half_extent > 0))
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "render: half_extent must be > 0");
-  camera cam;
-  if (!camera_setup(&cam, view, img->width, img->height))
+  if (!camera_setup(cam, view, w, h))
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "render: up vector is parallel to the view direction");
+  return BBC_OK;
+}
+
+bbc_result bbc_render_ortho(const bbc_mesh *m, const bbc_view *view, bbc_image *img,
+                            bbc_error *err) {
+  if (!img->rgba) return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "render: image not allocated");
+  camera cam;
+  bbc_result r = check_view(view, img->width, img->height, &cam, err);
+  if (r != BBC_OK) return r;
   size_t n = (size_t)img->width * img->height;
   float *depth = malloc(n * sizeof *depth);
   if (!depth) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "render: out of memory");
@@ -213,19 +280,52 @@ bbc_result bbc_render_ortho(const bbc_mesh *m, const bbc_view *view, bbc_image *
     depth[i] = FLT_MAX;
     memcpy(img->rgba + 4 * i, view->background, 4);
   }
-  /* Light from over the viewer's left shoulder, in model coordinates. */
-  double light[3];
-  for (int k = 0; k < 3; k++) light[k] = -0.6 * cam.f[k] + 0.6 * cam.u[k] - 0.45 * cam.r[k];
-  normalize3(light);
+  target tg = {&cam, view, {0, 0, 0}, img->width, img->height, img->rgba, depth, NULL, NULL};
+  setup_light(&cam, view, tg.light);
   if (m->kind == BBC_MESH_POINTS) {
     for (size_t v = 0; v < m->vertex_count; v++) draw_point(m, v, &cam, view, img, depth);
   } else {
     for (size_t t = 0; t < m->triangle_count; t++)
-      if (!view->face_mask || view->face_mask[t])
-        draw_triangle(m, t, &cam, view, light, img, depth);
+      if (!view->face_mask || view->face_mask[t]) draw_triangle(m, t, &tg);
   }
   free(depth);
   return BBC_OK;
+}
+
+bbc_result bbc__render_bake(const bbc_mesh *m, const uint32_t *faces, size_t face_count,
+                            const bbc_view *view, bbc__bake *bake, bbc_error *err) {
+  if (m->kind != BBC_MESH_TRIANGLES || !bake->front)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "bake: needs triangles and a front image");
+  camera cam;
+  bbc_result r = check_view(view, bake->width, bake->height, &cam, err);
+  if (r != BBC_OK) return r;
+  size_t n = (size_t)bake->width * bake->height;
+  float *depth = malloc(2 * n * sizeof *depth);
+  if (!depth) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "bake: out of memory");
+  for (size_t i = 0; i < n; i++) {
+    depth[i] = FLT_MAX;
+    depth[n + i] = -FLT_MAX;
+  }
+  target tg = {&cam,        view,  {0, 0, 0}, bake->width, bake->height,
+               bake->front, depth, bake,      depth + n};
+  setup_light(&cam, view, tg.light);
+  size_t count = faces ? face_count : m->triangle_count;
+  for (size_t i = 0; i < count; i++) draw_triangle(m, faces ? faces[i] : i, &tg);
+  free(depth);
+  return BBC_OK;
+}
+
+int bbc__view_project(const bbc_view *view, int width, int height, const double p[3],
+                      double out[2]) {
+  camera cam;
+  if (width <= 0 || height <= 0 || !(view->half_extent > 0) ||
+      !camera_setup(&cam, view, width, height))
+    return 0;
+  double s[3];
+  project(&cam, p, s);
+  out[0] = s[0];
+  out[1] = s[1];
+  return 1;
 }
 
 void bbc_view_frame_mesh(const bbc_mesh *m, const double direction[3], const double up[3],

@@ -1,9 +1,11 @@
 /* write_gltf.c — glTF 2.0 output (.glb, or .gltf + .bin + .png files), every
  * file atomic, the JSON written by hand (the library does not link a JSON
- * library). Layout of the binary buffer, every bufferView 4-byte aligned:
- *   POSITION (float VEC3), NORMAL (float VEC3, when present), TEXCOORD_0
- *   (float VEC2, when present), then the indices of each primitive (one per
- *   material used, in material order), then (.glb only) the PNG images.
+ * library). Layout of the binary buffer, per mesh in node order, every
+ * bufferView 4-byte aligned: POSITION (float VEC3), NORMAL (float VEC3, when
+ * present), TEXCOORD_0 (float VEC2, when present), TANGENT (float VEC4, when
+ * present), then the indices of each primitive (one per material used, in
+ * material order), then (.glb only) the mesh's PNG images. Accessors follow
+ * the non-image bufferViews one to one.
  * The same mesh and options give byte-identical files. */
 #include "internal.h"
 
@@ -299,20 +301,23 @@ typedef struct view {
   int target; /* 34962 vertex data, 34963 indices, 0 none (images) */
 } view;
 
-bbc_result bbc_mesh_write_gltf(const char *path, const bbc_mesh *m, const bbc_gltf_options *options,
-                               bbc_error *err) {
-  char ext[16];
-  bbc__path_extension(path, ext, sizeof ext);
-  int binary = options ? options->binary : !strcmp(ext, "glb");
-  const char *extras = options ? options->extras_json : NULL;
-  if (strcmp(ext, binary ? "glb" : "gltf"))
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: glTF output must end in %s", path,
-                     binary ? ".glb" : ".gltf");
+/* Per mesh: where its data went. */
+typedef struct mesh_out {
+  size_t first_accessor; /* POSITION; then NORMAL, TEXCOORD_0, TANGENT when present */
+  int has_normal, has_uv, has_tangent;
+  size_t first_index_accessor;
+  size_t first_material; /* glTF material of its material 0 */
+  size_t first_image;    /* glTF image of its first used texture */
+  size_t *mat_tris;      /* triangles per material */
+  int *tex_gltf;         /* mesh texture -> glTF texture, -1 unused */
+  float pmin[3], pmax[3];
+  size_t nv;
+  int small;
+} mesh_out;
+
+static bbc_result check_mesh(const char *path, const bbc_mesh *m, bbc_error *err) {
   if (m->kind != BBC_MESH_TRIANGLES || m->triangle_count == 0 || m->vertex_count == 0)
     return bbc__fail(err, BBC_ERROR_EMPTY, "%s: nothing to write (no triangles)", path);
-  if (extras && !is_json_object(extras))
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: extras_json is not one JSON object",
-                     path);
   if (m->vertex_count > UINT32_MAX || m->triangle_count > UINT32_MAX / 3)
     return bbc__fail(err, BBC_ERROR_OUT_OF_RANGE, "%s: mesh too large for glTF", path);
   for (size_t t = 0; t < m->triangle_count; t++) {
@@ -324,151 +329,197 @@ bbc_result bbc_mesh_write_gltf(const char *path, const bbc_mesh *m, const bbc_gl
         return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY, "%s: triangle %zu: index out of range",
                          path, t);
   }
+  for (size_t i = 0; i < m->material_count; i++)
+    if (m->materials[i].normal_map < 0 || (size_t)m->materials[i].normal_map > m->texture_count)
+      return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: material %zu: bad normal map", path,
+                       i);
+  return BBC_OK;
+}
 
-  char stem[256], dir[2048];
-  safe_stem(path, stem, sizeof stem);
-  bbc__path_folder(path, dir, sizeof dir);
+static int texture_used(const bbc_mesh *m, size_t t) {
+  if (!m->textures[t].image.rgba) return 0;
+  for (size_t i = 0; i < m->material_count; i++)
+    if (m->materials[i].texture == (int)t || m->materials[i].normal_map == (int)t + 1) return 1;
+  return 0;
+}
 
-  gbuf bin = {0}, json = {0}, out = {0};
-  size_t n_mat = m->material_count, n_tex = m->texture_count;
-  size_t *mat_tris = calloc(n_mat + 1, sizeof *mat_tris); /* triangles per material */
-  size_t *mat_first = calloc(n_mat + 1, sizeof *mat_first);
-  uint32_t *sorted = malloc(3 * m->triangle_count * sizeof *sorted);
-  int *tex_gltf = malloc((n_tex + 1) * sizeof *tex_gltf); /* mesh texture -> glTF texture */
-  view *views = calloc(3 + n_mat + n_tex, sizeof *views);
-  bbc_result r = BBC_OK;
-  if (!mat_tris || !mat_first || !sorted || !tex_gltf || !views) {
-    r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
-    goto done;
-  }
-
-  /* Indices grouped by material, keeping the face order within each. */
-  for (size_t t = 0; t < m->triangle_count; t++) mat_tris[m->face_material[t]]++;
-  for (size_t i = 1; i <= n_mat; i++) mat_first[i] = mat_first[i - 1] + mat_tris[i - 1];
-  {
-    size_t *fill = calloc(n_mat + 1, sizeof *fill);
-    if (!fill) {
-      r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
-      goto done;
-    }
-    for (size_t t = 0; t < m->triangle_count; t++) {
-      uint32_t mi = m->face_material[t];
-      memcpy(sorted + 3 * (mat_first[mi] + fill[mi]++), m->indices + 3 * t, 3 * sizeof *sorted);
-    }
-    free(fill);
-  }
-
-  /* Textures used by a material and decoded, in texture order. */
-  size_t n_images = 0;
-  for (size_t t = 0; t < n_tex; t++) tex_gltf[t] = -1;
-  for (size_t i = 0; i < n_mat; i++) {
-    int t = m->materials[i].texture;
-    if (t >= 0 && (size_t)t < n_tex && m->textures[t].image.rgba) tex_gltf[t] = 0;
-  }
-  for (size_t t = 0; t < n_tex; t++)
-    if (tex_gltf[t] == 0) tex_gltf[t] = (int)n_images++;
-
-  /* ---- binary buffer ---- */
-  size_t nv = m->vertex_count, n_views = 0;
-  float pmin[3] = {0}, pmax[3] = {0};
-  views[n_views++] = (view){bin.size, nv * 12, 34962};
+/* Writes one mesh's vertex data, indices and images into the buffer. */
+static bbc_result put_mesh(const char *path, const bbc_mesh *m, int binary, const char *dir,
+                           const char *stem, gbuf *bin, view *views, size_t *n_views,
+                           size_t *n_images, size_t *image_view, mesh_out *mo, bbc_error *err) {
+  size_t nv = m->vertex_count, n_mat = m->material_count;
+  mo->nv = nv;
+  for (size_t t = 0; t < m->triangle_count; t++) mo->mat_tris[m->face_material[t]]++;
+  views[(*n_views)++] = (view){bin->size, nv * 12, 34962};
   for (size_t v = 0; v < nv; v++)
     for (int k = 0; k < 3; k++) {
       float f = (float)m->positions[3 * v + k];
-      if (!isfinite(f)) {
-        r = bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
-                      "%s: vertex %zu does not fit in a float (%g)", path, v,
-                      m->positions[3 * v + k]);
-        goto done;
-      }
-      if (v == 0 || f < pmin[k]) pmin[k] = f;
-      if (v == 0 || f > pmax[k]) pmax[k] = f;
-      gbuf_f32(&bin, f);
+      if (!isfinite(f))
+        return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
+                         "%s: vertex %zu does not fit in a float (%g)", path, v,
+                         m->positions[3 * v + k]);
+      if (v == 0 || f < mo->pmin[k]) mo->pmin[k] = f;
+      if (v == 0 || f > mo->pmax[k]) mo->pmax[k] = f;
+      gbuf_f32(bin, f);
     }
-  int normal_view = -1, uv_view = -1;
   if (m->normals) {
-    normal_view = (int)n_views;
-    views[n_views++] = (view){bin.size, nv * 12, 34962};
+    mo->has_normal = 1;
+    views[(*n_views)++] = (view){bin->size, nv * 12, 34962};
     for (size_t v = 0; v < nv; v++) {
       /* glTF requires unit normals: renormalise float rounding away; a zero
        * or non-finite normal (never from bbc_mesh_finalize) becomes +Z. */
       const float *n = m->normals + 3 * v;
       double len = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
       for (int k = 0; k < 3; k++)
-        gbuf_f32(&bin, isfinite(len) && len > 1e-20 ? (float)(n[k] / len) : (k == 2 ? 1.0f : 0.0f));
+        gbuf_f32(bin, isfinite(len) && len > 1e-20 ? (float)(n[k] / len) : (k == 2 ? 1.0f : 0.0f));
     }
   }
   if (m->uvs) {
-    uv_view = (int)n_views;
-    views[n_views++] = (view){bin.size, nv * 8, 34962};
+    mo->has_uv = 1;
+    views[(*n_views)++] = (view){bin->size, nv * 8, 34962};
     for (size_t v = 0; v < nv; v++) {
       float u = m->uvs[2 * v], w = m->uvs[2 * v + 1];
-      if (!isfinite(u) || !isfinite(w)) {
-        r = bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY, "%s: vertex %zu has a non-finite uv", path,
-                      v);
-        goto done;
-      }
-      gbuf_f32(&bin, u);
-      gbuf_f32(&bin, 1.0f - w); /* OpenGL's bottom-left origin -> glTF's top-left */
+      if (!isfinite(u) || !isfinite(w))
+        return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY, "%s: vertex %zu has a non-finite uv",
+                         path, v);
+      gbuf_f32(bin, u);
+      gbuf_f32(bin, 1.0f - w); /* OpenGL's bottom-left origin -> glTF's top-left */
     }
   }
-  int small = nv <= 65535; /* 65535 itself is the primitive restart value */
-  size_t first_index_view = n_views;
+  if (m->tangents && m->normals) {
+    /* glTF: unit xyz, w = +-1; the bitangent is cross(normal, tangent) * w
+     * and points up the image (our v, glTF's -v). */
+    mo->has_tangent = 1;
+    views[(*n_views)++] = (view){bin->size, nv * 16, 34962};
+    for (size_t v = 0; v < nv; v++) {
+      const float *t = m->tangents + 4 * v;
+      double len = sqrt((double)t[0] * t[0] + (double)t[1] * t[1] + (double)t[2] * t[2]);
+      for (int k = 0; k < 3; k++)
+        gbuf_f32(bin, isfinite(len) && len > 1e-20 ? (float)(t[k] / len) : (k == 0 ? 1.0f : 0.0f));
+      gbuf_f32(bin, t[3] < 0 ? -1.0f : 1.0f);
+    }
+  }
+  /* Indices grouped by material, keeping the face order within each. */
+  mo->small = nv <= 65535; /* 65535 itself is the primitive restart value */
   for (size_t i = 0; i < n_mat; i++) {
-    if (!mat_tris[i]) continue;
-    size_t count = 3 * mat_tris[i];
-    views[n_views++] = (view){bin.size, count * (small ? 2 : 4), 34963};
-    const uint32_t *ix = sorted + 3 * mat_first[i];
-    for (size_t k = 0; k < count; k++) {
-      if (small) {
-        unsigned char q[2] = {(unsigned char)ix[k], (unsigned char)(ix[k] >> 8)};
-        gbuf_append(&bin, q, 2);
-      } else {
-        gbuf_u32(&bin, ix[k]);
+    if (!mo->mat_tris[i]) continue;
+    size_t count = 3 * mo->mat_tris[i];
+    views[(*n_views)++] = (view){bin->size, count * (mo->small ? 2 : 4), 34963};
+    for (size_t t = 0; t < m->triangle_count; t++) {
+      if (m->face_material[t] != i) continue;
+      for (int k = 0; k < 3; k++) {
+        uint32_t ix = m->indices[3 * t + k];
+        if (mo->small) {
+          unsigned char q[2] = {(unsigned char)ix, (unsigned char)(ix >> 8)};
+          gbuf_append(bin, q, 2);
+        } else {
+          gbuf_u32(bin, ix);
+        }
       }
     }
-    gbuf_pad4(&bin, 0);
+    gbuf_pad4(bin, 0);
   }
-  size_t first_image_view = n_views;
-  size_t *png_size = NULL;
-  if (n_images) {
-    png_size = calloc(n_images, sizeof *png_size);
-    if (!png_size) bin.oom = 1;
-  }
-  for (size_t t = 0; t < n_tex && !bin.oom; t++) {
-    if (tex_gltf[t] < 0) continue;
+  /* Textures used by a material and decoded, in texture order. */
+  mo->first_image = *n_images;
+  for (size_t t = 0; t < m->texture_count; t++) {
+    mo->tex_gltf[t] = -1;
+    if (!texture_used(m, t)) continue;
     const bbc_image *im = &m->textures[t].image;
     gbuf png = {0};
     if (!stbi_write_png_to_func(png_to_gbuf, &png, im->width, im->height, 4, im->rgba,
                                 im->width * 4) ||
         png.oom) {
       free(png.data);
-      free(png_size);
-      r = bbc__fail(err, png.oom ? BBC_ERROR_OUT_OF_MEMORY : BBC_ERROR_IO,
-                    "%s: cannot encode texture %zu as PNG", path, t);
-      goto done;
+      return bbc__fail(err, png.oom ? BBC_ERROR_OUT_OF_MEMORY : BBC_ERROR_IO,
+                       "%s: cannot encode texture %zu as PNG", path, t);
     }
+    mo->tex_gltf[t] = (int)*n_images;
+    bbc_result r = BBC_OK;
     if (binary) {
-      views[n_views++] = (view){bin.size, png.size, 0};
-      gbuf_append(&bin, png.data, png.size);
-      gbuf_pad4(&bin, 0);
+      image_view[*n_images] = *n_views;
+      views[(*n_views)++] = (view){bin->size, png.size, 0};
+      gbuf_append(bin, png.data, png.size);
+      gbuf_pad4(bin, 0);
     } else {
       char full[2600];
-      snprintf(full, sizeof full, "%s%s_%d.png", dir, stem, tex_gltf[t]);
+      snprintf(full, sizeof full, "%s%s_%zu.png", dir, stem, *n_images);
       r = bbc_write_file_atomic(full, png.data, png.size, err);
     }
-    png_size[tex_gltf[t]] = png.size;
+    (*n_images)++;
     free(png.data);
-    if (r != BBC_OK) {
-      free(png_size);
-      goto done;
-    }
+    if (r != BBC_OK) return r;
   }
-  free(png_size);
-  if (bin.oom) {
+  if (bin->oom) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+  return BBC_OK;
+}
+
+static void put_floats(gbuf *j, const float *v, int n) {
+  for (int k = 0; k < n; k++) {
+    if (k) gbuf_puts(j, ",");
+    gbuf_number(j, v[k]);
+  }
+}
+
+bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, size_t node_count,
+                                const bbc_gltf_options *options, bbc_error *err) {
+  char ext[16];
+  bbc__path_extension(path, ext, sizeof ext);
+  int binary = options ? options->binary : !strcmp(ext, "glb");
+  const char *extras = options ? options->extras_json : NULL;
+  int lod = options && options->lod_chain && node_count > 1;
+  if (strcmp(ext, binary ? "glb" : "gltf"))
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: glTF output must end in %s", path,
+                     binary ? ".glb" : ".gltf");
+  if (node_count == 0 || !nodes)
+    return bbc__fail(err, BBC_ERROR_EMPTY, "%s: nothing to write (no meshes)", path);
+  if (extras && !is_json_object(extras))
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: extras_json is not one JSON object",
+                     path);
+  size_t total_views = 0, total_tex = 0, total_mat = 0;
+  for (size_t n = 0; n < node_count; n++) {
+    bbc_result r = check_mesh(path, nodes[n].mesh, err);
+    if (r != BBC_OK) return r;
+    if (nodes[n].extras_json && !is_json_object(nodes[n].extras_json))
+      return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
+                       "%s: node %zu: extras_json is not one JSON object", path, n);
+    total_views += 4 + nodes[n].mesh->material_count + nodes[n].mesh->texture_count;
+    total_tex += nodes[n].mesh->texture_count;
+    total_mat += nodes[n].mesh->material_count;
+  }
+
+  char stem[256], dir[2048];
+  safe_stem(path, stem, sizeof stem);
+  bbc__path_folder(path, dir, sizeof dir);
+
+  gbuf bin = {0}, json = {0}, out = {0};
+  mesh_out *mo = calloc(node_count, sizeof *mo);
+  view *views = calloc(total_views, sizeof *views);
+  size_t *image_view = calloc(total_tex + 1, sizeof *image_view);
+  bbc_result r = BBC_OK;
+  if (!mo || !views || !image_view) {
     r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
     goto done;
   }
+  size_t n_views = 0, n_images = 0, n_acc = 0, n_mat = 0;
+  for (size_t n = 0; n < node_count && r == BBC_OK; n++) {
+    const bbc_mesh *m = nodes[n].mesh;
+    mo[n].mat_tris = calloc(m->material_count + 1, sizeof *mo[n].mat_tris);
+    mo[n].tex_gltf = calloc(m->texture_count + 1, sizeof *mo[n].tex_gltf);
+    if (!mo[n].mat_tris || !mo[n].tex_gltf) {
+      r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+      break;
+    }
+    r = put_mesh(path, m, binary, dir, stem, &bin, views, &n_views, &n_images, image_view, &mo[n],
+                 err);
+    mo[n].first_accessor = n_acc;
+    n_acc += 1 + (size_t)mo[n].has_normal + (size_t)mo[n].has_uv + (size_t)mo[n].has_tangent;
+    mo[n].first_index_accessor = n_acc;
+    for (size_t i = 0; i < m->material_count; i++) n_acc += mo[n].mat_tris[i] ? 1 : 0;
+    mo[n].first_material = n_mat;
+    n_mat += m->material_count;
+  }
+  (void)total_mat;
+  if (r != BBC_OK) goto done;
 
   /* ---- JSON ---- */
   gbuf *j = &json;
@@ -477,84 +528,129 @@ bbc_result bbc_mesh_write_gltf(const char *path, const bbc_mesh *m, const bbc_gl
     gbuf_puts(j, ",\"extras\":");
     gbuf_puts(j, extras);
   }
-  gbuf_puts(j, "},\n\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],\n");
-
-  /* One primitive per material used; attributes shared. */
-  gbuf_puts(j, "\"meshes\":[{\"primitives\":[");
-  size_t acc = (size_t)(1 + (normal_view >= 0) + (uv_view >= 0)), prim = 0;
-  for (size_t i = 0; i < n_mat; i++) {
-    if (!mat_tris[i]) continue;
-    gbuf_printf(j, "%s\n{\"attributes\":{\"POSITION\":0", prim ? "," : "");
-    if (normal_view >= 0) gbuf_puts(j, ",\"NORMAL\":1");
-    if (uv_view >= 0) gbuf_printf(j, ",\"TEXCOORD_0\":%d", normal_view >= 0 ? 2 : 1);
-    gbuf_printf(j, "},\"indices\":%zu,\"material\":%zu,\"mode\":4}", acc + prim, i);
-    prim++;
+  gbuf_puts(j, "},\n");
+  if (lod) gbuf_puts(j, "\"extensionsUsed\":[\"MSFT_lod\"],\n");
+  /* Without a LOD chain every node is in the scene; with one, the finest
+   * only, which names the coarser ones (MSFT_lod). */
+  gbuf_puts(j, "\"scene\":0,\"scenes\":[{\"nodes\":[");
+  for (size_t n = 0; n < (lod ? 1 : node_count); n++) gbuf_printf(j, "%s%zu", n ? "," : "", n);
+  gbuf_puts(j, "]}],\n\"nodes\":[");
+  for (size_t n = 0; n < node_count; n++) {
+    gbuf_printf(j, "%s\n{\"mesh\":%zu", n ? "," : "", n);
+    if (nodes[n].name) {
+      gbuf_puts(j, ",\"name\":");
+      gbuf_string(j, nodes[n].name);
+    }
+    if (lod && n == 0) {
+      gbuf_puts(j, ",\"extensions\":{\"MSFT_lod\":{\"ids\":[");
+      for (size_t k = 1; k < node_count; k++) gbuf_printf(j, "%s%zu", k > 1 ? "," : "", k);
+      gbuf_puts(j, "]}}");
+    }
+    if (nodes[n].extras_json) {
+      gbuf_puts(j, ",\"extras\":");
+      gbuf_puts(j, nodes[n].extras_json);
+    }
+    gbuf_puts(j, "}");
   }
-  gbuf_puts(j, "]}],\n");
+  gbuf_puts(j, "],\n\"meshes\":[");
+  for (size_t n = 0; n < node_count; n++) {
+    const bbc_mesh *m = nodes[n].mesh;
+    const mesh_out *o = &mo[n];
+    gbuf_puts(j, n ? ",\n{\"primitives\":[" : "\n{\"primitives\":[");
+    size_t prim = 0, a = o->first_accessor;
+    for (size_t i = 0; i < m->material_count; i++) {
+      if (!o->mat_tris[i]) continue;
+      size_t next = a + 1;
+      gbuf_printf(j, "%s\n{\"attributes\":{\"POSITION\":%zu", prim ? "," : "", a);
+      if (o->has_normal) gbuf_printf(j, ",\"NORMAL\":%zu", next++);
+      if (o->has_uv) gbuf_printf(j, ",\"TEXCOORD_0\":%zu", next++);
+      if (o->has_tangent) gbuf_printf(j, ",\"TANGENT\":%zu", next++);
+      gbuf_printf(j, "},\"indices\":%zu,\"material\":%zu,\"mode\":4}",
+                  o->first_index_accessor + prim, o->first_material + i);
+      prim++;
+    }
+    gbuf_puts(j, "]}");
+  }
+  gbuf_puts(j, "],\n");
 
   gbuf_puts(j, "\"materials\":[");
-  for (size_t i = 0; i < n_mat; i++) {
-    const bbc_material *mat = &m->materials[i];
-    gbuf_puts(j, i ? ",\n{\"name\":" : "\n{\"name\":");
-    gbuf_string(j, mat->name ? mat->name : "");
-    gbuf_puts(j, ",\"pbrMetallicRoughness\":{\"baseColorFactor\":[");
-    for (int k = 0; k < 4; k++) {
-      float c = mat->base_color[k];
-      c = c >= 0.0f ? (c <= 1.0f ? c : 1.0f) : (c < 0.0f ? 0.0f : 1.0f); /* NaN -> 1 */
-      if (k) gbuf_puts(j, ",");
-      gbuf_number(j, c);
+  for (size_t n = 0; n < node_count; n++) {
+    const bbc_mesh *m = nodes[n].mesh;
+    for (size_t i = 0; i < m->material_count; i++) {
+      const bbc_material *mat = &m->materials[i];
+      gbuf_puts(j, n || i ? ",\n{\"name\":" : "\n{\"name\":");
+      gbuf_string(j, mat->name ? mat->name : "");
+      gbuf_puts(j, ",\"pbrMetallicRoughness\":{\"baseColorFactor\":[");
+      for (int k = 0; k < 4; k++) {
+        float c = mat->base_color[k];
+        c = c >= 0.0f ? (c <= 1.0f ? c : 1.0f) : (c < 0.0f ? 0.0f : 1.0f); /* NaN -> 1 */
+        if (k) gbuf_puts(j, ",");
+        gbuf_number(j, c);
+      }
+      gbuf_puts(j, "]");
+      int t = mat->texture;
+      if (t >= 0 && (size_t)t < m->texture_count && mo[n].tex_gltf[t] >= 0)
+        gbuf_printf(j, ",\"baseColorTexture\":{\"index\":%d}", mo[n].tex_gltf[t]);
+      gbuf_puts(j, ",\"metallicFactor\":0,\"roughnessFactor\":1}");
+      int nmt = mat->normal_map - 1;
+      if (nmt >= 0 && mo[n].tex_gltf[nmt] >= 0 && mo[n].has_tangent)
+        gbuf_printf(j, ",\"normalTexture\":{\"index\":%d}", mo[n].tex_gltf[nmt]);
+      gbuf_printf(j, ",\"alphaMode\":\"MASK\",\"alphaCutoff\":0.5,\"doubleSided\":%s}",
+                  mat->single_sided ? "false" : "true");
     }
-    gbuf_puts(j, "]");
-    int t = mat->texture;
-    if (t >= 0 && (size_t)t < n_tex && tex_gltf[t] >= 0)
-      gbuf_printf(j, ",\"baseColorTexture\":{\"index\":%d}", tex_gltf[t]);
-    gbuf_puts(j, ",\"metallicFactor\":0,\"roughnessFactor\":1},"
-                 "\"alphaMode\":\"MASK\",\"alphaCutoff\":0.5,\"doubleSided\":true}");
   }
   gbuf_puts(j, "],\n");
 
   if (n_images) {
-    gbuf_puts(j, "\"samplers\":[{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":10497,"
-                 "\"wrapT\":10497}],\n\"textures\":[");
+    gbuf_puts(j, "\"samplers\":[{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":33071,"
+                 "\"wrapT\":33071}],\n\"textures\":[");
     for (size_t i = 0; i < n_images; i++)
       gbuf_printf(j, "%s{\"sampler\":0,\"source\":%zu}", i ? "," : "", i);
     gbuf_puts(j, "],\n\"images\":[");
     for (size_t i = 0; i < n_images; i++) {
       if (binary)
         gbuf_printf(j, "%s{\"bufferView\":%zu,\"mimeType\":\"image/png\"}", i ? "," : "",
-                    first_image_view + i);
+                    image_view[i]);
       else
         gbuf_printf(j, "%s{\"uri\":\"%s_%zu.png\"}", i ? "," : "", stem, i);
     }
     gbuf_puts(j, "],\n");
   }
 
-  gbuf_printf(j,
-              "\"accessors\":[\n{\"bufferView\":0,\"componentType\":5126,\"count\":%zu,"
-              "\"type\":\"VEC3\",\"min\":[",
-              nv);
-  for (int k = 0; k < 3; k++) {
-    if (k) gbuf_puts(j, ",");
-    gbuf_number(j, pmin[k]);
-  }
-  gbuf_puts(j, "],\"max\":[");
-  for (int k = 0; k < 3; k++) {
-    if (k) gbuf_puts(j, ",");
-    gbuf_number(j, pmax[k]);
-  }
-  gbuf_puts(j, "]}");
-  if (normal_view >= 0)
-    gbuf_printf(j, ",\n{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\"}",
-                normal_view, nv);
-  if (uv_view >= 0)
-    gbuf_printf(j, ",\n{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"}",
-                uv_view, nv);
-  prim = 0;
-  for (size_t i = 0; i < n_mat; i++) {
-    if (!mat_tris[i]) continue;
-    gbuf_printf(j, ",\n{\"bufferView\":%zu,\"componentType\":%d,\"count\":%zu,\"type\":\"SCALAR\"}",
-                first_index_view + prim, small ? 5123 : 5125, 3 * mat_tris[i]);
-    prim++;
+  /* Accessors follow the bufferViews one to one, except images. */
+  gbuf_puts(j, "\"accessors\":[");
+  size_t vi = 0, acc = 0;
+  for (size_t n = 0; n < node_count; n++) {
+    const bbc_mesh *m = nodes[n].mesh;
+    const mesh_out *o = &mo[n];
+    gbuf_printf(j,
+                "%s\n{\"bufferView\":%zu,\"componentType\":5126,\"count\":%zu,"
+                "\"type\":\"VEC3\",\"min\":[",
+                acc++ ? "," : "", vi++, o->nv);
+    put_floats(j, o->pmin, 3);
+    gbuf_puts(j, "],\"max\":[");
+    put_floats(j, o->pmax, 3);
+    gbuf_puts(j, "]}");
+    if (o->has_normal)
+      gbuf_printf(j,
+                  ",\n{\"bufferView\":%zu,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\"}",
+                  vi++, o->nv);
+    if (o->has_uv)
+      gbuf_printf(j,
+                  ",\n{\"bufferView\":%zu,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"}",
+                  vi++, o->nv);
+    if (o->has_tangent)
+      gbuf_printf(j,
+                  ",\n{\"bufferView\":%zu,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC4\"}",
+                  vi++, o->nv);
+    for (size_t i = 0; i < m->material_count; i++) {
+      if (!o->mat_tris[i]) continue;
+      gbuf_printf(j,
+                  ",\n{\"bufferView\":%zu,\"componentType\":%d,\"count\":%zu,\"type\":\"SCALAR\"}",
+                  vi++, o->small ? 5123 : 5125, 3 * o->mat_tris[i]);
+    }
+    for (size_t t = 0; t < m->texture_count; t++)
+      if (o->tex_gltf[t] >= 0 && binary) vi++;
   }
   gbuf_puts(j, "],\n\"bufferViews\":[");
   for (size_t i = 0; i < n_views; i++) {
@@ -605,10 +701,18 @@ done:
   free(bin.data);
   free(json.data);
   free(out.data);
-  free(mat_tris);
-  free(mat_first);
-  free(sorted);
-  free(tex_gltf);
+  for (size_t n = 0; mo && n < node_count; n++) {
+    free(mo[n].mat_tris);
+    free(mo[n].tex_gltf);
+  }
+  free(mo);
   free(views);
+  free(image_view);
   return r;
+}
+
+bbc_result bbc_mesh_write_gltf(const char *path, const bbc_mesh *m, const bbc_gltf_options *options,
+                               bbc_error *err) {
+  bbc_gltf_node node = {m, NULL, NULL};
+  return bbc_scene_write_gltf(path, &node, 1, options, err);
 }

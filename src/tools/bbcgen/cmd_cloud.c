@@ -47,30 +47,30 @@ int cmd_cloud(cli *c, int argc, char **argv) {
     return cli_fail(&err, 0);
   }
   double t2 = cli_now();
-  bbc_mesh cloud;
+  bbc_cloud cloud;
   int rc = EXIT_OK;
-  if (bbc_cloud_build(&m, &set, &c->params, &cloud, &err) != BBC_OK) {
+  if (bbc_cloud_build(&m, &set, &c->params, &c->callbacks, &cloud, &err) != BBC_OK) {
     rc = cli_fail(&err, 0);
   } else {
     double t3 = cli_now();
     bbc_result r;
     if (obj) {
-      r = bbc_mesh_write_obj(out, &cloud, &err);
+      r = bbc_mesh_write_obj(out, &cloud.mesh, &err);
     } else {
-      bbc_gltf_options go = {glb, NULL};
-      r = bbc_mesh_write_gltf(out, &cloud, &go, &err);
+      bbc_gltf_options go = {glb, NULL, 0};
+      r = bbc_mesh_write_gltf(out, &cloud.mesh, &go, &err);
     }
     if (r != BBC_OK) {
       rc = cli_fail(&err, 1);
     } else {
-      const bbc_image *a = &cloud.textures[0].image;
+      const bbc_image *a = &cloud.mesh.textures[0].image;
       cli_info(c,
                "wrote %s: %zu billboards (%zu planes), atlas %dx%d; load %.2f s, steps 1+2 "
                "%.2f s, step 3 %.2f s",
-               out, cloud.triangle_count / 2, set.plane_count, a->width, a->height, t1 - t0,
-               t2 - t1, t3 - t2);
+               out, cloud.billboard_count, set.plane_count, a->width, a->height, t1 - t0, t2 - t1,
+               t3 - t2);
     }
-    bbc_mesh_free(&cloud);
+    bbc_cloud_free(&cloud);
   }
   bbc_planeset_free(&set);
   bbc_mesh_free(&m);

@@ -548,6 +548,21 @@ bbc_result bbc_cloud_build(const bbc_mesh *mesh, const bbc_planeset *set, const 
                            const bbc_callbacks *callbacks, bbc_cloud *cloud, bbc_error *err);
 void bbc_cloud_free(bbc_cloud *cloud);
 
+/* Writes a cloud as VRML (thesis Appendix A, "save"), atomically: `wrl_path`
+ * (must end in .wrl) and beside it <stem>.png, the colour atlas (PNG with
+ * alpha), and with normal maps <stem>_nm.png. One Shape per billboard side
+ * (front, and back when the cloud has back images): ImageTexture of the
+ * atlas, IndexedFaceSet with its outline as one polygon, texture
+ * coordinates into the atlas, `solid TRUE` for one-sided copies and FALSE
+ * for a double-sided one. format 1 = pure VRML97; format 0 = the thesis's
+ * VRML 2.0 with Open Inventor-style extensions: the same file plus, with
+ * normal maps, a `NormalMap { url "<stem>_nm.png" }` node beside each Shape
+ * (the two in a Group; VRML97's Appearance takes no extra fields), declared
+ * by a no-op PROTO at the top, so VRML97 readers still parse it. `comment`
+ * (may be NULL) goes into the header as # lines. */
+bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, int format,
+                                const char *comment, bbc_error *err);
+
 /* The unit direction towards the prelight light (lightelev, lightazim,
  * upaxis of `params`) in the model's frame. */
 void bbc_params_light_direction(const bbc_params *params, double light[3]);
@@ -599,6 +614,10 @@ typedef struct bbc_view {
  * centre is inside a triangle (top-left rule on shared edges). Deterministic. */
 bbc_result bbc_render_ortho(const bbc_mesh *mesh, const bbc_view *view, bbc_image *image,
                             bbc_error *err);
+
+/* Where model point p lands in a width x height image rendered with `view`:
+ * out = (x right, y down) in pixels. Returns 0 when the view is invalid. */
+int bbc_view_project(const bbc_view *view, int width, int height, const double p[3], double out[2]);
 
 /* Fills `view` to look at the whole mesh along `direction` with `up`,
  * framing its bounding sphere with a small margin. */

@@ -113,9 +113,4 @@ typedef struct bbc__bake {
 bbc_result bbc__render_bake(const bbc_mesh *mesh, const uint32_t *faces, size_t face_count,
                             const bbc_view *view, bbc__bake *bake, bbc_error *err);
 
-/* Screen position (pixels, y down) of model point p in a width x height
- * image rendered with `view`; 0 when the view is invalid. */
-int bbc__view_project(const bbc_view *view, int width, int height, const double p[3],
-                      double out[2]);
-
 #endif /* BBC_INTERNAL_H */

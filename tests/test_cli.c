@@ -391,6 +391,66 @@ static void test_exec_batch(void **state) {
   free(bf);
 }
 
+/* bbcgen MODEL -o OUT: option errors before any work; batch bbc/shade/save
+ * write the thesis's VRML folder. */
+static void test_cloud_command(void **state) {
+  (void)state;
+  char path[1024], args[4096], text[2048];
+  tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
+  if (!tu_have_file(path)) skip();
+  char *out, *err;
+  const char *bad[][3] = {
+      {"--lod 10,5", "1", "must increase"},
+      {"--lod 5,abc", "1", "not a list"},
+      {"--preview p.jpg", "1", ".png"},
+      {"--report r.txt", "1", ".json"},
+  };
+  for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+    snprintf(args, sizeof args, "'%s' -o '%s/t.glb' %s", path, tu_dir, bad[i][0]);
+    assert_int_equal(run(args, &out, &err), atoi(bad[i][1]));
+    if (!strstr(err, bad[i][2])) fail_msg("%s: %s", bad[i][0], err);
+    free(out);
+    free(err);
+  }
+  snprintf(args, sizeof args, "'%s' -o '%s/no/such/t.glb'", path, tu_dir);
+  assert_int_equal(run(args, &out, &err), 5);
+  assert_non_null(strstr(err, "does not exist"));
+  free(out);
+  free(err);
+  snprintf(args, sizeof args, "'%s' -o '%s/t.png'", path, tu_dir);
+  assert_int_equal(run(args, &out, &err), 1);
+  free(out);
+  free(err);
+  /* Batch: bbc3 needs bbc2; bbc then save writes the Appendix A folder. */
+  char *bf = tu_write_file(tu_dir, "c3.bbc", "load x.obj\nbbc3\n", 16);
+  snprintf(args, sizeof args, "exec '%s'", bf);
+  assert_int_equal(run(args, &out, &err), 1);
+  assert_non_null(strstr(err, "bbc3 needs bbc2"));
+  free(out);
+  free(err);
+  free(bf);
+  snprintf(text, sizeof text, "load %s\nset texres 32\nshade 20 0.5\nbbc\nsave forest\n", path);
+  bf = tu_write_file(tu_dir, "save.bbc", text, strlen(text));
+  char cmd[4096];
+  snprintf(cmd, sizeof cmd, "cd '%s' && '%s/bbcgen' exec '%s' -q > /dev/null 2>&1", tu_dir,
+           BBC_BIN_DIR, bf);
+  int st = system(cmd);
+  assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+  char wrl[2048], png[2048];
+  snprintf(wrl, sizeof wrl, "%s/vrml97models/forest/Tree_1/Tree_1_e5.00_tex32_pl/Tree_1.wrl",
+           tu_dir);
+  snprintf(png, sizeof png, "%s/vrml97models/forest/Tree_1/Tree_1_e5.00_tex32_pl/Tree_1.png",
+           tu_dir);
+  size_t n;
+  unsigned char *w = tu_read_file(wrl, &n), *p = tu_read_file(png, NULL);
+  assert_non_null(w);
+  assert_non_null(p);
+  assert_true(n > 100 && !memcmp(w, "#VRML V2.0 utf8", 15));
+  free(w);
+  free(p);
+  free(bf);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_info_pine),
@@ -403,6 +463,7 @@ int main(void) {
       cmocka_unit_test(test_tree_command),
       cmocka_unit_test(test_planes_json_identical),
       cmocka_unit_test(test_exec_batch),
+      cmocka_unit_test(test_cloud_command),
   };
   return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

@@ -152,17 +152,6 @@ static void assert_uv_orientation(const bbc_mesh *m) {
   }
 }
 
-/* scripts/gltf_validate.sh, found from this file's path (CMake compiles it
- * by absolute path). */
-static void validator_path(char *buf, size_t n) {
-  snprintf(buf, n, "%s", __FILE__);
-  char *slash = strrchr(buf, '/');
-  if (slash) *slash = 0;
-  size_t len = strlen(buf);
-  snprintf(buf + len, n - len, "%s",
-           slash ? "/../scripts/gltf_validate.sh" : "../scripts/gltf_validate.sh");
-}
-
 static int g_validator_missing; /* once unavailable, skip at once */
 
 /* Runs the Khronos validator on `path`: must report 0 errors. Skips (never
@@ -172,21 +161,13 @@ static void validate(const char *path) {
     printf("SKIP: gltf-validator unavailable\n");
     skip();
   }
-  char script[1024];
-  validator_path(script, sizeof script);
-  struct stat st;
-  if (stat(script, &st) != 0) fail_msg("validator script %s is missing", script);
-  char cmd[4096];
-  snprintf(cmd, sizeof cmd, "'%s' '%s'", script, path);
-  fflush(stdout);
-  int rc = system(cmd);
-  assert_true(rc != -1 && WIFEXITED(rc));
-  if (WEXITSTATUS(rc) == 3) {
+  int rc = tu_gltf_validate(path);
+  if (rc == 3) {
     g_validator_missing = 1;
     printf("SKIP: gltf-validator unavailable\n");
     skip();
   }
-  if (WEXITSTATUS(rc) != 0) fail_msg("%s: the glTF validator reports errors", path);
+  if (rc != 0) fail_msg("%s: the glTF validator reports errors (exit %d)", path, rc);
 }
 
 /* The GLB container: header, a space-padded JSON chunk and a zero-padded BIN

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 char *mkdtemp(char *template_path);
@@ -106,4 +107,24 @@ int tu_group_teardown(void **state) {
   free(tu_dir);
   tu_dir = NULL;
   return 0;
+}
+
+int tu_gltf_validate(const char *path) {
+  /* scripts/gltf_validate.sh, found from this file's path (CMake compiles it
+   * by absolute path). */
+  char script[1024];
+  snprintf(script, sizeof script, "%s", __FILE__);
+  char *slash = strrchr(script, '/');
+  if (slash) *slash = 0;
+  size_t len = strlen(script);
+  snprintf(script + len, sizeof script - len, "%s",
+           slash ? "/../scripts/gltf_validate.sh" : "../scripts/gltf_validate.sh");
+  struct stat st;
+  if (stat(script, &st) != 0) return 2;
+  char cmd[4096];
+  snprintf(cmd, sizeof cmd, "'%s' '%s'", script, path);
+  fflush(stdout);
+  int rc = system(cmd);
+  if (rc == -1 || !WIFEXITED(rc)) return 2;
+  return WEXITSTATUS(rc);
 }

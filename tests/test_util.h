@@ -18,6 +18,10 @@ unsigned char *tu_read_file(const char *path, size_t *size);
 /* Removes a folder and everything in it (one level deep is enough here). */
 void tu_remove_dir(const char *dir);
 
+/* Runs scripts/gltf_validate.sh (the Khronos validator) on a .glb/.gltf:
+ * 0 no errors, 1 errors, 3 the validator is unavailable, other: failure. */
+int tu_gltf_validate(const char *path);
+
 /* cmocka group fixtures: a temporary folder in tu_dir for the whole group. */
 extern char *tu_dir;
 int tu_group_setup(void **state);

@@ -315,8 +315,8 @@ bbc_result bbc__render_bake(const bbc_mesh *m, const uint32_t *faces, size_t fac
   return BBC_OK;
 }
 
-int bbc__view_project(const bbc_view *view, int width, int height, const double p[3],
-                      double out[2]) {
+int bbc_view_project(const bbc_view *view, int width, int height, const double p[3],
+                     double out[2]) {
   camera cam;
   if (width <= 0 || height <= 0 || !(view->half_extent > 0) ||
       !camera_setup(&cam, view, width, height))

@@ -15,8 +15,7 @@ static int compare_float(const void *a, const void *b) {
 
 bbc_result bbc_shade_vertices(const bbc_mesh *m, int voxels, double ambient, int up_axis,
                               float *shade, bbc_error *err) {
-  if (voxels < 1 || voxels > 512 || up_axis < 0 || up_axis > 2 || !(ambient >= 0) ||
-      ambient > 1)
+  if (voxels < 1 || voxels > 512 || up_axis < 0 || up_axis > 2 || !(ambient >= 0) || ambient > 1)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "shade: voxels must be 1..512, ambient 0..1, up axis 0..2");
   size_t nv = m->vertex_count;

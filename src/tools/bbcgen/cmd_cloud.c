@@ -1,78 +1,121 @@
-/* cmd_cloud.c — `bbcgen MODEL -o OUT.glb|.gltf|.obj [options]`: the whole
- * pipeline, steps 1 to 3 (step 3 is a first version: see README, Status). */
-#include "cli.h"
+/* cmd_cloud.c — `bbcgen MODEL -o OUT.glb|.gltf|.obj|.wrl [options]`: the whole
+ * pipeline, steps 1 to 3, with levels of detail, a report and a preview. */
+#include "pipeline.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+
+/* Refuses an output whose folder does not exist before hours of work. */
+static int folder_ok(const char *opt, const char *path) {
+  const char *slash = strrchr(path, '/');
+  if (!slash) return 1;
+  char dir[4096];
+  snprintf(dir, sizeof dir, "%.*s", (int)(slash - path) + (slash == path), path);
+  struct stat st;
+  if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
+    cli_error("%s %s: the folder %s does not exist", opt, path, dir);
+    return 0;
+  }
+  return 1;
+}
+
+/* "5,10,15" -> increasing epsilons in percent; -1 on error (printed). */
+static int parse_lods(const char *text, double *eps, size_t max, size_t *count) {
+  const bbc_param_info *info = bbc_param_find("epsilon");
+  *count = 0;
+  const char *p = text;
+  while (*p) {
+    char *end;
+    double v = strtod(p, &end);
+    if (end == p || !(v >= info->min && v <= info->max) || (*end && *end != ',')) {
+      cli_error("--lod: '%s' is not a list of epsilons in %g..%g (percent), e.g. 5,10,15", text,
+                info->min, info->max);
+      return -1;
+    }
+    if (*count == max) {
+      cli_error("--lod: at most %zu levels", max);
+      return -1;
+    }
+    if (*count && v <= eps[*count - 1]) {
+      cli_error("--lod: the epsilons must increase (finest level first): '%s'", text);
+      return -1;
+    }
+    eps[(*count)++] = v;
+    p = *end ? end + 1 : end;
+  }
+  if (!*count) {
+    cli_error("--lod needs at least one epsilon");
+    return -1;
+  }
+  return 0;
+}
 
 int cmd_cloud(cli *c, int argc, char **argv) {
-  const char *path = argv[0], *out = NULL;
+  const char *path = argv[0], *out = NULL, *report = NULL, *preview = NULL;
+  double eps[JOB_MAX_LODS];
+  size_t lods = 0;
+  long long cell = 256;
   for (int i = 1; i < argc; i++) {
     int k = cli_common_option(c, argc, argv, &i);
     if (k < 0) return EXIT_USAGE;
     if (k) continue;
+    const char *v;
     if (!strcmp(argv[i], "-o") || !strcmp(argv[i], "--output")) {
       if (!(out = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+    } else if (!strcmp(argv[i], "--report")) {
+      if (!(report = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+    } else if (!strcmp(argv[i], "--preview")) {
+      if (!(preview = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+    } else if (!strcmp(argv[i], "--preview-size")) {
+      if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+      if ((cell = cli_parse_count(argv[i - 1], v, 4096)) < 16) {
+        if (cell >= 0) cli_error("--preview-size: at least 16 pixels");
+        return EXIT_USAGE;
+      }
+    } else if (!strcmp(argv[i], "--lod")) {
+      if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+      if (parse_lods(v, eps, JOB_MAX_LODS, &lods) < 0) return EXIT_USAGE;
     } else {
       cli_error("unknown option '%s' (try bbcgen --help)", argv[i]);
       return EXIT_USAGE;
     }
   }
   if (!out) {
-    cli_error("usage: bbcgen MODEL -o OUT.glb|OUT.gltf|OUT.obj [options]");
+    cli_error("usage: bbcgen MODEL -o OUT.glb|OUT.gltf|OUT.obj|OUT.wrl [options]");
     return EXIT_USAGE;
   }
-  size_t n = strlen(out);
-  int glb = n > 4 && !strcmp(out + n - 4, ".glb"), gltf = n > 5 && !strcmp(out + n - 5, ".gltf");
-  int obj = n > 4 && !strcmp(out + n - 4, ".obj");
-  if (!glb && !gltf && !obj) {
-    cli_error("the output must end in .glb, .gltf or .obj, not '%s'", out);
+  const char *ext = strrchr(out, '.');
+  if (!ext ||
+      (strcmp(ext, ".glb") && strcmp(ext, ".gltf") && strcmp(ext, ".obj") && strcmp(ext, ".wrl"))) {
+    cli_error("the output must end in .glb, .gltf, .obj or .wrl, not '%s'", out);
     return EXIT_USAGE;
   }
-  bbc_planes_options po;
-  if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
-  bbc_load_options lo;
-  bbc_load_options_default(&lo);
-  lo.compute_normals = c->params.vertex_normals;
-  lo.callbacks = c->callbacks;
-  bbc_mesh m;
-  bbc_error err;
-  double t0 = cli_now();
-  if (bbc_mesh_load(path, &lo, &m, &err) != BBC_OK) return cli_fail(&err, 0);
-  double t1 = cli_now();
-  bbc_planeset set;
-  if (bbc_planes_find(&m, &po, &set, &err) != BBC_OK) {
-    bbc_mesh_free(&m);
-    return cli_fail(&err, 0);
+  size_t pn = preview ? strlen(preview) : 0, rn = report ? strlen(report) : 0;
+  if (preview && (pn < 4 || strcmp(preview + pn - 4, ".png"))) {
+    cli_error("--preview: the file must end in .png, not '%s'", preview);
+    return EXIT_USAGE;
   }
-  double t2 = cli_now();
-  bbc_cloud cloud;
-  int rc = EXIT_OK;
-  if (bbc_cloud_build(&m, &set, &c->params, &c->callbacks, &cloud, &err) != BBC_OK) {
-    rc = cli_fail(&err, 0);
-  } else {
-    double t3 = cli_now();
-    bbc_result r;
-    if (obj) {
-      r = bbc_mesh_write_obj(out, &cloud.mesh, &err);
-    } else {
-      bbc_gltf_options go = {glb, NULL, 0};
-      r = bbc_mesh_write_gltf(out, &cloud.mesh, &go, &err);
-    }
-    if (r != BBC_OK) {
-      rc = cli_fail(&err, 1);
-    } else {
-      const bbc_image *a = &cloud.mesh.textures[0].image;
-      cli_info(c,
-               "wrote %s: %zu billboards (%zu planes), atlas %dx%d; load %.2f s, steps 1+2 "
-               "%.2f s, step 3 %.2f s",
-               out, cloud.billboard_count, set.plane_count, a->width, a->height, t1 - t0, t2 - t1,
-               t3 - t2);
-    }
-    bbc_cloud_free(&cloud);
+  if (report && (rn < 5 || strcmp(report + rn - 5, ".json"))) {
+    cli_error("--report: the file must end in .json, not '%s'", report);
+    return EXIT_USAGE;
   }
-  bbc_planeset_free(&set);
-  bbc_mesh_free(&m);
+  if (!folder_ok("-o", out) || (preview && !folder_ok("--preview", preview)) ||
+      (report && !folder_ok("--report", report)))
+    return EXIT_OUTPUT;
+  job j;
+  int rc = job_run(c, path, lods ? eps : NULL, lods, &j);
+  if (rc != EXIT_OK) return rc;
+  rc = job_write(c, &j, out);
+  if (rc == EXIT_OK && preview) {
+    rc = job_preview(c, &j, preview, (int)cell);
+    if (rc == EXIT_OK) cli_info(c, "wrote %s", preview);
+  }
+  if (rc == EXIT_OK && report) {
+    rc = job_report(c, &j, report, out);
+    if (rc == EXIT_OK) cli_info(c, "wrote %s", report);
+  }
+  job_free(&j);
   return rc;
 }

@@ -8,10 +8,16 @@
  *   split trunk=PATTERNS   or  split foliage=PATTERNS   (group/material globs)
  *   bbc1, bbc2           steps 1 and 2 (they run together at bbc2)
  *   planes [OUT.json]    steps 1 and 2, the planes as JSON
+ *   bbc3                 step 3 (after bbc2; steps 1 and 2 run again with it)
+ *   bbc                  steps 1 to 3
+ *   shade N [AMBIENT]    voxel shadowing for the next step 3 (N = 0: off;
+ *                        AMBIENT 0 or omitted = 0.4, as in the thesis)
+ *   save [DIR]           the last cloud as VRML into
+ *                        vrml97models/[DIR/]<model>/<model>_eX.XX_texN[_nm][_pl]/
  *   setup                print the parameters
  *   q, quit              stop
- * Not yet: bbc3, bbc, save, shade, show, bbcload (see README, Status). */
-#include "cli.h"
+ * Not implemented: show, bbcload (interactive viewing). */
+#include "pipeline.h"
 
 #include <ctype.h>
 #include <stdio.h>
@@ -48,7 +54,9 @@ int cmd_exec(cli *c, int argc, char **argv) {
     return EXIT_INPUT;
   }
   char line[4096], model[4096] = "", pattern[2][4096];
-  int lineno = 0, rc = EXIT_OK, want_steps = 0;
+  int lineno = 0, rc = EXIT_OK, want_steps = 0, planned = 0, have_job = 0;
+  job jb;
+  memset(&jb, 0, sizeof jb);
   while (rc == EXIT_OK && fgets(line, sizeof line, f)) {
     lineno++;
     char *s = trim(line);
@@ -61,7 +69,9 @@ int cmd_exec(cli *c, int argc, char **argv) {
     if (!strcmp(cmd, "load")) {
       if (!a1) goto missing;
       snprintf(model, sizeof model, "%s", a1);
-      want_steps = 0;
+      want_steps = planned = 0;
+      if (have_job) job_free(&jb);
+      have_job = 0;
     } else if (!strcmp(cmd, "set")) {
       if (!a1 || !a2) goto missing;
       char assignment[512];
@@ -102,6 +112,38 @@ int cmd_exec(cli *c, int argc, char **argv) {
       }
       rc = run_planes(c, model, !strcmp(cmd, "planes") ? a1 : NULL);
       want_steps = 0;
+      planned = 1;
+    } else if (!strcmp(cmd, "bbc3") || !strcmp(cmd, "bbc")) {
+      if (!model[0]) goto noload;
+      if (!strcmp(cmd, "bbc3") && !planned) {
+        cli_error("%s:%d: bbc3 needs bbc2 first", file, lineno);
+        rc = EXIT_USAGE;
+        break;
+      }
+      if (have_job) job_free(&jb);
+      have_job = 0;
+      rc = job_run(c, model, NULL, 0, &jb);
+      have_job = rc == EXIT_OK;
+      planned = 1;
+    } else if (!strcmp(cmd, "shade")) {
+      if (!a1) goto missing;
+      char *e1, *e2 = NULL;
+      long n = strtol(a1, &e1, 10);
+      double amb = a2 ? strtod(a2, &e2) : 0;
+      if (*e1 || n < 0 || n > 512 || (a2 && (*e2 || !(amb >= 0 && amb <= 1)))) {
+        cli_error("%s:%d: shade NUMVOXELS [AMBIENT]: voxels 0..512, ambient 0..1", file, lineno);
+        rc = EXIT_USAGE;
+        break;
+      }
+      c->params.shade_voxels = (int)n;
+      c->params.shade_ambient = amb > 0 ? amb : 0.4;
+    } else if (!strcmp(cmd, "save")) {
+      if (!have_job) {
+        cli_error("%s:%d: save needs a Billboard Cloud: run bbc or bbc3 first", file, lineno);
+        rc = EXIT_USAGE;
+        break;
+      }
+      rc = job_save_vrml(c, &jb, a1);
     } else {
       cli_error("%s:%d: '%s' is not a batch command (or not implemented yet)", file, lineno, cmd);
       rc = EXIT_USAGE;
@@ -117,5 +159,6 @@ int cmd_exec(cli *c, int argc, char **argv) {
     rc = EXIT_USAGE;
   }
   fclose(f);
+  if (have_job) job_free(&jb);
   return rc;
 }

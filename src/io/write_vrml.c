@@ -1,0 +1,287 @@
+/* write_vrml.c — a Billboard Cloud as VRML (thesis Appendix A, "save"): the
+ * .wrl and beside it the colour atlas <stem>.png (and the normal atlas
+ * <stem>_nm.png), every file atomic. The whole text is built in memory
+ * first, then the PNGs are written, then the .wrl, so a failure writes
+ * nothing and the .wrl never names a missing file. */
+#include "internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- a growable text buffer ---------------------------------------------- */
+
+typedef struct text {
+  char *data;
+  size_t size, cap;
+  int oom; /* a growth failed: every later append is ignored */
+} text;
+
+static void put(text *t, const char *fmt, ...) BBC__PRINTF(2, 3);
+static void put(text *t, const char *fmt, ...) {
+  while (!t->oom) {
+    size_t room = t->cap - t->size;
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(t->data ? t->data + t->size : NULL, room, fmt, ap);
+    va_end(ap);
+    if (n >= 0 && (size_t)n < room) {
+      t->size += (size_t)n;
+      return;
+    }
+    size_t cap = t->cap ? t->cap : 4096;
+    while (n >= 0 && cap - t->size <= (size_t)n && cap < SIZE_MAX / 2) cap *= 2;
+    char *p = n >= 0 && cap - t->size > (size_t)n ? realloc(t->data, cap) : NULL;
+    if (!p) {
+      t->oom = 1;
+      return;
+    }
+    t->data = p;
+    t->cap = cap;
+  }
+}
+
+/* A number with `digits` significant digits ("%.*g") spelt as in the C
+ * locale whatever the process's locale: a decimal separator other than '.'
+ * (',' or a multibyte one) becomes '.'. */
+static void put_number(text *t, int digits, double v) {
+  char s[64], out[64];
+  snprintf(s, sizeof s, "%.*g", digits, v);
+  size_t o = 0;
+  for (size_t i = 0; s[i] && o + 1 < sizeof out; i++) {
+    char c = s[i];
+    int plain = (c >= '0' && c <= '9') || c == '-' || c == '+' || c == 'e' || c == 'E';
+    if (plain)
+      out[o++] = c;
+    else if (o == 0 || out[o - 1] != '.')
+      out[o++] = '.';
+  }
+  out[o] = 0;
+  put(t, "%s", out);
+}
+
+/* `s` without line ends and other control characters (comment text). */
+static void put_line_text(text *t, const char *s, size_t n) {
+  for (size_t i = 0; i < n; i++) {
+    unsigned char c = (unsigned char)s[i];
+    put(t, "%c", c < 0x20 && c != '\t' ? ' ' : (char)c);
+  }
+}
+
+/* A quoted relative URL naming <stem><suffix>: bytes outside RFC 3986's
+ * unreserved and sub-delimiter characters are percent-encoded, so the
+ * VRML string needs no escapes. */
+static void put_url(text *t, const char *stem, const char *suffix) {
+  put(t, "\"");
+  for (int part = 0; part < 2; part++)
+    for (const char *p = part ? suffix : stem; *p; p++) {
+      unsigned char c = (unsigned char)*p;
+      int safe = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                 (c && strchr("-._~!$&'()*+,;=@", c));
+      if (safe)
+        put(t, "%c", (char)c);
+      else
+        put(t, "%%%02X", c);
+    }
+  put(t, "\"");
+}
+
+/* ---- the file -------------------------------------------------------------- */
+
+typedef struct vrml_ctx {
+  const bbc_mesh *m;
+  const char *stem;
+  int nm_nodes; /* format 0 with normal maps: a NormalMap node beside each Shape */
+  int solid;    /* one-sided copies (back images) */
+} vrml_ctx;
+
+/* Checks that triangles [t0, t0 + n - 2) are the fan of vertices
+ * [base, base + n), wound as the front (back = 0) or the back (back = 1). */
+static int fan_matches(const bbc_mesh *m, size_t base, size_t t0, int n, int back) {
+  for (int c = 1; c + 1 < n; c++) {
+    const uint32_t *ix = m->indices + 3 * (t0 + (size_t)c - 1);
+    size_t b1 = base + (size_t)c, b2 = b1 + 1;
+    if (ix[0] != base || ix[1] != (back ? b2 : b1) || ix[2] != (back ? b1 : b2)) return 0;
+  }
+  return 1;
+}
+
+/* One side of billboard k: vertices [base, base + n) of the mesh. */
+static void put_side(text *t, const vrml_ctx *x, size_t k, int back, size_t base, int n) {
+  const char *in = x->nm_nodes ? "  " : ""; /* inside the Group */
+  if (x->nm_nodes) put(t, "Group { children [\n");
+  put(t, "%sDEF BB%zu_%s Shape {\n", in, k, back ? "back" : "front");
+  put(t, "%s  appearance Appearance {\n", in);
+  put(t, "%s    material Material { diffuseColor 1 1 1 }\n", in);
+  put(t, "%s    texture ImageTexture { url ", in);
+  put_url(t, x->stem, ".png");
+  put(t, " repeatS FALSE repeatT FALSE }\n");
+  put(t, "%s  }\n", in);
+  put(t, "%s  geometry IndexedFaceSet {\n", in);
+  put(t, "%s    ccw TRUE\n", in);
+  put(t, "%s    solid %s\n", in, x->solid ? "TRUE" : "FALSE");
+  put(t, "%s    coord Coordinate { point [\n", in);
+  for (int c = 0; c < n; c++) {
+    const double *p = x->m->positions + 3 * (base + (size_t)c);
+    put(t, "%s      ", in);
+    for (int j = 0; j < 3; j++) {
+      if (j) put(t, " ");
+      put_number(t, 9, p[j]);
+    }
+    put(t, "%s\n", c + 1 < n ? "," : "");
+  }
+  put(t, "%s    ] }\n", in);
+  put(t, "%s    texCoord TextureCoordinate { point [\n", in);
+  for (int c = 0; c < n; c++) {
+    const float *uv = x->m->uvs + 2 * (base + (size_t)c);
+    put(t, "%s      ", in);
+    put_number(t, 7, uv[0]);
+    put(t, " ");
+    put_number(t, 7, uv[1]);
+    put(t, "%s\n", c + 1 < n ? "," : "");
+  }
+  put(t, "%s    ] }\n", in);
+  /* The order the triangles wind: 0..n-1 for the front, n-1..0 for the back. */
+  put(t, "%s    coordIndex [", in);
+  for (int c = 0; c < n; c++) put(t, " %d", back ? n - 1 - c : c);
+  put(t, " -1 ]\n");
+  put(t, "%s  }\n", in);
+  put(t, "%s}\n", in);
+  if (x->nm_nodes) {
+    put(t, "  NormalMap { url ");
+    put_url(t, x->stem, "_nm.png");
+    put(t, " }\n] }\n");
+  }
+}
+
+bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, int format,
+                                const char *comment, bbc_error *err) {
+  if (!wrl_path || !cloud)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "VRML output: no path or no cloud");
+  char ext[8];
+  bbc__path_extension(wrl_path, ext, sizeof ext);
+  const char *base_name = strrchr(wrl_path, '/') ? strrchr(wrl_path, '/') + 1 : wrl_path;
+  if (strcmp(ext, "wrl") || strlen(base_name) <= 4)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: VRML output must be NAME.wrl", wrl_path);
+  if (format != 0 && format != 1)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
+                     "%s: VRML format must be 0 (VRML 2.0 with extensions) or 1 (VRML97), not %d",
+                     wrl_path, format);
+  const bbc_mesh *m = &cloud->mesh;
+  if (cloud->billboard_count == 0 || !cloud->billboards)
+    return bbc__fail(err, BBC_ERROR_EMPTY, "%s: the cloud has no billboards", wrl_path);
+  if (m->texture_count < 1 || !m->textures || !m->textures[0].image.rgba || !m->positions ||
+      !m->uvs || !m->indices || m->material_count < 1 || !m->materials)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
+                     "%s: the cloud has no mesh with a colour atlas", wrl_path);
+  const bbc_material *mat = &m->materials[0];
+  const bbc_image *nm = NULL;
+  if (mat->normal_map == 2) {
+    if (m->texture_count < 2 || !m->textures[1].image.rgba)
+      return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: the cloud's normal atlas is missing",
+                       wrl_path);
+    nm = &m->textures[1].image;
+  }
+  int sides = mat->single_sided ? 2 : 1;
+
+  /* The mesh must hold, per billboard and side, its outline's fan. */
+  size_t nv = 0, nt = 0;
+  for (size_t k = 0; k < cloud->billboard_count; k++) {
+    int n = cloud->billboards[k].corner_count;
+    if (n < 3 || n > 10)
+      return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY, "%s: billboard %zu has %d corners",
+                       wrl_path, k, n);
+    for (int side = 0; side < sides; side++) {
+      if (nv + (size_t)n > m->vertex_count || nt + (size_t)n - 2 > m->triangle_count ||
+          !fan_matches(m, nv, nt, n, side))
+        return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
+                         "%s: the cloud's mesh does not match billboard %zu", wrl_path, k);
+      for (size_t v = nv; v < nv + (size_t)n; v++)
+        if (!isfinite(m->positions[3 * v]) || !isfinite(m->positions[3 * v + 1]) ||
+            !isfinite(m->positions[3 * v + 2]) || !isfinite(m->uvs[2 * v]) ||
+            !isfinite(m->uvs[2 * v + 1]))
+          return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
+                           "%s: billboard %zu has a non-finite coordinate", wrl_path, k);
+      nv += (size_t)n;
+      nt += (size_t)n - 2;
+    }
+  }
+  if (nv != m->vertex_count || nt != m->triangle_count)
+    return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
+                     "%s: the cloud's mesh has more than its billboards", wrl_path);
+
+  size_t len = strlen(wrl_path), stem_len = strlen(base_name) - 4;
+  char *dir = malloc(len + 1), *stem = malloc(stem_len + 1), *png = malloc(len + 8);
+  text t = {0};
+  bbc_result r = BBC_OK;
+  if (!dir || !stem || !png) {
+    r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", wrl_path);
+    goto done;
+  }
+  bbc__path_folder(wrl_path, dir, len + 1);
+  memcpy(stem, base_name, stem_len);
+  stem[stem_len] = 0;
+
+  /* Header. */
+  put(&t, "#VRML V2.0 utf8\n");
+  put(&t, "# Billboard Cloud: %zu billboards, written by bbcgen " BBC_VERSION_STRING "\n",
+      cloud->billboard_count);
+  for (const char *p = comment; p && *p;) {
+    size_t n = strcspn(p, "\r\n");
+    put(&t, n ? "# " : "#");
+    put_line_text(&t, p, n);
+    put(&t, "\n");
+    p += n;
+    if (*p == '\r' && p[1] == '\n') p++;
+    if (*p) p++;
+  }
+  put(&t, "# format %d (%s); %s; atlas %dx%d%s\n", format,
+      format ? "VRML97" : "VRML 2.0 with extensions",
+      sides == 2 ? "front and back images, one-sided" : "one image, double-sided",
+      m->textures[0].image.width, m->textures[0].image.height, nm ? ", normal atlas" : "");
+  vrml_ctx x = {m, stem, format == 0 && nm, sides == 2};
+  if (x.nm_nodes) {
+    put(&t, "# NormalMap: the normal atlas (tangent space) of the Shape beside it; a no-op\n"
+            "# for VRML97 readers.\n");
+    put(&t, "PROTO NormalMap [ exposedField MFString url [] ] { Group { } }\n");
+  }
+
+  /* Billboards. */
+  size_t v = 0;
+  for (size_t k = 0; k < cloud->billboard_count; k++) {
+    const bbc_cloud_billboard *b = &cloud->billboards[k];
+    put(&t, "\n# billboard %zu: %s plane, part %u", k, bbc_plane_kind_name(b->kind),
+        (unsigned)b->part);
+    if (b->part < m->group_count && m->group_names && m->group_names[b->part]) {
+      const char *g = m->group_names[b->part];
+      put(&t, " (");
+      put_line_text(&t, g, strlen(g));
+      put(&t, ")");
+    }
+    put(&t, ", %d corners\n", b->corner_count);
+    for (int side = 0; side < sides; side++) {
+      put_side(&t, &x, k, side, v, b->corner_count);
+      v += (size_t)b->corner_count;
+    }
+  }
+  if (t.oom) {
+    r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", wrl_path);
+    goto done;
+  }
+
+  /* The PNGs first, the .wrl last. */
+  snprintf(png, len + 8, "%s%s.png", dir, stem);
+  r = bbc_image_write_png(png, &m->textures[0].image, err);
+  if (r == BBC_OK && nm) {
+    snprintf(png, len + 8, "%s%s_nm.png", dir, stem);
+    r = bbc_image_write_png(png, nm, err);
+  }
+  if (r == BBC_OK) r = bbc_write_file_atomic(wrl_path, t.data, t.size, err);
+
+done:
+  free(t.data);
+  free(dir);
+  free(stem);
+  free(png);
+  return r;
+}

@@ -1,0 +1,410 @@
+/* pipeline.c — steps 1 to 3 for one or more levels of detail, and the
+ * outputs: cloud files, JSON report, preview sheet, Appendix A save folder. */
+#include "pipeline.h"
+
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+void job_free(job *j) {
+  bbc_mesh_free(&j->mesh);
+  for (size_t k = 0; k < j->lod_count; k++) {
+    bbc_planeset_free(&j->lods[k].set);
+    bbc_cloud_free(&j->lods[k].cloud);
+  }
+  memset(j, 0, sizeof *j);
+}
+
+int job_run(const cli *c, const char *model, const double *epsilons, size_t count, job *j) {
+  memset(j, 0, sizeof *j);
+  snprintf(j->model_path, sizeof j->model_path, "%s", model);
+  if (count == 0 || !epsilons) count = 1;
+  if (count > JOB_MAX_LODS) {
+    cli_error("at most %d levels of detail", JOB_MAX_LODS);
+    return EXIT_USAGE;
+  }
+  bbc_load_options lo;
+  bbc_load_options_default(&lo);
+  lo.compute_normals = c->params.vertex_normals;
+  lo.callbacks = c->callbacks;
+  bbc_error err;
+  double t0 = cli_now();
+  if (bbc_mesh_load(model, &lo, &j->mesh, &err) != BBC_OK) return cli_fail(&err, 0);
+  j->load_s = cli_now() - t0;
+  for (size_t k = 0; k < count; k++) {
+    cli ck = *c;
+    if (epsilons && epsilons[k] > 0) ck.params.epsilon_pct = epsilons[k];
+    job_lod *L = &j->lods[k];
+    L->epsilon_pct = ck.params.epsilon_pct;
+    L->params = ck.params;
+    j->lod_count = k + 1;
+    bbc_planes_options po;
+    if (cli_planes_options(&ck, &po) != EXIT_OK) {
+      job_free(j);
+      return EXIT_USAGE;
+    }
+    if (bbc_planes_find(&j->mesh, &po, &L->set, &err) != BBC_OK ||
+        bbc_cloud_build(&j->mesh, &L->set, &ck.params, &c->callbacks, &L->cloud, &err) != BBC_OK) {
+      int rc = cli_fail(&err, 0);
+      job_free(j);
+      return rc;
+    }
+    for (size_t p = 0; p < L->set.part_count; p++) {
+      L->step1_s += L->set.parts[p].step1_s;
+      L->step2_s += L->set.parts[p].step2_s;
+    }
+    const bbc_image *a = &L->cloud.mesh.textures[0].image;
+    cli_info(c,
+             "epsilon %g %%: %zu planes, %zu billboards, atlas %dx%d (%.0f %% filled); steps "
+             "1+2 %.2f s, step 3 %.2f s",
+             L->epsilon_pct, L->set.plane_count, L->cloud.billboard_count, a->width, a->height,
+             100 * L->cloud.atlas_fill, L->step1_s + L->step2_s,
+             L->cloud.bake_s + L->cloud.atlas_s);
+  }
+  return EXIT_OK;
+}
+
+/* ---- cloud files ------------------------------------------------------------- */
+
+static const char *extension_of(const char *path) {
+  const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+  return dot && (!slash || dot > slash) ? dot : path + strlen(path);
+}
+
+/* OUT with "_lod<k>" before its extension (k > 0). */
+static void lod_path(const char *out, size_t k, char *buf, size_t n) {
+  if (k == 0) {
+    snprintf(buf, n, "%s", out);
+    return;
+  }
+  const char *ext = extension_of(out);
+  snprintf(buf, n, "%.*s_lod%zu%s", (int)(ext - out), out, k, ext);
+}
+
+static char *params_json_text(const bbc_params *p) {
+  cJSON *o = cJSON_CreateObject();
+  for (size_t i = 0; i < bbc_param_count(); i++) {
+    const bbc_param_info *info = bbc_param_at(i);
+    cJSON_AddNumberToObject(o, info->name, bbc_params_get(p, info));
+  }
+  char *s = cJSON_PrintUnformatted(o);
+  cJSON_Delete(o);
+  return s;
+}
+
+static cJSON *lod_json(const job_lod *L, int detailed) {
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddNumberToObject(o, "epsilon_pct", L->epsilon_pct);
+  cJSON_AddNumberToObject(o, "epsilon", L->set.epsilon_abs);
+  cJSON_AddNumberToObject(o, "planes", (double)L->set.plane_count);
+  cJSON_AddNumberToObject(o, "billboards", (double)L->cloud.billboard_count);
+  cJSON *kinds = cJSON_AddArrayToObject(o, "kinds");
+  for (size_t b = 0; b < L->cloud.billboard_count; b++)
+    cJSON_AddItemToArray(kinds,
+                         cJSON_CreateString(bbc_plane_kind_name(L->cloud.billboards[b].kind)));
+  if (!detailed) return o;
+  const bbc_mesh *m = &L->cloud.mesh;
+  cJSON_AddNumberToObject(o, "triangles", (double)m->triangle_count);
+  cJSON_AddNumberToObject(o, "texels", (double)L->cloud.texels);
+  cJSON *atlas = cJSON_AddArrayToObject(o, "atlas");
+  cJSON_AddItemToArray(atlas, cJSON_CreateNumber(m->textures[0].image.width));
+  cJSON_AddItemToArray(atlas, cJSON_CreateNumber(m->textures[0].image.height));
+  cJSON_AddNumberToObject(o, "atlas_fill", L->cloud.atlas_fill);
+  cJSON *t = cJSON_AddObjectToObject(o, "times_s");
+  cJSON_AddNumberToObject(t, "step1", L->step1_s);
+  cJSON_AddNumberToObject(t, "step2", L->step2_s);
+  cJSON_AddNumberToObject(t, "step3_bake", L->cloud.bake_s);
+  cJSON_AddNumberToObject(t, "step3_atlas", L->cloud.atlas_s);
+  cJSON *parts = cJSON_AddArrayToObject(o, "parts");
+  for (size_t p = 0; p < L->set.part_count; p++) {
+    const bbc_part_result *pr = &L->set.parts[p];
+    cJSON *q = cJSON_CreateObject();
+    cJSON_AddStringToObject(q, "name", pr->name);
+    cJSON_AddNumberToObject(q, "faces", (double)pr->face_count);
+    cJSON_AddNumberToObject(q, "planes", (double)pr->plane_count);
+    cJSON_AddNumberToObject(q, "epsilon", pr->epsilon_abs);
+    cJSON_AddItemToArray(parts, q);
+  }
+  cJSON_AddStringToObject(o, "split", L->set.split_why);
+  cJSON *bbs = cJSON_AddArrayToObject(o, "billboard_list");
+  for (size_t b = 0; b < L->cloud.billboard_count; b++) {
+    const bbc_cloud_billboard *cb = &L->cloud.billboards[b];
+    cJSON *q = cJSON_CreateObject();
+    cJSON_AddStringToObject(q, "kind", bbc_plane_kind_name(cb->kind));
+    cJSON_AddStringToObject(q, "part", L->set.parts[cb->part].name);
+    cJSON_AddItemToObject(q, "normal", cJSON_CreateDoubleArray(cb->normal, 3));
+    cJSON_AddNumberToObject(q, "d", cb->d);
+    cJSON_AddNumberToObject(q, "width", cb->rect.width);
+    cJSON_AddNumberToObject(q, "height", cb->rect.height);
+    int tex[2] = {cb->tex_width, cb->tex_height};
+    cJSON_AddItemToObject(q, "texture", cJSON_CreateIntArray(tex, 2));
+    cJSON_AddNumberToObject(q, "faces_drawn", (double)cb->face_count);
+    cJSON_AddNumberToObject(q, "corners", cb->corner_count);
+    cJSON_AddItemToArray(bbs, q);
+  }
+  return o;
+}
+
+static int write_text_file(const char *path, const char *text) {
+  bbc_error err;
+  if (bbc_write_file_atomic(path, text, strlen(text), &err) != BBC_OK) return cli_fail(&err, 1);
+  return EXIT_OK;
+}
+
+int job_write(const cli *c, job *j, const char *out) {
+  const char *ext = extension_of(out);
+  int glb = !strcmp(ext, ".glb"), gltf = !strcmp(ext, ".gltf"), obj = !strcmp(ext, ".obj"),
+      wrl = !strcmp(ext, ".wrl");
+  if (!glb && !gltf && !obj && !wrl) {
+    cli_error("the output must end in .glb, .gltf, .obj or .wrl, not '%s'", out);
+    return EXIT_USAGE;
+  }
+  double t0 = cli_now();
+  bbc_error err;
+  bbc_result r = BBC_OK;
+  if (glb || gltf) {
+    char *texts[JOB_MAX_LODS] = {0}, names[JOB_MAX_LODS][64];
+    bbc_gltf_node nodes[JOB_MAX_LODS];
+    for (size_t k = 0; k < j->lod_count; k++) {
+      cJSON *o = lod_json(&j->lods[k], 0);
+      texts[k] = cJSON_PrintUnformatted(o);
+      cJSON_Delete(o);
+      snprintf(names[k], sizeof names[k], "billboard cloud, epsilon %g %%", j->lods[k].epsilon_pct);
+      nodes[k] = (bbc_gltf_node){&j->lods[k].cloud.mesh, names[k], texts[k]};
+    }
+    char *params = params_json_text(&j->lods[0].params);
+    size_t n = strlen(params) + 64;
+    char *extras = malloc(n);
+    if (extras) snprintf(extras, n, "{\"bbcgen_parameters\":%s}", params);
+    bbc_gltf_options go = {glb, extras, 1};
+    r = bbc_scene_write_gltf(out, nodes, j->lod_count, &go, &err);
+    free(extras);
+    cJSON_free(params);
+    for (size_t k = 0; k < j->lod_count; k++) cJSON_free(texts[k]);
+  } else {
+    for (size_t k = 0; k < j->lod_count && r == BBC_OK; k++) {
+      char path[4200];
+      lod_path(out, k, path, sizeof path);
+      if (obj) {
+        r = bbc_mesh_write_obj(path, &j->lods[k].cloud.mesh, &err);
+      } else {
+        char comment[4600];
+        snprintf(comment, sizeof comment, "model: %s\nepsilon: %g %% (%g model units)",
+                 j->model_path, j->lods[k].epsilon_pct, j->lods[k].set.epsilon_abs);
+        r = bbc_cloud_write_vrml(path, &j->lods[k].cloud, j->lods[k].params.format, comment, &err);
+      }
+    }
+  }
+  j->write_s = cli_now() - t0;
+  if (r != BBC_OK) return cli_fail(&err, 1);
+  for (size_t k = 0; k < j->lod_count; k++) {
+    char path[4200];
+    lod_path(out, k, path, sizeof path);
+    cli_info(c, "wrote %s: %zu billboards, %zu triangles (epsilon %g %%)", glb || gltf ? out : path,
+             j->lods[k].cloud.billboard_count, j->lods[k].cloud.mesh.triangle_count,
+             j->lods[k].epsilon_pct);
+  }
+  return EXIT_OK;
+}
+
+int job_report(const cli *c, const job *j, const char *out, const char *cloud_path) {
+  (void)c;
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddStringToObject(o, "generator", "bbcgen " BBC_VERSION_STRING);
+  cJSON_AddStringToObject(o, "model", j->model_path);
+  if (cloud_path) cJSON_AddStringToObject(o, "output", cloud_path);
+  cJSON_AddNumberToObject(o, "model_triangles", (double)j->mesh.triangle_count);
+  cJSON_AddNumberToObject(o, "model_radius", j->mesh.radius);
+  char *params = params_json_text(&j->lods[0].params);
+  cJSON_AddItemToObject(o, "parameters", cJSON_Parse(params));
+  cJSON_free(params);
+  cJSON *t = cJSON_AddObjectToObject(o, "times_s");
+  double total = j->load_s + j->write_s;
+  for (size_t k = 0; k < j->lod_count; k++)
+    total += j->lods[k].step1_s + j->lods[k].step2_s + j->lods[k].cloud.bake_s +
+             j->lods[k].cloud.atlas_s;
+  cJSON_AddNumberToObject(t, "load", j->load_s);
+  cJSON_AddNumberToObject(t, "write", j->write_s);
+  cJSON_AddNumberToObject(t, "total", total);
+  cJSON *lods = cJSON_AddArrayToObject(o, "lods");
+  for (size_t k = 0; k < j->lod_count; k++) cJSON_AddItemToArray(lods, lod_json(&j->lods[k], 1));
+  char *text = cJSON_Print(o);
+  cJSON_Delete(o);
+  size_t n = strlen(text);
+  char *withnl = malloc(n + 2);
+  int rc = EXIT_RESOURCES;
+  if (withnl) {
+    memcpy(withnl, text, n);
+    withnl[n] = '\n';
+    withnl[n + 1] = 0;
+    rc = write_text_file(out, withnl);
+  }
+  free(withnl);
+  cJSON_free(text);
+  return rc;
+}
+
+/* ---- preview ------------------------------------------------------------------ */
+
+static void put_px(bbc_image *im, int x, int y, const uint8_t *rgb) {
+  if (x < 0 || y < 0 || x >= im->width || y >= im->height) return;
+  uint8_t *p = im->rgba + 4 * ((size_t)y * im->width + x);
+  memcpy(p, rgb, 3);
+  p[3] = 255;
+}
+
+static void draw_line(bbc_image *im, double x0, double y0, double x1, double y1,
+                      const uint8_t *rgb) {
+  double dx = x1 - x0, dy = y1 - y0;
+  int steps = (int)ceil(fmax(fabs(dx), fabs(dy)));
+  if (steps > 100000) steps = 100000;
+  for (int i = 0; i <= steps; i++) {
+    double t = steps ? (double)i / steps : 0;
+    int x = (int)floor(x0 + t * dx), y = (int)floor(y0 + t * dy);
+    put_px(im, x, y, rgb);
+    put_px(im, x + 1, y, rgb);
+    put_px(im, x, y + 1, rgb);
+  }
+}
+
+/* The thesis's colour code (Fig. 2-33 ff.). */
+static const uint8_t k_kind_rgb[BBC_PLANE_KIND_COUNT][3] = {
+    {120, 190, 255}, /* standard: light blue */
+    {255, 150, 20},  /* coplanar: orange */
+    {255, 120, 200}, /* post-tweaked: pink */
+    {40, 220, 60},   /* cardboard: green */
+    {0, 255, 255},   /* parachute: cyan */
+};
+
+int job_preview(const cli *c, const job *j, const char *out, int cell) {
+  (void)c;
+  const bbc_mesh *m = &j->mesh;
+  const job_lod *L = &j->lods[0];
+  int up = L->params.up_axis;
+  /* Front, side, above, and from 35 degrees up between front and side. */
+  double dirs[4][3], ups[4][3];
+  int a = (up + 1) % 3, b = (up + 2) % 3; /* (a, b, up) right-handed */
+  for (int v = 0; v < 4; v++)
+    for (int k = 0; k < 3; k++) dirs[v][k] = ups[v][k] = 0;
+  dirs[0][b] = -1;
+  dirs[1][a] = -1;
+  dirs[2][up] = -1;
+  double e = 35 * 3.14159265358979323846 / 180;
+  dirs[3][a] = -cos(e) * sqrt(0.5);
+  dirs[3][b] = -cos(e) * sqrt(0.5);
+  dirs[3][up] = -sin(e);
+  ups[0][up] = ups[1][up] = ups[3][up] = 1;
+  ups[2][b] = -1;
+  bbc_image sheet, img;
+  bbc_error err;
+  if (bbc_image_alloc(&sheet, 4 * cell, 3 * cell) != BBC_OK ||
+      bbc_image_alloc(&img, cell, cell) != BBC_OK) {
+    bbc_image_free(&sheet);
+    cli_error("out of memory");
+    return EXIT_RESOURCES;
+  }
+  float *shade = NULL;
+  if (L->params.shade_voxels > 0) {
+    shade = malloc(m->vertex_count * sizeof *shade);
+    if (shade && bbc_shade_vertices(m, L->params.shade_voxels, L->params.shade_ambient, up, shade,
+                                    &err) != BBC_OK) {
+      free(shade);
+      shade = NULL;
+    }
+  }
+  double light[3];
+  bbc_params_light_direction(&L->params, light);
+  int rc = EXIT_OK;
+  for (int v = 0; v < 4 && rc == EXIT_OK; v++) {
+    for (int row = 0; row < 3 && rc == EXIT_OK; row++) {
+      bbc_view view;
+      bbc_view_frame_mesh(m, dirs[v], ups[v], &view);
+      /* The original lit as the textures were baked; the cloud unlit (its
+       * textures carry the light). */
+      view.lighting = row == 1 ? 0 : L->params.prelight;
+      memcpy(view.light, light, sizeof light);
+      view.vertex_shade = row == 1 ? NULL : shade;
+      if (row == 2) view.background[0] = view.background[1] = view.background[2] = 40;
+      const bbc_mesh *what = row == 1 ? &L->cloud.mesh : m;
+      if (bbc_render_ortho(what, &view, &img, &err) != BBC_OK) {
+        rc = cli_fail(&err, 0);
+        break;
+      }
+      if (row == 2) {
+        /* The original faded into the background, the billboards' outlines
+         * on top, coloured by kind. */
+        for (size_t i = 0; i < (size_t)cell * cell; i++)
+          for (int k = 0; k < 3; k++)
+            img.rgba[4 * i + k] = (uint8_t)(40 + (img.rgba[4 * i + k] - 40) * 45 / 100);
+        for (size_t q = 0; q < L->cloud.billboard_count; q++) {
+          const bbc_cloud_billboard *cb = &L->cloud.billboards[q];
+          const uint8_t *rgb = k_kind_rgb[cb->kind < BBC_PLANE_KIND_COUNT ? cb->kind : 0];
+          double prev[2] = {0, 0}, first[2] = {0, 0};
+          for (int cc = 0; cc <= cb->corner_count; cc++) {
+            const double *st = cb->corners[cc % cb->corner_count];
+            double p[3], s[2];
+            for (int k = 0; k < 3; k++)
+              p[k] = cb->rect.origin[k] + st[0] * cb->rect.width * cb->rect.u[k] +
+                     st[1] * cb->rect.height * cb->rect.w[k];
+            bbc_view_project(&view, cell, cell, p, s);
+            if (cc == 0)
+              memcpy(first, s, sizeof s);
+            else
+              draw_line(&img, prev[0], prev[1], s[0], s[1], rgb);
+            memcpy(prev, s, sizeof s);
+          }
+          (void)first;
+        }
+      }
+      for (int y = 0; y < cell; y++)
+        memcpy(sheet.rgba + 4 * ((size_t)(row * cell + y) * sheet.width + (size_t)v * cell),
+               img.rgba + 4 * (size_t)y * cell, 4 * (size_t)cell);
+    }
+  }
+  free(shade);
+  bbc_image_free(&img);
+  if (rc == EXIT_OK && bbc_image_write_png(out, &sheet, &err) != BBC_OK) rc = cli_fail(&err, 1);
+  bbc_image_free(&sheet);
+  return rc;
+}
+
+/* ---- Appendix A save folder ---------------------------------------------------- */
+
+static int make_dirs(const char *path) {
+  char buf[4096];
+  snprintf(buf, sizeof buf, "%s", path);
+  for (char *p = buf + 1; *p; p++) {
+    if (*p != '/') continue;
+    *p = 0;
+    if (mkdir(buf, 0777) != 0 && errno != EEXIST) return -1;
+    *p = '/';
+  }
+  if (mkdir(buf, 0777) != 0 && errno != EEXIST) return -1;
+  return 0;
+}
+
+int job_save_vrml(const cli *c, job *j, const char *user_dir) {
+  const char *base = strrchr(j->model_path, '/');
+  base = base ? base + 1 : j->model_path;
+  const char *ext = extension_of(base);
+  char stem[256];
+  snprintf(stem, sizeof stem, "%.*s", (int)(ext - base), base);
+  const bbc_params *p = &j->lods[0].params;
+  char dir[4096], leaf[512], path[4600];
+  snprintf(leaf, sizeof leaf, "%s_e%.2f_tex%d%s%s", stem, j->lods[0].epsilon_pct, p->texres,
+           p->normal_maps ? "_nm" : "", p->prelight ? "_pl" : "");
+  if (user_dir && *user_dir)
+    snprintf(dir, sizeof dir, "vrml97models/%s/%s/%s", user_dir, stem, leaf);
+  else
+    snprintf(dir, sizeof dir, "vrml97models/%s/%s", stem, leaf);
+  if (make_dirs(dir) != 0) {
+    cli_error("%s: cannot create the folder: %s", dir, strerror(errno));
+    return EXIT_OUTPUT;
+  }
+  snprintf(path, sizeof path, "%s/%s.wrl", dir, stem);
+  return job_write(c, j, path);
+}

@@ -1,0 +1,412 @@
+/* test_vrml.c — VRML output of a Billboard Cloud: the file's text parsed
+ * back against the cloud's mesh (one Shape per billboard side, outlines as
+ * one polygon wound like the triangles, texture coordinates), the PNG atlases
+ * beside it, format 0 / 1, refused paths writing nothing, determinism. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "bbc.h"
+#include "test_util.h"
+
+/* ---- a small cloud --------------------------------------------------------- */
+
+/* Two planes: z = 0 (the unit square, a red triangle in front, a blue one
+ * behind) and x = 2 (a square in y, z with a red triangle in front). The
+ * squares use an invisible material; they fix the billboards. */
+static void add_tri(bbc_mesh *m, const double p[3][3], uint32_t material) {
+  size_t t = m->triangle_count++, v = m->vertex_count;
+  memcpy(m->positions + 3 * v, p, 9 * sizeof(double));
+  for (int k = 0; k < 3; k++) m->indices[3 * t + k] = (uint32_t)(v + k);
+  m->vertex_count += 3;
+  m->face_material[t] = material;
+}
+
+static void build_cloud(int back_images, int normal_maps, bbc_cloud *cl) {
+  enum { MAX_TRIS = 8 };
+  bbc_mesh m;
+  memset(&m, 0, sizeof m);
+  m.kind = BBC_MESH_TRIANGLES;
+  m.positions = calloc(9 * MAX_TRIS, sizeof(double));
+  m.indices = calloc(3 * MAX_TRIS, sizeof(uint32_t));
+  m.face_material = calloc(MAX_TRIS, sizeof(uint32_t));
+  m.face_group = calloc(MAX_TRIS, sizeof(uint32_t));
+  m.materials = calloc(3, sizeof(bbc_material));
+  m.material_count = 3;
+  const float col[3][4] = {{1, 1, 1, 0}, {1, 0, 0, 1}, {0, 0, 1, 1}};
+  for (int i = 0; i < 3; i++) {
+    m.materials[i].name = strdup(i == 0 ? "frame" : i == 1 ? "red" : "blue");
+    m.materials[i].texture = -1;
+    memcpy(m.materials[i].base_color, col[i], sizeof col[i]);
+  }
+  m.group_count = 1;
+  m.group_names = calloc(1, sizeof(char *));
+  m.group_names[0] = strdup("all");
+  /* Plane 0: z = 0. */
+  add_tri(&m, (const double[3][3]){{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}, 0);
+  add_tri(&m, (const double[3][3]){{0, 0, 0}, {1, 1, 0}, {0, 1, 0}}, 0);
+  add_tri(&m, (const double[3][3]){{0.05, 0.05, 0.004}, {0.45, 0.05, 0.004}, {0.05, 0.95, 0.004}},
+          1);
+  add_tri(&m,
+          (const double[3][3]){{0.02, 0.02, -0.004}, {0.98, 0.02, -0.004}, {0.02, 0.98, -0.004}},
+          2);
+  /* Plane 1: x = 2, normal +x. */
+  add_tri(&m, (const double[3][3]){{2, 0, 0}, {2, 1, 0}, {2, 1, 1}}, 0);
+  add_tri(&m, (const double[3][3]){{2, 0, 0}, {2, 1, 1}, {2, 0, 1}}, 0);
+  add_tri(&m, (const double[3][3]){{2.003, 0.1, 0.1}, {2.003, 0.8, 0.1}, {2.003, 0.1, 0.7}}, 1);
+  bbc_error err;
+  if (bbc_mesh_finalize(&m, 0, "vrml scene", &err) != BBC_OK) fail_msg("%s", err.message);
+  const uint32_t face_plane[7] = {0, 0, 0, 0, 1, 1, 1};
+  assert_int_equal(m.triangle_count, 7);
+
+  bbc_planeset s;
+  memset(&s, 0, sizeof s);
+  s.radius = m.radius;
+  s.epsilon_abs = 0.01;
+  s.plane_count = 2;
+  s.planes = calloc(2, sizeof *s.planes);
+  for (int i = 0; i < 2; i++) {
+    s.planes[i].normal[i == 0 ? 2 : 0] = 1;
+    s.planes[i].d = i == 0 ? 0 : 2;
+    s.planes[i].kind = i == 0 ? BBC_PLANE_STANDARD : BBC_PLANE_COPLANAR;
+    s.planes[i].face_count = i == 0 ? 4 : 3;
+    s.planes[i].area = 1;
+    s.planes[i].mother = -1;
+    s.planes[i].coverage_pct = 100;
+  }
+  s.face_count = 7;
+  s.face_plane = calloc(7, sizeof *s.face_plane);
+  memcpy(s.face_plane, face_plane, sizeof face_plane);
+  s.face_part = calloc(7, sizeof *s.face_part);
+  s.part_count = 1;
+  s.parts = calloc(1, sizeof *s.parts);
+  strcpy(s.parts[0].name, "all");
+  s.parts[0].epsilon_abs = 0.01;
+  s.parts[0].face_count = 7;
+  s.parts[0].plane_count = 2;
+
+  bbc_params p;
+  bbc_params_default(&p);
+  p.texres = 32;
+  p.quality = 0;
+  p.prelight = 0;
+  p.threads = 1;
+  p.back_images = back_images;
+  p.normal_maps = normal_maps;
+  if (bbc_cloud_build(&m, &s, &p, NULL, cl, &err) != BBC_OK) fail_msg("%s", err.message);
+  assert_int_equal(cl->billboard_count, 2);
+  assert_int_equal(cl->mesh.materials[0].single_sided, back_images);
+  assert_int_equal(cl->mesh.materials[0].normal_map, normal_maps ? 2 : 0);
+  bbc_mesh_free(&m);
+  bbc_planeset_free(&s);
+}
+
+/* ---- helpers --------------------------------------------------------------- */
+
+static char *path_in(const char *dir, const char *name) {
+  size_t n = strlen(dir) + strlen(name) + 2;
+  char *p = malloc(n);
+  assert_non_null(p);
+  snprintf(p, n, "%s/%s", dir, name);
+  return p;
+}
+
+/* A fresh empty folder tu_dir/name; caller frees. */
+static char *sub_dir(const char *name) {
+  char *d = path_in(tu_dir, name);
+  assert_int_equal(mkdir(d, 0777), 0);
+  return d;
+}
+
+static int entries(const char *dir) {
+  DIR *d = opendir(dir);
+  assert_non_null(d);
+  int n = 0;
+  struct dirent *e;
+  while ((e = readdir(d)) != NULL) n += strcmp(e->d_name, ".") && strcmp(e->d_name, "..");
+  closedir(d);
+  return n;
+}
+
+static int file_exists(const char *path) {
+  struct stat st;
+  return stat(path, &st) == 0;
+}
+
+static size_t count(const char *s, const char *needle) {
+  size_t n = 0;
+  for (const char *p = strstr(s, needle); p; p = strstr(p + 1, needle)) n++;
+  return n;
+}
+
+/* Numbers of the list opened by the first '[' after `key` in [s, end), into
+ * v[max]; returns how many (the list must close before end). */
+static size_t parse_list(const char *s, const char *end, const char *key, double *v, size_t max) {
+  const char *p = strstr(s, key);
+  assert_true(p != NULL && p < end);
+  p = strchr(p, '[');
+  assert_non_null(p);
+  p++;
+  size_t n = 0;
+  for (;;) {
+    while (*p == ' ' || *p == '\n' || *p == ',') p++;
+    if (*p == ']') break;
+    char *q;
+    double x = strtod(p, &q);
+    assert_true(q != p);
+    assert_true(n < max);
+    v[n++] = x;
+    p = q;
+  }
+  assert_true(p < end);
+  return n;
+}
+
+/* Checks the Shapes of a written file against the cloud's mesh. */
+static void check_shapes(const char *text, const bbc_cloud *cl, const char *stem, int nm_nodes) {
+  const bbc_mesh *m = &cl->mesh;
+  int sides = m->materials[0].single_sided ? 2 : 1;
+  assert_int_equal(count(text, "Shape {"), sides * cl->billboard_count);
+  assert_int_equal(count(text, "IndexedFaceSet {"), sides * cl->billboard_count);
+  char url[300];
+  snprintf(url, sizeof url, "url \"%s.png\" repeatS FALSE repeatT FALSE", stem);
+  assert_int_equal(count(text, url), sides * cl->billboard_count);
+  assert_int_equal(count(text, sides == 2 ? "solid TRUE" : "solid FALSE"),
+                   sides * cl->billboard_count);
+  assert_int_equal(count(text, sides == 2 ? "solid FALSE" : "solid TRUE"), 0);
+  assert_int_equal(count(text, "ccw TRUE"), sides * cl->billboard_count);
+  snprintf(url, sizeof url, "NormalMap { url \"%s_nm.png\" }", stem);
+  assert_int_equal(count(text, url), nm_nodes ? sides * cl->billboard_count : 0);
+
+  size_t base = 0, tri = 0;
+  const char *p = text;
+  for (size_t k = 0; k < cl->billboard_count; k++) {
+    const bbc_cloud_billboard *b = &cl->billboards[k];
+    int n = b->corner_count;
+    char line[200];
+    snprintf(line, sizeof line, "# billboard %zu: %s plane, part 0 (all), %d corners\n", k,
+             bbc_plane_kind_name(b->kind), n);
+    assert_non_null(strstr(text, line));
+    for (int side = 0; side < sides; side++, base += (size_t)n) {
+      char def[64];
+      snprintf(def, sizeof def, "DEF BB%zu_%s Shape {", k, side ? "back" : "front");
+      const char *shape = strstr(p, def);
+      assert_non_null(shape);
+      /* Shapes come in order: billboard k front, then back. */
+      assert_ptr_equal(shape + strlen(def) - strlen("Shape {"), strstr(p, "Shape {"));
+      const char *end = strstr(shape + strlen(def), "Shape {");
+      if (!end) end = text + strlen(text);
+      double v[64];
+      /* Coordinates: the outline's corners, as in the mesh. */
+      size_t np = parse_list(shape, end, "coord Coordinate { point", v, 64);
+      assert_int_equal(np, 3 * (size_t)n);
+      for (size_t i = 0; i < np; i++)
+        assert_true(fabs(v[i] - m->positions[3 * base + i]) <= 1e-7 * (1 + fabs(v[i])));
+      size_t nt = parse_list(shape, end, "texCoord TextureCoordinate { point", v, 64);
+      assert_int_equal(nt, 2 * (size_t)n);
+      for (size_t i = 0; i < nt; i++) assert_true(fabs(v[i] - m->uvs[2 * base + i]) <= 1e-6);
+      /* One polygon, wound like the side's triangles, ended by -1. */
+      size_t ni = parse_list(shape, end, "coordIndex", v, 64);
+      assert_int_equal(ni, (size_t)n + 1);
+      assert_true(v[n] == -1);
+      for (int c = 0; c < n; c++) assert_true(v[c] == (side ? n - 1 - c : c));
+      /* Every triangle of the side winds the same way round the polygon. */
+      for (int i = 0; i < n - 2; i++, tri++) {
+        int pos[3];
+        for (int j = 0; j < 3; j++) {
+          pos[j] = -1;
+          for (int c = 0; c < n; c++)
+            if (m->indices[3 * tri + (size_t)j] == base + (size_t)v[c]) pos[j] = c;
+          assert_true(pos[j] >= 0);
+        }
+        assert_true((pos[1] - pos[0] + n) % n < (pos[2] - pos[0] + n) % n);
+      }
+      p = shape + strlen(def);
+    }
+  }
+  assert_int_equal(base, m->vertex_count);
+  assert_int_equal(tri, m->triangle_count);
+}
+
+static char *read_text(const char *path) {
+  char *s = (char *)tu_read_file(path, NULL);
+  assert_non_null(s);
+  return s;
+}
+
+static void check_png(const char *path, const bbc_image *expected) {
+  bbc_image img;
+  bbc_error err;
+  if (bbc_image_load(path, &img, &err) != BBC_OK) fail_msg("%s", err.message);
+  assert_int_equal(img.width, expected->width);
+  assert_int_equal(img.height, expected->height);
+  assert_memory_equal(img.rgba, expected->rgba, (size_t)img.width * img.height * 4);
+  bbc_image_free(&img);
+}
+
+/* ---- tests ----------------------------------------------------------------- */
+
+static void test_formats_with_back_images_and_normal_maps(void **state) {
+  (void)state;
+  bbc_cloud cl;
+  build_cloud(1, 1, &cl);
+  char *dir = sub_dir("both");
+  bbc_error err;
+  for (int format = 0; format <= 1; format++) {
+    char name[64], stem[16];
+    snprintf(stem, sizeof stem, "cloud%d", format);
+    snprintf(name, sizeof name, "%s.wrl", stem);
+    char *wrl = path_in(dir, name);
+    if (bbc_cloud_write_vrml(wrl, &cl, format, "made by test_vrml\nsecond line", &err) != BBC_OK)
+      fail_msg("%s", err.message);
+    char *text = read_text(wrl);
+    assert_true(!strncmp(text, "#VRML V2.0 utf8\n", 16));
+    assert_true(
+        !strncmp(text + 16,
+                 "# Billboard Cloud: 2 billboards, written by bbcgen " BBC_VERSION_STRING
+                 "\n# made by test_vrml\n# second line\n",
+                 strlen("# Billboard Cloud: 2 billboards, written by bbcgen " BBC_VERSION_STRING
+                        "\n# made by test_vrml\n# second line\n")));
+    check_shapes(text, &cl, stem, format == 0);
+    if (format == 0) {
+      assert_int_equal(
+          count(text, "PROTO NormalMap [ exposedField MFString url [] ] { Group { } }"), 1);
+    } else {
+      assert_null(strstr(text, "NormalMap"));
+      assert_null(strstr(text, "PROTO"));
+    }
+    snprintf(name, sizeof name, "%s.png", stem);
+    char *png = path_in(dir, name);
+    check_png(png, &cl.mesh.textures[0].image);
+    snprintf(name, sizeof name, "%s_nm.png", stem);
+    char *nm = path_in(dir, name);
+    check_png(nm, &cl.mesh.textures[1].image);
+    free(text);
+    free(wrl);
+    free(png);
+    free(nm);
+  }
+  assert_int_equal(entries(dir), 6); /* no temporary files left */
+  free(dir);
+  bbc_cloud_free(&cl);
+}
+
+static void test_double_sided_without_back_images(void **state) {
+  (void)state;
+  bbc_cloud cl;
+  build_cloud(0, 0, &cl);
+  char *dir = sub_dir("single");
+  char *wrl = path_in(dir, "one.wrl");
+  bbc_error err;
+  if (bbc_cloud_write_vrml(wrl, &cl, 0, "a\r\n\nb\n", &err) != BBC_OK) fail_msg("%s", err.message);
+  char *text = read_text(wrl);
+  assert_non_null(strstr(text, BBC_VERSION_STRING "\n# a\n#\n# b\n# format 0"));
+  assert_int_equal(count(text, "Shape {"), cl.billboard_count);
+  assert_int_equal(count(text, "solid FALSE"), cl.billboard_count);
+  assert_null(strstr(text, "_back"));
+  assert_null(strstr(text, "NormalMap")); /* format 0 without normal maps */
+  check_shapes(text, &cl, "one", 0);
+  assert_int_equal(entries(dir), 2); /* one.wrl, one.png */
+  free(text);
+  /* A name outside the URL-safe characters: the file keeps it, the url
+   * percent-encodes it. */
+  char *spaced = path_in(dir, "my cloud#1.wrl");
+  if (bbc_cloud_write_vrml(spaced, &cl, 1, NULL, &err) != BBC_OK) fail_msg("%s", err.message);
+  text = read_text(spaced);
+  check_shapes(text, &cl, "my%20cloud%231", 0);
+  char *spaced_png = path_in(dir, "my cloud#1.png");
+  check_png(spaced_png, &cl.mesh.textures[0].image);
+  assert_int_equal(entries(dir), 4);
+  free(spaced_png);
+  free(spaced);
+  free(text);
+  free(wrl);
+  free(dir);
+  bbc_cloud_free(&cl);
+}
+
+static void test_refused_paths_write_nothing(void **state) {
+  (void)state;
+  bbc_cloud cl;
+  build_cloud(1, 1, &cl);
+  char *dir = sub_dir("refused");
+  bbc_error err;
+  const char *bad[] = {"cloud.obj", "cloud.vrml", "cloud", ".wrl", "cloud.wrl.png"};
+  for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+    char *p = path_in(dir, bad[i]);
+    assert_int_equal(bbc_cloud_write_vrml(p, &cl, 1, NULL, &err), BBC_ERROR_INVALID_ARGUMENT);
+    assert_true(strlen(err.message) > 0);
+    free(p);
+  }
+  char *wrl = path_in(dir, "cloud.wrl");
+  assert_int_equal(bbc_cloud_write_vrml(wrl, &cl, 2, NULL, &err), BBC_ERROR_INVALID_ARGUMENT);
+  bbc_cloud empty;
+  memset(&empty, 0, sizeof empty);
+  assert_int_equal(bbc_cloud_write_vrml(wrl, &empty, 0, NULL, &err), BBC_ERROR_EMPTY);
+  assert_int_equal(entries(dir), 0);
+  /* A missing folder: an error, and nothing anywhere. */
+  char *missing = path_in(dir, "missing/cloud.wrl");
+  assert_int_not_equal(bbc_cloud_write_vrml(missing, &cl, 0, NULL, &err), BBC_OK);
+  assert_int_equal(err.code, BBC_ERROR_IO);
+  assert_int_equal(entries(dir), 0);
+  assert_false(file_exists(missing));
+  free(missing);
+  free(wrl);
+  free(dir);
+  bbc_cloud_free(&cl);
+}
+
+static void test_deterministic(void **state) {
+  (void)state;
+  bbc_cloud cl;
+  build_cloud(1, 1, &cl);
+  char *dirs[2] = {sub_dir("det_a"), sub_dir("det_b")};
+  const char *names[3] = {"c.wrl", "c.png", "c_nm.png"};
+  unsigned char *first[3] = {0};
+  size_t first_size[3] = {0};
+  bbc_error err;
+  for (int run = 0; run < 3; run++) { /* a, b, and a again over the first files */
+    char *wrl = path_in(dirs[run == 1], "c.wrl");
+    if (bbc_cloud_write_vrml(wrl, &cl, 0, "same", &err) != BBC_OK) fail_msg("%s", err.message);
+    free(wrl);
+    for (int f = 0; f < 3; f++) {
+      char *p = path_in(dirs[run == 1], names[f]);
+      size_t size = 0;
+      unsigned char *data = tu_read_file(p, &size);
+      assert_non_null(data);
+      if (run == 0) {
+        first[f] = data;
+        first_size[f] = size;
+      } else {
+        assert_int_equal(size, first_size[f]);
+        assert_memory_equal(data, first[f], size);
+        free(data);
+      }
+      free(p);
+    }
+  }
+  assert_int_equal(entries(dirs[0]), 3);
+  for (int f = 0; f < 3; f++) free(first[f]);
+  free(dirs[0]);
+  free(dirs[1]);
+  bbc_cloud_free(&cl);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_formats_with_back_images_and_normal_maps),
+      cmocka_unit_test(test_double_sided_without_back_images),
+      cmocka_unit_test(test_refused_paths_write_nothing),
+      cmocka_unit_test(test_deterministic),
+  };
+  return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
+}

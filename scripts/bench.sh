@@ -56,6 +56,17 @@ done
 if [ -f "$data/trees/scopia/pine/pine.obj" ]; then
   "$build/bin/bench_planes" "$data/trees/scopia/pine/pine.obj" 3 epsilon=6 | tee -a "$json"
 fi
+# Step 3 (baking and atlas) and the whole OBJ -> .glb pipeline, texres 256,
+# quality 2, front and back images; the issue-4 acceptance models.
+glb=$(mktemp -d)
+for t in trees/scopia/pine/pine.obj trees/scopia/bush/bush.obj trees/eztree/oak_medium.obj \
+         trees/eztree/ash_large_hi.obj models/cat.3ds; do
+  [ -f "$data/$t" ] || continue
+  up=1; case "$t" in *.3ds) up=2 ;; esac
+  "$build/bin/bench_cloud" "$data/$t" 3 "$glb/c.glb" epsilon=6 clustering=0 quality=2 \
+    texres=256 upaxis=$up | tee -a "$json"
+done
+rm -rf "$glb"
 big=$(mktemp -d)
 "$build/bin/bbcgen" tree --leaves 450000 -q -o "$big/big_oak.obj"
 "$build/bin/bench_planes" "$big/big_oak.obj" 1 epsilon=6 clustering=0 | tee -a "$json"
@@ -72,7 +83,7 @@ rm -rf "$big"
 import json, sys, os
 for line in open(sys.argv[1]):
     r = json.loads(line)
-    if r['bench'] == 'planes':
+    if r['bench'] in ('planes', 'cloud'):
         continue
     name = f"{r['species']} leaves={r['leaves']}" if r['bench'] in ('treegen', 'tree_cli') else os.path.relpath(r['model'], os.path.join(os.path.dirname(sys.argv[1]), '../../../shared/data'))
     peak = f"{r['peak_mib']:.0f}" if r['peak_mib'] else "-"
@@ -97,6 +108,24 @@ for line in open(sys.argv[1]):
     name = name[i + 12:] if i >= 0 else 'generated oak (bbcgen tree --leaves 450000)'
     planes = f"{r['planes']} ({r['planes_part0']}+{r['planes_part1']})" if r['parts'] == 2 else str(r['planes'])
     print(f"| {name} | {r['params']} | {r['triangles']:,} | {planes} | {r['step1_s']:.2f} | {r['step2_s']:.2f} | {r['median_s']:.2f} | {r['peak_mib']:.0f} |")
+PY
+  echo
+  echo "## Step 3 (baking, atlas) and OBJ to .glb"
+  echo
+  echo "Medians of 3 runs; step 3 = bbc_cloud_build on the planes found once; OBJ to .glb = load, steps 1-3, write."
+  echo
+  echo "| model | parameters | triangles | billboards | atlas | texels | step 3 s | OBJ to .glb s | peak MiB |"
+  echo "|---|---|---:|---:|---|---:|---:|---:|---:|"
+  python3 - "$json" <<'PY'
+import json, sys
+for line in open(sys.argv[1]):
+    r = json.loads(line)
+    if r['bench'] != 'cloud':
+        continue
+    name = r['model']
+    i = name.find('shared/data/')
+    name = name[i + 12:] if i >= 0 else name
+    print(f"| {name} | {r['params']} | {r['triangles']:,} | {r['billboards']} | {r['atlas']} | {r['texels']:,} | {r['step3_s']:.2f} | {r['obj_to_glb_s']:.2f} | {r['peak_mib']:.0f} |")
 PY
 } > "$res/latest.md.tmp.$$"
 mv "$json" "$res/latest.json"

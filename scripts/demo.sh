@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# demo.sh — what the toolkit does today, on a fresh clone with no downloads:
-# generate the built-in tree, describe it, render it.
+# demo.sh — what the toolkit does, on a fresh clone with no downloads:
+# generate the built-in tree, describe it, make its Billboard Cloud (glTF and
+# VRML) with a preview and a report.
 set -euo pipefail
 build=${1:-build}
 bin="$build/bin/bbcgen"
@@ -13,16 +14,19 @@ echo "== 2. Describe it"
 "$bin" info --json "$out/oak.obj" > "$out/oak_info.json"
 echo "== 3. Steps 1 and 2 of the Billboard Cloud algorithm: its planes (epsilon 6 %)"
 "$bin" planes "$out/oak.obj" --epsilon 6 --clustering 0 --json "$out/oak_planes.json"
-echo "== 4. Its Billboard Cloud (step 3, first version) as glTF, and a render of it"
-"$bin" "$out/oak.obj" -o "$out/oak_cloud.glb" --epsilon 6 --clustering 0 --quality 2
-"$bin" render "$out/oak_cloud.glb" -o "$out/oak_cloud.png"
-echo "== 5. A pine, a birch and a bush too"
+echo "== 4. Its Billboard Cloud (steps 1 to 3) as glTF, with a preview and a report"
+"$bin" "$out/oak.obj" -o "$out/oak_cloud.glb" --epsilon 6 --clustering 0 --quality 2 \
+  --report "$out/oak_cloud_report.json" --preview "$out/oak_cloud_preview.png"
+echo "== 5. The same cloud as VRML (the thesis's format 0, normal maps), and three LODs"
+"$bin" "$out/oak.obj" -o "$out/oak_cloud.wrl" --epsilon 6 --clustering 0 --quality 2 --nm 1 -q
+"$bin" "$out/oak.obj" -o "$out/oak_lods.glb" --lod 6,10,15 --clustering 0 --quality 2 -q
+echo "== 6. A pine, a birch and a bush too"
 for s in pine birch bush; do
   "$bin" tree --species "$s" --seed 1 -o "$out/$s.obj" --preview "$out/${s}_preview.png"
 done
 shared="$(dirname "$0")/../../shared/data/trees/scopia/pine/pine.obj"
 if [ -f "$shared" ]; then
-  echo "== 6. A real tree from ../shared/data: the Scopia pine"
+  echo "== 7. A real tree from ../shared/data: the Scopia pine"
   "$bin" info "$shared"
   "$bin" render "$shared" -o "$out/scopia_pine.png" --size 384
 fi
@@ -30,5 +34,5 @@ echo
 echo "Results in $out/:"
 ls -1 "$out"
 echo
-echo "Step 3 is a first version (front images only, no normal maps, no VRML, no report);"
-echo "see README.md, Status."
+echo "Open $out/oak_cloud.glb in any glTF viewer; $out/oak_cloud_preview.png shows the"
+echo "original (top row), the cloud (middle) and the billboards' outlines (bottom)."

@@ -625,6 +625,64 @@ void bbc_view_frame_mesh(const bbc_mesh *mesh, const double direction[3], const 
                          bbc_view *view);
 
 /* ------------------------------------------------------------------------ */
+/* Fidelity: how close a simplified model looks to its original              */
+/* ------------------------------------------------------------------------ */
+
+typedef struct bbc_eval_options {
+  int views;                 /* directions evenly over the sphere (Fibonacci lattice), 64 */
+  int size;                  /* pixels per side of each view, 256 */
+  int up_axis;               /* 0 = x, 1 = y, 2 = z: side views, image up */
+  double side_elevation_deg; /* side views: |elevation| <= this, 30 */
+  int lighting;              /* 0 = unlit (default); 1 = both lit alike by `light` */
+  double light[3];           /* towards the light, model frame */
+  const double *directions;  /* not NULL: direction_count explicit directions (camera
+                              * towards the model, 3 per view) instead of `views` */
+  size_t direction_count;
+  int threads;      /* 0 = all cores; results never depend on it */
+  bbc_image *sheet; /* not NULL: receives a PNG-ready sheet, one row per
+                     * shown view: original | other | coverage difference
+                     * (grey both, red original only, blue other only) */
+  int sheet_views;  /* rows of the sheet, spread over the views (0 = 8) */
+} bbc_eval_options;
+
+void bbc_eval_options_default(bbc_eval_options *options);
+
+typedef struct bbc_eval_view {
+  double direction[3];                   /* camera towards the model */
+  double elevation_deg;                  /* of the camera above the horizon */
+  int side;                              /* |elevation| <= side_elevation_deg */
+  size_t original_px, other_px, both_px; /* covered pixels */
+  double iou;                            /* both / either */
+  double recall;                         /* both / original: the original's coverage reproduced */
+  double false_coverage;                 /* (other - both) / other: coverage the original lacks */
+  double psnr; /* dB, RGB over the union of both masks (uncovered = black),
+                * 99 for identical images */
+  double mae;  /* mean absolute RGB difference over the intersection, 0..255 */
+} bbc_eval_view;
+
+typedef struct bbc_eval_result {
+  size_t view_count;
+  bbc_eval_view *views;
+  size_t side_count;
+  double iou_mean, iou_min, iou_side_mean, iou_side_min;
+  double recall_mean, recall_side_mean;
+  double false_mean;
+  double psnr_mean, psnr_min, psnr_side_mean;
+  double mae_mean;
+} bbc_eval_result;
+
+/* Renders `original` and `other` (a cloud, a baseline) with the software
+ * rasterizer, orthographic, from the same views framing both models' joint
+ * bounds in the original's coordinates (an offset model scores worse), and
+ * compares coverage and colour. Alpha-tested textures count as coverage;
+ * single-sided materials are culled. Deterministic with any thread count. */
+bbc_result bbc_eval(const bbc_mesh *original, const bbc_mesh *other,
+                    const bbc_eval_options *options, bbc_eval_result *result, bbc_error *err);
+void bbc_eval_result_free(bbc_eval_result *result);
+/* Direction k of n used by bbc_eval (camera towards the model). */
+void bbc_eval_direction(int k, int n, int up_axis, double dir[3]);
+
+/* ------------------------------------------------------------------------ */
 /* Built-in tree generator                                                   */
 /* ------------------------------------------------------------------------ */
 

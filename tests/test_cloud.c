@@ -438,6 +438,9 @@ static void test_cloud_of_a_tree(void **state) {
     if (bbc_mesh_load(out, NULL, &back, &err) != BBC_OK) fail_msg("%s", err.message);
     assert_int_equal(back.triangle_count, cm->triangle_count);
     assert_true(back.textures[0].has_alpha);
+    /* glTF's doubleSided comes back: one-sided copies with back images. */
+    assert_int_equal(back.materials[0].single_sided, cm->materials[0].single_sided);
+    assert_int_equal(back.materials[0].single_sided, 1);
     bbc_mesh_free(&back);
     tu_remove_dir(dir);
     free(dir);

@@ -115,6 +115,51 @@ static void put_normal(uint8_t *o, const double *n, const camera *cam, double to
   o[3] = 255;
 }
 
+/* Screen bounds of the part of triangle abc (x, y, depth) whose depth lies
+ * in [lo, hi] (depth is linear on the triangle, so that part is the
+ * triangle clipped by two planes). Returns 0 when the part is empty. The
+ * per-pixel slab test stays exact; this only skips pixels that cannot pass,
+ * which matters for large faces crossing a thin slab. */
+static int slab_bounds(const double *a, const double *b, const double *c, double lo, double hi,
+                       double *minx, double *maxx, double *miny, double *maxy) {
+  double p[8][3], q[8][3];
+  memcpy(p[0], a, sizeof p[0]);
+  memcpy(p[1], b, sizeof p[1]);
+  memcpy(p[2], c, sizeof p[2]);
+  int n = 3;
+  for (int side = 0; side < 2; side++) {
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+      const double *P = p[i], *Q = p[(i + 1) % n];
+      double fp = side ? P[2] - hi : lo - P[2], fq = side ? Q[2] - hi : lo - Q[2];
+      if (fp <= 0) memcpy(q[m++], P, sizeof q[0]);
+      if ((fp < 0 && fq > 0) || (fp > 0 && fq < 0)) {
+        double t = fp / (fp - fq);
+        for (int k = 0; k < 3; k++) q[m][k] = P[k] + t * (Q[k] - P[k]);
+        m++;
+      }
+    }
+    n = m;
+    memcpy(p, q, (size_t)n * sizeof p[0]);
+    if (n == 0) return 0;
+  }
+  /* A pixel whose centre passes the exact test lies within the clipped
+   * polygon; pad by a texel for the rounding of the interpolated depth. */
+  *minx = *maxx = p[0][0];
+  *miny = *maxy = p[0][1];
+  for (int i = 1; i < n; i++) {
+    *minx = fmin(*minx, p[i][0]);
+    *maxx = fmax(*maxx, p[i][0]);
+    *miny = fmin(*miny, p[i][1]);
+    *maxy = fmax(*maxy, p[i][1]);
+  }
+  *minx -= 1;
+  *miny -= 1;
+  *maxx += 1;
+  *maxy += 1;
+  return 1;
+}
+
 static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
   const camera *cam = tg->cam;
   const bbc_view *view = tg->view;
@@ -144,6 +189,9 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
   const double *a = s[order[0]], *b = s[order[1]], *c = s[order[2]];
   double minx = fmin(a[0], fmin(b[0], c[0])), maxx = fmax(a[0], fmax(b[0], c[0]));
   double miny = fmin(a[1], fmin(b[1], c[1])), maxy = fmax(a[1], fmax(b[1], c[1]));
+  if (view->depth_max > view->depth_min &&
+      !slab_bounds(a, b, c, view->depth_min, view->depth_max, &minx, &maxx, &miny, &maxy))
+    return; /* no part of it inside the slab */
   int x0 = (int)floor(minx - 0.5), x1 = (int)ceil(maxx - 0.5);
   int y0 = (int)floor(miny - 0.5), y1 = (int)ceil(maxy - 0.5);
   if (x0 < 0) x0 = 0;
@@ -171,9 +219,26 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
   int slab = view->depth_max > view->depth_min;
   int need_normal = view->lighting || (tg->bake && (tg->bake->front_nm || tg->bake->back_nm));
 
+  double inv_area = 1.0 / area;
+  /* Edge function k at pixel centre px of a row: ea[k] * px + eb[k]. */
+  const double *E0[3] = {b, c, a}, *E1[3] = {c, a, b};
   for (int y = y0; y <= y1; y++) {
     double py = y + 0.5;
-    for (int x = x0; x <= x1; x++) {
+    /* The row's span where every edge function can be >= 0, widened by a
+     * pixel for rounding; the exact test below decides each pixel. */
+    double lo = x0, hi = x1;
+    for (int k = 0; k < 3; k++) {
+      double ea = -(E1[k][1] - E0[k][1]);
+      double eb = (E1[k][0] - E0[k][0]) * (py - E0[k][1]) + (E1[k][1] - E0[k][1]) * E0[k][0];
+      if (ea > 1e-12)
+        lo = fmax(lo, -eb / ea - 0.5 - 1.0);
+      else if (ea < -1e-12)
+        hi = fmin(hi, -eb / ea - 0.5 + 1.0);
+    }
+    int xs = lo > x0 ? (int)floor(lo) : x0, xe = hi < x1 ? (int)ceil(hi) : x1;
+    if (xs < x0) xs = x0;
+    if (xe > x1) xe = x1;
+    for (int x = xs; x <= xe; x++) {
       double px = x + 0.5;
       /* Edge functions: w0 opposite a, etc. */
       double w0 = (c[0] - b[0]) * (py - b[1]) - (c[1] - b[1]) * (px - b[0]);
@@ -181,7 +246,7 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
       double w2 = (b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0]);
       if (w0 < 0 || w1 < 0 || w2 < 0) continue;
       if ((w0 == 0 && !tl0) || (w1 == 0 && !tl1) || (w2 == 0 && !tl2)) continue;
-      double l0 = w0 / area, l1 = w1 / area, l2 = w2 / area;
+      double l0 = w0 * inv_area, l1 = w1 * inv_area, l2 = w2 * inv_area;
       float z = (float)(l0 * a[2] + l1 * b[2] + l2 * c[2]);
       size_t pi = (size_t)y * tg->width + x;
       int front = want_front && z < tg->depth[pi];

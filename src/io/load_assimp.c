@@ -376,6 +376,15 @@ static bbc_result load_materials(loader *L) {
     if (aiGetMaterialFloatArray(am, AI_MATKEY_OPACITY, &opacity, &one) == AI_SUCCESS &&
         opacity >= 0 && opacity < 1)
       mat->base_color[3] = opacity;
+    /* glTF says whether a material is double-sided (a cloud's front and
+     * back copies are not); other formats' flags mean other things. */
+    char ext[16];
+    bbc__path_extension(L->path, ext, sizeof ext);
+    int two = 1;
+    unsigned one_int = 1;
+    if ((!strcmp(ext, "glb") || !strcmp(ext, "gltf")) &&
+        aiGetMaterialIntegerArray(am, AI_MATKEY_TWOSIDED, &two, &one_int) == AI_SUCCESS)
+      mat->single_sided = !two;
     struct aiString tex;
     if (aiGetMaterialTexture(am, aiTextureType_DIFFUSE, 0, &tex, NULL, NULL, NULL, NULL, NULL,
                              NULL) == AI_SUCCESS ||

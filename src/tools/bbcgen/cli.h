@@ -77,6 +77,10 @@ int cmd_setup(cli *c, int argc, char **argv);
 int cmd_planes(cli *c, int argc, char **argv);
 int cmd_exec(cli *c, int argc, char **argv);
 int cmd_cloud(cli *c, int argc, char **argv);
+int cmd_eval(cli *c, int argc, char **argv);
+/* The eval metrics as JSON text (cJSON_free it); a and b name the inputs. */
+char *eval_json_text(const bbc_eval_result *r, const bbc_eval_options *o, const char *a,
+                     const char *b);
 /* Steps 1 and 2 on a model file; JSON to json_path when not NULL. */
 int run_planes(const cli *c, const char *path, const char *json_path);
 void print_parameter_help(FILE *out);

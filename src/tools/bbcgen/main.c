@@ -36,6 +36,12 @@ static void print_help(FILE *out) {
           "  bbcgen planes MODEL [PARAMETER OPTIONS] [--json OUT.json]\n"
           "      Steps 1 and 2: the planes (n . x = d) and which plane simplifies each\n"
           "      triangle. Trunk and foliage are simplified apart (--split).\n"
+          "  bbcgen eval ORIGINAL OTHER [--views N] [--size PX] [--json OUT.json]\n"
+          "              [--png SHEET.png] [--lit]\n"
+          "      How close OTHER (a cloud, a baseline) looks to ORIGINAL: both rendered\n"
+          "      from N directions over the sphere (64), coverage IoU, recall, false\n"
+          "      coverage, PSNR, colour error; also over side views (elevation within\n"
+          "      30 degrees). Unlit unless --lit (compare clouds baked with --prelight 0).\n"
           "  bbcgen exec BATCHFILE\n"
           "      Run a batch file of commands (load, set, split, bbc1, bbc2, bbc3, bbc,\n"
           "      planes, shade, save, setup); see README.\n"
@@ -43,7 +49,7 @@ static void print_help(FILE *out) {
           "      Print every parameter's current value (the thesis's `setup`).\n"
           "  bbcgen --help | --version\n"
           "\n"
-          "Not implemented yet (see README, Status): `eval`, batch commands show and\n"
+          "Not implemented yet (see README, Status): batch commands show and\n"
           "bbcload, point clouds in steps 2 and 3.\n"
           "\n"
           "Options for every command:\n"
@@ -94,6 +100,7 @@ int main(int argc, char **argv) {
   if (!strcmp(cmd, "render")) return cmd_render(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "setup")) return cmd_setup(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "planes")) return cmd_planes(&c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "eval")) return cmd_eval(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "exec")) return cmd_exec(&c, argc - 1, argv + 1);
   if (cmd[0] == '-') {
     cli_error("unknown option '%s' (try bbcgen --help)", cmd);

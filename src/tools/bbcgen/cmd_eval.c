@@ -1,0 +1,137 @@
+/* cmd_eval.c — `bbcgen eval ORIGINAL OTHER [--views N] [--size S] [--json OUT]
+ * [--png SHEET] [--lit]`: how close OTHER (a cloud, a baseline) looks to
+ * ORIGINAL, through the library's bbc_eval. */
+#include "cli.h"
+
+#include <cjson/cJSON.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The metrics as JSON: the summary at the top level, then per view. */
+char *eval_json_text(const bbc_eval_result *r, const bbc_eval_options *o, const char *a,
+                     const char *b) {
+  cJSON *j = cJSON_CreateObject();
+  if (a) cJSON_AddStringToObject(j, "original", a);
+  if (b) cJSON_AddStringToObject(j, "other", b);
+  cJSON_AddNumberToObject(j, "iou_mean", r->iou_mean);
+  cJSON_AddNumberToObject(j, "iou_side_mean", r->iou_side_mean);
+  cJSON_AddNumberToObject(j, "iou_min", r->iou_min);
+  cJSON_AddNumberToObject(j, "iou_side_min", r->iou_side_min);
+  cJSON_AddNumberToObject(j, "recall_mean", r->recall_mean);
+  cJSON_AddNumberToObject(j, "recall_side_mean", r->recall_side_mean);
+  cJSON_AddNumberToObject(j, "false_coverage_mean", r->false_mean);
+  cJSON_AddNumberToObject(j, "psnr_mean", r->psnr_mean);
+  cJSON_AddNumberToObject(j, "psnr_side_mean", r->psnr_side_mean);
+  cJSON_AddNumberToObject(j, "psnr_min", r->psnr_min);
+  cJSON_AddNumberToObject(j, "mae_mean", r->mae_mean);
+  cJSON_AddNumberToObject(j, "views", (double)r->view_count);
+  cJSON_AddNumberToObject(j, "side_views", (double)r->side_count);
+  cJSON_AddNumberToObject(j, "size", o->size);
+  cJSON_AddBoolToObject(j, "lit", o->lighting);
+  cJSON *vs = cJSON_AddArrayToObject(j, "per_view");
+  for (size_t k = 0; k < r->view_count; k++) {
+    const bbc_eval_view *v = &r->views[k];
+    cJSON *q = cJSON_CreateObject();
+    cJSON_AddItemToObject(q, "direction", cJSON_CreateDoubleArray(v->direction, 3));
+    cJSON_AddNumberToObject(q, "elevation_deg", v->elevation_deg);
+    cJSON_AddBoolToObject(q, "side", v->side);
+    cJSON_AddNumberToObject(q, "iou", v->iou);
+    cJSON_AddNumberToObject(q, "recall", v->recall);
+    cJSON_AddNumberToObject(q, "false_coverage", v->false_coverage);
+    cJSON_AddNumberToObject(q, "psnr", v->psnr);
+    cJSON_AddNumberToObject(q, "mae", v->mae);
+    cJSON_AddNumberToObject(q, "original_px", (double)v->original_px);
+    cJSON_AddNumberToObject(q, "other_px", (double)v->other_px);
+    cJSON_AddItemToArray(vs, q);
+  }
+  char *text = cJSON_Print(j);
+  cJSON_Delete(j);
+  return text;
+}
+
+int cmd_eval(cli *c, int argc, char **argv) {
+  const char *paths[2] = {NULL, NULL}, *json = NULL, *png = NULL;
+  long long views = 64, size = 256;
+  int lit = 0, np = 0;
+  for (int i = 1; i < argc; i++) {
+    int k = cli_common_option(c, argc, argv, &i);
+    if (k < 0) return EXIT_USAGE;
+    if (k) continue;
+    const char *v;
+    if (!strcmp(argv[i], "--views")) {
+      if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+      if ((views = cli_parse_count(argv[i - 1], v, 100000)) < 1) {
+        if (views == 0) cli_error("--views: at least 1");
+        return EXIT_USAGE;
+      }
+    } else if (!strcmp(argv[i], "--size")) {
+      if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+      if ((size = cli_parse_count(argv[i - 1], v, 8192)) < 8) {
+        if (size >= 0) cli_error("--size: 8 to 8192 pixels");
+        return EXIT_USAGE;
+      }
+    } else if (!strcmp(argv[i], "--json")) {
+      if (!(json = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+    } else if (!strcmp(argv[i], "--png")) {
+      if (!(png = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+    } else if (!strcmp(argv[i], "--lit")) {
+      lit = 1;
+    } else if (argv[i][0] != '-' && np < 2) {
+      paths[np++] = argv[i];
+    } else {
+      cli_error("eval: unknown option or extra argument '%s'", argv[i]);
+      return EXIT_USAGE;
+    }
+  }
+  if (np != 2) {
+    cli_error("eval: usage: bbcgen eval ORIGINAL OTHER [--views N] [--size PX] [--json OUT] "
+              "[--png SHEET] [--lit]");
+    return EXIT_USAGE;
+  }
+  bbc_load_options lo;
+  bbc_load_options_default(&lo);
+  lo.compute_normals = c->params.vertex_normals;
+  lo.callbacks = c->callbacks;
+  bbc_mesh m[2];
+  bbc_error err;
+  if (bbc_mesh_load(paths[0], &lo, &m[0], &err) != BBC_OK) return cli_fail(&err, 0);
+  if (bbc_mesh_load(paths[1], &lo, &m[1], &err) != BBC_OK) {
+    bbc_mesh_free(&m[0]);
+    return cli_fail(&err, 0);
+  }
+  bbc_eval_options o;
+  bbc_eval_options_default(&o);
+  o.views = (int)views;
+  o.size = (int)size;
+  o.up_axis = c->params.up_axis;
+  o.threads = c->params.threads;
+  o.lighting = lit;
+  bbc_params_light_direction(&c->params, o.light);
+  bbc_image sheet = {0, 0, NULL};
+  if (png) o.sheet = &sheet;
+  bbc_eval_result r;
+  double t0 = cli_now();
+  int rc = EXIT_OK;
+  if (bbc_eval(&m[0], &m[1], &o, &r, &err) != BBC_OK) {
+    rc = cli_fail(&err, 0);
+  } else {
+    printf("iou %.4f (side %.4f, min %.4f)  recall %.4f  false coverage %.4f  psnr %.2f dB "
+           "(side %.2f)  mae %.2f  [%zu views, %zu side, %d px, %.2f s]\n",
+           r.iou_mean, r.iou_side_mean, r.iou_min, r.recall_mean, r.false_mean, r.psnr_mean,
+           r.psnr_side_mean, r.mae_mean, r.view_count, r.side_count, o.size, cli_now() - t0);
+    if (json) {
+      char *text = eval_json_text(&r, &o, paths[0], paths[1]);
+      if (!text || bbc_write_file_atomic(json, text, strlen(text), &err) != BBC_OK)
+        rc = text ? cli_fail(&err, 1) : EXIT_RESOURCES;
+      cJSON_free(text);
+    }
+    if (rc == EXIT_OK && png && bbc_image_write_png(png, &sheet, &err) != BBC_OK)
+      rc = cli_fail(&err, 1);
+    bbc_eval_result_free(&r);
+  }
+  bbc_image_free(&sheet);
+  bbc_mesh_free(&m[0]);
+  bbc_mesh_free(&m[1]);
+  return rc;
+}

@@ -1,0 +1,138 @@
+/* test_eval.c — fidelity metrics (bbc_eval): a model against itself, against
+ * a moved copy, and two quads with an analytic overlap. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bbc.h"
+#include "test_util.h"
+
+static void tree(bbc_mesh *m) {
+  bbc_tree_options o;
+  bbc_tree_options_default(&o);
+  o.seed = 3;
+  o.leaves = 3000;
+  o.texture_size = 64;
+  bbc_error err;
+  if (bbc_tree_generate(&o, m, &err) != BBC_OK) fail_msg("%s", err.message);
+}
+
+static void test_self_and_moved(void **state) {
+  (void)state;
+  bbc_mesh a, b;
+  tree(&a);
+  tree(&b);
+  bbc_eval_options o;
+  bbc_eval_options_default(&o);
+  o.views = 24;
+  o.size = 128;
+  bbc_eval_result r;
+  bbc_error err;
+  assert_int_equal(bbc_eval(&a, &b, &o, &r, &err), BBC_OK);
+  assert_int_equal(r.view_count, 24);
+  assert_true(r.side_count > 0 && r.side_count < 24);
+  assert_true(r.iou_mean == 1.0 && r.iou_min == 1.0 && r.iou_side_mean == 1.0);
+  assert_true(r.recall_mean == 1.0 && r.false_mean == 0.0);
+  assert_true(r.psnr_mean >= 60 && r.mae_mean == 0);
+  bbc_eval_result_free(&r);
+  /* Moved by 5 % of the radius along x: clearly worse, from every side. */
+  for (size_t v = 0; v < b.vertex_count; v++) b.positions[3 * v] += 0.05 * a.radius;
+  if (bbc_mesh_finalize(&b, 1, "moved", &err) != BBC_OK) fail_msg("%s", err.message);
+  assert_int_equal(bbc_eval(&a, &b, &o, &r, &err), BBC_OK);
+  printf("moved: iou %.3f side %.3f psnr %.1f\n", r.iou_mean, r.iou_side_mean, r.psnr_mean);
+  assert_true(r.iou_mean < 0.85 && r.iou_side_mean < 0.85);
+  assert_true(r.psnr_mean < 40);
+  /* Same numbers with one thread. */
+  bbc_eval_result r1;
+  o.threads = 1;
+  assert_int_equal(bbc_eval(&a, &b, &o, &r1, &err), BBC_OK);
+  for (size_t k = 0; k < r.view_count; k++) {
+    assert_true(r.views[k].iou == r1.views[k].iou);
+    assert_true(r.views[k].psnr == r1.views[k].psnr);
+  }
+  bbc_eval_result_free(&r);
+  bbc_eval_result_free(&r1);
+  bbc_mesh_free(&a);
+  bbc_mesh_free(&b);
+}
+
+/* A unit quad at z = 0 from x0 to x0 + 1, opaque red. */
+static void quad(bbc_mesh *m, double x0) {
+  memset(m, 0, sizeof *m);
+  m->kind = BBC_MESH_TRIANGLES;
+  m->vertex_count = 4;
+  m->positions = calloc(12, sizeof(double));
+  const double p[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  for (int i = 0; i < 4; i++) {
+    m->positions[3 * i] = x0 + p[i][0];
+    m->positions[3 * i + 1] = p[i][1];
+  }
+  m->triangle_count = 2;
+  m->indices = malloc(6 * sizeof(uint32_t));
+  const uint32_t ix[6] = {0, 1, 2, 0, 2, 3};
+  memcpy(m->indices, ix, sizeof ix);
+  m->face_material = calloc(2, sizeof(uint32_t));
+  m->face_group = calloc(2, sizeof(uint32_t));
+  m->material_count = 1;
+  m->materials = calloc(1, sizeof(bbc_material));
+  m->materials[0].name = strdup("red");
+  m->materials[0].texture = -1;
+  const float red[4] = {1, 0, 0, 1};
+  memcpy(m->materials[0].base_color, red, sizeof red);
+  m->group_count = 1;
+  m->group_names = calloc(1, sizeof(char *));
+  m->group_names[0] = strdup("q");
+  bbc_error err;
+  if (bbc_mesh_finalize(m, 0, "quad", &err) != BBC_OK) fail_msg("%s", err.message);
+}
+
+static void test_two_quads(void **state) {
+  (void)state;
+  bbc_mesh a, b;
+  quad(&a, 0);
+  quad(&b, 0.5);
+  const double dirs[6] = {0, 0, -1, 0, 0, 1};
+  bbc_eval_options o;
+  bbc_eval_options_default(&o);
+  o.directions = dirs;
+  o.direction_count = 2;
+  o.size = 512;
+  bbc_eval_result r;
+  bbc_error err;
+  assert_int_equal(bbc_eval(&a, &b, &o, &r, &err), BBC_OK);
+  for (int k = 0; k < 2; k++) {
+    const bbc_eval_view *v = &r.views[k];
+    printf("view %d: iou %.4f recall %.4f false %.4f\n", k, v->iou, v->recall, v->false_coverage);
+    /* Overlap 0.5, union 1.5: IoU 1/3, recall 1/2, false coverage 1/2;
+     * pixel edges cost at most a few pixel columns of 512. */
+    assert_true(fabs(v->iou - 1.0 / 3.0) < 0.01);
+    assert_true(fabs(v->recall - 0.5) < 0.01);
+    assert_true(fabs(v->false_coverage - 0.5) < 0.01);
+    /* Same colour where both cover: no colour error. */
+    assert_true(v->mae == 0.0);
+  }
+  assert_true(fabs(r.iou_mean - 1.0 / 3.0) < 0.01);
+  bbc_eval_result_free(&r);
+  /* Bad options are refused. */
+  o.directions = NULL;
+  o.direction_count = 0;
+  o.views = 0;
+  assert_int_equal(bbc_eval(&a, &b, &o, &r, &err), BBC_ERROR_INVALID_ARGUMENT);
+  bbc_mesh_free(&a);
+  bbc_mesh_free(&b);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_self_and_moved),
+      cmocka_unit_test(test_two_quads),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -330,6 +330,12 @@ typedef struct bbc_params {
   double light_azim_deg; /* lightazim: ... degrees around the up axis */
   int shade_voxels;      /* shade: voxel shadowing grid, voxels per axis, 0 off (2.3.11) */
   double shade_ambient;  /* shadeambient: ambient share of voxel shadowing, 0..1 */
+  int grow_min;          /* growmin: quality 2: a texel is opaque when at least this
+                          * many of its 16 samples are (1 = the thesis's growing) */
+  int max_planes;        /* maxplanes: > 0: when steps 1-2 give more planes, they run
+                          * again with every epsilon 1.25-2x larger until they do not */
+  int atlas_max;         /* atlasmax: > 0: texres is chosen as the largest power of two
+                          * whose cloud fits one atlas_max x atlas_max atlas */
 } bbc_params;
 
 typedef struct bbc_param_info {
@@ -344,8 +350,13 @@ typedef struct bbc_param_info {
   const char *description; /* one line */
 } bbc_param_info;
 
-/* Fills every parameter with its Appendix A default. */
+/* Fills every parameter with the toolkit's default: Appendix A's, except
+ * where the fidelity benchmark found better far LODs for trees (README,
+ * "Defaults"): clustering 0 (thesis 2), epsilon 6 (5), quality 2 (0), and the
+ * extensions maxplanes 32 and atlasmax 1024 (thesis: none, i.e. 0). */
 void bbc_params_default(bbc_params *params);
+/* The thesis's Appendix A defaults exactly (maxplanes and atlasmax off). */
+void bbc_params_thesis(bbc_params *params);
 size_t bbc_param_count(void);
 /* i < bbc_param_count(); in Appendix A order. */
 const bbc_param_info *bbc_param_at(size_t i);
@@ -412,8 +423,12 @@ typedef struct bbc_planeset {
                          * that simplifies it; never a cardboard plane */
   size_t part_count;
   bbc_part_result *parts;
-  uint32_t *face_part; /* per triangle: index into parts */
-  char split_why[320]; /* how the parts were chosen, for people */
+  uint32_t *face_part;  /* per triangle: index into parts */
+  char split_why[320];  /* how the parts were chosen, for people */
+  double epsilon_scale; /* maxplanes: the factor every part's epsilon was multiplied
+                         * by (1 = as asked) */
+  int attempts;         /* runs of steps 1 and 2 (> 1 when maxplanes raised epsilon) */
+  double retry_s;       /* wall-clock seconds of the discarded runs */
 } bbc_planeset;
 
 void bbc_planeset_free(bbc_planeset *set);
@@ -526,6 +541,7 @@ typedef struct bbc_cloud {
   double atlas_fill;  /* texels / atlas texels */
   double bake_s;      /* wall-clock seconds: baking */
   double atlas_s;     /* ... packing the atlas and building the mesh */
+  int texres;         /* the texture resolution used (atlasmax may choose it) */
 } bbc_cloud;
 
 /* Step 3 (thesis 2.1.9, 2.2.5, 2.3.1, 2.3.5, 2.3.9, 2.3.11): bakes every
@@ -623,6 +639,29 @@ int bbc_view_project(const bbc_view *view, int width, int height, const double p
  * framing its bounding sphere with a small margin. */
 void bbc_view_frame_mesh(const bbc_mesh *mesh, const double direction[3], const double up[3],
                          bbc_view *view);
+
+/* ------------------------------------------------------------------------ */
+/* Baselines: what a user would otherwise pick for a far LOD                 */
+/* ------------------------------------------------------------------------ */
+
+/* Crossed billboards: `planes` vertical planes (1..16) through the centre of
+ * the model's bounding box, at equal angles around the up axis (`upaxis`),
+ * plus a horizontal one when `horizontal`; each billboard the whole model's
+ * projection onto its plane, baked by the step-3 baker (every face, front and
+ * back images as `backimages`, `quality`, `prelight`, ...) at the power-of-two
+ * texture resolution whose texel count comes closest to `texel_budget`. */
+bbc_result bbc_baseline_crossed(const bbc_mesh *mesh, int planes, int horizontal,
+                                const bbc_params *params, size_t texel_budget,
+                                const bbc_callbacks *callbacks, bbc_cloud *cloud, bbc_error *err);
+
+/* meshoptimizer's simplification (Debian libmeshoptimizer, 0.18) towards
+ * `target_triangles`, each material and group on its own in proportion:
+ * meshopt_simplify (edge collapses that keep attribute seams and borders,
+ * so separate leaf cards cannot go below about one quad each) or, with
+ * `sloppy`, meshopt_simplifySloppy (vertex clustering, reaches any target).
+ * UVs, normals, materials and textures are kept; unused vertices dropped. */
+bbc_result bbc_baseline_simplify(const bbc_mesh *mesh, size_t target_triangles, int sloppy,
+                                 bbc_mesh *out, bbc_error *err);
 
 /* ------------------------------------------------------------------------ */
 /* Fidelity: how close a simplified model looks to its original              */

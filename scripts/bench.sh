@@ -50,11 +50,11 @@ trees=$(cd "$data" && ls trees/scopia/*/*.obj trees/eztree/*.obj trees/quaterniu
 for t in $trees; do
   for cfg in "epsilon=6" "epsilon=10" "epsilon=15 punishval=0.7 punishcutoff=55"; do
     # shellcheck disable=SC2086
-    "$build/bin/bench_planes" "$data/$t" 3 $cfg clustering=0 | tee -a "$json"
+    "$build/bin/bench_planes" "$data/$t" 3 $cfg clustering=0 maxplanes=0 | tee -a "$json"
   done
 done
 if [ -f "$data/trees/scopia/pine/pine.obj" ]; then
-  "$build/bin/bench_planes" "$data/trees/scopia/pine/pine.obj" 3 epsilon=6 | tee -a "$json"
+  "$build/bin/bench_planes" "$data/trees/scopia/pine/pine.obj" 3 epsilon=6 clustering=2 maxplanes=0 | tee -a "$json"
 fi
 # Step 3 (baking and atlas) and the whole OBJ -> .glb pipeline, texres 256,
 # quality 2, front and back images; the issue-4 acceptance models.
@@ -64,12 +64,53 @@ for t in trees/scopia/pine/pine.obj trees/scopia/bush/bush.obj trees/eztree/oak_
   [ -f "$data/$t" ] || continue
   up=1; case "$t" in *.3ds) up=2 ;; esac
   "$build/bin/bench_cloud" "$data/$t" 3 "$glb/c.glb" epsilon=6 clustering=0 quality=2 \
-    texres=256 upaxis=$up | tee -a "$json"
+    texres=256 atlasmax=0 maxplanes=0 upaxis=$up | tee -a "$json"
 done
 rm -rf "$glb"
+# Fidelity (issue 5): on every tree, the default cloud (no parameters, as
+# `bbcgen tree.obj -o tree.glb` makes it) against crossed billboards with the
+# same texels, meshoptimizer at the cloud's triangle count and 10x it, and
+# the external peer gltfpack at 10x; all unlit, judged by bbc_eval (64 views,
+# 256 px).
+fid=$(mktemp -d)
+for t in $trees; do
+  base=$(basename "$t" .obj)
+  line=$("$build/bin/bench_fidelity" "$data/$t" 3 "$fid/$base.cloud.glb" cloud)
+  echo "$line" | tee -a "$json"
+  tex=$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["texels"])' "$line")
+  tri=$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["triangles"])' "$line")
+  mtri=$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["model_triangles"])' "$line")
+  for k in 2 3 4; do
+    "$build/bin/bench_fidelity" "$data/$t" 3 "$fid/$base.x$k.glb" crossed $k 0 "$tex" | tee -a "$json"
+  done
+  "$build/bin/bench_fidelity" "$data/$t" 3 "$fid/$base.x3h.glb" crossed 3 1 "$tex" | tee -a "$json"
+  for n in "$tri" $((10 * tri)); do
+    for mth in simplify sloppy; do
+      "$build/bin/bench_fidelity" "$data/$t" 3 "$fid/$base.$mth$n.glb" $mth $n | tee -a "$json"
+    done
+  done
+  if command -v gltfpack > /dev/null; then
+    ratio=$(python3 -c "print(min(1.0, 10 * $tri / $mtri))")
+    for agg in "" -sa; do
+      times=()
+      for _ in 1 2 3; do
+        t0=$(date +%s.%N)
+        gltfpack -i "$data/$t" -o "$fid/$base.gp.glb" -si "$ratio" $agg -noq > /dev/null 2>&1 || true
+        times+=("$(python3 -c "import sys; print(float(sys.argv[2]) - float(sys.argv[1]))" "$t0" "$(date +%s.%N)")")
+      done
+      if [ -f "$fid/$base.gp.glb" ]; then
+        med=$(printf '%s\n' "${times[@]}" | sort -g | sed -n 2p)
+        "$build/bin/bench_fidelity" "$data/$t" 0 "$fid/$base.gp.glb" file "gltfpack -si $ratio $agg" |
+          python3 -c 'import json,sys; r=json.loads(sys.stdin.read()); r["median_s"]=float(sys.argv[1]); r["runs"]=3; print(json.dumps(r))' "$med" | tee -a "$json"
+        rm -f "$fid/$base.gp.glb"
+      fi
+    done
+  fi
+done
+rm -rf "$fid"
 big=$(mktemp -d)
 "$build/bin/bbcgen" tree --leaves 450000 -q -o "$big/big_oak.obj"
-"$build/bin/bench_planes" "$big/big_oak.obj" 1 epsilon=6 clustering=0 | tee -a "$json"
+"$build/bin/bench_planes" "$big/big_oak.obj" 1 epsilon=6 clustering=0 maxplanes=0 | tee -a "$json"
 rm -rf "$big"
 
 {
@@ -83,7 +124,7 @@ rm -rf "$big"
 import json, sys, os
 for line in open(sys.argv[1]):
     r = json.loads(line)
-    if r['bench'] in ('planes', 'cloud'):
+    if r['bench'] in ('planes', 'cloud', 'fidelity'):
         continue
     name = f"{r['species']} leaves={r['leaves']}" if r['bench'] in ('treegen', 'tree_cli') else os.path.relpath(r['model'], os.path.join(os.path.dirname(sys.argv[1]), '../../../shared/data'))
     peak = f"{r['peak_mib']:.0f}" if r['peak_mib'] else "-"
@@ -126,6 +167,26 @@ for line in open(sys.argv[1]):
     i = name.find('shared/data/')
     name = name[i + 12:] if i >= 0 else name
     print(f"| {name} | {r['params']} | {r['triangles']:,} | {r['billboards']} | {r['atlas']} | {r['texels']:,} | {r['step3_s']:.2f} | {r['obj_to_glb_s']:.2f} | {r['peak_mib']:.0f} |")
+PY
+  echo
+  echo "## Fidelity: the default cloud against the alternatives"
+  echo
+  echo "Every method judged by \`bbc_eval\` (64 views over the sphere, 256 px, unlit; side = elevation within 30 degrees). Time: median of 3 generations (gltfpack: wall clock of the external tool); peak memory of the process (model loading included)."
+  echo
+  echo "| model | method | params | planes | triangles | texels | time s | peak MiB | IoU | IoU side | PSNR dB |"
+  echo "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+  python3 - "$json" <<'PY'
+import json, sys
+for line in open(sys.argv[1]):
+    r = json.loads(line)
+    if r['bench'] != 'fidelity':
+        continue
+    name = r['model']
+    i = name.find('shared/data/')
+    name = name[i + 12:] if i >= 0 else name
+    planes = str(r['planes']) if r['planes'] else '-'
+    peak = f"{r['peak_mib']:.0f}" if r['peak_mib'] else '-'
+    print(f"| {name} | {r['method']} | {r['params'] or 'defaults'} | {planes} | {r['triangles']:,} | {r['texels']:,} | {r['median_s']:.2f} | {peak} | {r['iou']:.3f} | {r['iou_side']:.3f} | {r['psnr']:.1f} |")
 PY
 } > "$res/latest.md.tmp.$$"
 mv "$json" "$res/latest.json"

@@ -7,8 +7,8 @@
 set -euo pipefail
 
 what=${1:-all}
-build_pkgs=(build-essential cmake pkg-config libassimp-dev libstb-dev libcjson-dev)
-test_pkgs=(libcmocka-dev clang-format nodejs)
+build_pkgs=(build-essential cmake pkg-config libassimp-dev libstb-dev libcjson-dev libmeshoptimizer-dev)
+test_pkgs=(libcmocka-dev clang-format nodejs gltfpack)
 
 case "$what" in
   build) pkgs=("${build_pkgs[@]}") ;;

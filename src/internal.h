@@ -113,4 +113,13 @@ typedef struct bbc__bake {
 bbc_result bbc__render_bake(const bbc_mesh *mesh, const uint32_t *faces, size_t face_count,
                             const bbc_view *view, bbc__bake *bake, bbc_error *err);
 
+/* ---- step 3 internals (src/core/cloud.c) ----------------------------------- */
+/* bbc_cloud_build with the billboards' rectangles given (one per plane of
+ * `set`, NULL = computed as usual): baselines use it. */
+bbc_result bbc__cloud_build_rects(const bbc_mesh *mesh, const bbc_planeset *set,
+                                  const bbc_billboard *rects, const bbc_params *params,
+                                  const bbc_callbacks *callbacks, bbc_cloud *cloud, bbc_error *err);
+/* Texels of all images for rectangles rects[n] at resolution texres. */
+size_t bbc__cloud_texels(const bbc_billboard *rects, size_t n, int texres, int sides);
+
 #endif /* BBC_INTERNAL_H */

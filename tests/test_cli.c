@@ -437,9 +437,9 @@ static void test_cloud_command(void **state) {
   int st = system(cmd);
   assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
   char wrl[2048], png[2048];
-  snprintf(wrl, sizeof wrl, "%s/vrml97models/forest/Tree_1/Tree_1_e5.00_tex32_pl/Tree_1.wrl",
+  snprintf(wrl, sizeof wrl, "%s/vrml97models/forest/Tree_1/Tree_1_e6.00_tex32_pl/Tree_1.wrl",
            tu_dir);
-  snprintf(png, sizeof png, "%s/vrml97models/forest/Tree_1/Tree_1_e5.00_tex32_pl/Tree_1.png",
+  snprintf(png, sizeof png, "%s/vrml97models/forest/Tree_1/Tree_1_e6.00_tex32_pl/Tree_1.png",
            tu_dir);
   size_t n;
   unsigned char *w = tu_read_file(wrl, &n), *p = tu_read_file(png, NULL);

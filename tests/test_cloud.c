@@ -101,6 +101,7 @@ static void scene_free(scene *sc) {
 static void params_for(bbc_params *p, int texres, int quality) {
   bbc_params_default(p);
   p->texres = texres;
+  p->atlas_max = 0; /* texres as set */
   p->quality = quality;
   p->prelight = 0;
   p->threads = 1;
@@ -339,6 +340,8 @@ static void build(const bbc_mesh *m, int quality, int threads, bbc_planeset *s, 
   o.params.clustering = 0;
   o.params.quality = quality;
   o.params.texres = 128;
+  o.params.atlas_max = 0;
+  o.params.max_planes = 0;
   o.params.threads = threads;
   o.params.normal_maps = quality == 2;
   o.params.shade_voxels = quality == 2 ? 40 : 0;

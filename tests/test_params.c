@@ -12,7 +12,7 @@
 static void test_defaults_match_appendix_a(void **state) {
   (void)state;
   bbc_params p;
-  bbc_params_default(&p);
+  bbc_params_thesis(&p);
   assert_int_equal(p.break_steps, 100);
   assert_int_equal(p.break_num, 2000);
   assert_int_equal(p.res_deg, 9);
@@ -28,6 +28,24 @@ static void test_defaults_match_appendix_a(void **state) {
   assert_true(p.point_size == 3.5);
   assert_int_equal(p.quality, 0);
   assert_int_equal(p.format, 0);
+  assert_int_equal(p.max_planes, 0);
+  assert_int_equal(p.atlas_max, 0);
+  /* The toolkit's defaults differ from the thesis in five places only. */
+  bbc_params d;
+  bbc_params_default(&d);
+  assert_int_equal(d.clustering, 0);
+  assert_true(d.epsilon_pct == 6.0);
+  assert_int_equal(d.quality, 2);
+  assert_int_equal(d.max_planes, 32);
+  assert_int_equal(d.atlas_max, 1024);
+  d.clustering = 2;
+  d.epsilon_pct = 5;
+  d.quality = 0;
+  d.max_planes = 0;
+  d.atlas_max = 0;
+  assert_memory_equal(&d, &p, sizeof p);
+  p = d;
+  bbc_params_default(&p);
   /* Every Appendix A name is in the table. */
   static const char *names[] = {
       "break",     "breaknum",     "debug",       "res",         "vn",

@@ -117,6 +117,7 @@ static int find_planes(const bbc_mesh *m, double eps_pct, int clustering, bbc_pl
   bbc_planes_options_default(&o);
   o.params.epsilon_pct = eps_pct;
   o.params.clustering = clustering;
+  o.params.max_planes = 0; /* the planes epsilon gives, however many */
   bbc_error err;
   bbc_result r = bbc_planes_find(m, &o, s, &err);
   if (r != BBC_OK) fail_msg("%s", err.message);
@@ -182,6 +183,7 @@ static void leaves_on_planes(int n_planes, double eps_abs, uint64_t seed) {
   bbc_planeset s;
   bbc_planes_options o;
   bbc_planes_options_default(&o);
+  bbc_params_thesis(&o.params); /* pre-clustering, as Appendix A */
   o.params.epsilon_pct = 100.0 * eps_abs / b.m.radius;
   bbc_error err;
   if (bbc_planes_find(&b.m, &o, &s, &err) != BBC_OK) fail_msg("%s", err.message);
@@ -461,6 +463,7 @@ static void run_threads(const bbc_mesh *m, int threads, int extensions, bbc_plan
   bbc_planes_options o;
   bbc_planes_options_default(&o);
   o.params.epsilon_pct = 6;
+  o.params.max_planes = 0;
   o.params.threads = threads;
   if (extensions) {
     o.params.clustering = 2;

@@ -97,6 +97,7 @@ static void build_cloud(int back_images, int normal_maps, bbc_cloud *cl) {
   bbc_params p;
   bbc_params_default(&p);
   p.texres = 32;
+  p.atlas_max = 0;
   p.quality = 0;
   p.prelight = 0;
   p.threads = 1;

@@ -44,7 +44,7 @@ typedef struct baked {
 /* quality 2 (2.3.9): a texel is opaque when any of its k x k samples is, with
  * the mean colour of the opaque samples, so small leaves do not vanish and
  * alpha stays 0 or 255. Normal maps: the mean normal, renormalised. */
-static bbc_result downsample_grow(bbc_image *img, int k, int is_normal) {
+static bbc_result downsample_grow(bbc_image *img, int k, int is_normal, unsigned min_opaque) {
   bbc_image dst;
   bbc_result r = bbc_image_alloc(&dst, img->width / k, img->height / k);
   if (r != BBC_OK) return r;
@@ -59,7 +59,7 @@ static bbc_result downsample_grow(bbc_image *img, int k, int is_normal) {
           n++;
         }
       uint8_t *d = dst.rgba + 4 * ((size_t)y * dst.width + x);
-      if (!n) continue;
+      if (!n || n < min_opaque) continue;
       if (is_normal) {
         double v[3], len = 0;
         for (int c = 0; c < 3; c++) {
@@ -218,7 +218,8 @@ static void bake_one(const bbc_mesh *m, const bbc_planeset *set, const bbc_param
   if (r == BBC_OK && prm->quality == 2) {
     bbc_image *im[4] = {&out->front, &out->back, &out->front_nm, &out->back_nm};
     for (int i = 0; i < 4 && r == BBC_OK; i++)
-      if (im[i]->rgba) r = downsample_grow(im[i], ss, i >= 2);
+      if (im[i]->rgba)
+        r = downsample_grow(im[i], ss, i >= 2, (unsigned)(prm->grow_min > 0 ? prm->grow_min : 1));
     if (r != BBC_OK) r = bbc__fail(&out->err, r, "step 3: out of memory");
   }
   out->r = r;
@@ -320,8 +321,83 @@ static bbc_result build_mesh(const bbc_planeset *set, const bbc_params *prm, bbc
   return BBC_OK;
 }
 
+/* Texels of all images of billboards rects[n] at texture resolution texres
+ * (the sizing rule of bbc_cloud_build). */
+size_t bbc__cloud_texels(const bbc_billboard *rects, size_t n, int texres, int sides) {
+  double longest = 0;
+  for (size_t i = 0; i < n; i++) longest = fmax(longest, fmax(rects[i].width, rects[i].height));
+  double texel = longest / texres;
+  size_t total = 0;
+  for (size_t i = 0; i < n; i++) {
+    int w = floor_pow2(texel > 0 ? rects[i].width / texel : 1);
+    int h = floor_pow2(texel > 0 ? rects[i].height / texel : 1);
+    total += (size_t)(w < 4 ? 4 : w) * (size_t)(h < 4 ? 4 : h);
+  }
+  return total * (size_t)sides;
+}
+
 bbc_result bbc_cloud_build(const bbc_mesh *m, const bbc_planeset *set, const bbc_params *prm,
                            const bbc_callbacks *cbk, bbc_cloud *cl, bbc_error *err) {
+  return bbc__cloud_build_rects(m, set, NULL, prm, cbk, cl, err);
+}
+
+/* Whether plane i gets a billboard (2.3.5, 2.3.7). */
+static int plane_kept(const bbc_planeset *set, size_t i, const bbc_params *prm) {
+  const bbc_plane *p = &set->planes[i];
+  if (p->kind == BBC_PLANE_CARDBOARD) return p->coverage_pct >= prm->cb_coverage_pct;
+  double largest = 0;
+  for (size_t j = 0; j < set->plane_count; j++)
+    if (set->planes[j].part == p->part && set->planes[j].kind != BBC_PLANE_CARDBOARD &&
+        set->planes[j].area > largest)
+      largest = set->planes[j].area;
+  return p->area >= prm->poly_skip_pct / 100.0 * largest;
+}
+
+static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
+                              const bbc_billboard *given, const bbc_params *prm,
+                              const bbc_callbacks *cbk, bbc_cloud *cl, bbc_error *err,
+                              int atlas_limit);
+
+bbc_result bbc__cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
+                                  const bbc_billboard *given, const bbc_params *prm,
+                                  const bbc_callbacks *cbk, bbc_cloud *cl, bbc_error *err) {
+  if (prm->atlas_max <= 0) return build_inner(m, set, given, prm, cbk, cl, err, 16384);
+  /* atlasmax: the largest texres whose images fill about 70 % of the atlas
+   * (packing loses the rest), then halved while they do not fit. */
+  memset(cl, 0, sizeof *cl);
+  int limit = floor_pow2(prm->atlas_max < 16 ? 16 : prm->atlas_max);
+  size_t np = set->plane_count, nk = 0;
+  bbc_billboard *bb = calloc(np ? np : 1, sizeof *bb), *kept = calloc(np ? np : 1, sizeof *kept);
+  bbc_result r = BBC_OK;
+  if (!bb || !kept) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
+  if (r == BBC_OK && given)
+    memcpy(bb, given, np * sizeof *bb);
+  else if (r == BBC_OK)
+    r = bbc_billboards_compute(m, set, bb, err);
+  for (size_t i = 0; r == BBC_OK && i < np; i++)
+    if (plane_kept(set, i, prm)) kept[nk++] = bb[i];
+  int texres = 4;
+  size_t per = (size_t)(prm->back_images ? 2 : 1) * (prm->quality == 3 ? 16 : 1);
+  for (int t = 4; r == BBC_OK && nk && t <= 8192; t *= 2)
+    if ((double)bbc__cloud_texels(kept, nk, t, 1) * (double)per <= 0.7 * limit * (double)limit)
+      texres = t;
+  bbc_params p2 = *prm;
+  while (r == BBC_OK) {
+    p2.texres = texres;
+    r = build_inner(m, set, given ? bb : NULL, &p2, cbk, cl, err, limit);
+    if (r != BBC_ERROR_OUT_OF_RANGE || texres <= 4) break;
+    r = BBC_OK; /* did not fit: half the resolution */
+    texres /= 2;
+  }
+  free(bb);
+  free(kept);
+  return r;
+}
+
+static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
+                              const bbc_billboard *given, const bbc_params *prm,
+                              const bbc_callbacks *cbk, bbc_cloud *cl, bbc_error *err,
+                              int atlas_limit) {
   memset(cl, 0, sizeof *cl);
   if (m->kind != BBC_MESH_TRIANGLES)
     return bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
@@ -337,7 +413,10 @@ bbc_result bbc_cloud_build(const bbc_mesh *m, const bbc_planeset *set, const bbc
   float *vshade = NULL;
   bbc_result r = BBC_OK;
   if (!bb || !order) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
-  if (r == BBC_OK) r = bbc_billboards_compute(m, set, bb, err);
+  if (r == BBC_OK && given)
+    memcpy(bb, given, np * sizeof *bb);
+  else if (r == BBC_OK)
+    r = bbc_billboards_compute(m, set, bb, err);
   if (r == BBC_OK && prm->shade_voxels > 0) {
     vshade = malloc((m->vertex_count ? m->vertex_count : 1) * sizeof *vshade);
     if (!vshade)
@@ -348,20 +427,11 @@ bbc_result bbc_cloud_build(const bbc_mesh *m, const bbc_planeset *set, const bbc
   /* Which planes get a billboard (2.3.5, 2.3.7). */
   size_t nk = 0;
   double longest = 0;
-  for (size_t i = 0; r == BBC_OK && i < np; i++) {
-    const bbc_plane *p = &set->planes[i];
-    double largest = 0;
-    for (size_t j = 0; j < np; j++)
-      if (set->planes[j].part == p->part && set->planes[j].kind != BBC_PLANE_CARDBOARD &&
-          set->planes[j].area > largest)
-        largest = set->planes[j].area;
-    int keep = p->kind == BBC_PLANE_CARDBOARD ? p->coverage_pct >= prm->cb_coverage_pct
-                                              : p->area >= prm->poly_skip_pct / 100.0 * largest;
-    if (keep) {
+  for (size_t i = 0; r == BBC_OK && i < np; i++)
+    if (plane_kept(set, i, prm)) {
       order[nk++] = i;
-      if (bb[i].width > longest) longest = bb[i].width;
+      longest = fmax(longest, fmax(bb[i].width, bb[i].height));
     }
-  }
   if (r == BBC_OK && nk == 0)
     r = bbc__fail(err, BBC_ERROR_EMPTY, "step 3: every plane was skipped");
   baked *bk = NULL;
@@ -374,6 +444,7 @@ bbc_result bbc_cloud_build(const bbc_mesh *m, const bbc_planeset *set, const bbc
   if (r == BBC_OK) {
     cl->billboard_count = nk;
     cl->epsilon_abs = set->epsilon_abs;
+    cl->texres = prm->texres;
     double texel = longest / prm->texres;
     for (size_t k = 0; k < nk; k++) {
       bbc_cloud_billboard *cb = &cl->billboards[k];
@@ -439,7 +510,7 @@ bbc_result bbc_cloud_build(const bbc_mesh *m, const bbc_planeset *set, const bbc
       imgs[k] = bk[k].front;
       if (sides == 2) imgs[nk + k] = bk[k].back;
     }
-    r = bbc_atlas_pack(imgs, (size_t)sides * nk, 2, 16384, &atlas, rects, err);
+    r = bbc_atlas_pack(imgs, (size_t)sides * nk, 2, atlas_limit, &atlas, rects, err);
   }
   if (r == BBC_OK) {
     for (size_t k = 0; k < nk; k++) {
@@ -456,7 +527,8 @@ bbc_result bbc_cloud_build(const bbc_mesh *m, const bbc_planeset *set, const bbc
     }
     bbc_atlas_rect *r2 = calloc((size_t)sides * nk, sizeof *r2);
     if (!r2) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
-    if (r == BBC_OK) r = bbc_atlas_pack(imgs, (size_t)sides * nk, 2, 16384, &nm_atlas, r2, err);
+    if (r == BBC_OK)
+      r = bbc_atlas_pack(imgs, (size_t)sides * nk, 2, atlas_limit, &nm_atlas, r2, err);
     if (r == BBC_OK && (nm_atlas.width != atlas.width || nm_atlas.height != atlas.height ||
                         memcmp(r2, rects, (size_t)sides * nk * sizeof *r2)))
       r = bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "step 3: the normal atlas's layout differs");

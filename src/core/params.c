@@ -43,11 +43,11 @@ static const param_row k_rows[] = {
     {{"cbcoverage", BBC_PARAM_REAL, 0, 99.9, 50, F3, "plane", "%",
       "minimum cardboard coverage, % of the mother plane"},
      DBL_FIELD(cb_coverage_pct)},
-    {{"clustering", BBC_PARAM_INT, 0, 2, 2, 0, "plane", "",
-      "face clustering: 0 off, 1 simple, 2 pre-clustering (2.3.10)"},
+    {{"clustering", BBC_PARAM_INT, 0, 2, 0, 0, "plane", "",
+      "face clustering: 0 off, 1 simple, 2 pre-clustering (2.3.10; thesis default 2)"},
      INT_FIELD(clustering)},
-    {{"epsilon", BBC_PARAM_REAL, 0.001, 99, 5, 0, "plane", "%",
-      "error threshold, % of the bounding-sphere radius"},
+    {{"epsilon", BBC_PARAM_REAL, 0.001, 99, 6, 0, "plane", "%",
+      "error threshold, % of the bounding-sphere radius (thesis default 5)"},
      DBL_FIELD(epsilon_pct)},
     {{"posttweak", BBC_PARAM_BOOL, 0, 1, 1, F1, "plane", "", "post-plane tweaking (2.3.3)"},
      INT_FIELD(post_tweak)},
@@ -83,8 +83,9 @@ static const param_row k_rows[] = {
     {{"pure", BBC_PARAM_BOOL, 0, 1, 0, F3, "billboard", "",
       "render only the faces a plane simplifies into its texture (2.2.5)"},
      INT_FIELD(pure)},
-    {{"quality", BBC_PARAM_INT, 0, 3, 0, F3, "billboard", "",
-      "texture quality: 0 fast, 2 supersampling + squashing, 3 supersampling only (1 = 0)"},
+    {{"quality", BBC_PARAM_INT, 0, 3, 2, F3, "billboard", "",
+      "texture quality: 0 fast, 2 supersampling + squashing, 3 supersampling only (1 = 0; "
+      "thesis default 0)"},
      INT_FIELD(quality)},
     {{"texres", BBC_PARAM_POW2, 4, 16384, 256, F3, "billboard", "texels",
       "maximum texture resolution, a power of two"},
@@ -119,9 +120,27 @@ static const param_row k_rows[] = {
     {{"shadeambient", BBC_PARAM_REAL, 0, 1, 0.4, F3, "extension", "",
       "voxel shadowing: brightness of the darkest voxel (ambient light)"},
      DBL_FIELD(shade_ambient)},
+    {{"growmin", BBC_PARAM_INT, 1, 16, 1, F3, "extension", "samples",
+      "quality 2: opaque texel when >= n of its 16 samples are (1 = thesis 2.3.9)"},
+     INT_FIELD(grow_min)},
+    {{"maxplanes", BBC_PARAM_INT, 0, 100000, 32, 0, "extension", "planes",
+      "at most n planes: epsilon grows until steps 1-2 give no more (0 = off, as the thesis)"},
+     INT_FIELD(max_planes)},
+    {{"atlasmax", BBC_PARAM_INT, 0, 16384, 1024, F3, "extension", "texels",
+      "atlas side: texres becomes the largest that fits one such atlas (0 = texres as set)"},
+     INT_FIELD(atlas_max)},
 };
 
 #define ROW_COUNT (sizeof k_rows / sizeof k_rows[0])
+
+void bbc_params_thesis(bbc_params *p) {
+  bbc_params_default(p);
+  p->clustering = 2;
+  p->epsilon_pct = 5;
+  p->quality = 0;
+  p->max_planes = 0;
+  p->atlas_max = 0;
+}
 
 size_t bbc_param_count(void) {
   return ROW_COUNT;

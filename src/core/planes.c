@@ -11,6 +11,7 @@
  */
 #include "select.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -80,8 +81,8 @@ static const bbc_params *part_params(const bbc_planes_options *o, const char *na
   return &o->params;
 }
 
-bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_planeset *set,
-                           bbc_error *err) {
+static bbc_result find_once(const bbc_mesh *mesh, const bbc_planes_options *o, double scale,
+                            bbc_planeset *set, bbc_error *err) {
   memset(set, 0, sizeof *set);
   if (mesh->kind != BBC_MESH_TRIANGLES || mesh->triangle_count == 0)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
@@ -118,7 +119,7 @@ bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bb
     set->part_count = pi + 1;
     if (n == 0) continue;
     /* epsilon is relative to the whole model's radius for every part. */
-    pr->epsilon_abs = p->epsilon_pct / 100.0 * mesh->radius;
+    pr->epsilon_abs = scale * p->epsilon_pct / 100.0 * mesh->radius;
     if (pr->epsilon_abs > set->epsilon_abs) set->epsilon_abs = pr->epsilon_abs;
     double total_area;
     part_frame(mesh, tris, n, pr->center, &pr->radius, &total_area);
@@ -175,4 +176,35 @@ bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bb
   free(tris);
   if (r != BBC_OK) bbc_planeset_free(set);
   return r;
+}
+
+bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_planeset *set,
+                           bbc_error *err) {
+  double scale = 1, retry = 0;
+  int maxp = o->params.max_planes;
+  for (int attempt = 1;; attempt++) {
+    double t0 = now_s();
+    bbc_result r = find_once(mesh, o, scale, set, err);
+    if (r != BBC_OK) return r;
+    set->epsilon_scale = scale;
+    set->attempts = attempt;
+    set->retry_s = retry;
+    if (maxp <= 0 || set->plane_count <= (size_t)maxp || attempt >= 12) {
+      if (maxp > 0 && set->plane_count > (size_t)maxp)
+        bbc__log(&o->callbacks, BBC_LOG_WARNING,
+                 "%zu planes after %d tries (maxplanes %d): keeping them", set->plane_count,
+                 attempt, maxp);
+      return BBC_OK;
+    }
+    /* More planes than allowed: grow epsilon by a factor that follows the
+     * excess (planes fall roughly with epsilon^1.5), between 1.25 and 2. */
+    double f = pow((double)set->plane_count / maxp, 1.0 / 1.5);
+    f = f < 1.25 ? 1.25 : f > 2 ? 2 : f;
+    bbc__log(&o->callbacks, BBC_LOG_INFO,
+             "%zu planes at epsilon x%.3g: more than maxplanes %d, trying epsilon x%.3g",
+             set->plane_count, scale, maxp, scale * f);
+    scale *= f;
+    bbc_planeset_free(set);
+    retry += now_s() - t0;
+  }
 }

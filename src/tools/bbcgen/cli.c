@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <time.h>
 
 void cli_init(cli *c) {
@@ -83,6 +84,15 @@ long long cli_parse_count(const char *opt, const char *text, long long max) {
   return v;
 }
 
+/* A texres set by hand is meant: it turns the atlas budget off unless
+ * atlasmax is set by hand too (in any order). */
+static void note_explicit(cli *c, const char *name_or_assignment) {
+  size_t n = strcspn(name_or_assignment, "=");
+  if (n == 6 && !strncasecmp(name_or_assignment, "texres", 6)) c->texres_set = 1;
+  if (n == 8 && !strncasecmp(name_or_assignment, "atlasmax", 8)) c->atlasmax_set = 1;
+  if (c->texres_set && !c->atlasmax_set) c->params.atlas_max = 0;
+}
+
 int cli_common_option(cli *c, int argc, char **argv, int *i) {
   const char *a = argv[*i];
   if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) {
@@ -151,6 +161,7 @@ int cli_common_option(cli *c, int argc, char **argv, int *i) {
       cli_error("%s", err.message);
       return -1;
     }
+    note_explicit(c, v);
     return 1;
   }
   if (!strncmp(a, "--", 2) && bbc_param_find(a + 2)) {
@@ -160,6 +171,7 @@ int cli_common_option(cli *c, int argc, char **argv, int *i) {
       cli_error("%s", err.message);
       return -1;
     }
+    note_explicit(c, a + 2);
     return 1;
   }
   return 0;

@@ -33,8 +33,9 @@ typedef struct cli {
   bbc_callbacks callbacks;
   size_t part_setting_count;
   cli_part_setting part_settings[32];
-  bbc_split_options split; /* --split, --trunk, --foliage */
-  int branches_with_trunk; /* --branches trunk (default: with the foliage) */
+  bbc_split_options split;      /* --split, --trunk, --foliage */
+  int branches_with_trunk;      /* --branches trunk (default: with the foliage) */
+  int texres_set, atlasmax_set; /* set by hand: texres alone turns atlasmax off */
 } cli;
 
 void cli_init(cli *c);
@@ -78,6 +79,7 @@ int cmd_planes(cli *c, int argc, char **argv);
 int cmd_exec(cli *c, int argc, char **argv);
 int cmd_cloud(cli *c, int argc, char **argv);
 int cmd_eval(cli *c, int argc, char **argv);
+int cmd_baseline(cli *c, int argc, char **argv);
 /* The eval metrics as JSON text (cJSON_free it); a and b name the inputs. */
 char *eval_json_text(const bbc_eval_result *r, const bbc_eval_options *o, const char *a,
                      const char *b);

@@ -42,6 +42,11 @@ static void print_help(FILE *out) {
           "      from N directions over the sphere (64), coverage IoU, recall, false\n"
           "      coverage, PSNR, colour error; also over side views (elevation within\n"
           "      30 degrees). Unlit unless --lit (compare clouds baked with --prelight 0).\n"
+          "  bbcgen baseline MODEL -o OUT.glb --method crossed [--planes K] [--horizontal]\n"
+          "              [--texels N]\n"
+          "  bbcgen baseline MODEL -o OUT.glb --method simplify|sloppy --triangles N\n"
+          "      Far-LOD alternatives to compare with `eval`: K crossed billboards (3)\n"
+          "      baked by our baker at about N texels, or meshoptimizer's simplification.\n"
           "  bbcgen exec BATCHFILE\n"
           "      Run a batch file of commands (load, set, split, bbc1, bbc2, bbc3, bbc,\n"
           "      planes, shade, save, setup); see README.\n"
@@ -101,6 +106,7 @@ int main(int argc, char **argv) {
   if (!strcmp(cmd, "setup")) return cmd_setup(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "planes")) return cmd_planes(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "eval")) return cmd_eval(&c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "baseline")) return cmd_baseline(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "exec")) return cmd_exec(&c, argc - 1, argv + 1);
   if (cmd[0] == '-') {
     cli_error("unknown option '%s' (try bbcgen --help)", cmd);

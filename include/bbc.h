@@ -334,6 +334,9 @@ typedef struct bbc_params {
                           * many of its 16 samples are (1 = the thesis's growing) */
   int max_planes;        /* maxplanes: > 0: when steps 1-2 give more planes, they run
                           * again with every epsilon 1.25-2x larger until they do not */
+  int min_planes;        /* minplanes: > 0: when they give fewer (and never had too
+                          * many), they run again with epsilon 1.25-2x smaller (down
+                          * to 1/5) while the count stays within maxplanes */
   int atlas_max;         /* atlasmax: > 0: texres is chosen as the largest power of two
                           * whose cloud fits one atlas_max x atlas_max atlas */
 } bbc_params;
@@ -353,9 +356,9 @@ typedef struct bbc_param_info {
 /* Fills every parameter with the toolkit's default: Appendix A's, except
  * where the fidelity benchmark found better far LODs for trees (README,
  * "Defaults"): clustering 0 (thesis 2), epsilon 6 (5), quality 2 (0), and the
- * extensions maxplanes 32 and atlasmax 1024 (thesis: none, i.e. 0). */
+ * extensions maxplanes 32, minplanes 16 and atlasmax 1024 (thesis: none, 0). */
 void bbc_params_default(bbc_params *params);
-/* The thesis's Appendix A defaults exactly (maxplanes and atlasmax off). */
+/* The thesis's Appendix A defaults exactly (maxplanes, minplanes, atlasmax off). */
 void bbc_params_thesis(bbc_params *params);
 size_t bbc_param_count(void);
 /* i < bbc_param_count(); in Appendix A order. */
@@ -425,8 +428,8 @@ typedef struct bbc_planeset {
   bbc_part_result *parts;
   uint32_t *face_part;  /* per triangle: index into parts */
   char split_why[320];  /* how the parts were chosen, for people */
-  double epsilon_scale; /* maxplanes: the factor every part's epsilon was multiplied
-                         * by (1 = as asked) */
+  double epsilon_scale; /* maxplanes/minplanes: the factor every part's epsilon was
+                         * multiplied by (1 = as asked) */
   int attempts;         /* runs of steps 1 and 2 (> 1 when maxplanes raised epsilon) */
   double retry_s;       /* wall-clock seconds of the discarded runs */
 } bbc_planeset;

@@ -342,6 +342,7 @@ static void build(const bbc_mesh *m, int quality, int threads, bbc_planeset *s, 
   o.params.texres = 128;
   o.params.atlas_max = 0;
   o.params.max_planes = 0;
+  o.params.min_planes = 0;
   o.params.threads = threads;
   o.params.normal_maps = quality == 2;
   o.params.shade_voxels = quality == 2 ? 40 : 0;

@@ -1,5 +1,6 @@
 /* test_eval.c — fidelity metrics (bbc_eval): a model against itself, against
- * a moved copy, and two quads with an analytic overlap. */
+ * a moved copy, and two quads with an analytic overlap; the baselines
+ * (crossed billboards, meshoptimizer) and how they score. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -129,10 +130,72 @@ static void test_two_quads(void **state) {
   bbc_mesh_free(&b);
 }
 
+static void test_baselines(void **state) {
+  (void)state;
+  bbc_mesh m;
+  tree(&m);
+  bbc_params p;
+  bbc_params_default(&p);
+  p.prelight = 0;
+  p.threads = 1;
+  bbc_error err;
+  /* Crossed billboards: 3 vertical + 1 horizontal, about the texel budget. */
+  bbc_cloud x;
+  assert_int_equal(bbc_baseline_crossed(&m, 3, 1, &p, 200000, NULL, &x, &err), BBC_OK);
+  assert_int_equal(x.billboard_count, 4);
+  for (size_t k = 0; k < 4; k++) {
+    const bbc_cloud_billboard *b = &x.billboards[k];
+    assert_int_equal(b->corner_count, 4); /* the whole rectangle */
+    double up = b->normal[1];
+    if (k < 3)
+      assert_true(fabs(up) < 1e-9); /* vertical */
+    else
+      assert_true(fabs(up - 1) < 1e-9); /* horizontal */
+  }
+  assert_true(x.texels >= 200000 / 2 && x.texels <= 200000 * 2);
+  /* The vertical billboards span the whole model's height. */
+  assert_true(fabs(x.mesh.bbox_max[1] - m.bbox_max[1]) < 1e-6 * m.radius);
+  assert_true(fabs(x.mesh.bbox_min[1] - m.bbox_min[1]) < 1e-6 * m.radius);
+  bbc_eval_options o;
+  bbc_eval_options_default(&o);
+  o.views = 16;
+  o.size = 96;
+  bbc_eval_result r;
+  assert_int_equal(bbc_eval(&m, &x.mesh, &o, &r, &err), BBC_OK);
+  printf("crossed 3+h: iou %.3f side %.3f\n", r.iou_mean, r.iou_side_mean);
+  assert_true(r.iou_mean > 0.2 && r.iou_mean < 1.0);
+  bbc_eval_result_free(&r);
+  bbc_cloud_free(&x);
+  /* meshoptimizer: sloppy reaches the target; both keep UVs and textures. */
+  for (int sloppy = 0; sloppy <= 1; sloppy++) {
+    bbc_mesh s;
+    size_t target = m.triangle_count / 10;
+    assert_int_equal(bbc_baseline_simplify(&m, target, sloppy, &s, &err), BBC_OK);
+    printf("%s: %zu of %zu triangles (target %zu)\n", sloppy ? "sloppy" : "simplify",
+           s.triangle_count, m.triangle_count, target);
+    assert_true(s.triangle_count < m.triangle_count);
+    if (sloppy) assert_true(s.triangle_count <= target + target / 10);
+    assert_non_null(s.uvs);
+    assert_int_equal(s.material_count, m.material_count);
+    assert_int_equal(s.texture_count, m.texture_count);
+    assert_int_equal(bbc_eval(&m, &s, &o, &r, &err), BBC_OK);
+    assert_true(r.iou_mean > 0.05 && r.iou_mean < 1.0);
+    bbc_eval_result_free(&r);
+    bbc_mesh_free(&s);
+  }
+  /* A target above the model's count keeps it whole. */
+  bbc_mesh s;
+  assert_int_equal(bbc_baseline_simplify(&m, 10 * m.triangle_count, 1, &s, &err), BBC_OK);
+  assert_int_equal(s.triangle_count, m.triangle_count);
+  bbc_mesh_free(&s);
+  bbc_mesh_free(&m);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_self_and_moved),
       cmocka_unit_test(test_two_quads),
+      cmocka_unit_test(test_baselines),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -118,6 +118,7 @@ static int find_planes(const bbc_mesh *m, double eps_pct, int clustering, bbc_pl
   o.params.epsilon_pct = eps_pct;
   o.params.clustering = clustering;
   o.params.max_planes = 0; /* the planes epsilon gives, however many */
+  o.params.min_planes = 0;
   bbc_error err;
   bbc_result r = bbc_planes_find(m, &o, s, &err);
   if (r != BBC_OK) fail_msg("%s", err.message);
@@ -464,6 +465,7 @@ static void run_threads(const bbc_mesh *m, int threads, int extensions, bbc_plan
   bbc_planes_options_default(&o);
   o.params.epsilon_pct = 6;
   o.params.max_planes = 0;
+  o.params.min_planes = 0;
   o.params.threads = threads;
   if (extensions) {
     o.params.clustering = 2;

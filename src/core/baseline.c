@@ -11,8 +11,7 @@
 
 bbc_result bbc_baseline_crossed(const bbc_mesh *m, int planes, int horizontal,
                                 const bbc_params *params, size_t texel_budget,
-                                const bbc_callbacks *callbacks, bbc_cloud *cloud,
-                                bbc_error *err) {
+                                const bbc_callbacks *callbacks, bbc_cloud *cloud, bbc_error *err) {
   memset(cloud, 0, sizeof *cloud);
   if (m->kind != BBC_MESH_TRIANGLES || m->triangle_count == 0)
     return bbc__fail(err, BBC_ERROR_EMPTY, "crossed billboards: no triangles");
@@ -182,11 +181,10 @@ bbc_result bbc_baseline_simplify(const bbc_mesh *m, size_t target_triangles, int
       if (!cnt) continue;
       size_t target = (size_t)((double)target_triangles * (double)cnt / (double)nt + 0.5);
       if (target < 1) target = 1;
-      size_t got = target >= cnt ? (memcpy(res, in, 3 * cnt * sizeof *res), 3 * cnt)
-                   : sloppy ? meshopt_simplifySloppy(res, in, 3 * cnt, pos, nv, 12, 3 * target,
-                                                   1.0f, NULL)
-                          : meshopt_simplify(res, in, 3 * cnt, pos, nv, 12, 3 * target, 1.0f, 0,
-                                             NULL);
+      size_t got =
+          target >= cnt ? (memcpy(res, in, 3 * cnt * sizeof *res), 3 * cnt)
+          : sloppy ? meshopt_simplifySloppy(res, in, 3 * cnt, pos, nv, 12, 3 * target, 1.0f, NULL)
+                   : meshopt_simplify(res, in, 3 * cnt, pos, nv, 12, 3 * target, 1.0f, 0, NULL);
       for (size_t i = 0; i < got / 3; i++, kept++) {
         memcpy(keep_tri + 3 * kept, res + 3 * i, 3 * sizeof *keep_tri);
         keep_mat[kept] = (uint32_t)mi;

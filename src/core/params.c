@@ -126,6 +126,9 @@ static const param_row k_rows[] = {
     {{"maxplanes", BBC_PARAM_INT, 0, 100000, 32, 0, "extension", "planes",
       "at most n planes: epsilon grows until steps 1-2 give no more (0 = off, as the thesis)"},
      INT_FIELD(max_planes)},
+    {{"minplanes", BBC_PARAM_INT, 0, 100000, 16, 0, "extension", "planes",
+      "fewer planes: epsilon shrinks (to 1/5 at most) while within maxplanes (0 = off)"},
+     INT_FIELD(min_planes)},
     {{"atlasmax", BBC_PARAM_INT, 0, 16384, 1024, F3, "extension", "texels",
       "atlas side: texres becomes the largest that fits one such atlas (0 = texres as set)"},
      INT_FIELD(atlas_max)},
@@ -139,6 +142,7 @@ void bbc_params_thesis(bbc_params *p) {
   p->epsilon_pct = 5;
   p->quality = 0;
   p->max_planes = 0;
+  p->min_planes = 0;
   p->atlas_max = 0;
 }
 

@@ -181,30 +181,58 @@ static bbc_result find_once(const bbc_mesh *mesh, const bbc_planes_options *o, d
 bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_planeset *set,
                            bbc_error *err) {
   double scale = 1, retry = 0;
-  int maxp = o->params.max_planes;
+  int maxp = o->params.max_planes, minp = o->params.min_planes, grown = 0;
+  bbc_planeset best; /* shrinking: the last result within maxplanes */
+  int have_best = 0;
+  memset(&best, 0, sizeof best);
   for (int attempt = 1;; attempt++) {
     double t0 = now_s();
     bbc_result r = find_once(mesh, o, scale, set, err);
-    if (r != BBC_OK) return r;
+    if (r != BBC_OK) {
+      if (have_best) bbc_planeset_free(&best);
+      return r;
+    }
     set->epsilon_scale = scale;
     set->attempts = attempt;
     set->retry_s = retry;
-    if (maxp <= 0 || set->plane_count <= (size_t)maxp || attempt >= 12) {
-      if (maxp > 0 && set->plane_count > (size_t)maxp)
-        bbc__log(&o->callbacks, BBC_LOG_WARNING,
-                 "%zu planes after %d tries (maxplanes %d): keeping them", set->plane_count,
-                 attempt, maxp);
+    size_t n = set->plane_count;
+    if (have_best && maxp > 0 && n > (size_t)maxp) {
+      /* Shrinking went one step too far: the previous result it is. */
+      retry += now_s() - t0;
+      bbc_planeset_free(set);
+      *set = best;
+      set->attempts = attempt;
+      set->retry_s = retry;
       return BBC_OK;
     }
-    /* More planes than allowed: grow epsilon by a factor that follows the
-     * excess (planes fall roughly with epsilon^1.5), between 1.25 and 2. */
-    double f = pow((double)set->plane_count / maxp, 1.0 / 1.5);
-    f = f < 1.25 ? 1.25 : f > 2 ? 2 : f;
+    if (have_best) bbc_planeset_free(&best);
+    have_best = 0;
+    double f = 0;
+    if (maxp > 0 && n > (size_t)maxp && attempt < 12) {
+      /* Too many planes: grow epsilon by a factor that follows the excess
+       * (planes fall roughly with epsilon^1.5), between 1.25 and 2. */
+      f = pow((double)n / maxp, 1.0 / 1.5);
+      f = f < 1.25 ? 1.25 : f > 2 ? 2 : f;
+      grown = 1;
+    } else if (minp > 0 && n < (size_t)minp && !grown && scale > 0.2 &&
+               (maxp <= 0 || minp <= maxp)) {
+      /* Few planes: a smaller epsilon buys fidelity within the budget. */
+      f = 1.0 / fmin(2.0, fmax(1.25, pow((double)minp / (double)(n ? n : 1), 1.0 / 1.5)));
+      best = *set;
+      have_best = 1;
+    }
+    if (f == 0) {
+      if (maxp > 0 && n > (size_t)maxp)
+        bbc__log(&o->callbacks, BBC_LOG_WARNING,
+                 "%zu planes after %d tries (maxplanes %d): keeping them", n, attempt, maxp);
+      return BBC_OK;
+    }
     bbc__log(&o->callbacks, BBC_LOG_INFO,
-             "%zu planes at epsilon x%.3g: more than maxplanes %d, trying epsilon x%.3g",
-             set->plane_count, scale, maxp, scale * f);
+             "%zu planes at epsilon x%.3g (planes %d..%d): trying epsilon x%.3g", n, scale, minp,
+             maxp, scale * f);
     scale *= f;
-    bbc_planeset_free(set);
+    if (!have_best) bbc_planeset_free(set);
+    memset(set, 0, sizeof *set);
     retry += now_s() - t0;
   }
 }

@@ -99,6 +99,19 @@ int cli_common_option(cli *c, int argc, char **argv, int *i) {
     c->quiet = 1;
     return 1;
   }
+  if (!strcmp(a, "--thesis")) {
+    /* Appendix A's defaults; parameters set before it are kept. */
+    bbc_params t, d;
+    bbc_params_thesis(&t);
+    bbc_params_default(&d);
+    if (c->params.clustering == d.clustering) c->params.clustering = t.clustering;
+    if (c->params.epsilon_pct == d.epsilon_pct) c->params.epsilon_pct = t.epsilon_pct;
+    if (c->params.quality == d.quality) c->params.quality = t.quality;
+    if (c->params.max_planes == d.max_planes) c->params.max_planes = t.max_planes;
+    if (c->params.min_planes == d.min_planes) c->params.min_planes = t.min_planes;
+    if (c->params.atlas_max == d.atlas_max) c->params.atlas_max = t.atlas_max;
+    return 1;
+  }
   bbc_error err;
   if (!strcmp(a, "--split")) {
     const char *v = cli_option_value(argc, argv, i);

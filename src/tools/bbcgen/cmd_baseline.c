@@ -47,7 +47,8 @@ int cmd_baseline(cli *c, int argc, char **argv) {
       return EXIT_USAGE;
     }
   }
-  int crossed = method && !strcmp(method, "crossed"), simplify = method && !strcmp(method, "simplify"),
+  int crossed = method && !strcmp(method, "crossed"),
+      simplify = method && !strcmp(method, "simplify"),
       sloppy = method && !strcmp(method, "sloppy");
   if (!path || !out || !(crossed || simplify || sloppy)) {
     cli_error("baseline: usage: bbcgen baseline MODEL -o OUT.glb|.gltf|.obj --method "
@@ -78,8 +79,8 @@ int cmd_baseline(cli *c, int argc, char **argv) {
   bbc_result r;
   const bbc_mesh *what;
   if (crossed) {
-    r = bbc_baseline_crossed(&m, (int)planes, horizontal, &c->params, (size_t)texels,
-                             &c->callbacks, &cl, &err);
+    r = bbc_baseline_crossed(&m, (int)planes, horizontal, &c->params, (size_t)texels, &c->callbacks,
+                             &cl, &err);
     what = &cl.mesh;
   } else {
     r = bbc_baseline_simplify(&m, (size_t)triangles, sloppy, &res, &err);

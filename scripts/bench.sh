@@ -171,6 +171,12 @@ for line in open(sys.argv[1]):
     print(f"| {name} | {r['params']} | {r['triangles']:,} | {r['billboards']} | {r['atlas']} | {r['texels']:,} | {r['step3_s']:.2f} | {r['obj_to_glb_s']:.2f} | {r['peak_mib']:.0f} |")
 PY
   echo
+  echo "## Fidelity summary: does the default cloud win?"
+  echo
+  echo "Mean IoU over 64 views (side views in brackets for the first two); baselines at 1x and 10x the cloud's triangles (achieved count in brackets; 'missed' = ended above 1.5x the target, not counted). Details in the next table."
+  echo
+  python3 "$(dirname "$0")/fidelity_summary.py" "$json"
+  echo
   echo "## Fidelity: the default cloud against the alternatives"
   echo
   echo "Every method judged by \`bbc_eval\` (64 views over the sphere, 256 px, unlit; side = elevation within 30 degrees). Time: median of 3 generations (gltfpack: wall clock of the external tool); peak memory of the process (model loading included)."

@@ -90,6 +90,7 @@ static void note_explicit(cli *c, const char *name_or_assignment) {
   size_t n = strcspn(name_or_assignment, "=");
   if (n == 6 && !strncasecmp(name_or_assignment, "texres", 6)) c->texres_set = 1;
   if (n == 8 && !strncasecmp(name_or_assignment, "atlasmax", 8)) c->atlasmax_set = 1;
+  if (n == 9 && !strncasecmp(name_or_assignment, "minplanes", 9)) c->minplanes_set = 1;
   if (c->texres_set && !c->atlasmax_set) c->params.atlas_max = 0;
 }
 

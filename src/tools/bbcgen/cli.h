@@ -36,6 +36,7 @@ typedef struct cli {
   bbc_split_options split;      /* --split, --trunk, --foliage */
   int branches_with_trunk;      /* --branches trunk (default: with the foliage) */
   int texres_set, atlasmax_set; /* set by hand: texres alone turns atlasmax off */
+  int minplanes_set;            /* set by hand: else --lod turns minplanes off */
 } cli;
 
 void cli_init(cli *c);

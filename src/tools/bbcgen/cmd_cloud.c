@@ -104,6 +104,9 @@ int cmd_cloud(cli *c, int argc, char **argv) {
   if (!folder_ok("-o", out) || (preview && !folder_ok("--preview", preview)) ||
       (report && !folder_ok("--report", report)))
     return EXIT_OUTPUT;
+  /* A LOD chain asks for these epsilons: do not shrink them towards
+   * minplanes (maxplanes still caps each level). */
+  if (lods && !c->minplanes_set) c->params.min_planes = 0;
   job j;
   int rc = job_run(c, path, lods ? eps : NULL, lods, &j);
   if (rc != EXIT_OK) return rc;

@@ -59,11 +59,13 @@ int job_run(const cli *c, const char *model, const double *epsilons, size_t coun
     }
     const bbc_image *a = &L->cloud.mesh.textures[0].image;
     cli_info(c,
-             "epsilon %g %%: %zu planes, %zu billboards, atlas %dx%d (%.0f %% filled); steps "
-             "1+2 %.2f s, step 3 %.2f s",
-             L->epsilon_pct, L->set.plane_count, L->cloud.billboard_count, a->width, a->height,
-             100 * L->cloud.atlas_fill, L->step1_s + L->step2_s,
-             L->cloud.bake_s + L->cloud.atlas_s);
+             "epsilon %.3g %%%s: %zu planes, %zu billboards, texres %d, atlas %dx%d (%.0f %% "
+             "filled); steps 1+2 %.2f s%s, step 3 %.2f s",
+             L->epsilon_pct * L->set.epsilon_scale,
+             L->set.epsilon_scale != 1 ? " (maxplanes/minplanes)" : "", L->set.plane_count,
+             L->cloud.billboard_count, L->cloud.texres, a->width, a->height,
+             100 * L->cloud.atlas_fill, L->step1_s + L->step2_s + L->set.retry_s,
+             L->set.attempts > 1 ? " in several runs" : "", L->cloud.bake_s + L->cloud.atlas_s);
   }
   return EXIT_OK;
 }
@@ -99,6 +101,8 @@ static char *params_json_text(const bbc_params *p) {
 static cJSON *lod_json(const job_lod *L, int detailed) {
   cJSON *o = cJSON_CreateObject();
   cJSON_AddNumberToObject(o, "epsilon_pct", L->epsilon_pct);
+  /* maxplanes/minplanes may have scaled it: */
+  cJSON_AddNumberToObject(o, "epsilon_pct_used", L->epsilon_pct * L->set.epsilon_scale);
   cJSON_AddNumberToObject(o, "epsilon", L->set.epsilon_abs);
   cJSON_AddNumberToObject(o, "planes", (double)L->set.plane_count);
   cJSON_AddNumberToObject(o, "billboards", (double)L->cloud.billboard_count);
@@ -110,6 +114,8 @@ static cJSON *lod_json(const job_lod *L, int detailed) {
   const bbc_mesh *m = &L->cloud.mesh;
   cJSON_AddNumberToObject(o, "triangles", (double)m->triangle_count);
   cJSON_AddNumberToObject(o, "texels", (double)L->cloud.texels);
+  cJSON_AddNumberToObject(o, "texres_used", L->cloud.texres);
+  cJSON_AddNumberToObject(o, "plane_runs", L->set.attempts);
   cJSON *atlas = cJSON_AddArrayToObject(o, "atlas");
   cJSON_AddItemToArray(atlas, cJSON_CreateNumber(m->textures[0].image.width));
   cJSON_AddItemToArray(atlas, cJSON_CreateNumber(m->textures[0].image.height));
@@ -117,6 +123,7 @@ static cJSON *lod_json(const job_lod *L, int detailed) {
   cJSON *t = cJSON_AddObjectToObject(o, "times_s");
   cJSON_AddNumberToObject(t, "step1", L->step1_s);
   cJSON_AddNumberToObject(t, "step2", L->step2_s);
+  cJSON_AddNumberToObject(t, "steps12_discarded_runs", L->set.retry_s);
   cJSON_AddNumberToObject(t, "step3_bake", L->cloud.bake_s);
   cJSON_AddNumberToObject(t, "step3_atlas", L->cloud.atlas_s);
   cJSON *parts = cJSON_AddArrayToObject(o, "parts");
@@ -173,7 +180,8 @@ int job_write(const cli *c, job *j, const char *out) {
       cJSON *o = lod_json(&j->lods[k], 0);
       texts[k] = cJSON_PrintUnformatted(o);
       cJSON_Delete(o);
-      snprintf(names[k], sizeof names[k], "billboard cloud, epsilon %g %%", j->lods[k].epsilon_pct);
+      snprintf(names[k], sizeof names[k], "billboard cloud, epsilon %.3g %%",
+               j->lods[k].epsilon_pct * j->lods[k].set.epsilon_scale);
       nodes[k] = (bbc_gltf_node){&j->lods[k].cloud.mesh, names[k], texts[k]};
     }
     char *params = params_json_text(&j->lods[0].params);
@@ -204,9 +212,10 @@ int job_write(const cli *c, job *j, const char *out) {
   for (size_t k = 0; k < j->lod_count; k++) {
     char path[4200];
     lod_path(out, k, path, sizeof path);
-    cli_info(c, "wrote %s: %zu billboards, %zu triangles (epsilon %g %%)", glb || gltf ? out : path,
-             j->lods[k].cloud.billboard_count, j->lods[k].cloud.mesh.triangle_count,
-             j->lods[k].epsilon_pct);
+    cli_info(c, "wrote %s: %zu billboards, %zu triangles (epsilon %.3g %%)",
+             glb || gltf ? out : path, j->lods[k].cloud.billboard_count,
+             j->lods[k].cloud.mesh.triangle_count,
+             j->lods[k].epsilon_pct * j->lods[k].set.epsilon_scale);
   }
   return EXIT_OK;
 }
@@ -225,8 +234,8 @@ int job_report(const cli *c, const job *j, const char *out, const char *cloud_pa
   cJSON *t = cJSON_AddObjectToObject(o, "times_s");
   double total = j->load_s + j->write_s;
   for (size_t k = 0; k < j->lod_count; k++)
-    total += j->lods[k].step1_s + j->lods[k].step2_s + j->lods[k].cloud.bake_s +
-             j->lods[k].cloud.atlas_s;
+    total += j->lods[k].step1_s + j->lods[k].step2_s + j->lods[k].set.retry_s +
+             j->lods[k].cloud.bake_s + j->lods[k].cloud.atlas_s;
   cJSON_AddNumberToObject(t, "load", j->load_s);
   cJSON_AddNumberToObject(t, "write", j->write_s);
   cJSON_AddNumberToObject(t, "total", total);

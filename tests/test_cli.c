@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <dirent.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -421,6 +422,53 @@ static void test_cloud_command(void **state) {
   assert_int_equal(run(args, &out, &err), 1);
   free(out);
   free(err);
+  /* An output that is a folder is refused before any work; a point cloud
+   * is an unsupported input (exit 3) named in the message; a folder is no
+   * batch file (exit 2); an unknown baseline method is a usage error. */
+  char folder[1200];
+  snprintf(folder, sizeof folder, "%s/folder.glb", tu_dir);
+  assert_int_equal(mkdir(folder, 0777), 0);
+  snprintf(args, sizeof args, "'%s' -o '%s'", path, folder);
+  assert_int_equal(run(args, &out, &err), 5);
+  rmdir(folder);
+  assert_non_null(strstr(err, "is a folder"));
+  free(out);
+  free(err);
+  char pts[1024];
+  tu_data_path(pts, sizeof pts, "points/b9_training.ply");
+  if (tu_have_file(pts)) {
+    snprintf(args, sizeof args, "'%s' -o '%s/p.glb'", pts, tu_dir);
+    assert_int_equal(run(args, &out, &err), 3);
+    assert_non_null(strstr(err, "b9_training.ply"));
+    free(out);
+    free(err);
+  }
+  snprintf(args, sizeof args, "exec '%s'", tu_dir);
+  assert_int_equal(run(args, &out, &err), 2);
+  free(out);
+  free(err);
+  snprintf(args, sizeof args, "baseline '%s' -o '%s/b.glb' --method foo", path, tu_dir);
+  assert_int_equal(run(args, &out, &err), 1);
+  assert_non_null(strstr(err, "foo"));
+  free(out);
+  free(err);
+  /* eval: side-view figures are null when no view is a side view. */
+  snprintf(args, sizeof args,
+           "eval '%s' '%s' --views 2 --side-elevation 10 --size 16 --json '%s/e.json'", path, path,
+           tu_dir);
+  assert_int_equal(run(args, &out, &err), 0);
+  assert_non_null(strstr(out, "side n/a"));
+  free(out);
+  free(err);
+  char ej[1200];
+  snprintf(ej, sizeof ej, "%s/e.json", tu_dir);
+  char *etext = (char *)tu_read_file(ej, NULL);
+  cJSON *e = cJSON_Parse(etext);
+  assert_non_null(e);
+  assert_true(cJSON_IsNull(cJSON_GetObjectItemCaseSensitive(e, "iou_side_mean")));
+  assert_true(cJSON_GetObjectItemCaseSensitive(e, "iou_mean")->valuedouble == 1.0);
+  cJSON_Delete(e);
+  free(etext);
   /* Batch: bbc3 needs bbc2; bbc then save writes the Appendix A folder. */
   char *bf = tu_write_file(tu_dir, "c3.bbc", "load x.obj\nbbc3\n", 16);
   snprintf(args, sizeof args, "exec '%s'", bf);

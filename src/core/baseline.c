@@ -14,7 +14,8 @@ bbc_result bbc_baseline_crossed(const bbc_mesh *m, int planes, int horizontal,
                                 const bbc_callbacks *callbacks, bbc_cloud *cloud, bbc_error *err) {
   memset(cloud, 0, sizeof *cloud);
   if (m->kind != BBC_MESH_TRIANGLES || m->triangle_count == 0)
-    return bbc__fail(err, BBC_ERROR_EMPTY, "crossed billboards: no triangles");
+    return bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
+                     "crossed billboards need triangles (point clouds are not supported yet)");
   if (planes < 1 || planes > 16)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "crossed billboards: 1 to 16 vertical planes, not %d", planes);
@@ -156,7 +157,8 @@ bbc_result bbc_baseline_simplify(const bbc_mesh *m, size_t target_triangles, int
                                  bbc_mesh *out, bbc_error *err) {
   memset(out, 0, sizeof *out);
   if (m->kind != BBC_MESH_TRIANGLES || m->triangle_count == 0)
-    return bbc__fail(err, BBC_ERROR_EMPTY, "simplify: no triangles");
+    return bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
+                     "simplification needs triangles (point clouds are not supported)");
   size_t nv = m->vertex_count, nt = m->triangle_count, nm = m->material_count;
   float *pos = malloc(3 * nv * sizeof *pos);
   unsigned *in = malloc(3 * nt * sizeof *in), *res = malloc(3 * nt * sizeof *res);
@@ -193,8 +195,8 @@ bbc_result bbc_baseline_simplify(const bbc_mesh *m, size_t target_triangles, int
     }
   }
   if (r == BBC_OK && kept == 0)
-    r = bbc__fail(err, BBC_ERROR_EMPTY, "simplify: nothing left at %zu triangles",
-                  target_triangles);
+    r = bbc__fail(err, BBC_ERROR_OUT_OF_RANGE, "%s: nothing is left at %zu triangles; ask for more",
+                  sloppy ? "sloppy simplification" : "simplification", target_triangles);
   /* Only the vertices still used, in their original order. */
   size_t nuse = 0;
   if (r == BBC_OK) {

@@ -191,7 +191,7 @@ bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_
       }
       memcpy(ev->direction, dir, sizeof dir);
       ev->elevation_deg = asin(fmax(-1.0, fmin(1.0, -dir[up]))) * 180.0 / 3.14159265358979323846;
-      ev->side = fabs(ev->elevation_deg) <= o.side_elevation_deg;
+      ev->side = fabs(ev->elevation_deg) <= o.side_elevation_deg + 1e-9; /* "within" */
       bbc_view v;
       frame_view(dir, up, lo, hi, &o, &v);
       bbc_error e;

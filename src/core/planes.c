@@ -85,7 +85,7 @@ static bbc_result find_once(const bbc_mesh *mesh, const bbc_planes_options *o, d
                             bbc_planeset *set, bbc_error *err) {
   memset(set, 0, sizeof *set);
   if (mesh->kind != BBC_MESH_TRIANGLES || mesh->triangle_count == 0)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
+    return bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
                      "plane selection needs a triangle mesh (point clouds are not supported yet)");
   size_t nf = mesh->triangle_count;
   set->face_count = nf;
@@ -182,6 +182,9 @@ bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bb
                            bbc_error *err) {
   double scale = 1, retry = 0;
   int maxp = o->params.max_planes, minp = o->params.min_planes, grown = 0;
+  if (minp > 0 && maxp > 0 && minp > maxp)
+    bbc__log(&o->callbacks, BBC_LOG_WARNING, "minplanes %d is above maxplanes %d: ignored", minp,
+             maxp);
   bbc_planeset best; /* shrinking: the last result within maxplanes */
   int have_best = 0;
   memset(&best, 0, sizeof best);
@@ -208,7 +211,8 @@ bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bb
     if (have_best) bbc_planeset_free(&best);
     have_best = 0;
     double f = 0;
-    if (maxp > 0 && n > (size_t)maxp && attempt < 12) {
+    if (maxp > 0 && n > (size_t)maxp && attempt < 12 &&
+        o->params.epsilon_pct * scale < 99) { /* epsilon's own range ends at 99 % */
       /* Too many planes: grow epsilon by a factor that follows the excess
        * (planes fall roughly with epsilon^1.5), between 1.25 and 2. */
       f = pow((double)n / maxp, 1.0 / 1.5);

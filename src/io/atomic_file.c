@@ -84,8 +84,10 @@ bbc_result bbc_write_file_atomic(const char *path, const void *data, size_t size
   bbc_result r = bbc__atomic_open(&af, path, err);
   if (r != BBC_OK) return r;
   if (size && fwrite(data, 1, size, af.fp) != size) {
+    int e = errno;
     bbc__atomic_abort(&af);
-    return bbc__fail(err, BBC_ERROR_IO, "%s: write failed", path);
+    return bbc__fail(err, BBC_ERROR_IO, "%s: write failed: %s", path,
+                     e ? strerror(e) : "short write");
   }
   return bbc__atomic_commit(&af, err);
 }

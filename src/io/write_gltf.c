@@ -346,7 +346,8 @@ static int texture_used(const bbc_mesh *m, size_t t) {
 /* Writes one mesh's vertex data, indices and images into the buffer. */
 static bbc_result put_mesh(const char *path, const bbc_mesh *m, int binary, const char *dir,
                            const char *stem, gbuf *bin, view *views, size_t *n_views,
-                           size_t *n_images, size_t *image_view, mesh_out *mo, bbc_error *err) {
+                           size_t *n_images, size_t *image_view, mesh_out *mo, size_t *pngs_written,
+                           bbc_error *err) {
   size_t nv = m->vertex_count, n_mat = m->material_count;
   mo->nv = nv;
   for (size_t t = 0; t < m->triangle_count; t++) mo->mat_tris[m->face_material[t]]++;
@@ -444,6 +445,7 @@ static bbc_result put_mesh(const char *path, const bbc_mesh *m, int binary, cons
       char full[2600];
       snprintf(full, sizeof full, "%s%s_%zu.png", dir, stem, *n_images);
       r = bbc_write_file_atomic(full, png.data, png.size, err);
+      if (r == BBC_OK) *pngs_written = *n_images + 1;
     }
     (*n_images)++;
     free(png.data);
@@ -492,6 +494,8 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
   bbc__path_folder(path, dir, sizeof dir);
 
   gbuf bin = {0}, json = {0}, out = {0};
+  size_t pngs_written = 0; /* .gltf side files written, removed again on failure */
+  int bin_written = 0;
   mesh_out *mo = calloc(node_count, sizeof *mo);
   view *views = calloc(total_views, sizeof *views);
   size_t *image_view = calloc(total_tex + 1, sizeof *image_view);
@@ -510,7 +514,7 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
       break;
     }
     r = put_mesh(path, m, binary, dir, stem, &bin, views, &n_views, &n_images, image_view, &mo[n],
-                 err);
+                 &pngs_written, err);
     mo[n].first_accessor = n_acc;
     n_acc += 1 + (size_t)mo[n].has_normal + (size_t)mo[n].has_uv + (size_t)mo[n].has_tangent;
     mo[n].first_index_accessor = n_acc;
@@ -694,10 +698,23 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
     char full[2600];
     snprintf(full, sizeof full, "%s%s.bin", dir, stem);
     r = bbc_write_file_atomic(full, bin.data, bin.size, err);
+    bin_written = r == BBC_OK;
     if (r == BBC_OK) r = bbc_write_file_atomic(path, json.data, json.size, err);
   }
 
 done:
+  /* .gltf: a failed write leaves none of its side files behind. */
+  if (r != BBC_OK && !binary) {
+    char full[2600];
+    for (size_t i = 0; i < pngs_written; i++) {
+      snprintf(full, sizeof full, "%s%s_%zu.png", dir, stem, i);
+      remove(full);
+    }
+    if (bin_written) {
+      snprintf(full, sizeof full, "%s%s.bin", dir, stem);
+      remove(full);
+    }
+  }
   free(bin.data);
   free(json.data);
   free(out.data);

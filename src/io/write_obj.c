@@ -38,7 +38,14 @@ bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m, bbc_error
 
   /* Texture file names: <stem>_<first material using it>.png */
   char(*tex_names)[400] = calloc(m->texture_count ? m->texture_count : 1, sizeof *tex_names);
-  if (!tex_names) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", obj_path);
+  /* Files written so far: removed again when a later one fails. */
+  char(*written)[2600] = calloc(m->texture_count + 1, sizeof *written);
+  size_t n_written = 0;
+  if (!tex_names || !written) {
+    free(tex_names);
+    free(written);
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", obj_path);
+  }
   bbc_result r = BBC_OK;
   for (size_t i = 0; i < m->material_count && r == BBC_OK; i++) {
     int t = m->materials[i].texture;
@@ -49,10 +56,11 @@ bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m, bbc_error
     char full[2600];
     snprintf(full, sizeof full, "%s%s", dir, tex_names[t]);
     r = bbc_image_write_png(full, &m->textures[t].image, err);
+    if (r == BBC_OK) memcpy(written[n_written++], full, sizeof full);
   }
   if (r != BBC_OK) {
     free(tex_names);
-    return r;
+    goto fail;
   }
 
   /* MTL */
@@ -62,7 +70,7 @@ bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m, bbc_error
   r = bbc__atomic_open(&af, mtl_path, err);
   if (r != BBC_OK) {
     free(tex_names);
-    return r;
+    goto fail;
   }
   fprintf(af.fp, "# written by bbcgen %s\n", BBC_VERSION_STRING);
   for (size_t i = 0; i < m->material_count; i++) {
@@ -80,11 +88,12 @@ bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m, bbc_error
   }
   free(tex_names);
   r = bbc__atomic_commit(&af, err);
-  if (r != BBC_OK) return r;
+  if (r != BBC_OK) goto fail;
+  snprintf(written[n_written++], sizeof written[0], "%s", mtl_path);
 
   /* OBJ */
   r = bbc__atomic_open(&af, obj_path, err);
-  if (r != BBC_OK) return r;
+  if (r != BBC_OK) goto fail;
   FILE *f = af.fp;
   fprintf(f, "# written by bbcgen %s: %zu vertices, %zu triangles\nmtllib %s.mtl\n",
           BBC_VERSION_STRING, m->vertex_count, m->triangle_count, stem);
@@ -129,5 +138,13 @@ bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m, bbc_error
     }
     fputc('\n', f);
   }
-  return bbc__atomic_commit(&af, err);
+  r = bbc__atomic_commit(&af, err);
+  if (r == BBC_OK) {
+    free(written);
+    return BBC_OK;
+  }
+fail:
+  for (size_t i = 0; i < n_written; i++) remove(written[i]);
+  free(written);
+  return r;
 }

@@ -5,6 +5,8 @@
  * nothing and the .wrl never names a missing file. */
 #include "internal.h"
 
+#include <stdio.h>
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -272,11 +274,23 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
   /* The PNGs first, the .wrl last. */
   snprintf(png, len + 8, "%s%s.png", dir, stem);
   r = bbc_image_write_png(png, &m->textures[0].image, err);
+  int written = r == BBC_OK;
   if (r == BBC_OK && nm) {
     snprintf(png, len + 8, "%s%s_nm.png", dir, stem);
     r = bbc_image_write_png(png, nm, err);
+    written += r == BBC_OK;
   }
   if (r == BBC_OK) r = bbc_write_file_atomic(wrl_path, t.data, t.size, err);
+  if (r != BBC_OK) { /* a failed write leaves none of its PNGs behind */
+    if (written >= 1) {
+      snprintf(png, len + 8, "%s%s.png", dir, stem);
+      remove(png);
+    }
+    if (written >= 2) {
+      snprintf(png, len + 8, "%s%s_nm.png", dir, stem);
+      remove(png);
+    }
+  }
 
 done:
   free(t.data);

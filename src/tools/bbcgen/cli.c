@@ -6,6 +6,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
+#include <sys/stat.h>
 #include <strings.h>
 #include <time.h>
 
@@ -91,6 +93,7 @@ static void note_explicit(cli *c, const char *name_or_assignment) {
   if (n == 6 && !strncasecmp(name_or_assignment, "texres", 6)) c->texres_set = 1;
   if (n == 8 && !strncasecmp(name_or_assignment, "atlasmax", 8)) c->atlasmax_set = 1;
   if (n == 9 && !strncasecmp(name_or_assignment, "minplanes", 9)) c->minplanes_set = 1;
+  if (n == 9 && !strncasecmp(name_or_assignment, "maxplanes", 9)) c->maxplanes_set = 1;
   if (c->texres_set && !c->atlasmax_set) c->params.atlas_max = 0;
 }
 
@@ -263,4 +266,33 @@ int cli_planes_options(const cli *c, bbc_planes_options *o) {
     }
   }
   return EXIT_OK;
+}
+
+int cli_output_ok(const char *option, const char *path) {
+  const char *slash = strrchr(path, '/');
+  char dir[4096];
+  if (slash)
+    snprintf(dir, sizeof dir, "%.*s", (int)(slash - path) + (slash == path), path);
+  else
+    snprintf(dir, sizeof dir, ".");
+  struct stat st;
+  if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
+    cli_error("%s %s: the folder %s does not exist", option, path, dir);
+    return 0;
+  }
+  if (access(dir, W_OK) != 0) {
+    cli_error("%s %s: the folder %s is not writable", option, path, dir);
+    return 0;
+  }
+  if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+    cli_error("%s %s: is a folder", option, path);
+    return 0;
+  }
+  return 1;
+}
+
+int cli_fail_in(const char *path, const bbc_error *err, int output) {
+  if (!strncmp(err->message, path, strlen(path))) return cli_fail(err, output);
+  cli_error("%s: %s", path, err->message);
+  return cli_exit_code(err->code, output);
 }

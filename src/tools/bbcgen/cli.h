@@ -33,10 +33,10 @@ typedef struct cli {
   bbc_callbacks callbacks;
   size_t part_setting_count;
   cli_part_setting part_settings[32];
-  bbc_split_options split;      /* --split, --trunk, --foliage */
-  int branches_with_trunk;      /* --branches trunk (default: with the foliage) */
-  int texres_set, atlasmax_set; /* set by hand: texres alone turns atlasmax off */
-  int minplanes_set;            /* set by hand: else --lod turns minplanes off */
+  bbc_split_options split;          /* --split, --trunk, --foliage */
+  int branches_with_trunk;          /* --branches trunk (default: with the foliage) */
+  int texres_set, atlasmax_set;     /* set by hand: texres alone turns atlasmax off */
+  int minplanes_set, maxplanes_set; /* set by hand: else --lod turns them off */
 } cli;
 
 void cli_init(cli *c);
@@ -48,6 +48,8 @@ void cli_info(const cli *c, const char *fmt, ...) __attribute__((format(printf, 
 int cli_exit_code(bbc_result r, int output);
 /* Prints the error message and returns the exit code. */
 int cli_fail(const bbc_error *err, int output);
+/* The same, the message prefixed with `path` unless it names it already. */
+int cli_fail_in(const char *path, const bbc_error *err, int output);
 
 /* Tries the options every command accepts at argv[*i]: --quiet, --set
  * [PART.]NAME=VALUE, --NAME VALUE for any thesis parameter, and the part
@@ -63,6 +65,10 @@ long long cli_parse_count(const char *opt, const char *text, long long max);
 /* Progress bar on a terminal (stderr), nothing otherwise or when quiet. */
 void cli_progress(void *user, const char *stage, double fraction);
 void cli_log(void *user, bbc_log_level level, const char *message);
+
+/* Before any work: the output's folder exists and is writable, and the
+ * output itself is not a folder. Prints why and returns 0 otherwise. */
+int cli_output_ok(const char *option, const char *path);
 
 /* Seconds from a monotonic clock. */
 double cli_now(void);

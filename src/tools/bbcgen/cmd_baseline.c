@@ -30,8 +30,9 @@ int cmd_baseline(cli *c, int argc, char **argv) {
       horizontal = 1;
     } else if (!strcmp(argv[i], "--texels")) {
       if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
-      if ((texels = cli_parse_count(argv[i - 1], v, 1LL << 32)) < 16) {
-        if (texels >= 0) cli_error("--texels: at least 16");
+      /* 2^26 texels: a 8192 x 8192 atlas; more cannot fit one image. */
+      if ((texels = cli_parse_count(argv[i - 1], v, 1LL << 26)) < 16) {
+        if (texels >= 0) cli_error("--texels: 16 to 67108864");
         return EXIT_USAGE;
       }
     } else if (!strcmp(argv[i], "--triangles")) {
@@ -50,6 +51,10 @@ int cmd_baseline(cli *c, int argc, char **argv) {
   int crossed = method && !strcmp(method, "crossed"),
       simplify = method && !strcmp(method, "simplify"),
       sloppy = method && !strcmp(method, "sloppy");
+  if (method && !(crossed || simplify || sloppy)) {
+    cli_error("baseline: unknown method '%s' (crossed, simplify or sloppy)", method);
+    return EXIT_USAGE;
+  }
   if (!path || !out || !(crossed || simplify || sloppy)) {
     cli_error("baseline: usage: bbcgen baseline MODEL -o OUT.glb|.gltf|.obj --method "
               "crossed [--planes K] [--horizontal] [--texels N] | --method simplify|sloppy "
@@ -65,6 +70,7 @@ int cmd_baseline(cli *c, int argc, char **argv) {
     cli_error("the output must end in .glb, .gltf or .obj, not '%s'", out);
     return EXIT_USAGE;
   }
+  if (!cli_output_ok("-o", out)) return EXIT_OUTPUT;
   bbc_load_options lo;
   bbc_load_options_default(&lo);
   lo.compute_normals = c->params.vertex_normals;
@@ -88,7 +94,7 @@ int cmd_baseline(cli *c, int argc, char **argv) {
   }
   int rc = EXIT_OK;
   if (r != BBC_OK) {
-    rc = cli_fail(&err, 0);
+    rc = cli_fail_in(path, &err, 0);
   } else {
     double t1 = cli_now();
     r = !strcmp(ext, ".obj") ? bbc_mesh_write_obj(out, what, &err)

@@ -5,21 +5,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-
-/* Refuses an output whose folder does not exist before hours of work. */
-static int folder_ok(const char *opt, const char *path) {
-  const char *slash = strrchr(path, '/');
-  if (!slash) return 1;
-  char dir[4096];
-  snprintf(dir, sizeof dir, "%.*s", (int)(slash - path) + (slash == path), path);
-  struct stat st;
-  if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
-    cli_error("%s %s: the folder %s does not exist", opt, path, dir);
-    return 0;
-  }
-  return 1;
-}
 
 /* "5,10,15" -> increasing epsilons in percent; -1 on error (printed). */
 static int parse_lods(const char *text, double *eps, size_t max, size_t *count) {
@@ -101,12 +86,13 @@ int cmd_cloud(cli *c, int argc, char **argv) {
     cli_error("--report: the file must end in .json, not '%s'", report);
     return EXIT_USAGE;
   }
-  if (!folder_ok("-o", out) || (preview && !folder_ok("--preview", preview)) ||
-      (report && !folder_ok("--report", report)))
+  if (!cli_output_ok("-o", out) || (preview && !cli_output_ok("--preview", preview)) ||
+      (report && !cli_output_ok("--report", report)))
     return EXIT_OUTPUT;
-  /* A LOD chain asks for these epsilons: do not shrink them towards
-   * minplanes (maxplanes still caps each level). */
+  /* A LOD chain asks for these epsilons: neither minplanes nor maxplanes
+   * moves them (unless set by hand), so the levels stay in order. */
   if (lods && !c->minplanes_set) c->params.min_planes = 0;
+  if (lods && !c->maxplanes_set) c->params.max_planes = 0;
   job j;
   int rc = job_run(c, path, lods ? eps : NULL, lods, &j);
   if (rc != EXIT_OK) return rc;

@@ -15,14 +15,18 @@ char *eval_json_text(const bbc_eval_result *r, const bbc_eval_options *o, const 
   if (a) cJSON_AddStringToObject(j, "original", a);
   if (b) cJSON_AddStringToObject(j, "other", b);
   cJSON_AddNumberToObject(j, "iou_mean", r->iou_mean);
-  cJSON_AddNumberToObject(j, "iou_side_mean", r->iou_side_mean);
+  /* Side-view figures are null when no view is a side view. */
+#define SIDE(name, v)                                                                              \
+  (r->side_count ? cJSON_AddNumberToObject(j, name, v) : cJSON_AddNullToObject(j, name))
+  SIDE("iou_side_mean", r->iou_side_mean);
   cJSON_AddNumberToObject(j, "iou_min", r->iou_min);
-  cJSON_AddNumberToObject(j, "iou_side_min", r->iou_side_min);
+  SIDE("iou_side_min", r->iou_side_min);
   cJSON_AddNumberToObject(j, "recall_mean", r->recall_mean);
-  cJSON_AddNumberToObject(j, "recall_side_mean", r->recall_side_mean);
+  SIDE("recall_side_mean", r->recall_side_mean);
   cJSON_AddNumberToObject(j, "false_coverage_mean", r->false_mean);
   cJSON_AddNumberToObject(j, "psnr_mean", r->psnr_mean);
-  cJSON_AddNumberToObject(j, "psnr_side_mean", r->psnr_side_mean);
+  SIDE("psnr_side_mean", r->psnr_side_mean);
+#undef SIDE
   cJSON_AddNumberToObject(j, "psnr_min", r->psnr_min);
   cJSON_AddNumberToObject(j, "mae_mean", r->mae_mean);
   cJSON_AddNumberToObject(j, "views", (double)r->view_count);
@@ -54,6 +58,7 @@ int cmd_eval(cli *c, int argc, char **argv) {
   const char *paths[2] = {NULL, NULL}, *json = NULL, *png = NULL;
   long long views = 64, size = 256;
   int lit = 0, np = 0;
+  double side = 30;
   for (int i = 1; i < argc; i++) {
     int k = cli_common_option(c, argc, argv, &i);
     if (k < 0) return EXIT_USAGE;
@@ -75,6 +80,14 @@ int cmd_eval(cli *c, int argc, char **argv) {
       if (!(json = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
     } else if (!strcmp(argv[i], "--png")) {
       if (!(png = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+    } else if (!strcmp(argv[i], "--side-elevation")) {
+      if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+      char *end;
+      side = strtod(v, &end);
+      if (*end || !(side >= 0 && side <= 90)) {
+        cli_error("--side-elevation: degrees from 0 to 90, not '%s'", v);
+        return EXIT_USAGE;
+      }
     } else if (!strcmp(argv[i], "--lit")) {
       lit = 1;
     } else if (argv[i][0] != '-' && np < 2) {
@@ -86,7 +99,14 @@ int cmd_eval(cli *c, int argc, char **argv) {
   }
   if (np != 2) {
     cli_error("eval: usage: bbcgen eval ORIGINAL OTHER [--views N] [--size PX] [--json OUT] "
-              "[--png SHEET] [--lit]");
+              "[--png SHEET] [--lit] [--side-elevation DEG]");
+    return EXIT_USAGE;
+  }
+  if ((json && !cli_output_ok("--json", json)) || (png && !cli_output_ok("--png", png)))
+    return EXIT_OUTPUT;
+  size_t pl = png ? strlen(png) : 0;
+  if (png && (pl < 4 || strcmp(png + pl - 4, ".png"))) {
+    cli_error("eval: --png: the file must end in .png, not '%s'", png);
     return EXIT_USAGE;
   }
   bbc_load_options lo;
@@ -107,6 +127,7 @@ int cmd_eval(cli *c, int argc, char **argv) {
   o.up_axis = c->params.up_axis;
   o.threads = c->params.threads;
   o.lighting = lit;
+  o.side_elevation_deg = side;
   bbc_params_light_direction(&c->params, o.light);
   bbc_image sheet = {0, 0, NULL};
   if (png) o.sheet = &sheet;
@@ -116,10 +137,15 @@ int cmd_eval(cli *c, int argc, char **argv) {
   if (bbc_eval(&m[0], &m[1], &o, &r, &err) != BBC_OK) {
     rc = cli_fail(&err, 0);
   } else {
-    printf("iou %.4f (side %.4f, min %.4f)  recall %.4f  false coverage %.4f  psnr %.2f dB "
-           "(side %.2f)  mae %.2f  [%zu views, %zu side, %d px, %.2f s]\n",
-           r.iou_mean, r.iou_side_mean, r.iou_min, r.recall_mean, r.false_mean, r.psnr_mean,
-           r.psnr_side_mean, r.mae_mean, r.view_count, r.side_count, o.size, cli_now() - t0);
+    char side_iou[32] = "n/a", side_psnr[32] = "n/a";
+    if (r.side_count) {
+      snprintf(side_iou, sizeof side_iou, "%.4f", r.iou_side_mean);
+      snprintf(side_psnr, sizeof side_psnr, "%.2f", r.psnr_side_mean);
+    }
+    printf("iou %.4f (side %s, min %.4f)  recall %.4f  false coverage %.4f  psnr %.2f dB "
+           "(side %s)  mae %.2f  [%zu views, %zu side, %d px, %.2f s]\n",
+           r.iou_mean, side_iou, r.iou_min, r.recall_mean, r.false_mean, r.psnr_mean, side_psnr,
+           r.mae_mean, r.view_count, r.side_count, o.size, cli_now() - t0);
     if (json) {
       char *text = eval_json_text(&r, &o, paths[0], paths[1]);
       if (!text || bbc_write_file_atomic(json, text, strlen(text), &err) != BBC_OK)

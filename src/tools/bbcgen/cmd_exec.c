@@ -23,6 +23,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 static char *trim(char *s) {
   while (isspace((unsigned char)*s)) s++;
@@ -47,6 +48,11 @@ int cmd_exec(cli *c, int argc, char **argv) {
   if (!file) {
     cli_error("exec: usage: bbcgen exec BATCHFILE");
     return EXIT_USAGE;
+  }
+  struct stat st;
+  if (stat(file, &st) == 0 && S_ISDIR(st.st_mode)) {
+    cli_error("%s: is a folder, not a batch file", file);
+    return EXIT_INPUT;
   }
   FILE *f = fopen(file, "r");
   if (!f) {

@@ -49,7 +49,7 @@ int job_run(const cli *c, const char *model, const double *epsilons, size_t coun
     }
     if (bbc_planes_find(&j->mesh, &po, &L->set, &err) != BBC_OK ||
         bbc_cloud_build(&j->mesh, &L->set, &ck.params, &c->callbacks, &L->cloud, &err) != BBC_OK) {
-      int rc = cli_fail(&err, 0);
+      int rc = cli_fail_in(model, &err, 0); /* the message names the model */
       job_free(j);
       return rc;
     }
@@ -91,6 +91,8 @@ static char *params_json_text(const bbc_params *p) {
   cJSON *o = cJSON_CreateObject();
   for (size_t i = 0; i < bbc_param_count(); i++) {
     const bbc_param_info *info = bbc_param_at(i);
+    /* threads never changes a result: left out, so outputs are identical */
+    if (!strcmp(info->name, "threads")) continue;
     cJSON_AddNumberToObject(o, info->name, bbc_params_get(p, info));
   }
   char *s = cJSON_PrintUnformatted(o);
@@ -170,6 +172,14 @@ int job_write(const cli *c, job *j, const char *out) {
     cli_error("the output must end in .glb, .gltf, .obj or .wrl, not '%s'", out);
     return EXIT_USAGE;
   }
+  for (size_t k = 1; k < j->lod_count && !glb && !gltf; k++) {
+    char path[4200];
+    lod_path(out, k, path, sizeof path);
+    if (!cli_output_ok("-o", path)) return EXIT_OUTPUT;
+  }
+  if (obj && j->lods[0].params.normal_maps)
+    cli_log((void *)c, BBC_LOG_WARNING,
+            "OBJ output carries no normal map (use .glb, .gltf or .wrl)");
   double t0 = cli_now();
   bbc_error err;
   bbc_result r = BBC_OK;

@@ -365,7 +365,7 @@ bbc_result bbc__cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
   /* atlasmax: the largest texres whose images fill about 70 % of the atlas
    * (packing loses the rest), then halved while they do not fit. */
   memset(cl, 0, sizeof *cl);
-  int limit = floor_pow2(prm->atlas_max < 16 ? 16 : prm->atlas_max);
+  int limit = floor_pow2(prm->atlas_max < 64 ? 64 : prm->atlas_max); /* below 64: 64 */
   size_t np = set->plane_count, nk = 0;
   bbc_billboard *bb = calloc(np ? np : 1, sizeof *bb), *kept = calloc(np ? np : 1, sizeof *kept);
   bbc_result r = BBC_OK;

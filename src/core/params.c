@@ -130,7 +130,8 @@ static const param_row k_rows[] = {
       "fewer planes: epsilon shrinks (to 1/5 at most) while within maxplanes (0 = off)"},
      INT_FIELD(min_planes)},
     {{"atlasmax", BBC_PARAM_INT, 0, 16384, 1024, F3, "extension", "texels",
-      "atlas side: texres becomes the largest that fits one such atlas (0 = texres as set)"},
+      "atlas side: texres becomes the largest that fits one such atlas (0 = texres as set; "
+      "at least 64)"},
      INT_FIELD(atlas_max)},
 };
 

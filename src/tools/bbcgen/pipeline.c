@@ -407,6 +407,14 @@ static int make_dirs(const char *path) {
 }
 
 int job_save_vrml(const cli *c, job *j, const char *user_dir) {
+  /* Appendix A: always below vrml97models/ of the current folder. */
+  if (user_dir && (user_dir[0] == '/' || !strcmp(user_dir, "..") || !strncmp(user_dir, "../", 3) ||
+                   strstr(user_dir, "/../") ||
+                   (strlen(user_dir) >= 3 && !strcmp(user_dir + strlen(user_dir) - 3, "/..")))) {
+    cli_error("save %s: the folder must stay below vrml97models/ (no '/' start, no '..')",
+              user_dir);
+    return EXIT_USAGE;
+  }
   const char *base = strrchr(j->model_path, '/');
   base = base ? base + 1 : j->model_path;
   const char *ext = extension_of(base);

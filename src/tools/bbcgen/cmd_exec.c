@@ -97,11 +97,20 @@ int cmd_exec(cli *c, int argc, char **argv) {
         snprintf(opt, sizeof opt, "--%s", t ? "trunk" : "foliage");
         char *fake[2] = {opt, pattern[t]};
         int i = 0;
-        cli_common_option(c, 2, fake, &i);
+        if (!pattern[t][0]) {
+          cli_error("%s:%d: split %s= needs patterns", file, lineno, t ? "trunk" : "foliage");
+          rc = EXIT_USAGE;
+        } else if (cli_common_option(c, 2, fake, &i) != 1) {
+          cli_error("%s:%d: bad split command", file, lineno);
+          rc = EXIT_USAGE;
+        }
       } else {
         char *fake[2] = {"--split", a1};
         int i = 0;
-        if (cli_common_option(c, 2, fake, &i) != 1) rc = EXIT_USAGE;
+        if (cli_common_option(c, 2, fake, &i) != 1) {
+          cli_error("%s:%d: bad split command", file, lineno);
+          rc = EXIT_USAGE;
+        }
       }
     } else if (!strcmp(cmd, "setup")) {
       char *fake[1] = {"setup"};

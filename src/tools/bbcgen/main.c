@@ -19,7 +19,7 @@ static void print_help(FILE *out) {
           "      alphaMode MASK), OBJ+MTL+PNG or VRML (--format 0|1) + PNG.\n"
           "      --lod: one cloud per epsilon (percent, increasing); in glTF each is a node\n"
           "        (MSFT_lod chain, finest first), OBJ/VRML get OUT_lod1.obj, ...;\n"
-          "        minplanes is off for the chain unless set.\n"
+          "        minplanes and maxplanes are off for the chain unless set.\n"
           "      --report: parameters, per-stage times, planes, texels, atlas fill (JSON).\n"
           "      --preview: a PNG of 4 views (front, side, above, oblique) in 3 rows: the\n"
           "        original, the cloud, the billboards' outlines coloured by plane kind\n"

@@ -29,6 +29,9 @@ void bbc__progress(const bbc_callbacks *cb, const char *stage, double fraction);
 /* strdup that returns NULL for a NULL input. */
 char *bbc__strdup(const char *s);
 
+/* Seconds from a monotonic clock (stage timings). */
+double bbc__now_s(void);
+
 /* Checks that `path` names a readable regular file; BBC_ERROR_NOT_FOUND,
  * BBC_ERROR_NOT_A_FILE or BBC_ERROR_IO with a message otherwise. */
 bbc_result bbc__check_input_file(const char *path, bbc_error *err);
@@ -112,6 +115,11 @@ typedef struct bbc__bake {
 
 bbc_result bbc__render_bake(const bbc_mesh *mesh, const uint32_t *faces, size_t face_count,
                             const bbc_view *view, bbc__bake *bake, bbc_error *err);
+
+/* A view along `direction` (up hint `up`) centred on the box lo..hi and
+ * framing its corners times `margin`; everything else zero. */
+void bbc__view_frame_box(const double lo[3], const double hi[3], const double direction[3],
+                         const double up[3], double margin, bbc_view *view);
 
 /* ---- step 3 internals (src/core/cloud.c) ----------------------------------- */
 /* bbc_cloud_build with the billboards' rectangles given (one per plane of

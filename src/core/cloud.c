@@ -7,17 +7,10 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #ifdef _OPENMP
 #include <omp.h>
 #endif
-
-static double now_s(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static int floor_pow2(double x) {
   int p = 1;
@@ -384,7 +377,7 @@ bbc_result bbc__cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
   bbc_params p2 = *prm;
   while (r == BBC_OK) {
     p2.texres = texres;
-    r = build_inner(m, set, given ? bb : NULL, &p2, cbk, cl, err, limit);
+    r = build_inner(m, set, bb, &p2, cbk, cl, err, limit); /* billboards computed once */
     if (r != BBC_ERROR_OUT_OF_RANGE || texres <= 4) break;
     r = BBC_OK; /* did not fit: half the resolution */
     texres /= 2;
@@ -406,7 +399,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "step 3: the planes were found for another mesh (%zu faces, mesh has %zu)",
                      set->face_count, m->triangle_count);
-  double t0 = now_s();
+  double t0 = bbc__now_s();
   size_t np = set->plane_count, nf = m->triangle_count;
   bbc_billboard *bb = calloc(np ? np : 1, sizeof *bb);
   size_t *order = malloc((np ? np : 1) * sizeof *order);
@@ -493,7 +486,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
         if (err) *err = bk[k].err;
       }
   }
-  double t1 = now_s();
+  double t1 = bbc__now_s();
   cl->bake_s = t1 - t0;
   /* The atlas: front images then back images; the normal atlas packs
    * images of the same sizes in the same order, so it has the same layout. */
@@ -536,7 +529,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
   }
   if (r == BBC_OK) r = build_mesh(set, prm, cl, &atlas, prm->normal_maps ? &nm_atlas : NULL, err);
   if (r == BBC_OK) r = bbc_mesh_finalize(&cl->mesh, 0, "billboard cloud", err);
-  cl->atlas_s = now_s() - t1;
+  cl->atlas_s = bbc__now_s() - t1;
   for (size_t k = 0; bk && k < nk; k++) baked_free(&bk[k]);
   bbc_image_free(&atlas);
   bbc_image_free(&nm_atlas);

@@ -40,37 +40,13 @@ void bbc_eval_direction(int k, int n, int up_axis, double dir[3]) {
   dir[b] = -r * sin(phi);
 }
 
-static void cross3(const double *x, const double *y, double *o) {
-  o[0] = x[1] * y[2] - x[2] * y[1];
-  o[1] = x[2] * y[0] - x[0] * y[2];
-  o[2] = x[0] * y[1] - x[1] * y[0];
-}
-
 /* A view along `dir` framing the box lo..hi. */
 static void frame_view(const double *dir, int up_axis, const double *lo, const double *hi,
                        const bbc_eval_options *o, bbc_view *v) {
-  memset(v, 0, sizeof *v);
-  memcpy(v->direction, dir, sizeof v->direction);
   int up = up_axis >= 0 && up_axis <= 2 ? up_axis : 1;
-  v->up[up] = 1;
-  if (fabs(dir[up]) > 0.999) { /* looking straight up or down */
-    v->up[up] = 0;
-    v->up[(up + 2) % 3] = 1;
-  }
-  double r[3], u[3];
-  cross3(dir, v->up, r);
-  double l = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
-  for (int k = 0; k < 3; k++) r[k] /= l;
-  cross3(r, dir, u);
-  for (int k = 0; k < 3; k++) v->center[k] = 0.5 * (lo[k] + hi[k]);
-  double half = 0;
-  for (int c = 0; c < 8; c++) {
-    double d[3];
-    for (int k = 0; k < 3; k++) d[k] = ((c >> k) & 1 ? hi[k] : lo[k]) - v->center[k];
-    half = fmax(half, fabs(d[0] * r[0] + d[1] * r[1] + d[2] * r[2]));
-    half = fmax(half, fabs(d[0] * u[0] + d[1] * u[1] + d[2] * u[2]));
-  }
-  v->half_extent = half > 0 ? 1.02 * half : 1.0;
+  double upv[3] = {0, 0, 0};
+  upv[fabs(dir[up]) > 0.999 ? (up + 2) % 3 : up] = 1; /* looking straight up or down */
+  bbc__view_frame_box(lo, hi, dir, upv, 1.02, v);
   v->lighting = o->lighting;
   if (o->lighting) memcpy(v->light, o->light, sizeof v->light);
   v->point_size_px = 2.0f;

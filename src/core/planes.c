@@ -15,7 +15,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <time.h>
 
 static const char *const k_kind_names[BBC_PLANE_KIND_COUNT] = {
     "standard", "coplanar", "posttweaked", "cardboard", "parachute"};
@@ -38,12 +37,6 @@ void bbc_planeset_free(bbc_planeset *s) {
   free(s->parts);
   free(s->face_part);
   memset(s, 0, sizeof *s);
-}
-
-static double now_s(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* Area-weighted centre and bounding radius of a set of triangles. */
@@ -124,7 +117,7 @@ static bbc_result find_once(const bbc_mesh *mesh, const bbc_planes_options *o, d
     double total_area;
     part_frame(mesh, tris, n, pr->center, &pr->radius, &total_area);
 
-    double t0 = now_s();
+    double t0 = bbc__now_s();
     dual_face *faces = NULL;
     dual_grid g;
     memset(&g, 0, sizeof g);
@@ -138,10 +131,10 @@ static bbc_result find_once(const bbc_mesh *mesh, const bbc_planes_options *o, d
     pr->grid_cells = (size_t)g.n_theta * g.n_phi * g.n_rho;
     dual_grid_accumulate(&g, faces, NULL, n, +1, &o->callbacks);
     bbc__progress(&o->callbacks, "grid", 1.0);
-    double t1 = now_s();
+    double t1 = bbc__now_s();
     select_result sr;
     r = select_planes(faces, n, &g, p, pr->epsilon_abs, pr->radius, &o->callbacks, &sr);
-    double t2 = now_s();
+    double t2 = bbc__now_s();
     pr->step1_s = t1 - t0;
     pr->step2_s = t2 - t1;
     dual_grid_free(&g);
@@ -189,7 +182,7 @@ bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bb
   int have_best = 0;
   memset(&best, 0, sizeof best);
   for (int attempt = 1;; attempt++) {
-    double t0 = now_s();
+    double t0 = bbc__now_s();
     bbc_result r = find_once(mesh, o, scale, set, err);
     if (r != BBC_OK) {
       if (have_best) bbc_planeset_free(&best);
@@ -201,7 +194,7 @@ bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bb
     size_t n = set->plane_count;
     if (have_best && maxp > 0 && n > (size_t)maxp) {
       /* Shrinking went one step too far: the previous result it is. */
-      retry += now_s() - t0;
+      retry += bbc__now_s() - t0;
       bbc_planeset_free(set);
       *set = best;
       set->attempts = attempt;
@@ -237,6 +230,6 @@ bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bb
     scale *= f;
     if (!have_best) bbc_planeset_free(set);
     memset(set, 0, sizeof *set);
-    retry += now_s() - t0;
+    retry += bbc__now_s() - t0;
   }
 }

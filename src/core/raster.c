@@ -393,14 +393,14 @@ int bbc_view_project(const bbc_view *view, int width, int height, const double p
   return 1;
 }
 
-void bbc_view_frame_mesh(const bbc_mesh *m, const double direction[3], const double up[3],
-                         bbc_view *v) {
+void bbc__view_frame_box(const double lo[3], const double hi[3], const double direction[3],
+                         const double up[3], double margin, bbc_view *v) {
   memset(v, 0, sizeof *v);
   memcpy(v->direction, direction, sizeof v->direction);
   memcpy(v->up, up, sizeof v->up);
-  /* Frame the bounding box as seen along the view: the largest extent of
-   * its corners on the image axes, plus a small margin. */
-  for (int k = 0; k < 3; k++) v->center[k] = 0.5 * (m->bbox_min[k] + m->bbox_max[k]);
+  /* Frame the box as seen along the view: the largest extent of its
+   * corners on the image axes, times the margin. */
+  for (int k = 0; k < 3; k++) v->center[k] = 0.5 * (lo[k] + hi[k]);
   double f[3] = {direction[0], direction[1], direction[2]}, r[3], u[3];
   normalize3(f);
   cross3(f, up, r);
@@ -409,13 +409,17 @@ void bbc_view_frame_mesh(const bbc_mesh *m, const double direction[3], const dou
   double half = 0;
   for (int c = 0; c < 8; c++) {
     double d[3];
-    for (int k = 0; k < 3; k++)
-      d[k] = ((c >> k) & 1 ? m->bbox_max[k] : m->bbox_min[k]) - v->center[k];
+    for (int k = 0; k < 3; k++) d[k] = ((c >> k) & 1 ? hi[k] : lo[k]) - v->center[k];
     double x = fabs(d[0] * r[0] + d[1] * r[1] + d[2] * r[2]);
     double y = fabs(d[0] * u[0] + d[1] * u[1] + d[2] * u[2]);
     half = fmax(half, fmax(x, y));
   }
-  v->half_extent = half > 0 ? 1.04 * half : 1.0;
+  v->half_extent = half > 0 ? margin * half : 1.0;
+}
+
+void bbc_view_frame_mesh(const bbc_mesh *m, const double direction[3], const double up[3],
+                         bbc_view *v) {
+  bbc__view_frame_box(m->bbox_min, m->bbox_max, direction, up, 1.04, v);
   v->lighting = 1;
   v->point_size_px = 2.0f;
   v->background[0] = v->background[1] = v->background[2] = 255;

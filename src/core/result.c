@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 
 const char *bbc_result_string(bbc_result result) {
   switch (result) {
@@ -107,4 +108,10 @@ void bbc__path_folder(const char *path, char *folder, size_t folder_size) {
     slash[1] = 0;
   else
     folder[0] = 0;
+}
+
+double bbc__now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }

@@ -296,3 +296,9 @@ int cli_fail_in(const char *path, const bbc_error *err, int output) {
   cli_error("%s: %s", path, err->message);
   return cli_exit_code(err->code, output);
 }
+
+void cli_load_options(const cli *c, bbc_load_options *o) {
+  bbc_load_options_default(o);
+  o->compute_normals = c->params.vertex_normals;
+  o->callbacks = c->callbacks;
+}

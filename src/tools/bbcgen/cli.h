@@ -70,6 +70,9 @@ void cli_log(void *user, bbc_log_level level, const char *message);
  * output itself is not a folder. Prints why and returns 0 otherwise. */
 int cli_output_ok(const char *option, const char *path);
 
+/* Load options from the command line: vn and progress/log callbacks. */
+void cli_load_options(const cli *c, bbc_load_options *o);
+
 /* Seconds from a monotonic clock. */
 double cli_now(void);
 

@@ -72,9 +72,7 @@ int cmd_baseline(cli *c, int argc, char **argv) {
   }
   if (!cli_output_ok("-o", out)) return EXIT_OUTPUT;
   bbc_load_options lo;
-  bbc_load_options_default(&lo);
-  lo.compute_normals = c->params.vertex_normals;
-  lo.callbacks = c->callbacks;
+  cli_load_options(c, &lo);
   bbc_mesh m, res;
   bbc_cloud cl;
   bbc_error err;

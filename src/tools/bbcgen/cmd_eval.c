@@ -110,9 +110,7 @@ int cmd_eval(cli *c, int argc, char **argv) {
     return EXIT_USAGE;
   }
   bbc_load_options lo;
-  bbc_load_options_default(&lo);
-  lo.compute_normals = c->params.vertex_normals;
-  lo.callbacks = c->callbacks;
+  cli_load_options(c, &lo);
   bbc_mesh m[2];
   bbc_error err;
   if (bbc_mesh_load(paths[0], &lo, &m[0], &err) != BBC_OK) return cli_fail(&err, 0);

@@ -116,10 +116,8 @@ int cmd_info(cli *c, int argc, char **argv) {
     return EXIT_USAGE;
   }
   bbc_load_options opt;
-  bbc_load_options_default(&opt);
-  opt.compute_normals = c->params.vertex_normals;
+  cli_load_options(c, &opt);
   opt.load_textures = textures;
-  opt.callbacks = c->callbacks;
   bbc_mesh m;
   bbc_error err;
   if (bbc_mesh_load(path, &opt, &m, &err) != BBC_OK) return cli_fail(&err, 0);

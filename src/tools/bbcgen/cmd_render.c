@@ -86,9 +86,7 @@ int cmd_render(cli *c, int argc, char **argv) {
     return EXIT_USAGE;
   }
   bbc_load_options opt;
-  bbc_load_options_default(&opt);
-  opt.compute_normals = c->params.vertex_normals;
-  opt.callbacks = c->callbacks;
+  cli_load_options(c, &opt);
   bbc_mesh m;
   bbc_error err;
   if (bbc_mesh_load(path, &opt, &m, &err) != BBC_OK) return cli_fail(&err, 0);

@@ -28,9 +28,7 @@ int job_run(const cli *c, const char *model, const double *epsilons, size_t coun
     return EXIT_USAGE;
   }
   bbc_load_options lo;
-  bbc_load_options_default(&lo);
-  lo.compute_normals = c->params.vertex_normals;
-  lo.callbacks = c->callbacks;
+  cli_load_options(c, &lo);
   bbc_error err;
   double t0 = cli_now();
   if (bbc_mesh_load(model, &lo, &j->mesh, &err) != BBC_OK) return cli_fail(&err, 0);

@@ -26,6 +26,19 @@ void bbc__log(const bbc_callbacks *cb, bbc_log_level level, const char *fmt, ...
 /* Calls the progress callback, if any. */
 void bbc__progress(const bbc_callbacks *cb, const char *stage, double fraction);
 
+/* Callbacks that name what they report on: progress stages come out as
+ * "<label>: <stage>" and log messages as "<label>: <message>", through the
+ * caller's callbacks. For a stage that repeats (per part, per run of
+ * maxplanes/minplanes, per level of detail). Calls through `out` must not
+ * overlap (the library reports progress from one thread at a time). */
+typedef struct bbc__label {
+  bbc_callbacks outer;
+  char label[96];
+  char text[1200];
+} bbc__label;
+void bbc__label_callbacks(const bbc_callbacks *in, bbc__label *l, bbc_callbacks *out,
+                          const char *fmt, ...) BBC__PRINTF(4, 5);
+
 /* strdup that returns NULL for a NULL input. */
 char *bbc__strdup(const char *s);
 

@@ -75,7 +75,7 @@ static const bbc_params *part_params(const bbc_planes_options *o, const char *na
 }
 
 static bbc_result find_once(const bbc_mesh *mesh, const bbc_planes_options *o, double scale,
-                            bbc_planeset *set, bbc_error *err) {
+                            int attempt, bbc_planeset *set, bbc_error *err) {
   memset(set, 0, sizeof *set);
   if (mesh->kind != BBC_MESH_TRIANGLES || mesh->triangle_count == 0)
     return bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
@@ -117,6 +117,17 @@ static bbc_result find_once(const bbc_mesh *mesh, const bbc_planes_options *o, d
     double total_area;
     part_frame(mesh, tris, n, pr->center, &pr->radius, &total_area);
 
+    /* Progress names the part and the run when steps repeat. */
+    bbc__label lab;
+    bbc_callbacks cb = o->callbacks;
+    if (part_count > 1 && attempt > 1)
+      bbc__label_callbacks(&o->callbacks, &lab, &cb, "%s, run %d at epsilon %.3g %%", pr->name,
+                           attempt, scale * p->epsilon_pct);
+    else if (part_count > 1)
+      bbc__label_callbacks(&o->callbacks, &lab, &cb, "%s", pr->name);
+    else if (attempt > 1)
+      bbc__label_callbacks(&o->callbacks, &lab, &cb, "run %d at epsilon %.3g %%", attempt,
+                           scale * p->epsilon_pct);
     double t0 = bbc__now_s();
     dual_face *faces = NULL;
     dual_grid g;
@@ -129,11 +140,11 @@ static bbc_result find_once(const bbc_mesh *mesh, const bbc_planes_options *o, d
       break;
     }
     pr->grid_cells = (size_t)g.n_theta * g.n_phi * g.n_rho;
-    dual_grid_accumulate(&g, faces, NULL, n, +1, &o->callbacks);
-    bbc__progress(&o->callbacks, "grid", 1.0);
+    dual_grid_accumulate(&g, faces, NULL, n, +1, &cb);
+    bbc__progress(&cb, "grid", 1.0);
     double t1 = bbc__now_s();
     select_result sr;
-    r = select_planes(faces, n, &g, p, pr->epsilon_abs, pr->radius, &o->callbacks, &sr);
+    r = select_planes(faces, n, &g, p, pr->epsilon_abs, pr->radius, &cb, &sr);
     double t2 = bbc__now_s();
     pr->step1_s = t1 - t0;
     pr->step2_s = t2 - t1;
@@ -164,7 +175,7 @@ static bbc_result find_once(const bbc_mesh *mesh, const bbc_planes_options *o, d
     set->plane_count += sr.plane_count;
     pr->plane_count = sr.plane_count;
     select_result_free(&sr);
-    bbc__progress(&o->callbacks, "select", 1.0);
+    bbc__progress(&cb, "select", 1.0);
   }
   free(tris);
   if (r != BBC_OK) bbc_planeset_free(set);
@@ -183,7 +194,7 @@ bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bb
   memset(&best, 0, sizeof best);
   for (int attempt = 1;; attempt++) {
     double t0 = bbc__now_s();
-    bbc_result r = find_once(mesh, o, scale, set, err);
+    bbc_result r = find_once(mesh, o, scale, attempt, set, err);
     if (r != BBC_OK) {
       if (have_best) bbc_planeset_free(&best);
       return r;
@@ -224,9 +235,9 @@ bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bb
                  "%zu planes after %d tries (maxplanes %d): keeping them", n, attempt, maxp);
       return BBC_OK;
     }
-    bbc__log(&o->callbacks, BBC_LOG_INFO,
-             "%zu planes at epsilon x%.3g (planes %d..%d): trying epsilon x%.3g", n, scale, minp,
-             maxp, scale * f);
+    bbc__log(&o->callbacks, BBC_LOG_INFO, "%zu planes at epsilon %.3g %%, %s %d: trying %.3g %%", n,
+             o->params.epsilon_pct * scale, f > 1 ? "more than maxplanes" : "fewer than minplanes",
+             f > 1 ? maxp : minp, o->params.epsilon_pct * scale * f);
     scale *= f;
     if (!have_best) bbc_planeset_free(set);
     memset(set, 0, sizeof *set);

@@ -63,6 +63,31 @@ void bbc__progress(const bbc_callbacks *cb, const char *stage, double fraction) 
   if (cb && cb->progress) cb->progress(cb->user, stage, fraction);
 }
 
+static void label_progress(void *user, const char *stage, double fraction) {
+  bbc__label *l = user;
+  snprintf(l->text, sizeof l->text, "%s: %s", l->label, stage);
+  if (l->outer.progress) l->outer.progress(l->outer.user, l->text, fraction);
+}
+
+static void label_log(void *user, bbc_log_level level, const char *message) {
+  bbc__label *l = user;
+  snprintf(l->text, sizeof l->text, "%s: %s", l->label, message);
+  if (l->outer.log) l->outer.log(l->outer.user, level, l->text);
+}
+
+void bbc__label_callbacks(const bbc_callbacks *in, bbc__label *l, bbc_callbacks *out,
+                          const char *fmt, ...) {
+  memset(l, 0, sizeof *l);
+  if (in) l->outer = *in;
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(l->label, sizeof l->label, fmt, ap);
+  va_end(ap);
+  out->progress = l->outer.progress ? label_progress : NULL;
+  out->log = l->outer.log ? label_log : NULL;
+  out->user = l;
+}
+
 char *bbc__strdup(const char *s) {
   if (!s) return NULL;
   size_t n = strlen(s) + 1;

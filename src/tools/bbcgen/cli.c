@@ -1,6 +1,8 @@
 /* cli.c — shared command-line machinery of bbcgen. */
 #include "cli.h"
 
+#include <ctype.h>
+
 #include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -86,15 +88,19 @@ long long cli_parse_count(const char *opt, const char *text, long long max) {
   return v;
 }
 
-/* A texres set by hand is meant: it turns the atlas budget off unless
- * atlasmax is set by hand too (in any order). */
+/* A value set by hand is meant: a texres turns the atlas budget off unless
+ * atlasmax is set by hand too, and an epsilon turns maxplanes and minplanes
+ * off unless they are set by hand too (in any order). */
 static void note_explicit(cli *c, const char *name_or_assignment) {
   size_t n = strcspn(name_or_assignment, "=");
+  if (n == 7 && !strncasecmp(name_or_assignment, "epsilon", 7)) c->epsilon_set = 1;
   if (n == 6 && !strncasecmp(name_or_assignment, "texres", 6)) c->texres_set = 1;
   if (n == 8 && !strncasecmp(name_or_assignment, "atlasmax", 8)) c->atlasmax_set = 1;
   if (n == 9 && !strncasecmp(name_or_assignment, "minplanes", 9)) c->minplanes_set = 1;
   if (n == 9 && !strncasecmp(name_or_assignment, "maxplanes", 9)) c->maxplanes_set = 1;
   if (c->texres_set && !c->atlasmax_set) c->params.atlas_max = 0;
+  if (c->epsilon_set && !c->maxplanes_set) c->params.max_planes = 0;
+  if (c->epsilon_set && !c->minplanes_set) c->params.min_planes = 0;
 }
 
 int cli_common_option(cli *c, int argc, char **argv, int *i) {
@@ -169,6 +175,7 @@ int cli_common_option(cli *c, int argc, char **argv, int *i) {
         cli_error("too many or too long part settings ('%s')", v);
         return -1;
       }
+      if (!strncasecmp(dot + 1, "epsilon=", 8)) note_explicit(c, dot + 1); /* kept too */
       cli_part_setting *ps = &c->part_settings[c->part_setting_count++];
       snprintf(ps->part, sizeof ps->part, "%.*s", (int)(dot - v), v);
       snprintf(ps->assignment, sizeof ps->assignment, "%s", dot + 1);
@@ -192,6 +199,74 @@ int cli_common_option(cli *c, int argc, char **argv, int *i) {
     return 1;
   }
   return 0;
+}
+
+/* Edit distance (insertions, deletions, substitutions, and swaps of two
+ * neighbours), case-insensitive, capped at 64 characters. */
+static int edit_distance(const char *a, const char *b) {
+  size_t n = strlen(a), m = strlen(b);
+  if (n > 64 || m > 64) return 1000;
+  int d[65][65];
+  for (size_t i = 0; i <= n; i++) d[i][0] = (int)i;
+  for (size_t j = 0; j <= m; j++) d[0][j] = (int)j;
+  for (size_t i = 1; i <= n; i++)
+    for (size_t j = 1; j <= m; j++) {
+      int cost = tolower((unsigned char)a[i - 1]) != tolower((unsigned char)b[j - 1]);
+      int v = d[i - 1][j - 1] + cost;
+      if (d[i - 1][j] + 1 < v) v = d[i - 1][j] + 1;
+      if (d[i][j - 1] + 1 < v) v = d[i][j - 1] + 1;
+      if (i > 1 && j > 1 && tolower((unsigned char)a[i - 1]) == tolower((unsigned char)b[j - 2]) &&
+          tolower((unsigned char)a[i - 2]) == tolower((unsigned char)b[j - 1]) &&
+          d[i - 2][j - 2] + 1 < v)
+        v = d[i - 2][j - 2] + 1;
+      d[i][j] = v;
+    }
+  return d[n][m];
+}
+
+const char *cli_closest(const char *word, const char *const *candidates) {
+  while (*word == '-') word++;
+  size_t len = strlen(word);
+  if (!len) return NULL;
+  /* A typo: at most 1 edit in short words, 2 from 6 letters, 3 from 12. */
+  int limit = len < 6 ? 1 : len < 12 ? 2 : 3, best_d = limit + 1;
+  const char *best = NULL;
+  for (size_t i = 0; candidates[i]; i++) {
+    const char *c = candidates[i];
+    while (*c == '-') c++;
+    int dist = edit_distance(word, c);
+    if (len >= 3 && !strncasecmp(c, word, len) && dist > 1) dist = 1; /* a prefix */
+    if (dist < best_d) {
+      best_d = dist;
+      best = candidates[i];
+    }
+  }
+  return best;
+}
+
+int cli_unknown_option(const char *cmd, const char *arg, const char *const *own) {
+  static const char *const common[] = {"--quiet",    "--set",    "--split", "--trunk", "--foliage",
+                                       "--branches", "--thesis", "--help",  NULL};
+  const char *list[256];
+  size_t n = 0;
+  for (size_t i = 0; own && own[i] && n < 64; i++) list[n++] = own[i];
+  for (size_t i = 0; common[i]; i++) list[n++] = common[i];
+  char names[128][40];
+  for (size_t i = 0; i < bbc_param_count() && i < 128 && n < 255; i++) {
+    snprintf(names[i], sizeof names[i], "--%s", bbc_param_at(i)->name);
+    list[n++] = names[i];
+  }
+  list[n] = NULL;
+  const char *near = arg[0] == '-' ? cli_closest(arg, list) : NULL;
+  char pre[64] = "";
+  if (cmd) snprintf(pre, sizeof pre, "%s: ", cmd);
+  if (near)
+    cli_error("%sunknown option '%s' (did you mean %s?)", pre, arg, near);
+  else if (arg[0] == '-')
+    cli_error("%sunknown option '%s' (try bbcgen --help)", pre, arg);
+  else
+    cli_error("%sunexpected argument '%s' (try bbcgen --help)", pre, arg);
+  return EXIT_USAGE;
 }
 
 double cli_now(void) {

@@ -36,7 +36,10 @@ typedef struct cli {
   bbc_split_options split;          /* --split, --trunk, --foliage */
   int branches_with_trunk;          /* --branches trunk (default: with the foliage) */
   int texres_set, atlasmax_set;     /* set by hand: texres alone turns atlasmax off */
-  int minplanes_set, maxplanes_set; /* set by hand: else --lod turns them off */
+  int minplanes_set, maxplanes_set; /* set by hand: else --lod and a hand-set epsilon
+                                     * turn them off */
+  int epsilon_set;                  /* epsilon set by hand (global or a part's) */
+  const char *progress_label;       /* what progress bars belong to ("level 2 of 3") */
 } cli;
 
 void cli_init(cli *c);
@@ -57,6 +60,15 @@ int cli_fail_in(const char *path, const bbc_error *err, int output);
  * consumed (advancing *i past its value), 0 when not an option of these, and
  * -1 after printing an error (exit EXIT_USAGE). */
 int cli_common_option(cli *c, int argc, char **argv, int *i);
+/* The closest of `candidates` (NULL-terminated) to `word`, ignoring case
+ * and leading dashes, when it is close enough to be a typo; else NULL. */
+const char *cli_closest(const char *word, const char *const *candidates);
+/* Prints "<cmd>: unknown option 'X' (did you mean --Y?)": Y from the
+ * command's own options (`own`, NULL-terminated, may be NULL), the options
+ * every command takes and --<parameter>; "(try bbcgen --help)" when none is
+ * close. `cmd` may be NULL (the cloud command). Returns EXIT_USAGE. */
+int cli_unknown_option(const char *cmd, const char *arg, const char *const *own);
+
 /* Value of the option at argv[*i]; prints an error and returns NULL when missing. */
 const char *cli_option_value(int argc, char **argv, int *i);
 /* Parses a non-negative integer option value; -1 on error (printed). */

@@ -44,8 +44,9 @@ int cmd_baseline(cli *c, int argc, char **argv) {
     } else if (!path && argv[i][0] != '-') {
       path = argv[i];
     } else {
-      cli_error("baseline: unknown option or extra argument '%s'", argv[i]);
-      return EXIT_USAGE;
+      static const char *const own[] = {"-o",           "--output", "--method",    "--planes",
+                                        "--horizontal", "--texels", "--triangles", NULL};
+      return cli_unknown_option("baseline", argv[i], own);
     }
   }
   int crossed = method && !strcmp(method, "crossed"),

@@ -63,8 +63,9 @@ int cmd_cloud(cli *c, int argc, char **argv) {
       if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
       if (parse_lods(v, eps, JOB_MAX_LODS, &lods) < 0) return EXIT_USAGE;
     } else {
-      cli_error("unknown option '%s' (try bbcgen --help)", argv[i]);
-      return EXIT_USAGE;
+      static const char *const own[] = {
+          "-o", "--output", "--report", "--preview", "--preview-size", "--lod", NULL};
+      return cli_unknown_option(NULL, argv[i], own);
     }
   }
   if (!out) {

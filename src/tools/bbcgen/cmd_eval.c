@@ -93,8 +93,9 @@ int cmd_eval(cli *c, int argc, char **argv) {
     } else if (argv[i][0] != '-' && np < 2) {
       paths[np++] = argv[i];
     } else {
-      cli_error("eval: unknown option or extra argument '%s'", argv[i]);
-      return EXIT_USAGE;
+      static const char *const own[] = {"--views",          "--size", "--json", "--png",
+                                        "--side-elevation", "--lit",  NULL};
+      return cli_unknown_option("eval", argv[i], own);
     }
   }
   if (np != 2) {

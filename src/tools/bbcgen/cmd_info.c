@@ -102,8 +102,8 @@ int cmd_info(cli *c, int argc, char **argv) {
     else if (!strcmp(argv[i], "--no-textures"))
       textures = 0;
     else if (argv[i][0] == '-' && argv[i][1]) {
-      cli_error("info: unknown option '%s'", argv[i]);
-      return EXIT_USAGE;
+      static const char *const own[] = {"--json", "--no-textures", NULL};
+      return cli_unknown_option("info", argv[i], own);
     } else if (!path)
       path = argv[i];
     else {
@@ -151,8 +151,7 @@ int cmd_setup(cli *c, int argc, char **argv) {
     int k = cli_common_option(c, argc, argv, &i);
     if (k < 0) return EXIT_USAGE;
     if (!k) {
-      cli_error("setup: unknown option '%s'", argv[i]);
-      return EXIT_USAGE;
+      return cli_unknown_option("setup", argv[i], NULL);
     }
   }
   for (size_t i = 0; i < bbc_param_count(); i++) {

@@ -60,8 +60,8 @@ int cmd_planes(cli *c, int argc, char **argv) {
     if (!strcmp(a, "--json")) {
       if (!(json_path = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
     } else if (a[0] == '-' && a[1]) {
-      cli_error("planes: unknown option '%s'", a);
-      return EXIT_USAGE;
+      static const char *const own[] = {"--json", NULL};
+      return cli_unknown_option("planes", a, own);
     } else if (!path) {
       path = a;
     } else {

@@ -72,8 +72,8 @@ int cmd_render(cli *c, int argc, char **argv) {
     } else if (!strcmp(a, "--unlit")) {
       lighting = 0;
     } else if (a[0] == '-' && a[1]) {
-      cli_error("render: unknown option '%s'", a);
-      return EXIT_USAGE;
+      static const char *const own[] = {"-o", "--output", "--size", "--up", "--unlit", NULL};
+      return cli_unknown_option("render", a, own);
     } else if (!path) {
       path = a;
     } else {

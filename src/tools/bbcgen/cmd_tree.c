@@ -44,8 +44,9 @@ int cmd_tree(cli *c, int argc, char **argv) {
       }
       opt.species = (bbc_tree_species)s;
     } else {
-      cli_error("tree: unknown option '%s'", a);
-      return EXIT_USAGE;
+      static const char *const own[] = {"-o",       "--output",       "--preview", "--seed",
+                                        "--leaves", "--texture-size", "--species", NULL};
+      return cli_unknown_option("tree", a, own);
     }
   }
   if (!out) {

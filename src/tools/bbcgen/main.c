@@ -6,6 +6,7 @@
 #include <locale.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
 
 static void print_help(FILE *out) {
   fprintf(out,
@@ -112,8 +113,23 @@ int main(int argc, char **argv) {
   if (!strcmp(cmd, "eval")) return cmd_eval(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "baseline")) return cmd_baseline(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "exec")) return cmd_exec(&c, argc - 1, argv + 1);
+  static const char *const commands[] = {"info", "tree",     "render", "setup", "planes",
+                                         "eval", "baseline", "exec",   NULL};
   if (cmd[0] == '-') {
-    cli_error("unknown option '%s' (try bbcgen --help)", cmd);
+    static const char *const own[] = {"--help", "--version", NULL};
+    return cli_unknown_option(NULL, cmd, own);
+  }
+  /* Not a command: a model, unless no such file exists and the word looks
+   * like a command (a typo, or a command we do not have). */
+  struct stat st;
+  if (stat(cmd, &st) != 0 && !strchr(cmd, '/') && !strchr(cmd, '.')) {
+    const char *near = cli_closest(cmd, commands);
+    if (near)
+      cli_error("unknown command '%s' (did you mean bbcgen %s?)", cmd, near);
+    else
+      cli_error("unknown command '%s', and no model file of that name (commands: info, tree, "
+                "render, planes, eval, baseline, exec, setup; try bbcgen --help)",
+                cmd);
     return EXIT_USAGE;
   }
   /* Anything else is a model: the whole pipeline. */

@@ -19,6 +19,25 @@ void job_free(job *j) {
   memset(j, 0, sizeof *j);
 }
 
+/* Which budget moved epsilon (maxplanes raises it, minplanes lowers it), or
+ * NULL when the asked epsilon was used. */
+static const char *epsilon_adjusted_by(const job_lod *L) {
+  double f = L->set.epsilon_scale;
+  return f > 1 ? "maxplanes" : f < 1 ? "minplanes" : NULL;
+}
+
+/* " (raised from 6 % by maxplanes 32)" or "". */
+static void epsilon_adjustment(const job_lod *L, char *buf, size_t n) {
+  const char *by = epsilon_adjusted_by(L);
+  if (!by) {
+    buf[0] = 0;
+    return;
+  }
+  int raised = by[1] == 'a';
+  snprintf(buf, n, " (%s from %.3g %% by %s %d)", raised ? "raised" : "lowered", L->epsilon_pct, by,
+           raised ? L->params.max_planes : L->params.min_planes);
+}
+
 int job_run(const cli *c, const char *model, const double *epsilons, size_t count, job *j) {
   memset(j, 0, sizeof *j);
   snprintf(j->model_path, sizeof j->model_path, "%s", model);
@@ -35,6 +54,12 @@ int job_run(const cli *c, const char *model, const double *epsilons, size_t coun
   j->load_s = cli_now() - t0;
   for (size_t k = 0; k < count; k++) {
     cli ck = *c;
+    ck.callbacks.user = &ck;
+    char label[64];
+    if (count > 1) {
+      snprintf(label, sizeof label, "level %zu of %zu", k + 1, count);
+      ck.progress_label = label;
+    }
     if (epsilons && epsilons[k] > 0) ck.params.epsilon_pct = epsilons[k];
     job_lod *L = &j->lods[k];
     L->epsilon_pct = ck.params.epsilon_pct;
@@ -46,7 +71,7 @@ int job_run(const cli *c, const char *model, const double *epsilons, size_t coun
       return EXIT_USAGE;
     }
     if (bbc_planes_find(&j->mesh, &po, &L->set, &err) != BBC_OK ||
-        bbc_cloud_build(&j->mesh, &L->set, &ck.params, &c->callbacks, &L->cloud, &err) != BBC_OK) {
+        bbc_cloud_build(&j->mesh, &L->set, &ck.params, &ck.callbacks, &L->cloud, &err) != BBC_OK) {
       int rc = cli_fail_in(model, &err, 0); /* the message names the model */
       job_free(j);
       return rc;
@@ -56,11 +81,12 @@ int job_run(const cli *c, const char *model, const double *epsilons, size_t coun
       L->step2_s += L->set.parts[p].step2_s;
     }
     const bbc_image *a = &L->cloud.mesh.textures[0].image;
+    char why[160] = "";
+    epsilon_adjustment(L, why, sizeof why);
     cli_info(c,
              "epsilon %.3g %%%s: %zu planes, %zu billboards, texres %d, atlas %dx%d (%.0f %% "
              "filled); steps 1+2 %.2f s%s, step 3 %.2f s",
-             L->epsilon_pct * L->set.epsilon_scale,
-             L->set.epsilon_scale != 1 ? " (maxplanes/minplanes)" : "", L->set.plane_count,
+             L->epsilon_pct * L->set.epsilon_scale, why, L->set.plane_count,
              L->cloud.billboard_count, L->cloud.texres, a->width, a->height,
              100 * L->cloud.atlas_fill, L->step1_s + L->step2_s + L->set.retry_s,
              L->set.attempts > 1 ? " in several runs" : "", L->cloud.bake_s + L->cloud.atlas_s);
@@ -103,6 +129,11 @@ static cJSON *lod_json(const job_lod *L, int detailed) {
   cJSON_AddNumberToObject(o, "epsilon_pct", L->epsilon_pct);
   /* maxplanes/minplanes may have scaled it: */
   cJSON_AddNumberToObject(o, "epsilon_pct_used", L->epsilon_pct * L->set.epsilon_scale);
+  const char *by = epsilon_adjusted_by(L);
+  if (by)
+    cJSON_AddStringToObject(o, "epsilon_adjusted_by", by);
+  else
+    cJSON_AddNullToObject(o, "epsilon_adjusted_by");
   cJSON_AddNumberToObject(o, "epsilon", L->set.epsilon_abs);
   cJSON_AddNumberToObject(o, "planes", (double)L->set.plane_count);
   cJSON_AddNumberToObject(o, "billboards", (double)L->cloud.billboard_count);
@@ -208,9 +239,11 @@ int job_write(const cli *c, job *j, const char *out) {
       if (obj) {
         r = bbc_mesh_write_obj(path, &j->lods[k].cloud.mesh, &err);
       } else {
-        char comment[4600];
-        snprintf(comment, sizeof comment, "model: %s\nepsilon: %g %% (%g model units)",
-                 j->model_path, j->lods[k].epsilon_pct, j->lods[k].set.epsilon_abs);
+        char comment[4600], why[160];
+        epsilon_adjustment(&j->lods[k], why, sizeof why);
+        snprintf(comment, sizeof comment, "model: %s\nepsilon: %.4g %% (%.6g model units)%s",
+                 j->model_path, j->lods[k].epsilon_pct * j->lods[k].set.epsilon_scale,
+                 j->lods[k].set.epsilon_abs, why);
         r = bbc_cloud_write_vrml(path, &j->lods[k].cloud, j->lods[k].params.format, comment, &err);
       }
     }

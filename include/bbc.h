@@ -210,6 +210,11 @@ void bbc_mesh_group_triangle_counts(const bbc_mesh *mesh, size_t *counts);
  * Groups become `g` statements, materials `usemtl`. `obj_path` must end in
  * ".obj". */
 bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *mesh, bbc_error *err);
+/* The same with `comment` (may be NULL) as # lines at the top of the OBJ,
+ * and unlit = 1: every material `illum 0` (colour without lighting, for
+ * prelit clouds). Texture files follow bbc_texture_file_name. */
+bbc_result bbc_mesh_write_obj_ex(const char *obj_path, const bbc_mesh *mesh, const char *comment,
+                                 int unlit, bbc_error *err);
 
 /* Writes `size` bytes to `path` atomically (temporary file, then rename):
  * reports, JSON and other text outputs of the tools. */
@@ -224,14 +229,25 @@ bbc_result bbc_write_file_atomic(const char *path, const void *data, size_t size
  * one node. `extras_json`, when not NULL, must be exactly one JSON object;
  * it is stored verbatim as the asset's "extras" (anything else is
  * BBC_ERROR_INVALID_ARGUMENT and nothing is written). For .gltf the side files
- * are <stem>.bin and <stem>_<n>.png, with characters outside [A-Za-z0-9_.-]
- * of the stem replaced by '_'. Normals are written renormalised. */
+ * are <stem>.bin and one PNG per texture named by the rule all writers
+ * share (bbc_texture_file_name), with characters outside [A-Za-z0-9_.-] of
+ * the stem replaced by '_'. Normals are written renormalised. */
 typedef struct bbc_gltf_options {
-  int binary;              /* 1 = .glb (one file), 0 = .gltf + .bin + .png files */
-  const char *extras_json; /* may be NULL */
-  int lod_chain;           /* bbc_scene_write_gltf: 1 = the nodes are levels of detail
-                            * of one object, finest first: the scene holds node 0,
-                            * which names the others through MSFT_lod */
+  int binary;                    /* 1 = .glb (one file), 0 = .gltf + .bin + .png files */
+  const char *extras_json;       /* may be NULL */
+  int lod_chain;                 /* bbc_scene_write_gltf: 1 = the nodes are levels of detail
+                                  * of one object, finest first: every level is a child
+                                  * of one group node (the scene's root, named
+                                  * lod_group_name), and node 0 names the coarser ones
+                                  * through MSFT_lod */
+  const char *lod_group_name;    /* lod_chain: the group node's name (may be NULL) */
+  const double *screen_coverage; /* lod_chain: node_count decreasing values in (0, 1],
+                                  * written as node 0's MSFT_screencoverage hint:
+                                  * level k is drawn while the object covers more
+                                  * than screen_coverage[k] of the screen's height
+                                  * (may be NULL) */
+  int unlit;                     /* 1 = every material KHR_materials_unlit: colours
+                                  * shown as they are (prelit textures) */
 } bbc_gltf_options;
 
 /* Writes `mesh` as glTF 2.0, atomically (every file). options may be NULL:
@@ -251,6 +267,14 @@ typedef struct bbc_gltf_node {
 
 bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, size_t node_count,
                                 const bbc_gltf_options *options, bbc_error *err);
+
+/* The rule every writer (OBJ, glTF, VRML) names texture files by:
+ * <stem>_<material>.png for a material's colour texture and
+ * <stem>_<material>_nm.png for its normal map, the material being the first
+ * that uses texture `t`, its name with characters outside [A-Za-z0-9_.-]
+ * replaced by '_' ("unnamed" when empty). Writes "<material>" or
+ * "<material>_nm" (no stem, no extension) into out. */
+void bbc_texture_file_name(const bbc_mesh *mesh, size_t t, char *out, size_t out_size);
 
 /* ------------------------------------------------------------------------ */
 /* Texture atlas                                                             */
@@ -326,6 +350,10 @@ typedef struct bbc_params {
                           * simplifying the largest projected area wins (1 = thesis) */
   int back_images;       /* backimages: 1 = each billboard is two one-sided quads,
                           * front and back image; 0 = one double-sided quad */
+  int unlit;             /* unlit: 0 = lit material (relightable: viewers light the
+                          * billboards, with the normal map when nm), 1 = unlit
+                          * (KHR_materials_unlit, VRML without Material: colours
+                          * shown as baked), 2 = unlit when prelight is on */
   double light_elev_deg; /* lightelev: prelight direction, degrees above the horizon */
   double light_azim_deg; /* lightazim: ... degrees around the up axis */
   int shade_voxels;      /* shade: voxel shadowing grid, voxels per axis, 0 off (2.3.11) */
@@ -568,8 +596,8 @@ bbc_result bbc_cloud_build(const bbc_mesh *mesh, const bbc_planeset *set, const 
 void bbc_cloud_free(bbc_cloud *cloud);
 
 /* Writes a cloud as VRML (thesis Appendix A, "save"), atomically: `wrl_path`
- * (must end in .wrl) and beside it <stem>.png, the colour atlas (PNG with
- * alpha), and with normal maps <stem>_nm.png. One Shape per billboard side
+ * (must end in .wrl) and beside it the colour atlas (PNG with alpha) and,
+ * with normal maps, the normal atlas. One Shape per billboard side
  * (front, and back when the cloud has back images): ImageTexture of the
  * atlas, IndexedFaceSet with its outline as one polygon, texture
  * coordinates into the atlas, `solid TRUE` for one-sided copies and FALSE
@@ -578,9 +606,17 @@ void bbc_cloud_free(bbc_cloud *cloud);
  * normal maps, a `NormalMap { url "<stem>_nm.png" }` node beside each Shape
  * (the two in a Group; VRML97's Appearance takes no extra fields), declared
  * by a no-op PROTO at the top, so VRML97 readers still parse it. `comment`
- * (may be NULL) goes into the header as # lines. */
+ * (may be NULL) goes into the header as # lines. format | BBC_VRML_UNLIT
+ * leaves the Material out of every Appearance, so viewers draw the textures
+ * unlit (VRML97 6.4): for prelit clouds. Texture files follow
+ * bbc_texture_file_name: <stem>_<material>.png, <stem>_<material>_nm.png. */
+#define BBC_VRML_UNLIT 0x100
 bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, int format,
                                 const char *comment, bbc_error *err);
+
+/* Whether a cloud baked with `params` is written with unlit materials
+ * (the `unlit` parameter; 2 follows `prelight`). */
+int bbc_params_unlit(const bbc_params *params);
 
 /* The unit direction towards the prelight light (lightelev, lightazim,
  * upaxis of `params`) in the model's frame. */

@@ -8,7 +8,7 @@ set -euo pipefail
 
 what=${1:-all}
 build_pkgs=(build-essential cmake pkg-config libassimp-dev libstb-dev libcjson-dev libmeshoptimizer-dev)
-test_pkgs=(libcmocka-dev clang-format nodejs gltfpack)
+test_pkgs=(libcmocka-dev clang-format nodejs gltfpack assimp-utils parallel)
 
 case "$what" in
   build) pkgs=("${build_pkgs[@]}") ;;

@@ -39,6 +39,10 @@ typedef struct bbc__label {
 void bbc__label_callbacks(const bbc_callbacks *in, bbc__label *l, bbc_callbacks *out,
                           const char *fmt, ...) BBC__PRINTF(4, 5);
 
+/* A name safe in file names and OBJ statements: [A-Za-z0-9_.-], others
+ * '_'; "unnamed" when empty. */
+void bbc__safe_name(const char *in, char *out, size_t n);
+
 /* strdup that returns NULL for a NULL input. */
 char *bbc__strdup(const char *s);
 

@@ -160,20 +160,60 @@ static void test_lod_and_vrml(void **state) {
       (uint32_t)g[12] | (uint32_t)g[13] << 8 | (uint32_t)g[14] << 16 | (uint32_t)g[15] << 24;
   cJSON *j = cJSON_ParseWithLength((const char *)g + 20, jl);
   assert_non_null(j);
+  /* Three levels named as engines import LOD groups, children of one group
+   * node (the scene's root); level 0 names the others through MSFT_lod and
+   * carries decreasing MSFT_screencoverage hints. */
   const cJSON *nodes = cJSON_GetObjectItemCaseSensitive(j, "nodes");
-  assert_int_equal(cJSON_GetArraySize(nodes), 3);
+  assert_int_equal(cJSON_GetArraySize(nodes), 4);
+  const cJSON *group = cJSON_GetArrayItem(nodes, 3);
+  assert_string_equal(cJSON_GetObjectItemCaseSensitive(group, "name")->valuestring, "aspen_small");
+  const cJSON *children = cJSON_GetObjectItemCaseSensitive(group, "children");
+  assert_int_equal(cJSON_GetArraySize(children), 3);
+  const cJSON *scene_nodes = cJSON_GetObjectItemCaseSensitive(
+      cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(j, "scenes"), 0), "nodes");
+  assert_int_equal(cJSON_GetArraySize(scene_nodes), 1);
+  assert_int_equal(cJSON_GetArrayItem(scene_nodes, 0)->valueint, 3);
   const cJSON *ids = cJSON_GetObjectItemCaseSensitive(
       cJSON_GetObjectItemCaseSensitive(
           cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(nodes, 0), "extensions"), "MSFT_lod"),
       "ids");
   assert_int_equal(cJSON_GetArraySize(ids), 2);
-  double prev = 0, prev_bb = 1e9;
+  const cJSON *cover = cJSON_GetObjectItemCaseSensitive(
+      cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(nodes, 0), "extras"),
+      "MSFT_screencoverage");
+  assert_int_equal(cJSON_GetArraySize(cover), 3);
+  double prev = 0, prev_bb = 1e9, prev_cover = 2;
   for (int k = 0; k < 3; k++) {
-    const cJSON *ex = cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(nodes, k), "extras");
+    const cJSON *node = cJSON_GetArrayItem(nodes, k);
+    char name[64];
+    snprintf(name, sizeof name, "aspen_small_LOD%d", k);
+    assert_string_equal(cJSON_GetObjectItemCaseSensitive(node, "name")->valuestring, name);
+    assert_int_equal(cJSON_GetArrayItem(children, k)->valueint, k);
+    const cJSON *ex = cJSON_GetObjectItemCaseSensitive(node, "extras");
     double e = num(ex, "epsilon_pct"), bb = num(ex, "billboards");
     assert_true(e > prev && bb <= prev_bb);
     prev = e;
     prev_bb = bb;
+    double c = cJSON_GetArrayItem(cover, k)->valuedouble;
+    assert_true(c > 0 && c <= 1 && c < prev_cover);
+    prev_cover = c;
+  }
+  /* A third-party importer sees every level: Assimp's `assimp info`. */
+  if (system("command -v assimp > /dev/null 2>&1") == 0) {
+    char cmd[2600], *listing = NULL;
+    snprintf(cmd, sizeof cmd, "assimp info '%s' > '%s.txt' 2>&1", out, out);
+    assert_int_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "%s.txt", out);
+    listing = (char *)tu_read_file(cmd, NULL);
+    assert_non_null(listing);
+    for (int k = 0; k < 3; k++) {
+      char name[64];
+      snprintf(name, sizeof name, "aspen_small_LOD%d (mesh %d)", k, k);
+      assert_non_null(strstr(listing, name));
+    }
+    free(listing);
+  } else {
+    printf("assimp (Debian assimp-utils) not installed: the Assimp import check is skipped\n");
   }
   cJSON_Delete(j);
   free(g);

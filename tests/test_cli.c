@@ -487,8 +487,8 @@ static void test_cloud_command(void **state) {
   char wrl[2048], png[2048];
   snprintf(wrl, sizeof wrl, "%s/vrml97models/forest/Tree_1/Tree_1_e6.00_tex32_pl/Tree_1.wrl",
            tu_dir);
-  snprintf(png, sizeof png, "%s/vrml97models/forest/Tree_1/Tree_1_e6.00_tex32_pl/Tree_1.png",
-           tu_dir);
+  snprintf(png, sizeof png,
+           "%s/vrml97models/forest/Tree_1/Tree_1_e6.00_tex32_pl/Tree_1_billboards.png", tu_dir);
   size_t n;
   unsigned char *w = tu_read_file(wrl, &n), *p = tu_read_file(png, NULL);
   assert_non_null(w);

@@ -98,7 +98,7 @@ static char *join(const char *dir, const char *name) {
 }
 
 static void write_ok(const char *path, const bbc_mesh *m, int binary, const char *extras) {
-  bbc_gltf_options opt = {binary, extras, 0};
+  bbc_gltf_options opt = {binary, extras, 0, NULL, NULL, 0};
   bbc_error err;
   bbc_result r = bbc_mesh_write_gltf(path, m, &opt, &err);
   if (r != BBC_OK) fail_msg("%s", err.message);
@@ -299,7 +299,7 @@ static void test_textured_quad(void **state) {
   const cJSON *buf = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(j, "buffers"), 0);
   assert_string_equal(cJSON_GetObjectItemCaseSensitive(buf, "uri")->valuestring, "quad.bin");
   img = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(j, "images"), 0);
-  assert_string_equal(cJSON_GetObjectItemCaseSensitive(img, "uri")->valuestring, "quad_0.png");
+  assert_string_equal(cJSON_GetObjectItemCaseSensitive(img, "uri")->valuestring, "quad_leaf.png");
   cJSON_Delete(j);
 
   const char *files[2] = {glb, gltf};
@@ -448,7 +448,7 @@ static void test_extras(void **state) {
                        "{\"a\": 01}", "",  "null",      "{'a': 1}"};
   char *other = join(tu_dir, "bad_extras.glb");
   for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
-    bbc_gltf_options opt = {1, bad[i], 0};
+    bbc_gltf_options opt = {1, bad[i], 0, NULL, NULL, 0};
     bbc_error err;
     assert_int_equal(bbc_mesh_write_gltf(other, &m, &opt, &err), BBC_ERROR_INVALID_ARGUMENT);
     assert_non_null(strstr(err.message, "bad_extras.glb"));
@@ -466,7 +466,7 @@ static void test_errors(void **state) {
   bbc_mesh m;
   make_quads(&m, 1, 0);
   bbc_error err;
-  bbc_gltf_options glb = {1, NULL, 0}, gltf = {0, NULL, 0};
+  bbc_gltf_options glb = {1, NULL, 0, NULL, NULL, 0}, gltf = {0, NULL, 0, NULL, NULL, 0};
   char *p = join(tu_dir, "wrong.gltf");
   assert_int_equal(bbc_mesh_write_gltf(p, &m, &glb, &err), BBC_ERROR_INVALID_ARGUMENT);
   assert_non_null(strstr(err.message, "wrong.gltf"));
@@ -507,7 +507,7 @@ static void test_deterministic(void **state) {
   assert_true(files_equal(a, b));
   /* .gltf: write, keep copies, write again over them, compare. */
   char *g = join(tu_dir, "det.gltf"), *bin = join(tu_dir, "det.bin");
-  char *png = join(tu_dir, "det_0.png");
+  char *png = join(tu_dir, "det_leaf.png");
   const char *names[3] = {g, bin, png};
   char *copies[3];
   write_ok(g, &m, 0, NULL);

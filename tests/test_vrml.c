@@ -179,13 +179,13 @@ static void check_shapes(const char *text, const bbc_cloud *cl, const char *stem
   assert_int_equal(count(text, "Shape {"), sides * cl->billboard_count);
   assert_int_equal(count(text, "IndexedFaceSet {"), sides * cl->billboard_count);
   char url[300];
-  snprintf(url, sizeof url, "url \"%s.png\" repeatS FALSE repeatT FALSE", stem);
+  snprintf(url, sizeof url, "url \"%s_billboards.png\" repeatS FALSE repeatT FALSE", stem);
   assert_int_equal(count(text, url), sides * cl->billboard_count);
   assert_int_equal(count(text, sides == 2 ? "solid TRUE" : "solid FALSE"),
                    sides * cl->billboard_count);
   assert_int_equal(count(text, sides == 2 ? "solid FALSE" : "solid TRUE"), 0);
   assert_int_equal(count(text, "ccw TRUE"), sides * cl->billboard_count);
-  snprintf(url, sizeof url, "NormalMap { url \"%s_nm.png\" }", stem);
+  snprintf(url, sizeof url, "NormalMap { url \"%s_billboards_nm.png\" }", stem);
   assert_int_equal(count(text, url), nm_nodes ? sides * cl->billboard_count : 0);
 
   size_t base = 0, tri = 0;
@@ -285,10 +285,10 @@ static void test_formats_with_back_images_and_normal_maps(void **state) {
       assert_null(strstr(text, "NormalMap"));
       assert_null(strstr(text, "PROTO"));
     }
-    snprintf(name, sizeof name, "%s.png", stem);
+    snprintf(name, sizeof name, "%s_billboards.png", stem);
     char *png = path_in(dir, name);
     check_png(png, &cl.mesh.textures[0].image);
-    snprintf(name, sizeof name, "%s_nm.png", stem);
+    snprintf(name, sizeof name, "%s_billboards_nm.png", stem);
     char *nm = path_in(dir, name);
     check_png(nm, &cl.mesh.textures[1].image);
     free(text);
@@ -316,7 +316,7 @@ static void test_double_sided_without_back_images(void **state) {
   assert_null(strstr(text, "_back"));
   assert_null(strstr(text, "NormalMap")); /* format 0 without normal maps */
   check_shapes(text, &cl, "one", 0);
-  assert_int_equal(entries(dir), 2); /* one.wrl, one.png */
+  assert_int_equal(entries(dir), 2); /* one.wrl, one_billboards.png */
   free(text);
   /* A name outside the URL-safe characters: the file keeps it, the url
    * percent-encodes it. */
@@ -324,7 +324,7 @@ static void test_double_sided_without_back_images(void **state) {
   if (bbc_cloud_write_vrml(spaced, &cl, 1, NULL, &err) != BBC_OK) fail_msg("%s", err.message);
   text = read_text(spaced);
   check_shapes(text, &cl, "my%20cloud%231", 0);
-  char *spaced_png = path_in(dir, "my cloud#1.png");
+  char *spaced_png = path_in(dir, "my cloud#1_billboards.png");
   check_png(spaced_png, &cl.mesh.textures[0].image);
   assert_int_equal(entries(dir), 4);
   free(spaced_png);
@@ -371,7 +371,7 @@ static void test_deterministic(void **state) {
   bbc_cloud cl;
   build_cloud(1, 1, &cl);
   char *dirs[2] = {sub_dir("det_a"), sub_dir("det_b")};
-  const char *names[3] = {"c.wrl", "c.png", "c_nm.png"};
+  const char *names[3] = {"c.wrl", "c_billboards.png", "c_billboards_nm.png"};
   unsigned char *first[3] = {0};
   size_t first_size[3] = {0};
   bbc_error err;

@@ -108,6 +108,10 @@ static const param_row k_rows[] = {
     {{"backimages", BBC_PARAM_BOOL, 0, 1, 1, F3, "extension", "",
       "1 = front and back image per billboard (two one-sided quads), 0 = front only"},
      INT_FIELD(back_images)},
+    {{"unlit", BBC_PARAM_INT, 0, 2, 2, F3, "extension", "",
+      "material: 0 lit, 1 unlit (KHR_materials_unlit; VRML without Material), 2 = unlit "
+      "when prelight"},
+     INT_FIELD(unlit)},
     {{"lightelev", BBC_PARAM_REAL, -90, 90, 60, F3, "extension", "deg",
       "prelight: the light's elevation above the horizon (model frame)"},
      DBL_FIELD(light_elev_deg)},
@@ -287,4 +291,8 @@ bbc_result bbc_params_set_assignment(bbc_params *p, const char *assignment, bbc_
   memcpy(name, assignment, n);
   name[n] = 0;
   return bbc_params_set(p, name, eq + 1, err);
+}
+
+int bbc_params_unlit(const bbc_params *p) {
+  return p->unlit == 2 ? p->prelight != 0 : p->unlit;
 }

@@ -346,8 +346,8 @@ static int texture_used(const bbc_mesh *m, size_t t) {
 /* Writes one mesh's vertex data, indices and images into the buffer. */
 static bbc_result put_mesh(const char *path, const bbc_mesh *m, int binary, const char *dir,
                            const char *stem, gbuf *bin, view *views, size_t *n_views,
-                           size_t *n_images, size_t *image_view, mesh_out *mo, size_t *pngs_written,
-                           bbc_error *err) {
+                           size_t *n_images, size_t *image_view, char (*image_names)[200],
+                           mesh_out *mo, size_t *pngs_written, bbc_error *err) {
   size_t nv = m->vertex_count, n_mat = m->material_count;
   mo->nv = nv;
   for (size_t t = 0; t < m->triangle_count; t++) mo->mat_tris[m->face_material[t]]++;
@@ -435,6 +435,15 @@ static bbc_result put_mesh(const char *path, const bbc_mesh *m, int binary, cons
                        "%s: cannot encode texture %zu as PNG", path, t);
     }
     mo->tex_gltf[t] = (int)*n_images;
+    /* <stem>_<material>[_nm].png, made unique within the file. */
+    char name[160];
+    bbc_texture_file_name(m, t, name, sizeof name);
+    snprintf(image_names[*n_images], sizeof image_names[0], "%s_%s", stem, name);
+    for (size_t i = 0; i < *n_images; i++)
+      if (!strcmp(image_names[i], image_names[*n_images])) {
+        snprintf(image_names[*n_images], sizeof image_names[0], "%s_%s_%zu", stem, name, *n_images);
+        break;
+      }
     bbc_result r = BBC_OK;
     if (binary) {
       image_view[*n_images] = *n_views;
@@ -443,7 +452,7 @@ static bbc_result put_mesh(const char *path, const bbc_mesh *m, int binary, cons
       gbuf_pad4(bin, 0);
     } else {
       char full[2600];
-      snprintf(full, sizeof full, "%s%s_%zu.png", dir, stem, *n_images);
+      snprintf(full, sizeof full, "%s%s.png", dir, image_names[*n_images]);
       r = bbc_write_file_atomic(full, png.data, png.size, err);
       if (r == BBC_OK) *pngs_written = *n_images + 1;
     }
@@ -469,6 +478,7 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
   int binary = options ? options->binary : !strcmp(ext, "glb");
   const char *extras = options ? options->extras_json : NULL;
   int lod = options && options->lod_chain && node_count > 1;
+  int unlit = options && options->unlit;
   if (strcmp(ext, binary ? "glb" : "gltf"))
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: glTF output must end in %s", path,
                      binary ? ".glb" : ".gltf");
@@ -499,8 +509,9 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
   mesh_out *mo = calloc(node_count, sizeof *mo);
   view *views = calloc(total_views, sizeof *views);
   size_t *image_view = calloc(total_tex + 1, sizeof *image_view);
+  char(*image_names)[200] = calloc(total_tex + 1, sizeof *image_names);
   bbc_result r = BBC_OK;
-  if (!mo || !views || !image_view) {
+  if (!mo || !views || !image_view || !image_names) {
     r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
     goto done;
   }
@@ -513,8 +524,8 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
       r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
       break;
     }
-    r = put_mesh(path, m, binary, dir, stem, &bin, views, &n_views, &n_images, image_view, &mo[n],
-                 &pngs_written, err);
+    r = put_mesh(path, m, binary, dir, stem, &bin, views, &n_views, &n_images, image_view,
+                 image_names, &mo[n], &pngs_written, err);
     mo[n].first_accessor = n_acc;
     n_acc += 1 + (size_t)mo[n].has_normal + (size_t)mo[n].has_uv + (size_t)mo[n].has_tangent;
     mo[n].first_index_accessor = n_acc;
@@ -533,11 +544,18 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
     gbuf_puts(j, extras);
   }
   gbuf_puts(j, "},\n");
-  if (lod) gbuf_puts(j, "\"extensionsUsed\":[\"MSFT_lod\"],\n");
-  /* Without a LOD chain every node is in the scene; with one, the finest
-   * only, which names the coarser ones (MSFT_lod). */
+  if (lod || unlit)
+    gbuf_printf(j, "\"extensionsUsed\":[%s%s%s],\n", lod ? "\"MSFT_lod\"" : "",
+                lod && unlit ? "," : "", unlit ? "\"KHR_materials_unlit\"" : "");
+  /* Without a LOD chain every node is in the scene. With one, the scene holds
+   * a group node (after the levels) whose children are the levels, named as
+   * engines import LOD groups (<model>_LOD0, _LOD1, ...), and the finest
+   * names the coarser ones through MSFT_lod. */
   gbuf_puts(j, "\"scene\":0,\"scenes\":[{\"nodes\":[");
-  for (size_t n = 0; n < (lod ? 1 : node_count); n++) gbuf_printf(j, "%s%zu", n ? "," : "", n);
+  if (lod)
+    gbuf_printf(j, "%zu", node_count);
+  else
+    for (size_t n = 0; n < node_count; n++) gbuf_printf(j, "%s%zu", n ? "," : "", n);
   gbuf_puts(j, "]}],\n\"nodes\":[");
   for (size_t n = 0; n < node_count; n++) {
     gbuf_printf(j, "%s\n{\"mesh\":%zu", n ? "," : "", n);
@@ -545,22 +563,54 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
       gbuf_puts(j, ",\"name\":");
       gbuf_string(j, nodes[n].name);
     }
+    const char *ex = nodes[n].extras_json;
     if (lod && n == 0) {
       gbuf_puts(j, ",\"extensions\":{\"MSFT_lod\":{\"ids\":[");
       for (size_t k = 1; k < node_count; k++) gbuf_printf(j, "%s%zu", k > 1 ? "," : "", k);
       gbuf_puts(j, "]}}");
+      if (options->screen_coverage) {
+        /* MSFT_screencoverage: one value per level, in the node's extras
+         * before whatever the caller's extras hold. */
+        gbuf_puts(j, ",\"extras\":{\"MSFT_screencoverage\":[");
+        for (size_t k = 0; k < node_count; k++) {
+          if (k) gbuf_puts(j, ",");
+          gbuf_number(j, (float)options->screen_coverage[k]);
+        }
+        gbuf_puts(j, "]");
+        if (ex) {
+          const char *body = ex + strspn(ex, " \t\r\n") + 1; /* after '{' */
+          if (*(body + strspn(body, " \t\r\n")) != '}') gbuf_puts(j, ",");
+          gbuf_puts(j, body);
+        } else {
+          gbuf_puts(j, "}");
+        }
+        ex = NULL;
+      }
     }
-    if (nodes[n].extras_json) {
+    if (ex) {
       gbuf_puts(j, ",\"extras\":");
-      gbuf_puts(j, nodes[n].extras_json);
+      gbuf_puts(j, ex);
     }
     gbuf_puts(j, "}");
+  }
+  if (lod) {
+    gbuf_puts(j, ",\n{\"name\":");
+    gbuf_string(j, options->lod_group_name ? options->lod_group_name : "lod_group");
+    gbuf_puts(j, ",\"children\":[");
+    for (size_t n = 0; n < node_count; n++) gbuf_printf(j, "%s%zu", n ? "," : "", n);
+    gbuf_puts(j, "]}");
   }
   gbuf_puts(j, "],\n\"meshes\":[");
   for (size_t n = 0; n < node_count; n++) {
     const bbc_mesh *m = nodes[n].mesh;
     const mesh_out *o = &mo[n];
-    gbuf_puts(j, n ? ",\n{\"primitives\":[" : "\n{\"primitives\":[");
+    gbuf_puts(j, n ? ",\n{" : "\n{");
+    if (nodes[n].name) {
+      gbuf_puts(j, "\"name\":");
+      gbuf_string(j, nodes[n].name);
+      gbuf_puts(j, ",");
+    }
+    gbuf_puts(j, "\"primitives\":[");
     size_t prim = 0, a = o->first_accessor;
     for (size_t i = 0; i < m->material_count; i++) {
       if (!o->mat_tris[i]) continue;
@@ -599,6 +649,7 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
       int nmt = mat->normal_map - 1;
       if (nmt >= 0 && mo[n].tex_gltf[nmt] >= 0 && mo[n].has_tangent)
         gbuf_printf(j, ",\"normalTexture\":{\"index\":%d}", mo[n].tex_gltf[nmt]);
+      if (unlit) gbuf_puts(j, ",\"extensions\":{\"KHR_materials_unlit\":{}}");
       gbuf_printf(j, ",\"alphaMode\":\"MASK\",\"alphaCutoff\":0.5,\"doubleSided\":%s}",
                   mat->single_sided ? "false" : "true");
     }
@@ -616,7 +667,7 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
         gbuf_printf(j, "%s{\"bufferView\":%zu,\"mimeType\":\"image/png\"}", i ? "," : "",
                     image_view[i]);
       else
-        gbuf_printf(j, "%s{\"uri\":\"%s_%zu.png\"}", i ? "," : "", stem, i);
+        gbuf_printf(j, "%s{\"uri\":\"%s.png\"}", i ? "," : "", image_names[i]);
     }
     gbuf_puts(j, "],\n");
   }
@@ -707,7 +758,7 @@ done:
   if (r != BBC_OK && !binary) {
     char full[2600];
     for (size_t i = 0; i < pngs_written; i++) {
-      snprintf(full, sizeof full, "%s%s_%zu.png", dir, stem, i);
+      snprintf(full, sizeof full, "%s%s.png", dir, image_names[i]);
       remove(full);
     }
     if (bin_written) {
@@ -725,6 +776,7 @@ done:
   free(mo);
   free(views);
   free(image_view);
+  free(image_names);
   return r;
 }
 

@@ -14,18 +14,22 @@ static void path_stem(const char *path, char *out, size_t n) {
   if (dot) *dot = 0;
 }
 
-/* Names safe in file names and OBJ statements: [A-Za-z0-9_.-], others '_'. */
-static void sanitize(const char *in, char *out, size_t n) {
-  size_t i = 0;
-  for (; in[i] && i + 1 < n; i++) {
-    unsigned char c = (unsigned char)in[i];
-    out[i] = (char)(isalnum(c) || c == '_' || c == '-' || c == '.' ? c : '_');
+/* Comment lines "# ..." for each line of `text` (may be NULL). */
+static void put_comment(FILE *f, const char *text) {
+  for (const char *p = text; p && *p;) {
+    size_t n = strcspn(p, "\r\n");
+    fprintf(f, "# %.*s\n", (int)n, p);
+    p += n;
+    while (*p == '\r' || *p == '\n') p++;
   }
-  out[i] = 0;
-  if (i == 0) snprintf(out, n, "unnamed");
 }
 
 bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m, bbc_error *err) {
+  return bbc_mesh_write_obj_ex(obj_path, m, NULL, 0, err);
+}
+
+bbc_result bbc_mesh_write_obj_ex(const char *obj_path, const bbc_mesh *m, const char *comment,
+                                 int unlit, bbc_error *err) {
   size_t len = strlen(obj_path);
   if (len < 5 || strcmp(obj_path + len - 4, ".obj"))
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: OBJ output must end in .obj", obj_path);
@@ -36,8 +40,8 @@ bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m, bbc_error
   path_stem(obj_path, stem, sizeof stem);
   bbc__path_folder(obj_path, dir, sizeof dir);
 
-  /* Texture file names: <stem>_<first material using it>.png */
-  char(*tex_names)[400] = calloc(m->texture_count ? m->texture_count : 1, sizeof *tex_names);
+  /* Texture file names: bbc_texture_file_name's rule. */
+  char(*tex_names)[520] = calloc(m->texture_count ? m->texture_count : 1, sizeof *tex_names);
   /* Files written so far: removed again when a later one fails. */
   char(*written)[2600] = calloc(m->texture_count + 1, sizeof *written);
   size_t n_written = 0;
@@ -50,8 +54,8 @@ bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m, bbc_error
   for (size_t i = 0; i < m->material_count && r == BBC_OK; i++) {
     int t = m->materials[i].texture;
     if (t < 0 || tex_names[t][0] || !m->textures[t].image.rgba) continue;
-    char safe[128];
-    sanitize(m->materials[i].name, safe, sizeof safe);
+    char safe[160];
+    bbc_texture_file_name(m, (size_t)t, safe, sizeof safe);
     snprintf(tex_names[t], sizeof tex_names[t], "%s_%s.png", stem, safe);
     char full[2600];
     snprintf(full, sizeof full, "%s%s", dir, tex_names[t]);
@@ -76,10 +80,11 @@ bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m, bbc_error
   for (size_t i = 0; i < m->material_count; i++) {
     const bbc_material *mat = &m->materials[i];
     char safe[128];
-    sanitize(mat->name, safe, sizeof safe);
+    bbc__safe_name(mat->name, safe, sizeof safe);
     fprintf(af.fp, "\nnewmtl %s\nKd %.6g %.6g %.6g\n", safe, mat->base_color[0], mat->base_color[1],
             mat->base_color[2]);
     if (mat->base_color[3] < 1.0f) fprintf(af.fp, "d %.6g\n", mat->base_color[3]);
+    if (unlit) fprintf(af.fp, "illum 0\n"); /* colour only, no lighting */
     if (mat->texture >= 0 && tex_names[mat->texture][0]) {
       fprintf(af.fp, "map_Kd %s\n", tex_names[mat->texture]);
       if (m->textures[mat->texture].has_alpha)
@@ -97,6 +102,7 @@ bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m, bbc_error
   FILE *f = af.fp;
   fprintf(f, "# written by bbcgen %s: %zu vertices, %zu triangles\nmtllib %s.mtl\n",
           BBC_VERSION_STRING, m->vertex_count, m->triangle_count, stem);
+  put_comment(f, comment);
   for (size_t v = 0; v < m->vertex_count; v++) {
     const double *p = m->positions + 3 * v;
     fprintf(f, "v %.9g %.9g %.9g\n", p[0], p[1], p[2]);
@@ -113,14 +119,14 @@ bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m, bbc_error
     if (m->face_group[t] != cur_group) {
       cur_group = m->face_group[t];
       char safe[256];
-      sanitize(m->group_names[cur_group], safe, sizeof safe);
+      bbc__safe_name(m->group_names[cur_group], safe, sizeof safe);
       fprintf(f, "g %s\n", safe);
       cur_mat = UINT32_MAX; /* restate the material inside each group */
     }
     if (m->face_material[t] != cur_mat) {
       cur_mat = m->face_material[t];
       char safe[128];
-      sanitize(m->materials[cur_mat].name, safe, sizeof safe);
+      bbc__safe_name(m->materials[cur_mat].name, safe, sizeof safe);
       fprintf(f, "usemtl %s\n", safe);
     }
     const uint32_t *ix = m->indices + 3 * t;

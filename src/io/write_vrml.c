@@ -93,6 +93,8 @@ static void put_url(text *t, const char *stem, const char *suffix) {
 typedef struct vrml_ctx {
   const bbc_mesh *m;
   const char *stem;
+  char col_suffix[200], nm_suffix[200]; /* "_<material>.png", "_<material>_nm.png" */
+  int unlit;                            /* no Material: the (prelit) texture shown as it is */
   int nm_nodes; /* format 0 with normal maps: a NormalMap node beside each Shape */
   int solid;    /* one-sided copies (back images) */
 } vrml_ctx;
@@ -114,9 +116,10 @@ static void put_side(text *t, const vrml_ctx *x, size_t k, int back, size_t base
   if (x->nm_nodes) put(t, "Group { children [\n");
   put(t, "%sDEF BB%zu_%s Shape {\n", in, k, back ? "back" : "front");
   put(t, "%s  appearance Appearance {\n", in);
-  put(t, "%s    material Material { diffuseColor 1 1 1 }\n", in);
+  /* VRML97 6.4: an Appearance without a material is drawn unlit. */
+  if (!x->unlit) put(t, "%s    material Material { diffuseColor 1 1 1 }\n", in);
   put(t, "%s    texture ImageTexture { url ", in);
-  put_url(t, x->stem, ".png");
+  put_url(t, x->stem, x->col_suffix);
   put(t, " repeatS FALSE repeatT FALSE }\n");
   put(t, "%s  }\n", in);
   put(t, "%s  geometry IndexedFaceSet {\n", in);
@@ -151,7 +154,7 @@ static void put_side(text *t, const vrml_ctx *x, size_t k, int back, size_t base
   put(t, "%s}\n", in);
   if (x->nm_nodes) {
     put(t, "  NormalMap { url ");
-    put_url(t, x->stem, "_nm.png");
+    put_url(t, x->stem, x->nm_suffix);
     put(t, " }\n] }\n");
   }
 }
@@ -165,6 +168,8 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
   const char *base_name = strrchr(wrl_path, '/') ? strrchr(wrl_path, '/') + 1 : wrl_path;
   if (strcmp(ext, "wrl") || strlen(base_name) <= 4)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: VRML output must be NAME.wrl", wrl_path);
+  int unlit = (format & BBC_VRML_UNLIT) != 0;
+  format &= ~BBC_VRML_UNLIT;
   if (format != 0 && format != 1)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "%s: VRML format must be 0 (VRML 2.0 with extensions) or 1 (VRML97), not %d",
@@ -213,7 +218,7 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
                      "%s: the cloud's mesh has more than its billboards", wrl_path);
 
   size_t len = strlen(wrl_path), stem_len = strlen(base_name) - 4;
-  char *dir = malloc(len + 1), *stem = malloc(stem_len + 1), *png = malloc(len + 8);
+  char *dir = malloc(len + 1), *stem = malloc(stem_len + 1), *png = malloc(len + 200);
   text t = {0};
   bbc_result r = BBC_OK;
   if (!dir || !stem || !png) {
@@ -237,11 +242,23 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
     if (*p == '\r' && p[1] == '\n') p++;
     if (*p) p++;
   }
-  put(&t, "# format %d (%s); %s; atlas %dx%d%s\n", format,
+  put(&t, "# format %d (%s); %s; atlas %dx%d%s%s\n", format,
       format ? "VRML97" : "VRML 2.0 with extensions",
       sides == 2 ? "front and back images, one-sided" : "one image, double-sided",
-      m->textures[0].image.width, m->textures[0].image.height, nm ? ", normal atlas" : "");
-  vrml_ctx x = {m, stem, format == 0 && nm, sides == 2};
+      m->textures[0].image.width, m->textures[0].image.height, nm ? ", normal atlas" : "",
+      unlit ? "; unlit (no Material: the textures carry the light)" : "");
+  vrml_ctx x;
+  memset(&x, 0, sizeof x);
+  x.m = m;
+  x.stem = stem;
+  x.unlit = unlit;
+  x.nm_nodes = format == 0 && nm;
+  x.solid = sides == 2;
+  char name[160];
+  bbc_texture_file_name(m, 0, name, sizeof name);
+  snprintf(x.col_suffix, sizeof x.col_suffix, "_%s.png", name);
+  bbc_texture_file_name(m, 1, name, sizeof name);
+  snprintf(x.nm_suffix, sizeof x.nm_suffix, "_%s.png", name);
   if (x.nm_nodes) {
     put(&t, "# NormalMap: the normal atlas (tangent space) of the Shape beside it; a no-op\n"
             "# for VRML97 readers.\n");
@@ -272,22 +289,22 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
   }
 
   /* The PNGs first, the .wrl last. */
-  snprintf(png, len + 8, "%s%s.png", dir, stem);
+  snprintf(png, len + 200, "%s%s%s", dir, stem, x.col_suffix);
   r = bbc_image_write_png(png, &m->textures[0].image, err);
   int written = r == BBC_OK;
   if (r == BBC_OK && nm) {
-    snprintf(png, len + 8, "%s%s_nm.png", dir, stem);
+    snprintf(png, len + 200, "%s%s%s", dir, stem, x.nm_suffix);
     r = bbc_image_write_png(png, nm, err);
     written += r == BBC_OK;
   }
   if (r == BBC_OK) r = bbc_write_file_atomic(wrl_path, t.data, t.size, err);
   if (r != BBC_OK) { /* a failed write leaves none of its PNGs behind */
     if (written >= 1) {
-      snprintf(png, len + 8, "%s%s.png", dir, stem);
+      snprintf(png, len + 200, "%s%s%s", dir, stem, x.col_suffix);
       remove(png);
     }
     if (written >= 2) {
-      snprintf(png, len + 8, "%s%s_nm.png", dir, stem);
+      snprintf(png, len + 200, "%s%s%s", dir, stem, x.nm_suffix);
       remove(png);
     }
   }

@@ -3,6 +3,7 @@
 #include "pipeline.h"
 
 #include <cjson/cJSON.h>
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -193,6 +194,20 @@ static int write_text_file(const char *path, const char *text) {
   return EXIT_OK;
 }
 
+/* The model's file name without folder and extension, safe for names. */
+static void model_name(const char *path, char *out, size_t n) {
+  const char *base = strrchr(path, '/');
+  base = base ? base + 1 : path;
+  const char *ext = extension_of(base);
+  size_t i = 0;
+  for (const char *p = base; p < ext && i + 1 < n; p++, i++) {
+    unsigned char ch = (unsigned char)*p;
+    out[i] = (char)(isalnum(ch) || ch == '_' || ch == '-' || ch == '.' ? ch : '_');
+  }
+  out[i] = 0;
+  if (!i) snprintf(out, n, "model");
+}
+
 int job_write(const cli *c, job *j, const char *out) {
   const char *ext = extension_of(out);
   int glb = !strcmp(ext, ".glb"), gltf = !strcmp(ext, ".gltf"), obj = !strcmp(ext, ".obj"),
@@ -212,22 +227,59 @@ int job_write(const cli *c, job *j, const char *out) {
   double t0 = cli_now();
   bbc_error err;
   bbc_result r = BBC_OK;
+  /* Names engines understand: <model>_LOD<k> for the levels of a chain, <model>
+   * for a single cloud and for the chain's group node; the material
+   * "billboards" (a chain's "billboards_LOD<k>"), so texture files are
+   * <stem>_billboards.png (bbc_texture_file_name). */
+  char model[128];
+  model_name(j->model_path, model, sizeof model);
+  for (size_t k = 0; k < j->lod_count && j->lod_count > 1; k++) {
+    char name[64];
+    snprintf(name, sizeof name, "billboards_LOD%zu", k);
+    bbc_material *mat = &j->lods[k].cloud.mesh.materials[0];
+    char *dup = strdup(name);
+    if (dup) {
+      free(mat->name);
+      mat->name = dup;
+    }
+  }
+  int unlit = bbc_params_unlit(&j->lods[0].params);
   if (glb || gltf) {
-    char *texts[JOB_MAX_LODS] = {0}, names[JOB_MAX_LODS][64];
+    char *texts[JOB_MAX_LODS] = {0}, names[JOB_MAX_LODS][160];
     bbc_gltf_node nodes[JOB_MAX_LODS];
+    double coverage[JOB_MAX_LODS];
     for (size_t k = 0; k < j->lod_count; k++) {
       cJSON *o = lod_json(&j->lods[k], 0);
       texts[k] = cJSON_PrintUnformatted(o);
       cJSON_Delete(o);
-      snprintf(names[k], sizeof names[k], "billboard cloud, epsilon %.3g %%",
-               j->lods[k].epsilon_pct * j->lods[k].set.epsilon_scale);
+      if (j->lod_count > 1)
+        snprintf(names[k], sizeof names[k], "%s_LOD%zu", model, k);
+      else
+        snprintf(names[k], sizeof names[k], "%s", model);
       nodes[k] = (bbc_gltf_node){&j->lods[k].cloud.mesh, names[k], texts[k]};
+      /* MSFT_screencoverage: level k gives way to level k + 1 once level
+       * k + 1's error (epsilon, a share of the bounding radius) is at most
+       * 2 pixels of a 1080-line screen; the last level ends at 2 pixels. */
+      if (k + 1 < j->lod_count) {
+        double e = j->lods[k + 1].epsilon_pct * j->lods[k + 1].set.epsilon_scale / 100;
+        coverage[k] = fmin(1.0, 2.0 * 2.0 / (e * 1080.0));
+      } else {
+        coverage[k] = 2.0 / 1080.0;
+      }
+      if (k && coverage[k] > coverage[k - 1]) coverage[k] = coverage[k - 1];
     }
     char *params = params_json_text(&j->lods[0].params);
     size_t n = strlen(params) + 64;
     char *extras = malloc(n);
     if (extras) snprintf(extras, n, "{\"bbcgen_parameters\":%s}", params);
-    bbc_gltf_options go = {glb, extras, 1};
+    bbc_gltf_options go;
+    memset(&go, 0, sizeof go);
+    go.binary = glb;
+    go.extras_json = extras;
+    go.lod_chain = 1;
+    go.lod_group_name = model;
+    go.screen_coverage = coverage;
+    go.unlit = unlit;
     r = bbc_scene_write_gltf(out, nodes, j->lod_count, &go, &err);
     free(extras);
     cJSON_free(params);
@@ -236,16 +288,17 @@ int job_write(const cli *c, job *j, const char *out) {
     for (size_t k = 0; k < j->lod_count && r == BBC_OK; k++) {
       char path[4200];
       lod_path(out, k, path, sizeof path);
-      if (obj) {
-        r = bbc_mesh_write_obj(path, &j->lods[k].cloud.mesh, &err);
-      } else {
-        char comment[4600], why[160];
-        epsilon_adjustment(&j->lods[k], why, sizeof why);
-        snprintf(comment, sizeof comment, "model: %s\nepsilon: %.4g %% (%.6g model units)%s",
-                 j->model_path, j->lods[k].epsilon_pct * j->lods[k].set.epsilon_scale,
-                 j->lods[k].set.epsilon_abs, why);
-        r = bbc_cloud_write_vrml(path, &j->lods[k].cloud, j->lods[k].params.format, comment, &err);
-      }
+      char comment[4600], why[160];
+      epsilon_adjustment(&j->lods[k], why, sizeof why);
+      snprintf(comment, sizeof comment, "model: %s\nepsilon: %.4g %% (%.6g model units)%s",
+               j->model_path, j->lods[k].epsilon_pct * j->lods[k].set.epsilon_scale,
+               j->lods[k].set.epsilon_abs, why);
+      if (obj)
+        r = bbc_mesh_write_obj_ex(path, &j->lods[k].cloud.mesh, comment, unlit, &err);
+      else
+        r = bbc_cloud_write_vrml(path, &j->lods[k].cloud,
+                                 j->lods[k].params.format | (unlit ? BBC_VRML_UNLIT : 0), comment,
+                                 &err);
     }
   }
   j->write_s = cli_now() - t0;

@@ -120,6 +120,8 @@ typedef struct bbc_material {
                         * 0 = none (zeroed materials have none) */
   int single_sided;    /* 1 = only the counter-clockwise side is drawn (glTF
                         * doubleSided false); 0 = both sides */
+  int unlit;           /* 1 = drawn without lighting (glTF KHR_materials_unlit,
+                        * MTL illum 0): its colours carry the light already */
 } bbc_material;
 
 typedef enum bbc_mesh_kind {

@@ -58,12 +58,13 @@ ifeq ($(shell command -v $(firstword $(BBCGEN))),)
   $(error convert.mk: bbcgen not found: BBCGEN=$(BBCGEN) (build it, put it on PATH or pass BBCGEN=path))
 endif
 
-# The models, sorted, then //OK// when find succeeded; a name make cannot
-# take is reported on stderr and adds the word //BAD//. ($(shell) joins the
-# lines of its command, hence the semicolons.)
+# The models, largest file first (make -j then starts the longest
+# conversions first rather than ending on one big model alone), then //OK//
+# when find succeeded; a name make cannot take is reported on stderr and adds
+# the word //BAD//. ($(shell) joins the lines of its command: semicolons.)
 define convert_scan
-set -o pipefail; find -L '$(IN)' -type f \( $(foreach e,$(MODEL_EXTS),-iname '*.$(e)' -o) -false \) -print |
-LC_ALL=C sort | {
+set -o pipefail; find -L '$(IN)' -type f \( $(foreach e,$(MODEL_EXTS),-iname '*.$(e)' -o) -false \) -printf '%s %p\n' |
+LC_ALL=C sort -k1,1nr -k2 | cut -d' ' -f2- | {
   bad=0;
   while IFS= read -r f; do
     case $$f in

@@ -499,6 +499,192 @@ static void test_cloud_command(void **state) {
   free(bf);
 }
 
+/* Reads a .glb's JSON chunk. */
+static cJSON *glb_json(const char *path) {
+  size_t n = 0;
+  unsigned char *g = tu_read_file(path, &n);
+  if (!g || n < 20) fail_msg("%s: not read", path);
+  uint32_t jl =
+      (uint32_t)g[12] | (uint32_t)g[13] << 8 | (uint32_t)g[14] << 16 | (uint32_t)g[15] << 24;
+  cJSON *j = cJSON_ParseWithLength((const char *)g + 20, jl);
+  free(g);
+  if (!j) fail_msg("%s: JSON chunk not parsed", path);
+  return j;
+}
+
+static int file_exists(const char *dir, const char *name) {
+  char p[2048];
+  snprintf(p, sizeof p, "%s/%s", dir, name);
+  return access(p, F_OK) == 0;
+}
+
+/* An epsilon typed by hand is kept; maxplanes moves only the default, and
+ * the report says when it did. A generated bush needs more than 8 planes at
+ * epsilon 3. */
+static void test_hand_epsilon_kept(void **state) {
+  (void)state;
+  char args[4096], *out, *err;
+  snprintf(args, sizeof args, "tree --species bush --leaves 600 --seed 3 -o '%s/eb.obj'", tu_dir);
+  assert_int_equal(run(args, &out, &err), 0);
+  free(out);
+  free(err);
+  const char *cases[][3] = {
+      /* options, epsilon used (0: more than asked), adjusted_by */
+      {"--epsilon 3 --texres 32", "3", ""},
+      {"--set epsilon=3 --texres 32", "3", ""},
+      {"--epsilon 3 --maxplanes 8 --texres 32", "0", "maxplanes"},
+      {"--maxplanes 8 --epsilon 3 --texres 32", "0", "maxplanes"},
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+    snprintf(args, sizeof args, "'%s/eb.obj' -o '%s/eb.glb' --report '%s/eb.json' %s", tu_dir,
+             tu_dir, tu_dir, cases[i][0]);
+    assert_int_equal(run(args, &out, &err), 0);
+    free(out);
+    char rp[1200];
+    snprintf(rp, sizeof rp, "%s/eb.json", tu_dir);
+    char *text = (char *)tu_read_file(rp, NULL);
+    cJSON *r = cJSON_Parse(text);
+    assert_non_null(r);
+    const cJSON *lod = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(r, "lods"), 0);
+    double used = num(lod, "epsilon_pct_used");
+    const cJSON *by = cJSON_GetObjectItemCaseSensitive(lod, "epsilon_adjusted_by");
+    if (cases[i][2][0]) {
+      assert_true(used > 3.0);
+      assert_true(cJSON_IsString(by) && !strcmp(by->valuestring, cases[i][2]));
+      assert_true(num(lod, "planes") <= 8);
+      /* The info line says what moved it. */
+      if (!strstr(err, "raised from 3 % by maxplanes 8")) fail_msg("%s", err);
+    } else {
+      assert_true(used == 3.0);
+      assert_true(cJSON_IsNull(by));
+      assert_true(num(lod, "planes") > 8);
+    }
+    /* The glTF node's extras state the epsilon used. */
+    snprintf(rp, sizeof rp, "%s/eb.glb", tu_dir);
+    cJSON *g = glb_json(rp);
+    const cJSON *ex = cJSON_GetObjectItemCaseSensitive(
+        cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(g, "nodes"), 0), "extras");
+    assert_true(num(ex, "epsilon_pct_used") == used);
+    cJSON_Delete(g);
+    cJSON_Delete(r);
+    free(text);
+    free(err);
+  }
+  /* VRML: the header gives the epsilon used and why. */
+  snprintf(args, sizeof args, "'%s/eb.obj' -o '%s/eb.wrl' --epsilon 3 --maxplanes 8 --texres 32",
+           tu_dir, tu_dir);
+  assert_int_equal(run(args, &out, &err), 0);
+  free(out);
+  free(err);
+  char wp[1200];
+  snprintf(wp, sizeof wp, "%s/eb.wrl", tu_dir);
+  char *w = (char *)tu_read_file(wp, NULL);
+  assert_non_null(w);
+  assert_non_null(strstr(w, "(raised from 3 % by maxplanes 8)"));
+  assert_null(strstr(w, "# epsilon: 3 %"));
+  free(w);
+}
+
+/* Unknown options and commands: named, with the nearest suggestion. */
+static void test_suggestions(void **state) {
+  (void)state;
+  const char *cases[][3] = {
+      {"x.obj -o x.glb --epslon 6", "did you mean --epsilon?", "1"},
+      {"infoo x.obj", "unknown command 'infoo' (did you mean bbcgen info?)", "1"},
+      {"plane x.obj", "did you mean bbcgen planes?", "1"},
+      {"eval a.obj b.glb --jsn x", "eval: unknown option '--jsn' (did you mean --json?)", "1"},
+      {"tree --specis oak -o t.obj", "did you mean --species?", "1"},
+      {"x.obj -o x.glb --prev p.png", "did you mean --preview?", "1"},
+      {"--verison", "did you mean --version?", "1"},
+      {"x.obj -o x.glb --zzzzzz 1", "unknown option '--zzzzzz' (try bbcgen --help)", "1"},
+      {"frobnicate", "unknown command 'frobnicate'", "1"},
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+    char *out, *err;
+    assert_int_equal(run(cases[i][0], &out, &err), atoi(cases[i][2]));
+    if (!strstr(err, cases[i][1])) fail_msg("bbcgen %s: '%s'", cases[i][0], err);
+    free(out);
+    free(err);
+  }
+}
+
+/* Materials and texture files: prelit clouds are unlit in every format
+ * (KHR_materials_unlit, VRML without Material, MTL illum 0), relightable
+ * ones lit; texture files are <stem>_<material>[_nm].png in all three. */
+static void test_materials_and_texture_names(void **state) {
+  (void)state;
+  char path[1024], args[4096], *out, *err;
+  tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
+  if (!tu_have_file(path)) skip();
+  char *dir = tu_make_temp_dir();
+  const char *runs[][2] = {{"u.glb", ""},          {"l.glb", "--prelight 0 --nm 1"},
+                           {"f.glb", "--unlit 0"}, {"u.gltf", "--nm 1"},
+                           {"u.wrl", "--nm 1"},    {"l.wrl", "--prelight 0"},
+                           {"u.obj", ""},          {"l.obj", "--prelight 0"}};
+  for (size_t i = 0; i < sizeof runs / sizeof runs[0]; i++) {
+    snprintf(args, sizeof args, "'%s' -o '%s/%s' --texres 32 -q %s", path, dir, runs[i][0],
+             runs[i][1]);
+    assert_int_equal(run(args, &out, &err), 0);
+    free(out);
+    free(err);
+  }
+  char p[2048];
+  for (int k = 0; k < 3; k++) {
+    const char *names[3] = {"u.glb", "l.glb", "f.glb"};
+    snprintf(p, sizeof p, "%s/%s", dir, names[k]);
+    cJSON *g = glb_json(p);
+    const cJSON *mat = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(g, "materials"), 0);
+    const cJSON *ext = cJSON_GetObjectItemCaseSensitive(mat, "extensions");
+    int unlit = ext && cJSON_GetObjectItemCaseSensitive(ext, "KHR_materials_unlit");
+    assert_int_equal(unlit, k == 0);
+    if (k == 1) assert_non_null(cJSON_GetObjectItemCaseSensitive(mat, "normalTexture"));
+    cJSON_Delete(g);
+    int v = tu_gltf_validate(p);
+    if (v != 3) assert_int_equal(v, 0);
+  }
+  assert_true(file_exists(dir, "u_billboards.png"));
+  assert_true(file_exists(dir, "u_billboards_nm.png")); /* the .gltf's and the .wrl's */
+  assert_true(file_exists(dir, "l_billboards.png"));
+  assert_true(file_exists(dir, "u.mtl") && file_exists(dir, "l.mtl"));
+  snprintf(p, sizeof p, "%s/u.gltf", dir);
+  char *t = (char *)tu_read_file(p, NULL);
+  assert_non_null(strstr(t, "\"uri\":\"u_billboards.png\""));
+  assert_non_null(strstr(t, "\"uri\":\"u_billboards_nm.png\""));
+  free(t);
+  snprintf(p, sizeof p, "%s/u.wrl", dir);
+  t = (char *)tu_read_file(p, NULL);
+  assert_null(strstr(t, "Material {"));
+  assert_non_null(strstr(t, "url \"u_billboards.png\""));
+  free(t);
+  snprintf(p, sizeof p, "%s/l.wrl", dir);
+  t = (char *)tu_read_file(p, NULL);
+  assert_non_null(strstr(t, "Material { diffuseColor 1 1 1 }"));
+  free(t);
+  snprintf(p, sizeof p, "%s/u.mtl", dir);
+  t = (char *)tu_read_file(p, NULL);
+  assert_non_null(strstr(t, "illum 0"));
+  assert_non_null(strstr(t, "map_Kd u_billboards.png"));
+  free(t);
+  snprintf(p, sizeof p, "%s/l.mtl", dir);
+  t = (char *)tu_read_file(p, NULL);
+  assert_null(strstr(t, "illum 0"));
+  free(t);
+  /* Read back, the unlit flag survives (and eval --lit lights only the
+   * original then). */
+  snprintf(args, sizeof args, "info --json '%s/u.glb'", dir);
+  assert_int_equal(run(args, &out, &err), 0);
+  assert_non_null(strstr(out, "\"unlit\":\ttrue"));
+  free(out);
+  free(err);
+  snprintf(args, sizeof args, "info --json '%s/l.glb'", dir);
+  assert_int_equal(run(args, &out, &err), 0);
+  assert_non_null(strstr(out, "\"unlit\":\tfalse"));
+  free(out);
+  free(err);
+  tu_remove_dir(dir);
+  free(dir);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_info_pine),
@@ -512,6 +698,9 @@ int main(void) {
       cmocka_unit_test(test_planes_json_identical),
       cmocka_unit_test(test_exec_batch),
       cmocka_unit_test(test_cloud_command),
+      cmocka_unit_test(test_hand_epsilon_kept),
+      cmocka_unit_test(test_suggestions),
+      cmocka_unit_test(test_materials_and_texture_names),
   };
   return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

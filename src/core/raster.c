@@ -269,7 +269,7 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
         normalize3(n);
       }
       double shade = 1.0;
-      if (view->lighting)
+      if (view->lighting && !mat->unlit) /* unlit materials carry their light */
         shade = 0.35 + 0.65 * fabs(n[0] * tg->light[0] + n[1] * tg->light[1] + n[2] * tg->light[2]);
       if (view->vertex_shade) shade *= l0 * sh[0] + l1 * sh[1] + l2 * sh[2];
       uint8_t px4[4] = {to_byte(col[0] * shade), to_byte(col[1] * shade), to_byte(col[2] * shade),

@@ -385,6 +385,11 @@ static bbc_result load_materials(loader *L) {
     if ((!strcmp(ext, "glb") || !strcmp(ext, "gltf")) &&
         aiGetMaterialIntegerArray(am, AI_MATKEY_TWOSIDED, &two, &one_int) == AI_SUCCESS)
       mat->single_sided = !two;
+    int shading = 0;
+    one_int = 1;
+    if (aiGetMaterialIntegerArray(am, AI_MATKEY_SHADING_MODEL, &shading, &one_int) == AI_SUCCESS &&
+        shading == aiShadingMode_NoShading)
+      mat->unlit = 1;
     struct aiString tex;
     if (aiGetMaterialTexture(am, aiTextureType_DIFFUSE, 0, &tex, NULL, NULL, NULL, NULL, NULL,
                              NULL) == AI_SUCCESS ||

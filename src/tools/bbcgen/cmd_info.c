@@ -37,6 +37,7 @@ static char *info_json(const char *path, const bbc_mesh *m, const size_t *group_
     if (mat->texture_ref && !t) cJSON_AddStringToObject(o, "texture_missing", mat->texture_ref);
     double c[4] = {mat->base_color[0], mat->base_color[1], mat->base_color[2], mat->base_color[3]};
     cJSON_AddItemToObject(o, "base_color", cJSON_CreateDoubleArray(c, 4));
+    cJSON_AddBoolToObject(o, "unlit", mat->unlit);
     cJSON_AddItemToArray(mats, o);
   }
   cJSON *groups = cJSON_AddArrayToObject(root, "groups");

@@ -597,6 +597,16 @@ bbc_result bbc_cloud_build(const bbc_mesh *mesh, const bbc_planeset *set, const 
                            const bbc_callbacks *callbacks, bbc_cloud *cloud, bbc_error *err);
 void bbc_cloud_free(bbc_cloud *cloud);
 
+/* The levels of detail of one model (clouds[count], finest first) in one
+ * atlas: when all their images fit into max_size x max_size, every cloud's
+ * colour (and normal) atlas becomes that shared atlas and its texture
+ * coordinates and image rectangles move with it; *shared = 1. Otherwise
+ * nothing changes and *shared = 0 (not an error). Writers store identical
+ * textures once (glTF), so the levels then bind one texture. Clouds must
+ * all have normal maps or none. */
+bbc_result bbc_clouds_share_atlas(bbc_cloud *clouds, size_t count, int max_size, int *shared,
+                                  bbc_error *err);
+
 /* Writes a cloud as VRML (thesis Appendix A, "save"), atomically: `wrl_path`
  * (must end in .wrl) and beside it the colour atlas (PNG with alpha) and,
  * with normal maps, the normal atlas. One Shape per billboard side

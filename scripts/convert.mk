@@ -15,11 +15,15 @@
 # textures, a .mtl with another name, the bbcgen binary, ARGS; use -B (or
 # delete the outputs) after changing those.
 #
-# A model bbcgen fails on stops make with bbcgen's exit status (1 usage ...
-# 6 memory, see README) and the line
+# A model bbcgen fails on stops make (make exits 2) after the line
 #     convert: FAILED models/x.obj (bbcgen exit 4)
-# on stderr; its output and report are removed, so no output is older or
-# other than its model. Jobs already running finish; -k converts all others.
+# on stderr, with bbcgen's status (1 usage ... 6 memory, see README); its
+# output and report are removed, so no output is left older than or other
+# than its model. Jobs already running finish; -k converts all the others.
+#
+# Threads: with -jN each bbcgen gets cores/N OpenMP threads (at least 1;
+# 1 with -j alone), not all cores each; OMP_NUM_THREADS or ARGS="--threads
+# K" overrides. Models start largest file first.
 #
 # Known make limitation: model paths with whitespace or any of
 #     : # % = ; | ( ) * ? [ ] $ \ ' "
@@ -101,10 +105,20 @@ endif
 
 convert_report = $(if $(filter-out 0 no,$(REPORT)),--report '$(basename $@).json')
 
+# Threads per bbcgen: with -jN, cores/N (at least 1), so that N jobs of
+# all-core OpenMP teams do not fight over the cores; with -j (no limit) 1;
+# without -j bbcgen's default (all cores). OMP_NUM_THREADS set by the caller,
+# or --threads in ARGS, wins. (-j shows in MAKEFLAGS only inside recipes.)
+convert_nproc := $(shell nproc 2>/dev/null || echo 1)
+convert_jobs = $(patsubst -j%,%,$(filter -j%,$(MAKEFLAGS)))
+convert_threads = $(if $(OMP_NUM_THREADS),,$(if $(filter -j,$(MAKEFLAGS)),1,$(if \
+  $(convert_jobs),$(shell n=$$(( $(convert_nproc) / $(convert_jobs) )); echo $$(( n > 0 ? n : 1 ))))))
+convert_env = $(if $(convert_threads),OMP_NUM_THREADS=$(convert_threads) )
+
 define convert_recipe
 @mkdir -p '$(@D)'
 @echo 'convert: $<'
-@rc=0; $(BBCGEN) '$<' -o '$@' $(convert_report) -q $(ARGS) || rc=$$?; \
+@rc=0; $(convert_env)$(BBCGEN) '$<' -o '$@' $(convert_report) -q $(ARGS) || rc=$$?; \
 if [ $$rc -ne 0 ]; then \
   rm -f '$@' '$(basename $@).json'; \
   echo "convert: FAILED $< (bbcgen exit $$rc)" >&2; exit $$rc; \

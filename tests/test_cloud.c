@@ -454,6 +454,76 @@ static void test_cloud_of_a_tree(void **state) {
   bbc_mesh_free(&m);
 }
 
+/* Renders a cloud from a few directions (unlit), images appended to out. */
+static void render_views(const bbc_mesh *cm, const bbc_mesh *frame, bbc_image out[4]) {
+  static const double dirs[4][3] = {{0, 0, -1}, {-1, 0, 0}, {0.6, -0.5, 0.62}, {0, -1, 0}};
+  static const double ups[4][3] = {{0, 1, 0}, {0, 1, 0}, {0, 1, 0}, {0, 0, 1}};
+  bbc_error err;
+  for (int v = 0; v < 4; v++) {
+    bbc_view view;
+    bbc_view_frame_mesh(frame, dirs[v], ups[v], &view);
+    view.lighting = 0;
+    if (bbc_image_alloc(&out[v], 96, 96) != BBC_OK) fail_msg("out of memory");
+    if (bbc_render_ortho(cm, &view, &out[v], &err) != BBC_OK) fail_msg("%s", err.message);
+  }
+}
+
+/* Levels of detail in one atlas: every level looks exactly as it did with
+ * its own atlas; the shared atlas holds every level's images; a budget too
+ * small changes nothing. */
+static void test_shared_atlas(void **state) {
+  (void)state;
+  bbc_tree_options to;
+  bbc_tree_options_default(&to);
+  to.leaves = 800;
+  bbc_mesh m;
+  bbc_error err;
+  if (bbc_tree_generate(&to, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  bbc_planeset sets[2];
+  bbc_cloud clouds[2];
+  bbc_image before[2][4], after[2][4];
+  for (int k = 0; k < 2; k++) {
+    bbc_planes_options o;
+    bbc_planes_options_default(&o);
+    o.params.epsilon_pct = k ? 15 : 6;
+    o.params.texres = 32;
+    o.params.atlas_max = 0;
+    o.params.normal_maps = 1;
+    if (bbc_planes_find(&m, &o, &sets[k], &err) != BBC_OK) fail_msg("%s", err.message);
+    if (bbc_cloud_build(&m, &sets[k], &o.params, NULL, &clouds[k], &err) != BBC_OK)
+      fail_msg("%s", err.message);
+    render_views(&clouds[k].mesh, &m, before[k]);
+  }
+  int shared = 1;
+  assert_int_equal(bbc_clouds_share_atlas(clouds, 2, 16, &shared, &err), BBC_OK);
+  assert_int_equal(shared, 0); /* does not fit: unchanged */
+  assert_int_equal(bbc_clouds_share_atlas(clouds, 2, 1024, &shared, &err), BBC_OK);
+  assert_int_equal(shared, 1);
+  const bbc_image *a0 = &clouds[0].mesh.textures[0].image, *a1 = &clouds[1].mesh.textures[0].image;
+  assert_int_equal(a0->width, a1->width);
+  assert_int_equal(a0->height, a1->height);
+  assert_memory_equal(a0->rgba, a1->rgba, 4 * (size_t)a0->width * a0->height);
+  assert_int_equal(clouds[0].mesh.textures[1].image.width, a0->width);
+  int aw = a0->width, ah = a0->height;
+  for (int k = 0; k < 2; k++) {
+    render_views(&clouds[k].mesh, &m, after[k]);
+    for (int v = 0; v < 4; v++) {
+      size_t differ = 0, n = (size_t)96 * 96;
+      for (size_t i = 0; i < 4 * n; i++) differ += before[k][v].rgba[i] != after[k][v].rgba[i];
+      if (differ) fail_msg("level %d view %d: %zu bytes differ", k, v, differ);
+      bbc_image_free(&before[k][v]);
+      bbc_image_free(&after[k][v]);
+    }
+    for (size_t b = 0; b < clouds[k].billboard_count; b++) {
+      const bbc_atlas_rect *q = &clouds[k].billboards[b].front;
+      assert_true(q->x >= 0 && q->y >= 0 && q->x + q->width <= aw && q->y + q->height <= ah);
+    }
+    bbc_cloud_free(&clouds[k]);
+    bbc_planeset_free(&sets[k]);
+  }
+  bbc_mesh_free(&m);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_texel_centres_quality0),
@@ -462,6 +532,7 @@ int main(void) {
       cmocka_unit_test(test_tilted_normal_map),
       cmocka_unit_test(test_voxel_shading),
       cmocka_unit_test(test_cloud_of_a_tree),
+      cmocka_unit_test(test_shared_atlas),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -313,6 +313,7 @@ typedef struct mesh_out {
   float pmin[3], pmax[3];
   size_t nv;
   int small;
+  size_t images_written; /* images this mesh added (not shared with an earlier one) */
 } mesh_out;
 
 static bbc_result check_mesh(const char *path, const bbc_mesh *m, bbc_error *err) {
@@ -347,7 +348,8 @@ static int texture_used(const bbc_mesh *m, size_t t) {
 static bbc_result put_mesh(const char *path, const bbc_mesh *m, int binary, const char *dir,
                            const char *stem, gbuf *bin, view *views, size_t *n_views,
                            size_t *n_images, size_t *image_view, char (*image_names)[200],
-                           mesh_out *mo, size_t *pngs_written, bbc_error *err) {
+                           const bbc_image **image_src, mesh_out *mo, size_t *pngs_written,
+                           bbc_error *err) {
   size_t nv = m->vertex_count, n_mat = m->material_count;
   mo->nv = nv;
   for (size_t t = 0; t < m->triangle_count; t++) mo->mat_tris[m->face_material[t]]++;
@@ -426,6 +428,19 @@ static bbc_result put_mesh(const char *path, const bbc_mesh *m, int binary, cons
     mo->tex_gltf[t] = -1;
     if (!texture_used(m, t)) continue;
     const bbc_image *im = &m->textures[t].image;
+    /* The same texels as an image written before (levels of detail sharing
+     * one atlas): that image again. */
+    int same = -1;
+    for (size_t i = 0; i < *n_images && same < 0; i++)
+      if (image_src[i]->width == im->width && image_src[i]->height == im->height &&
+          !memcmp(image_src[i]->rgba, im->rgba, 4 * (size_t)im->width * im->height))
+        same = (int)i;
+    if (same >= 0) {
+      mo->tex_gltf[t] = same;
+      continue;
+    }
+    image_src[*n_images] = im;
+    mo->images_written++;
     gbuf png = {0};
     if (!stbi_write_png_to_func(png_to_gbuf, &png, im->width, im->height, 4, im->rgba,
                                 im->width * 4) ||
@@ -510,8 +525,9 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
   view *views = calloc(total_views, sizeof *views);
   size_t *image_view = calloc(total_tex + 1, sizeof *image_view);
   char(*image_names)[200] = calloc(total_tex + 1, sizeof *image_names);
+  const bbc_image **image_src = calloc(total_tex + 1, sizeof *image_src);
   bbc_result r = BBC_OK;
-  if (!mo || !views || !image_view || !image_names) {
+  if (!mo || !views || !image_view || !image_names || !image_src) {
     r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
     goto done;
   }
@@ -525,7 +541,7 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
       break;
     }
     r = put_mesh(path, m, binary, dir, stem, &bin, views, &n_views, &n_images, image_view,
-                 image_names, &mo[n], &pngs_written, err);
+                 image_names, image_src, &mo[n], &pngs_written, err);
     mo[n].first_accessor = n_acc;
     n_acc += 1 + (size_t)mo[n].has_normal + (size_t)mo[n].has_uv + (size_t)mo[n].has_tangent;
     mo[n].first_index_accessor = n_acc;
@@ -704,8 +720,7 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
                   ",\n{\"bufferView\":%zu,\"componentType\":%d,\"count\":%zu,\"type\":\"SCALAR\"}",
                   vi++, o->small ? 5123 : 5125, 3 * o->mat_tris[i]);
     }
-    for (size_t t = 0; t < m->texture_count; t++)
-      if (o->tex_gltf[t] >= 0 && binary) vi++;
+    if (binary) vi += o->images_written;
   }
   gbuf_puts(j, "],\n\"bufferViews\":[");
   for (size_t i = 0; i < n_views; i++) {
@@ -777,6 +792,7 @@ done:
   free(views);
   free(image_view);
   free(image_names);
+  free(image_src);
   return r;
 }
 

@@ -244,6 +244,30 @@ int job_write(const cli *c, job *j, const char *out) {
     }
   }
   int unlit = bbc_params_unlit(&j->lods[0].params);
+  if ((glb || gltf) && j->lod_count > 1 && !j->atlas_shared) {
+    /* One atlas for every level when they fit the budget (atlasmax, else
+     * the largest level's atlas): one texture bind for the whole chain. */
+    int budget = j->lods[0].params.atlas_max;
+    for (size_t k = 0; budget <= 0 && k < j->lod_count; k++) {
+      const bbc_image *a = &j->lods[k].cloud.mesh.textures[0].image;
+      budget = a->width > budget ? a->width : budget;
+    }
+    for (size_t k = 1; k < j->lod_count; k++) {
+      const bbc_image *a = &j->lods[k].cloud.mesh.textures[0].image;
+      if (a->width > budget) budget = a->width;
+    }
+    bbc_cloud clouds[JOB_MAX_LODS];
+    for (size_t k = 0; k < j->lod_count; k++) clouds[k] = j->lods[k].cloud;
+    r = bbc_clouds_share_atlas(clouds, j->lod_count, budget < 64 ? 64 : budget, &j->atlas_shared,
+                               &err);
+    for (size_t k = 0; k < j->lod_count; k++) j->lods[k].cloud = clouds[k];
+    if (r != BBC_OK) return cli_fail(&err, 0);
+    const bbc_image *a = &j->lods[0].cloud.mesh.textures[0].image;
+    if (j->atlas_shared)
+      cli_info(c, "the %zu levels share one %dx%d atlas", j->lod_count, a->width, a->height);
+    else
+      cli_info(c, "the levels do not fit one %dx%d atlas together: one atlas each", budget, budget);
+  }
   if (glb || gltf) {
     char *texts[JOB_MAX_LODS] = {0}, names[JOB_MAX_LODS][160];
     bbc_gltf_node nodes[JOB_MAX_LODS];
@@ -333,6 +357,7 @@ int job_report(const cli *c, const job *j, const char *out, const char *cloud_pa
   cJSON_AddNumberToObject(t, "load", j->load_s);
   cJSON_AddNumberToObject(t, "write", j->write_s);
   cJSON_AddNumberToObject(t, "total", total);
+  cJSON_AddBoolToObject(o, "atlas_shared", j->atlas_shared);
   cJSON *lods = cJSON_AddArrayToObject(o, "lods");
   for (size_t k = 0; k < j->lod_count; k++) cJSON_AddItemToArray(lods, lod_json(&j->lods[k], 1));
   char *text = cJSON_Print(o);

@@ -22,6 +22,7 @@ typedef struct job {
   double load_s, write_s;
   size_t lod_count;
   job_lod lods[JOB_MAX_LODS];
+  int atlas_shared; /* glTF LOD chain: the levels share one atlas */
 } job;
 
 /* Loads the model and runs steps 1 to 3 for each epsilon (percent; NULL /

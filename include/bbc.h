@@ -671,7 +671,16 @@ typedef struct bbc_view {
                               * light follows the camera, as described below) */
   const float *vertex_shade; /* not NULL: per vertex factor in [0, 1] multiplying
                               * the colour (voxel shadowing, bbc_shade_vertices) */
+  double light_gain;         /* with `lighting`: multiplies the shade (0 = 1);
+                              * bbc_light_gain keeps a model's mean brightness */
 } bbc_view;
+
+/* The factor that keeps a model's area-weighted mean brightness when it is
+ * lit by the directional light `light` (unit, towards the light) with the
+ * renderer's Lambert shading 0.35 + 0.65 |n . l|: 1 / that mean over its
+ * faces (>= 1). Prelit clouds are baked with it (prelight keeps the colours'
+ * mean brightness and adds only the light's relief). */
+double bbc_light_gain(const bbc_mesh *mesh, const double light[3]);
 
 /* Renders `mesh` into `image` (already allocated; its size is the
  * resolution) with a depth buffer, diffuse textures (nearest texel, repeat)

@@ -524,6 +524,64 @@ static void test_shared_atlas(void **state) {
   bbc_mesh_free(&m);
 }
 
+/* Mean RGB (sum of the three) over the opaque texels of a cloud's atlas. */
+static double atlas_mean(const bbc_cloud *c) {
+  const bbc_image *a = &c->mesh.textures[0].image;
+  double sum = 0;
+  size_t n = 0;
+  for (size_t i = 0; i < (size_t)a->width * a->height; i++)
+    if (a->rgba[4 * i + 3] == 255) {
+      sum += a->rgba[4 * i] + a->rgba[4 * i + 1] + a->rgba[4 * i + 2];
+      n++;
+    }
+  return n ? sum / n : 0;
+}
+
+/* Prelight keeps the mean brightness: the prelit images are about as bright
+ * as the unlit ones (the thesis's Lambert with 0.35 ambient made them about
+ * 0.68x), and bbc_light_gain is 1 / the model's mean shade. */
+static void test_prelight_keeps_brightness(void **state) {
+  (void)state;
+  bbc_tree_options to;
+  bbc_tree_options_default(&to);
+  to.leaves = 1500;
+  bbc_mesh m;
+  bbc_error err;
+  if (bbc_tree_generate(&to, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  double mean[2];
+  for (int lit = 0; lit < 2; lit++) {
+    bbc_planes_options o;
+    bbc_planes_options_default(&o);
+    o.params.texres = 64;
+    o.params.atlas_max = 0;
+    o.params.prelight = lit;
+    bbc_planeset s;
+    bbc_cloud c;
+    if (bbc_planes_find(&m, &o, &s, &err) != BBC_OK) fail_msg("%s", err.message);
+    if (bbc_cloud_build(&m, &s, &o.params, NULL, &c, &err) != BBC_OK) fail_msg("%s", err.message);
+    mean[lit] = atlas_mean(&c);
+    bbc_cloud_free(&c);
+    bbc_planeset_free(&s);
+  }
+  double ratio = mean[1] / mean[0];
+  if (!(ratio > 0.9 && ratio < 1.1)) fail_msg("prelit / unlit brightness %.3f", ratio);
+  double light[3] = {0, 1, 0};
+  double g = bbc_light_gain(&m, light);
+  assert_true(g > 1.0 && g < 1.0 / 0.35);
+  /* A single quad facing the light needs no gain. */
+  bbc_mesh q;
+  memset(&q, 0, sizeof q);
+  double pos[12] = {0, 0, 0, 1, 0, 0, 1, 0, 1, 0, 0, 1};
+  uint32_t idx[6] = {0, 1, 2, 0, 2, 3};
+  q.kind = BBC_MESH_TRIANGLES;
+  q.positions = pos;
+  q.vertex_count = 4;
+  q.indices = idx;
+  q.triangle_count = 2;
+  assert_true(fabs(bbc_light_gain(&q, light) - 1.0) < 1e-9);
+  bbc_mesh_free(&m);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_texel_centres_quality0),
@@ -533,6 +591,7 @@ int main(void) {
       cmocka_unit_test(test_voxel_shading),
       cmocka_unit_test(test_cloud_of_a_tree),
       cmocka_unit_test(test_shared_atlas),
+      cmocka_unit_test(test_prelight_keeps_brightness),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

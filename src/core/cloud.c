@@ -159,8 +159,8 @@ static size_t slab_faces(const bbc_mesh *m, const bbc_planeset *set, const bbc_p
 }
 
 static void bake_one(const bbc_mesh *m, const bbc_planeset *set, const bbc_params *prm,
-                     const float *vshade, const double *light, size_t plane_index,
-                     bbc_cloud_billboard *cb, uint32_t *faces, baked *out) {
+                     const float *vshade, const double *light, double light_gain,
+                     size_t plane_index, bbc_cloud_billboard *cb, uint32_t *faces, baked *out) {
   const bbc_plane *p = &set->planes[plane_index];
   const bbc_billboard *b = &cb->rect;
   double eps = set->parts[p->part].epsilon_abs;
@@ -204,6 +204,7 @@ static void bake_one(const bbc_mesh *m, const bbc_planeset *set, const bbc_param
   v.depth_max = eps;
   v.lighting = prm->prelight;
   memcpy(v.light, light, sizeof v.light);
+  v.light_gain = light_gain;
   v.vertex_shade = vshade;
   bbc__bake bk = {
       w, h, out->front.rgba, out->back.rgba, out->front_nm.rgba, out->back_nm.rgba, prm->backface};
@@ -454,6 +455,9 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
     }
     double light[3];
     bbc_params_light_direction(prm, light);
+    /* Prelight keeps the model's mean brightness (the light adds relief,
+     * not darkness): shown unlit, the cloud is as bright as the original. */
+    double light_gain = prm->prelight ? bbc_light_gain(m, light) : 1.0;
     int nt = prm->threads;
 #ifdef _OPENMP
     if (nt <= 0) nt = omp_get_max_threads();
@@ -471,7 +475,8 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
           bk[k].r = bbc__fail(&bk[k].err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
           continue;
         }
-        bake_one(m, set, prm, vshade, light, order[k], &cl->billboards[k], faces, &bk[k]);
+        bake_one(m, set, prm, vshade, light, light_gain, order[k], &cl->billboards[k], faces,
+                 &bk[k]);
 #pragma omp critical(bbc_cloud_progress)
         {
           done++;

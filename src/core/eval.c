@@ -42,13 +42,14 @@ void bbc_eval_direction(int k, int n, int up_axis, double dir[3]) {
 
 /* A view along `dir` framing the box lo..hi. */
 static void frame_view(const double *dir, int up_axis, const double *lo, const double *hi,
-                       const bbc_eval_options *o, bbc_view *v) {
+                       const bbc_eval_options *o, double gain, bbc_view *v) {
   int up = up_axis >= 0 && up_axis <= 2 ? up_axis : 1;
   double upv[3] = {0, 0, 0};
   upv[fabs(dir[up]) > 0.999 ? (up + 2) % 3 : up] = 1; /* looking straight up or down */
   bbc__view_frame_box(lo, hi, dir, upv, 1.02, v);
   v->lighting = o->lighting;
   if (o->lighting) memcpy(v->light, o->light, sizeof v->light);
+  v->light_gain = gain;
   v->point_size_px = 2.0f;
   /* background (0, 0, 0, 0): alpha tells coverage */
 }
@@ -115,6 +116,8 @@ bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_
   if (n < 1 || n > 100000 || o.size < 8 || o.size > 8192)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "eval: views must be 1..100000 and size 8..8192 (got %d, %d)", n, o.size);
+  /* Lit as prelight bakes: the original's mean brightness kept. */
+  double gain = o.lighting ? bbc_light_gain(orig, o.light) : 1.0;
   if (orig->vertex_count == 0 || other->vertex_count == 0)
     return bbc__fail(err, BBC_ERROR_EMPTY, "eval: a model is empty");
   double lo[3], hi[3];
@@ -169,7 +172,7 @@ bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_
       ev->elevation_deg = asin(fmax(-1.0, fmin(1.0, -dir[up]))) * 180.0 / 3.14159265358979323846;
       ev->side = fabs(ev->elevation_deg) <= o.side_elevation_deg + 1e-9; /* "within" */
       bbc_view v;
-      frame_view(dir, up, lo, hi, &o, &v);
+      frame_view(dir, up, lo, hi, &o, gain, &v);
       bbc_error e;
       if (bbc_render_ortho(orig, &v, &a, &e) != BBC_OK ||
           bbc_render_ortho(other, &v, &b, &e) != BBC_OK) {

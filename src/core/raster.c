@@ -218,6 +218,7 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
   }
   int slab = view->depth_max > view->depth_min;
   int need_normal = view->lighting || (tg->bake && (tg->bake->front_nm || tg->bake->back_nm));
+  double gain = view->light_gain > 0 ? view->light_gain : 1.0;
 
   double inv_area = 1.0 / area;
   /* Edge function k at pixel centre px of a row: ea[k] * px + eb[k]. */
@@ -270,7 +271,9 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
       }
       double shade = 1.0;
       if (view->lighting && !mat->unlit) /* unlit materials carry their light */
-        shade = 0.35 + 0.65 * fabs(n[0] * tg->light[0] + n[1] * tg->light[1] + n[2] * tg->light[2]);
+        shade =
+            gain *
+            (0.35 + 0.65 * fabs(n[0] * tg->light[0] + n[1] * tg->light[1] + n[2] * tg->light[2]));
       if (view->vertex_shade) shade *= l0 * sh[0] + l1 * sh[1] + l2 * sh[2];
       uint8_t px4[4] = {to_byte(col[0] * shade), to_byte(col[1] * shade), to_byte(col[2] * shade),
                         255};
@@ -424,4 +427,25 @@ void bbc_view_frame_mesh(const bbc_mesh *m, const double direction[3], const dou
   v->point_size_px = 2.0f;
   v->background[0] = v->background[1] = v->background[2] = 255;
   v->background[3] = 255;
+}
+
+double bbc_light_gain(const bbc_mesh *m, const double light[3]) {
+  if (m->kind != BBC_MESH_TRIANGLES || !m->indices) return 1.0;
+  double sum = 0, area = 0;
+  for (size_t t = 0; t < m->triangle_count; t++) {
+    const uint32_t *ix = m->indices + 3 * t;
+    const double *a = m->positions + 3 * ix[0], *b = m->positions + 3 * ix[1],
+                 *c = m->positions + 3 * ix[2];
+    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                   e1[0] * e2[1] - e1[1] * e2[0]};
+    double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(len > 0) || !isfinite(len)) continue;
+    double d = fabs(n[0] * light[0] + n[1] * light[1] + n[2] * light[2]) / len;
+    sum += 0.5 * len * (0.35 + 0.65 * d);
+    area += 0.5 * len;
+  }
+  double mean = area > 0 ? sum / area : 1.0;
+  return mean > 0 && mean < 1 ? 1.0 / mean : 1.0;
 }

@@ -454,6 +454,7 @@ int job_preview(const cli *c, const job *j, const char *out, int cell) {
       /* The original lit as the textures were baked; the cloud unlit (its
        * textures carry the light). */
       view.lighting = row == 1 ? 0 : L->params.prelight;
+      view.light_gain = bbc_light_gain(m, light);
       memcpy(view.light, light, sizeof light);
       view.vertex_shade = row == 1 ? NULL : shade;
       if (row == 2) view.background[0] = view.background[1] = view.background[2] = 40;

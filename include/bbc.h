@@ -757,6 +757,7 @@ typedef struct bbc_eval_view {
   double psnr; /* dB, RGB over the union of both masks (uncovered = black),
                 * 99 for identical images */
   double mae;  /* mean absolute RGB difference over the intersection, 0..255 */
+  double original_rgb[3], other_rgb[3]; /* mean colour of each one's covered pixels */
 } bbc_eval_view;
 
 typedef struct bbc_eval_result {
@@ -768,6 +769,8 @@ typedef struct bbc_eval_result {
   double false_mean;
   double psnr_mean, psnr_min, psnr_side_mean;
   double mae_mean;
+  double brightness_ratio[3]; /* per channel: the other's mean colour over its covered
+                               * pixels / the original's, over all views (1 = as bright) */
 } bbc_eval_result;
 
 /* Renders `original` and `other` (a cloud, a baseline) with the software

@@ -684,6 +684,53 @@ static void test_materials_and_texture_names(void **state) {
   free(dir);
 }
 
+/* Lit once: the default (relightable) cloud and a prelit one look as bright
+ * as the original, per channel within 10 %, lit (the original lit by the
+ * same light; the prelit cloud shown as baked, its material being unlit)
+ * and unlit. */
+static void test_brightness(void **state) {
+  (void)state;
+  char path[1024], args[4096], *out, *err;
+  tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_3.obj");
+  if (!tu_have_file(path)) skip();
+  const char *runs[][3] = {
+      /* cloud options, eval options, 1 = must match */
+      {"", "--lit", "1"},
+      {"", "", "1"},
+      {"--prelight 1", "--lit", "1"},
+  };
+  for (size_t i = 0; i < sizeof runs / sizeof runs[0]; i++) {
+    snprintf(args, sizeof args, "'%s' -o '%s/br.glb' --texres 64 -q %s", path, tu_dir, runs[i][0]);
+    assert_int_equal(run(args, &out, &err), 0);
+    free(out);
+    free(err);
+    snprintf(args, sizeof args,
+             "eval '%s' '%s/br.glb' --views 16 --size 128 --json '%s/br.json' %s", path, tu_dir,
+             tu_dir, runs[i][1]);
+    assert_int_equal(run(args, &out, &err), 0);
+    free(out);
+    free(err);
+    char jp[1200];
+    snprintf(jp, sizeof jp, "%s/br.json", tu_dir);
+    char *text = (char *)tu_read_file(jp, NULL);
+    cJSON *j = cJSON_Parse(text);
+    assert_non_null(j);
+    const cJSON *b = cJSON_GetObjectItemCaseSensitive(j, "brightness_ratio");
+    assert_int_equal(cJSON_GetArraySize(b), 3);
+    int within = 1;
+    for (int c = 0; c < 3; c++) {
+      double v = cJSON_GetArrayItem(b, c)->valuedouble;
+      within &= v > 0.9 && v < 1.1;
+    }
+    if (within != atoi(runs[i][2]))
+      fail_msg("cloud %s, eval %s: brightness %.3f %.3f %.3f", runs[i][0], runs[i][1],
+               cJSON_GetArrayItem(b, 0)->valuedouble, cJSON_GetArrayItem(b, 1)->valuedouble,
+               cJSON_GetArrayItem(b, 2)->valuedouble);
+    cJSON_Delete(j);
+    free(text);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_info_pine),
@@ -700,6 +747,7 @@ int main(void) {
       cmocka_unit_test(test_hand_epsilon_kept),
       cmocka_unit_test(test_suggestions),
       cmocka_unit_test(test_materials_and_texture_names),
+      cmocka_unit_test(test_brightness),
   };
   return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

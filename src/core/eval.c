@@ -56,7 +56,7 @@ static void frame_view(const double *dir, int up_axis, const double *lo, const d
 
 static void compare(const bbc_image *a, const bbc_image *b, bbc_eval_view *ev) {
   size_t n = (size_t)a->width * a->height, na = 0, nb = 0, both = 0;
-  double sq = 0, ab = 0;
+  double sq = 0, ab = 0, sa[3] = {0, 0, 0}, sb[3] = {0, 0, 0};
   for (size_t i = 0; i < n; i++) {
     const uint8_t *p = a->rgba + 4 * i, *q = b->rgba + 4 * i;
     int ca = p[3] >= 128, cb = q[3] >= 128;
@@ -65,6 +65,8 @@ static void compare(const bbc_image *a, const bbc_image *b, bbc_eval_view *ev) {
     both += (size_t)(ca && cb);
     if (!ca && !cb) continue;
     for (int c = 0; c < 3; c++) {
+      if (ca) sa[c] += p[c];
+      if (cb) sb[c] += q[c];
       double x = ca ? p[c] : 0, y = cb ? q[c] : 0;
       sq += (x - y) * (x - y);
       if (ca && cb) ab += fabs(x - y);
@@ -80,6 +82,10 @@ static void compare(const bbc_image *a, const bbc_image *b, bbc_eval_view *ev) {
   double mse = uni ? sq / (3.0 * (double)uni) : 0.0;
   ev->psnr = mse > 0 ? fmin(PSNR_CAP, 10.0 * log10(255.0 * 255.0 / mse)) : PSNR_CAP;
   ev->mae = both ? ab / (3.0 * (double)both) : 0.0;
+  for (int c = 0; c < 3; c++) {
+    ev->original_rgb[c] = na ? sa[c] / (double)na : 0.0;
+    ev->other_rgb[c] = nb ? sb[c] / (double)nb : 0.0;
+  }
 }
 
 /* Sheet row: original | other | coverage difference (grey both, red only
@@ -202,6 +208,7 @@ bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_
   }
   /* Summaries. */
   size_t ns = 0;
+  double ob[3] = {0, 0, 0}, tb[3] = {0, 0, 0};
   res->iou_min = res->iou_side_min = res->psnr_min = 1e300;
   for (int k = 0; k < n; k++) {
     const bbc_eval_view *ev = &res->views[k];
@@ -210,6 +217,10 @@ bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_
     res->false_mean += ev->false_coverage;
     res->psnr_mean += ev->psnr;
     res->mae_mean += ev->mae;
+    for (int c = 0; c < 3; c++) {
+      ob[c] += ev->original_rgb[c];
+      tb[c] += ev->other_rgb[c];
+    }
     res->iou_min = fmin(res->iou_min, ev->iou);
     res->psnr_min = fmin(res->psnr_min, ev->psnr);
     if (ev->side) {
@@ -225,6 +236,7 @@ bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_
   res->false_mean /= n;
   res->psnr_mean /= n;
   res->mae_mean /= n;
+  for (int c = 0; c < 3; c++) res->brightness_ratio[c] = ob[c] > 0 ? tb[c] / ob[c] : 0.0;
   res->side_count = ns;
   if (ns) {
     res->iou_side_mean /= (double)ns;

@@ -29,6 +29,7 @@ char *eval_json_text(const bbc_eval_result *r, const bbc_eval_options *o, const 
 #undef SIDE
   cJSON_AddNumberToObject(j, "psnr_min", r->psnr_min);
   cJSON_AddNumberToObject(j, "mae_mean", r->mae_mean);
+  cJSON_AddItemToObject(j, "brightness_ratio", cJSON_CreateDoubleArray(r->brightness_ratio, 3));
   cJSON_AddNumberToObject(j, "views", (double)r->view_count);
   cJSON_AddNumberToObject(j, "side_views", (double)r->side_count);
   cJSON_AddNumberToObject(j, "size", o->size);
@@ -142,9 +143,11 @@ int cmd_eval(cli *c, int argc, char **argv) {
       snprintf(side_psnr, sizeof side_psnr, "%.2f", r.psnr_side_mean);
     }
     printf("iou %.4f (side %s, min %.4f)  recall %.4f  false coverage %.4f  psnr %.2f dB "
-           "(side %s)  mae %.2f  [%zu views, %zu side, %d px, %.2f s]\n",
+           "(side %s)  mae %.2f  brightness %.3f %.3f %.3f  [%zu views, %zu side, %d px, "
+           "%.2f s]\n",
            r.iou_mean, side_iou, r.iou_min, r.recall_mean, r.false_mean, r.psnr_mean, side_psnr,
-           r.mae_mean, r.view_count, r.side_count, o.size, cli_now() - t0);
+           r.mae_mean, r.brightness_ratio[0], r.brightness_ratio[1], r.brightness_ratio[2],
+           r.view_count, r.side_count, o.size, cli_now() - t0);
     if (json) {
       char *text = eval_json_text(&r, &o, paths[0], paths[1]);
       if (!text || bbc_write_file_atomic(json, text, strlen(text), &err) != BBC_OK)

@@ -485,9 +485,10 @@ static void test_cloud_command(void **state) {
   int st = system(cmd);
   assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
   char wrl[2048], png[2048];
-  snprintf(wrl, sizeof wrl, "%s/vrml97models/forest/Tree_1/Tree_1_e6.00_tex32/Tree_1.wrl", tu_dir);
+  snprintf(wrl, sizeof wrl, "%s/vrml97models/forest/Tree_1/Tree_1_e6.00_tex32_pl/Tree_1.wrl",
+           tu_dir);
   snprintf(png, sizeof png,
-           "%s/vrml97models/forest/Tree_1/Tree_1_e6.00_tex32/Tree_1_billboards.png", tu_dir);
+           "%s/vrml97models/forest/Tree_1/Tree_1_e6.00_tex32_pl/Tree_1_billboards.png", tu_dir);
   size_t n;
   unsigned char *w = tu_read_file(wrl, &n), *p = tu_read_file(png, NULL);
   assert_non_null(w);
@@ -616,10 +617,10 @@ static void test_materials_and_texture_names(void **state) {
   tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
   if (!tu_have_file(path)) skip();
   char *dir = tu_make_temp_dir();
-  const char *runs[][2] = {{"u.glb", "--prelight 1"},           {"l.glb", "--nm 1"},
-                           {"f.glb", "--prelight 1 --unlit 0"}, {"u.gltf", "--nm 1 --prelight 1"},
-                           {"u.wrl", "--nm 1 --prelight 1"},    {"l.wrl", ""},
-                           {"u.obj", "--prelight 1"},           {"l.obj", ""}};
+  const char *runs[][2] = {{"u.glb", ""},          {"l.glb", "--prelight 0 --nm 1"},
+                           {"f.glb", "--unlit 0"}, {"u.gltf", "--nm 1"},
+                           {"u.wrl", "--nm 1"},    {"l.wrl", "--prelight 0"},
+                           {"u.obj", ""},          {"l.obj", "--prelight 0"}};
   for (size_t i = 0; i < sizeof runs / sizeof runs[0]; i++) {
     snprintf(args, sizeof args, "'%s' -o '%s/%s' --texres 32 -q %s", path, dir, runs[i][0],
              runs[i][1]);

@@ -30,7 +30,7 @@ static void test_defaults_match_appendix_a(void **state) {
   assert_int_equal(p.format, 0);
   assert_int_equal(p.max_planes, 0);
   assert_int_equal(p.atlas_max, 0);
-  /* The toolkit's defaults differ from the thesis in seven places only. */
+  /* The toolkit's defaults differ from the thesis in six places only. */
   bbc_params d;
   bbc_params_default(&d);
   assert_int_equal(d.clustering, 0);
@@ -39,9 +39,7 @@ static void test_defaults_match_appendix_a(void **state) {
   assert_int_equal(d.max_planes, 32);
   assert_int_equal(d.atlas_max, 1024);
   assert_int_equal(d.min_planes, 16);
-  assert_int_equal(d.prelight, 0); /* relightable: lit by the viewer, once */
   d.min_planes = 0;
-  d.prelight = 1;
   d.clustering = 2;
   d.epsilon_pct = 5;
   d.quality = 0;

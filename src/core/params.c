@@ -77,7 +77,7 @@ static const param_row k_rows[] = {
     {{"polyskip", BBC_PARAM_REAL, 0, 99, 0, F3, "billboard", "%",
       "skip planes whose coverage is below n% of the largest plane's (2.3.5)"},
      DBL_FIELD(poly_skip_pct)},
-    {{"prelight", BBC_PARAM_BOOL, 0, 1, 0, F3, "billboard", "",
+    {{"prelight", BBC_PARAM_BOOL, 0, 1, 1, F3, "billboard", "",
       "lighting while generating textures"},
      INT_FIELD(prelight)},
     {{"pure", BBC_PARAM_BOOL, 0, 1, 0, F3, "billboard", "",
@@ -149,7 +149,6 @@ void bbc_params_thesis(bbc_params *p) {
   p->max_planes = 0;
   p->min_planes = 0;
   p->atlas_max = 0;
-  p->prelight = 1;
 }
 
 size_t bbc_param_count(void) {

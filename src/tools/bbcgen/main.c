@@ -73,8 +73,7 @@ static void print_help(FILE *out) {
           "                     go with the foliage (default, thesis 2.2.4), or keep them\n"
           "  --NAME VALUE       the same, e.g. --epsilon 6 (percent of the bounding radius)\n"
           "  --thesis           the thesis's Appendix A defaults (clustering 2, epsilon 5,\n"
-          "                     quality 0, prelight 1, no maxplanes, minplanes, atlasmax)\n"
-          "                     for what is not set\n"
+          "                     quality 0, no maxplanes, no atlasmax) for what is not set\n"
           "  -q, --quiet        no progress bar and no info lines (warnings and errors stay)\n"
           "  Progress bars are drawn only when stderr is a terminal.\n"
           "\n",

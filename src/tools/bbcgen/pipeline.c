@@ -130,11 +130,10 @@ static cJSON *lod_json(const job_lod *L, int detailed) {
   cJSON_AddNumberToObject(o, "epsilon_pct", L->epsilon_pct);
   /* maxplanes/minplanes may have scaled it: */
   cJSON_AddNumberToObject(o, "epsilon_pct_used", L->epsilon_pct * L->set.epsilon_scale);
+  /* Which budget moved epsilon; "none" rather than null, which some glTF
+   * readers warn about in extras. */
   const char *by = epsilon_adjusted_by(L);
-  if (by)
-    cJSON_AddStringToObject(o, "epsilon_adjusted_by", by);
-  else
-    cJSON_AddNullToObject(o, "epsilon_adjusted_by");
+  cJSON_AddStringToObject(o, "epsilon_adjusted_by", by ? by : "none");
   cJSON_AddNumberToObject(o, "epsilon", L->set.epsilon_abs);
   cJSON_AddNumberToObject(o, "planes", (double)L->set.plane_count);
   cJSON_AddNumberToObject(o, "billboards", (double)L->cloud.billboard_count);

@@ -43,6 +43,9 @@ void bbc__label_callbacks(const bbc_callbacks *in, bbc__label *l, bbc_callbacks 
  * '_'; "unnamed" when empty. */
 void bbc__safe_name(const char *in, char *out, size_t n);
 
+/* Twice triangle t's area vector (its unnormalised normal) into c[3]. */
+void bbc__triangle_cross(const bbc_mesh *m, size_t t, double *c);
+
 /* strdup that returns NULL for a NULL input. */
 char *bbc__strdup(const char *s);
 

@@ -59,7 +59,7 @@ static void cross3(const double *a, const double *b, double *r) {
 }
 
 /* Twice the triangle's area vector (unnormalised normal). */
-static void triangle_cross(const bbc_mesh *m, size_t t, double *c) {
+void bbc__triangle_cross(const bbc_mesh *m, size_t t, double *c) {
   const uint32_t *ix = m->indices + 3 * t;
   double e1[3], e2[3];
   sub3(m->positions + 3 * ix[1], m->positions + 3 * ix[0], e1);
@@ -125,7 +125,7 @@ static bbc_result compute_normals(bbc_mesh *m, int smooth, int only_missing) {
   if (!acc) return BBC_ERROR_OUT_OF_MEMORY;
   for (size_t t = 0; t < m->triangle_count; t++) {
     double c[3];
-    triangle_cross(m, t, c);
+    bbc__triangle_cross(m, t, c);
     for (int k = 0; k < 3; k++) {
       double *a = acc + 3 * m->indices[3 * t + k];
       a[0] += c[0];
@@ -268,7 +268,7 @@ bbc_result bbc_mesh_finalize(bbc_mesh *m, int compute_normals_flag, const char *
   size_t kept = 0;
   for (size_t t = 0; t < m->triangle_count; t++) {
     double c[3];
-    triangle_cross(m, t, c);
+    bbc__triangle_cross(m, t, c);
     double len = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
     if (!(len > min_cross)) {
       m->dropped_degenerate++;
@@ -311,7 +311,7 @@ bbc_result bbc_mesh_finalize(bbc_mesh *m, int compute_normals_flag, const char *
   long double cs[3] = {0, 0, 0}, area_sum = 0;
   for (size_t t = 0; t < kept; t++) {
     double c[3];
-    triangle_cross(m, t, c);
+    bbc__triangle_cross(m, t, c);
     double a = 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
     const uint32_t *ix = m->indices + 3 * t;
     for (int k = 0; k < 3; k++) {

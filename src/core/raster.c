@@ -433,13 +433,8 @@ double bbc_light_gain(const bbc_mesh *m, const double light[3]) {
   if (m->kind != BBC_MESH_TRIANGLES || !m->indices) return 1.0;
   double sum = 0, area = 0;
   for (size_t t = 0; t < m->triangle_count; t++) {
-    const uint32_t *ix = m->indices + 3 * t;
-    const double *a = m->positions + 3 * ix[0], *b = m->positions + 3 * ix[1],
-                 *c = m->positions + 3 * ix[2];
-    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                   e1[0] * e2[1] - e1[1] * e2[0]};
+    double n[3];
+    bbc__triangle_cross(m, t, n);
     double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     if (!(len > 0) || !isfinite(len)) continue;
     double d = fabs(n[0] * light[0] + n[1] * light[1] + n[2] * light[2]) / len;

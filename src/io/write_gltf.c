@@ -285,13 +285,9 @@ static void safe_stem(const char *path, char *out, size_t n) {
   const char *s = strrchr(path, '/');
   s = s ? s + 1 : path;
   const char *dot = strrchr(s, '.');
-  size_t len = dot ? (size_t)(dot - s) : strlen(s), i = 0;
-  for (; i < len && i + 1 < n; i++) {
-    unsigned char c = (unsigned char)s[i];
-    out[i] = (char)(isalnum(c) || c == '_' || c == '-' || c == '.' ? c : '_');
-  }
-  out[i] = 0;
-  if (i == 0) snprintf(out, n, "unnamed");
+  char base[1024];
+  snprintf(base, sizeof base, "%.*s", (int)(dot ? (size_t)(dot - s) : strlen(s)), s);
+  bbc__safe_name(base, out, n);
 }
 
 /* ---- the writer -------------------------------------------------------------- */

@@ -247,11 +247,7 @@ int job_write(const cli *c, job *j, const char *out) {
     /* One atlas for every level when they fit the budget (atlasmax, else
      * the largest level's atlas): one texture bind for the whole chain. */
     int budget = j->lods[0].params.atlas_max;
-    for (size_t k = 0; budget <= 0 && k < j->lod_count; k++) {
-      const bbc_image *a = &j->lods[k].cloud.mesh.textures[0].image;
-      budget = a->width > budget ? a->width : budget;
-    }
-    for (size_t k = 1; k < j->lod_count; k++) {
+    for (size_t k = 0; k < j->lod_count; k++) {
       const bbc_image *a = &j->lods[k].cloud.mesh.textures[0].image;
       if (a->width > budget) budget = a->width;
     }

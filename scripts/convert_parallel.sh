@@ -165,12 +165,28 @@ job="printf 'convert: %s\\n' {1}; rc=0; OMP_NUM_THREADS=\${OMP_NUM_THREADS:-1} $
 job+=" if [ \$rc -ne 0 ]; then rm -f {2} {2.}.json;"
 job+=" printf 'convert: FAILED %s (bbcgen exit %s)\\n' {1} \$rc >&2; fi; exit \$rc"
 
+# parallel's remote worker runs the job with $SHELL (sshd sets it; a bare
+# environment may not): a POSIX shell is all the job needs.
+export SHELL=${SHELL:-/bin/sh}
 popts=(--will-cite --null --jobs "$jobs" --halt "soon,fail=1" --joblog "$tmp/joblog")
 if [ -n "$sshlogin" ]; then popts+=(--sshlogin "$sshlogin"); fi
 rc=0
 parallel "${popts[@]}" "$job" :::: "$tmp/models" ::::+ "$tmp/outputs" </dev/null || rc=$?
 
 if [ $rc -eq 0 ]; then
+  # A job that "succeeded" without writing its output (e.g. a remote
+  # worker that could not start a shell) is a failure too.
+  missing=0
+  i=0
+  while IFS= read -r -d '' o; do
+    m=${todo_models[$i]}
+    i=$((i + 1))
+    if [ ! -s "$o" ] || [ "$m" -nt "$o" ]; then
+      echo "$me: FAILED $m: no output $o although its job reported success" >&2
+      missing=$((missing + 1))
+    fi
+  done <"$tmp/outputs"
+  if [ $missing -gt 0 ]; then exit 1; fi
   echo "$me: converted $todo model(s) into $out"
   exit 0
 fi

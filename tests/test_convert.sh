@@ -189,15 +189,26 @@ if command -v parallel >/dev/null 2>&1; then
     echo 'while [ $# -gt 0 ]; do'
     echo '  case $1 in -l | -p | -o) shift 2 ;; -*) shift ;; *) shift; [ "${1:-}" = -- ] && shift; break ;; esac'
     echo 'done'
-    echo 'exec sh -c "$*"'
+    echo 'SHELL=${SHELL:-/bin/sh} exec sh -c "$*"' # sshd gives the login shell
   } >"$fakessh"
   chmod +x "$fakessh"
   bump "$m/sub/birch.obj" "$o"
   n0=$(runs)
   rc=0; out=$(SSHLOGIN=1/farhost PARALLEL_SSH=$fakessh par) || rc=$?
+  out+=$'\n'"ssh calls: $(cat "$tmp/ssh.log" 2>/dev/null)"$'\n'"bbcgen ran on: $(ran_since "$n0")"
   check "parallel: SSHLOGIN: the job runs through ssh on the host, valid output" \
     '[ $rc = 0 ] && grep -q "^farhost " "$tmp/ssh.log" && [ "$(ran_since "$n0")" = "$m/sub/birch.obj" ] &&
      valid_glb "$o/sub/birch.glb"'
+
+  # A remote that "succeeds" without running the job: no output, a failure.
+  noop=$tmp/noopssh
+  printf '#!/bin/sh\nexit 0\n' >"$noop"
+  chmod +x "$noop"
+  bump "$m/sub/birch.obj" "$o"
+  rc=0; out=$(SSHLOGIN=1/farhost PARALLEL_SSH=$noop par) || rc=$?
+  check "parallel: a job that succeeds without output is a failure, named" \
+    '[ $rc = 1 ] && grep -qF "no output $o/sub/birch.glb" <<<"$out"'
+  rc=0; out=$(par) || rc=$?
 
   odd="it's two words"
   cp "$m/oak.obj" "$m/$odd.obj"

@@ -122,6 +122,8 @@ typedef struct bbc_material {
                         * doubleSided false); 0 = both sides */
   int unlit;           /* 1 = drawn without lighting (glTF KHR_materials_unlit,
                         * MTL illum 0): its colours carry the light already */
+  float ambient[3];    /* ambient reflectance (MTL Ka; 0 when the file gives
+                        * none): what a lit viewer's global ambient adds */
 } bbc_material;
 
 typedef enum bbc_mesh_kind {
@@ -356,6 +358,8 @@ typedef struct bbc_params {
                           * billboards, with the normal map when nm), 1 = unlit
                           * (KHR_materials_unlit, VRML without Material: colours
                           * shown as baked), 2 = unlit when prelight is on */
+  int viewer_ambient;    /* ambient: prelight adds the ambient light fixed-function
+                          * viewers give the original (0.2 x Ka, 0.2 when none) */
   double light_elev_deg; /* lightelev: prelight direction, degrees above the horizon */
   double light_azim_deg; /* lightazim: ... degrees around the up axis */
   int shade_voxels;      /* shade: voxel shadowing grid, voxels per axis, 0 off (2.3.11) */
@@ -672,15 +676,27 @@ typedef struct bbc_view {
   const float *vertex_shade; /* not NULL: per vertex factor in [0, 1] multiplying
                               * the colour (voxel shadowing, bbc_shade_vertices) */
   double light_gain;         /* with `lighting`: multiplies the shade (0 = 1);
-                              * bbc_light_gain keeps a model's mean brightness */
+                              * bbc_light_gain: as bright as a lit viewer shows it */
+  int headlight;             /* with `lighting`: the light at the camera and the
+                              * shade |n . v| (no floor), as viewers light a model */
+  int ambient;               /* with `lighting`: adds 0.2 x the material's ambient
+                              * (Ka; 0.2 when it has none), untextured: the global
+                              * ambient of OpenGL's fixed-function model and X3D */
 } bbc_view;
 
-/* The factor that keeps a model's area-weighted mean brightness when it is
- * lit by the directional light `light` (unit, towards the light) with the
- * renderer's Lambert shading 0.35 + 0.65 |n . l|: 1 / that mean over its
- * faces (>= 1). Prelit clouds are baked with it (prelight keeps the colours'
- * mean brightness and adds only the light's relief). */
-double bbc_light_gain(const bbc_mesh *mesh, const double light[3]);
+/* The factor that makes a model lit by the directional light `light`
+ * (unit, towards the light) with the renderer's shading 0.35 + 0.65 |n . l|
+ * as bright, on average, as a lit viewer's headlight shows it (the light at
+ * the camera, shade |n . v|: what model viewers and engine previews use).
+ * Measured, not assumed: the model is rendered both ways (96 pixels, 8
+ * azimuths around `up_axis` (0 = x, 1 = y, 2 = z) at 0 and 20 degrees of
+ * elevation: a viewer near the ground; occlusion included) and *gain = the ratio of the covered
+ * pixels' summed luminance. Prelit clouds are baked with it (plus the
+ * fixed-function ambient, bbc_view.ambient), so that shown unlit they look
+ * as bright as the original in a lit viewer; the sun only adds relief.
+ * 1 for point clouds. Deterministic with any number of threads. */
+bbc_result bbc_light_gain(const bbc_mesh *mesh, const double light[3], int up_axis, double *gain,
+                          bbc_error *err);
 
 /* Renders `mesh` into `image` (already allocated; its size is the
  * resolution) with a depth buffer, diffuse textures (nearest texel, repeat)
@@ -732,8 +748,10 @@ typedef struct bbc_eval_options {
   int size;                  /* pixels per side of each view, 256 */
   int up_axis;               /* 0 = x, 1 = y, 2 = z: side views, image up */
   double side_elevation_deg; /* side views: |elevation| <= this, 30 */
-  int lighting;              /* 0 = unlit (default); 1 = both lit alike by `light` */
+  int lighting;              /* 0 = unlit (default); 1 = both lit alike by `light`,
+                              * as prelight bakes (bbc_light_gain) */
   double light[3];           /* towards the light, model frame */
+  int ambient;               /* with lighting: bbc_view.ambient (prelight's `ambient`) */
   const double *directions;  /* not NULL: direction_count explicit directions (camera
                               * towards the model, 3 per view) instead of `views` */
   size_t direction_count;

@@ -126,11 +126,31 @@ bbc_result bbc__load_xyz_points(const char *path, const bbc_load_options *option
  * rgb = 255 (n + 1) / 2, alpha as the colour image. `backface`: each image
  * shows only faces whose winding faces its viewer. Images must be allocated
  * width x height and cleared by the caller. */
+/* A texture's mipmaps as a GPU makes them (glGenerateMipmap: each level
+ * the 2x2 box average of the one before, every channel on its own, so the
+ * colour of transparent texels bleeds into their opaque neighbours). */
+typedef struct bbc__mips {
+  int levels;       /* levels after the base image */
+  bbc_image *level; /* level[k - 1]: level k, half of level k - 1 (at least 1) */
+} bbc__mips;
+
+/* mips[t] for each of the mesh's textures (a texture without an image gets
+ * none); free with bbc__mips_free. */
+bbc_result bbc__mips_build(const bbc_mesh *mesh, bbc__mips **mips, bbc_error *err);
+void bbc__mips_free(bbc__mips *mips, size_t count);
+
 typedef struct bbc__bake {
   int width, height;
   uint8_t *front, *back;       /* RGBA */
   uint8_t *front_nm, *back_nm; /* RGBA, may be NULL */
   int backface;
+  /* Optional, per texture of the mesh: colours are read from the mip level
+   * matching each triangle's texel footprint on the image (as a GPU shows
+   * the texture from that distance), alpha from the base image (coverage
+   * is the supersampling's business). */
+  const bbc__mips *mips;
+  int mip_bias; /* levels added: log2 of the pixels per cloud texel (4 samples
+                 * per side: 2), so that colours are those of one texel */
 } bbc__bake;
 
 bbc_result bbc__render_bake(const bbc_mesh *mesh, const uint32_t *faces, size_t face_count,

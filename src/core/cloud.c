@@ -159,8 +159,9 @@ static size_t slab_faces(const bbc_mesh *m, const bbc_planeset *set, const bbc_p
 }
 
 static void bake_one(const bbc_mesh *m, const bbc_planeset *set, const bbc_params *prm,
-                     const float *vshade, const double *light, double light_gain,
-                     size_t plane_index, bbc_cloud_billboard *cb, uint32_t *faces, baked *out) {
+                     const bbc__mips *mips, const float *vshade, const double *light,
+                     double light_gain, size_t plane_index, bbc_cloud_billboard *cb,
+                     uint32_t *faces, baked *out) {
   const bbc_plane *p = &set->planes[plane_index];
   const bbc_billboard *b = &cb->rect;
   double eps = set->parts[p->part].epsilon_abs;
@@ -205,9 +206,17 @@ static void bake_one(const bbc_mesh *m, const bbc_planeset *set, const bbc_param
   v.lighting = prm->prelight;
   memcpy(v.light, light, sizeof v.light);
   v.light_gain = light_gain;
+  v.ambient = prm->viewer_ambient;
   v.vertex_shade = vshade;
-  bbc__bake bk = {
-      w, h, out->front.rgba, out->back.rgba, out->front_nm.rgba, out->back_nm.rgba, prm->backface};
+  bbc__bake bk = {w,
+                  h,
+                  out->front.rgba,
+                  out->back.rgba,
+                  out->front_nm.rgba,
+                  out->back_nm.rgba,
+                  prm->backface,
+                  mips,
+                  ss == 4 ? 2 : 0};
   r = bbc__render_bake(m, faces, cb->face_count, &v, &bk, &out->err);
   if (r == BBC_OK && prm->quality == 2) {
     bbc_image *im[4] = {&out->front, &out->back, &out->front_nm, &out->back_nm};
@@ -405,6 +414,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
   bbc_billboard *bb = calloc(np ? np : 1, sizeof *bb);
   size_t *order = malloc((np ? np : 1) * sizeof *order);
   float *vshade = NULL;
+  bbc__mips *mips = NULL;
   bbc_result r = BBC_OK;
   if (!bb || !order) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
   if (r == BBC_OK && given)
@@ -455,9 +465,15 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
     }
     double light[3];
     bbc_params_light_direction(prm, light);
-    /* Prelight keeps the model's mean brightness (the light adds relief,
-     * not darkness): shown unlit, the cloud is as bright as the original. */
-    double light_gain = prm->prelight ? bbc_light_gain(m, light) : 1.0;
+    /* Prelight gives the brightness a lit viewer shows the original with
+     * (the sun adds relief, not darkness): shown unlit, the cloud looks as
+     * the original does in a viewer. */
+    double light_gain = 1.0;
+    if (prm->prelight) {
+      r = bbc_light_gain(m, light, prm->up_axis, &light_gain, err);
+    }
+    /* Colours as a GPU shows the textures from the billboards' distance. */
+    if (r == BBC_OK) r = bbc__mips_build(m, &mips, err);
     int nt = prm->threads;
 #ifdef _OPENMP
     if (nt <= 0) nt = omp_get_max_threads();
@@ -466,8 +482,8 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
 #endif
     size_t done = 0;
     const bbc_callbacks *cbp = cbk;
-#pragma omp parallel num_threads(nt)
-    {
+#pragma omp parallel num_threads(nt) if (r == BBC_OK)
+    if (r == BBC_OK) {
       uint32_t *faces = malloc((nf ? nf : 1) * sizeof *faces);
 #pragma omp for schedule(dynamic, 1)
       for (size_t k = 0; k < nk; k++) {
@@ -475,7 +491,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
           bk[k].r = bbc__fail(&bk[k].err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
           continue;
         }
-        bake_one(m, set, prm, vshade, light, light_gain, order[k], &cl->billboards[k], faces,
+        bake_one(m, set, prm, mips, vshade, light, light_gain, order[k], &cl->billboards[k], faces,
                  &bk[k]);
 #pragma omp critical(bbc_cloud_progress)
         {
@@ -544,6 +560,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
   free(bb);
   free(order);
   free(vshade);
+  bbc__mips_free(mips, m->texture_count);
   if (r != BBC_OK) bbc_cloud_free(cl);
   return r;
 }

@@ -21,6 +21,7 @@ void bbc_eval_options_default(bbc_eval_options *o) {
   o->up_axis = 1;
   o->side_elevation_deg = 30;
   o->light[1] = 1;
+  o->ambient = 1;
 }
 
 void bbc_eval_result_free(bbc_eval_result *r) {
@@ -50,6 +51,7 @@ static void frame_view(const double *dir, int up_axis, const double *lo, const d
   v->lighting = o->lighting;
   if (o->lighting) memcpy(v->light, o->light, sizeof v->light);
   v->light_gain = gain;
+  v->ambient = o->lighting && o->ambient;
   v->point_size_px = 2.0f;
   /* background (0, 0, 0, 0): alpha tells coverage */
 }
@@ -122,10 +124,14 @@ bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_
   if (n < 1 || n > 100000 || o.size < 8 || o.size > 8192)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "eval: views must be 1..100000 and size 8..8192 (got %d, %d)", n, o.size);
-  /* Lit as prelight bakes: the original's mean brightness kept. */
-  double gain = o.lighting ? bbc_light_gain(orig, o.light) : 1.0;
   if (orig->vertex_count == 0 || other->vertex_count == 0)
     return bbc__fail(err, BBC_ERROR_EMPTY, "eval: a model is empty");
+  /* Lit as prelight bakes: as bright as a lit viewer shows the original. */
+  double gain = 1.0;
+  if (o.lighting) {
+    bbc_result r = bbc_light_gain(orig, o.light, o.up_axis, &gain, err);
+    if (r != BBC_OK) return r;
+  }
   double lo[3], hi[3];
   for (int k = 0; k < 3; k++) {
     lo[k] = fmin(orig->bbox_min[k], other->bbox_min[k]);

@@ -112,6 +112,10 @@ static const param_row k_rows[] = {
       "material: 0 lit, 1 unlit (KHR_materials_unlit; VRML without Material), 2 = unlit "
       "when prelight"},
      INT_FIELD(unlit)},
+    {{"ambient", BBC_PARAM_BOOL, 0, 1, 1, F3, "extension", "",
+      "prelight: add the ambient light OpenGL/X3D viewers add to the original (0.2 x its "
+      "Ka); 0 for engines that ignore Ka"},
+     INT_FIELD(viewer_ambient)},
     {{"lightelev", BBC_PARAM_REAL, -90, 90, 60, F3, "extension", "deg",
       "prelight: the light's elevation above the horizon (model frame)"},
      DBL_FIELD(light_elev_deg)},

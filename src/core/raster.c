@@ -13,6 +13,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
 typedef struct camera {
   double r[3], u[3], f[3]; /* right, up, forward (unit) */
   double c[3];
@@ -204,9 +208,9 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
   int tl1 = is_top_left(c[0], c[1], a[0], a[1]);
   int tl2 = is_top_left(a[0], a[1], b[0], b[1]);
 
-  const bbc_image *tex = NULL;
+  const bbc_image *tex = NULL, *tex_rgb = NULL;
   if (mat->texture >= 0 && m->uvs && m->textures[mat->texture].image.rgba)
-    tex = &m->textures[mat->texture].image;
+    tex = tex_rgb = &m->textures[mat->texture].image;
   const float *uv[3] = {NULL, NULL, NULL};
   const float *nv[3] = {NULL, NULL, NULL};
   float sh[3] = {1, 1, 1};
@@ -216,9 +220,27 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
     nv[k] = m->normals + 3 * vi;
     if (view->vertex_shade) sh[k] = view->vertex_shade[vi];
   }
+  if (tex && tg->bake && tg->bake->mips) {
+    /* The mip level: log2 of texels per pixel (the square root of the
+     * triangle's texel area over its pixel area), rounded. */
+    const bbc__mips *mp = &tg->bake->mips[mat->texture];
+    double du1 = uv[1][0] - uv[0][0], dv1 = uv[1][1] - uv[0][1];
+    double du2 = uv[2][0] - uv[0][0], dv2 = uv[2][1] - uv[0][1];
+    double texels = fabs(du1 * dv2 - dv1 * du2) * tex->width * tex->height;
+    int level = texels > 0 ? (int)floor(0.5 * log2(texels / area) + 0.5) + tg->bake->mip_bias : 0;
+    if (level > mp->levels) level = mp->levels;
+    if (level > 0) tex_rgb = &mp->level[level - 1];
+  }
   int slab = view->depth_max > view->depth_min;
   int need_normal = view->lighting || (tg->bake && (tg->bake->front_nm || tg->bake->back_nm));
   double gain = view->light_gain > 0 ? view->light_gain : 1.0;
+  /* Fixed-function ambient: 0.2 x Ka (0.2 when the material gives none),
+   * added untextured, as OpenGL's and X3D viewers light an OBJ. */
+  double amb[3] = {0, 0, 0};
+  if (view->lighting && view->ambient && !mat->unlit) {
+    int none = mat->ambient[0] <= 0 && mat->ambient[1] <= 0 && mat->ambient[2] <= 0;
+    for (int k = 0; k < 3; k++) amb[k] = 0.2 * (none ? 0.2 : mat->ambient[k]);
+  }
 
   double inv_area = 1.0 / area;
   /* Edge function k at pixel centre px of a row: ea[k] * px + eb[k]. */
@@ -260,8 +282,9 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
       if (tex) {
         float u = (float)(l0 * uv[0][0] + l1 * uv[1][0] + l2 * uv[2][0]);
         float v = (float)(l0 * uv[0][1] + l1 * uv[1][1] + l2 * uv[2][1]);
-        const uint8_t *tx = sample(tex, u, v);
-        for (int k = 0; k < 4; k++) col[k] *= tx[k] / 255.0;
+        const uint8_t *tx = sample(tex_rgb, u, v);
+        for (int k = 0; k < 3; k++) col[k] *= tx[k] / 255.0;
+        col[3] *= (tex_rgb == tex ? tx : sample(tex, u, v))[3] / 255.0;
       }
       if (col[3] < 0.5) continue; /* alpha test */
       double n[3] = {0, 0, 1};
@@ -269,14 +292,16 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
         for (int k = 0; k < 3; k++) n[k] = l0 * nv[0][k] + l1 * nv[1][k] + l2 * nv[2][k];
         normalize3(n);
       }
-      double shade = 1.0;
-      if (view->lighting && !mat->unlit) /* unlit materials carry their light */
-        shade =
-            gain *
-            (0.35 + 0.65 * fabs(n[0] * tg->light[0] + n[1] * tg->light[1] + n[2] * tg->light[2]));
-      if (view->vertex_shade) shade *= l0 * sh[0] + l1 * sh[1] + l2 * sh[2];
-      uint8_t px4[4] = {to_byte(col[0] * shade), to_byte(col[1] * shade), to_byte(col[2] * shade),
-                        255};
+      double shade = 1.0, occl = 1.0;
+      if (view->lighting && !mat->unlit) { /* unlit materials carry their light */
+        double d = fabs(n[0] * tg->light[0] + n[1] * tg->light[1] + n[2] * tg->light[2]);
+        shade = gain * (view->headlight ? d : 0.35 + 0.65 * d);
+      }
+      if (view->vertex_shade) occl = l0 * sh[0] + l1 * sh[1] + l2 * sh[2];
+      shade *= occl;
+      uint8_t px4[4] = {to_byte(col[0] * shade + amb[0] * occl),
+                        to_byte(col[1] * shade + amb[1] * occl),
+                        to_byte(col[2] * shade + amb[2] * occl), 255};
       if (front) {
         tg->depth[pi] = z;
         memcpy(tg->rgba + 4 * pi, px4, 4);
@@ -316,7 +341,9 @@ static void draw_point(const bbc_mesh *m, size_t v, const camera *cam, const bbc
 }
 
 static void setup_light(const camera *cam, const bbc_view *view, double *light) {
-  if (view->light[0] != 0 || view->light[1] != 0 || view->light[2] != 0) {
+  if (view->headlight) {
+    for (int k = 0; k < 3; k++) light[k] = -cam->f[k];
+  } else if (view->light[0] != 0 || view->light[1] != 0 || view->light[2] != 0) {
     memcpy(light, view->light, 3 * sizeof *light);
   } else { /* from over the viewer's left shoulder */
     for (int k = 0; k < 3; k++) light[k] = -0.6 * cam->f[k] + 0.6 * cam->u[k] - 0.45 * cam->r[k];
@@ -358,6 +385,60 @@ bbc_result bbc_render_ortho(const bbc_mesh *m, const bbc_view *view, bbc_image *
   }
   free(depth);
   return BBC_OK;
+}
+
+bbc_result bbc__mips_build(const bbc_mesh *m, bbc__mips **out, bbc_error *err) {
+  *out = NULL;
+  if (!m->texture_count) return BBC_OK;
+  bbc__mips *mips = calloc(m->texture_count, sizeof *mips);
+  if (!mips) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "mipmaps: out of memory");
+  for (size_t t = 0; t < m->texture_count; t++) {
+    const bbc_image *base = &m->textures[t].image;
+    if (!base->rgba || base->width < 1 || base->height < 1) continue;
+    int n = 0;
+    for (int w = base->width, h = base->height; w > 1 || h > 1;
+         w = w > 1 ? w / 2 : 1, h = h > 1 ? h / 2 : 1)
+      n++;
+    mips[t].level = calloc(n ? (size_t)n : 1, sizeof *mips[t].level);
+    if (!mips[t].level) {
+      bbc__mips_free(mips, m->texture_count);
+      return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "mipmaps: out of memory");
+    }
+    const bbc_image *prev = base;
+    for (int k = 0; k < n; k++) {
+      bbc_image *img = &mips[t].level[k];
+      int w = prev->width > 1 ? prev->width / 2 : 1, h = prev->height > 1 ? prev->height / 2 : 1;
+      if (bbc_image_alloc(img, w, h) != BBC_OK) {
+        bbc__mips_free(mips, m->texture_count);
+        return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "mipmaps: out of memory");
+      }
+      mips[t].levels = k + 1;
+      for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+          int x0 = 2 * x < prev->width ? 2 * x : prev->width - 1;
+          int y0 = 2 * y < prev->height ? 2 * y : prev->height - 1;
+          int x1 = x0 + 1 < prev->width ? x0 + 1 : x0, y1 = y0 + 1 < prev->height ? y0 + 1 : y0;
+          const uint8_t *p00 = prev->rgba + 4 * ((size_t)y0 * prev->width + x0);
+          const uint8_t *p01 = prev->rgba + 4 * ((size_t)y0 * prev->width + x1);
+          const uint8_t *p10 = prev->rgba + 4 * ((size_t)y1 * prev->width + x0);
+          const uint8_t *p11 = prev->rgba + 4 * ((size_t)y1 * prev->width + x1);
+          uint8_t *o = img->rgba + 4 * ((size_t)y * w + x);
+          for (int c = 0; c < 4; c++) o[c] = (uint8_t)((p00[c] + p01[c] + p10[c] + p11[c] + 2) / 4);
+        }
+      prev = img;
+    }
+  }
+  *out = mips;
+  return BBC_OK;
+}
+
+void bbc__mips_free(bbc__mips *mips, size_t count) {
+  if (!mips) return;
+  for (size_t t = 0; t < count; t++) {
+    for (int k = 0; k < mips[t].levels; k++) bbc_image_free(&mips[t].level[k]);
+    free(mips[t].level);
+  }
+  free(mips);
 }
 
 bbc_result bbc__render_bake(const bbc_mesh *m, const uint32_t *faces, size_t face_count,
@@ -429,18 +510,66 @@ void bbc_view_frame_mesh(const bbc_mesh *m, const double direction[3], const dou
   v->background[3] = 255;
 }
 
-double bbc_light_gain(const bbc_mesh *m, const double light[3]) {
-  if (m->kind != BBC_MESH_TRIANGLES || !m->indices) return 1.0;
-  double sum = 0, area = 0;
-  for (size_t t = 0; t < m->triangle_count; t++) {
-    double n[3];
-    bbc__triangle_cross(m, t, n);
-    double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    if (!(len > 0) || !isfinite(len)) continue;
-    double d = fabs(n[0] * light[0] + n[1] * light[1] + n[2] * light[2]) / len;
-    sum += 0.5 * len * (0.35 + 0.65 * d);
-    area += 0.5 * len;
+/* Luminance (Rec. 709) summed over the covered pixels of an image whose
+ * background alpha is 0. */
+static double covered_luminance(const bbc_image *img) {
+  double sum = 0;
+  size_t n = (size_t)img->width * img->height;
+  for (size_t i = 0; i < n; i++) {
+    const uint8_t *p = img->rgba + 4 * i;
+    if (p[3]) sum += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
   }
-  double mean = area > 0 ? sum / area : 1.0;
-  return mean > 0 && mean < 1 ? 1.0 / mean : 1.0;
+  return sum;
+}
+
+bbc_result bbc_light_gain(const bbc_mesh *m, const double light[3], int up_axis, double *gain,
+                          bbc_error *err) {
+  *gain = 1.0;
+  if (m->kind != BBC_MESH_TRIANGLES || !m->indices || !m->triangle_count) return BBC_OK;
+  /* Views: 8 azimuths at elevations 0 and 20 degrees (a viewer near the
+   * ground, 10 degrees on average); 96 pixels. */
+  enum { AZ = 8, EL = 2, NV = AZ * EL, SIZE = 96 };
+  int up = up_axis >= 0 && up_axis <= 2 ? up_axis : 1, ea = (up + 1) % 3, eb = (up + 2) % 3;
+  double head[NV], sun[NV];
+  int failed = 0;
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int v = 0; v < NV; v++) {
+    double el = 20.0 * (v / AZ) * M_PI / 180.0, az = 2.0 * M_PI * (v % AZ) / AZ;
+    double dir[3], upv[3] = {0, 0, 0};
+    dir[up] = -sin(el);
+    dir[ea] = -cos(el) * cos(az);
+    dir[eb] = -cos(el) * sin(az);
+    upv[up] = 1;
+    bbc_view view;
+    bbc_view_frame_mesh(m, dir, upv, &view);
+    view.lighting = 1;
+    view.background[3] = 0;
+    bbc_image img = {0};
+    head[v] = sun[v] = 0;
+    if (bbc_image_alloc(&img, SIZE, SIZE) != BBC_OK) {
+#pragma omp atomic write
+      failed = 1;
+      continue;
+    }
+    view.headlight = 1;
+    int ok = bbc_render_ortho(m, &view, &img, NULL) == BBC_OK;
+    head[v] = covered_luminance(&img);
+    view.headlight = 0;
+    memcpy(view.light, light, sizeof view.light);
+    ok = ok && bbc_render_ortho(m, &view, &img, NULL) == BBC_OK;
+    sun[v] = covered_luminance(&img);
+    bbc_image_free(&img);
+    if (!ok) {
+#pragma omp atomic write
+      failed = 1;
+    }
+  }
+  if (failed) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "light gain: out of memory");
+  double h = 0, s = 0;
+  for (int v = 0; v < NV; v++) {
+    h += head[v];
+    s += sun[v];
+  }
+  if (s > 0 && h > 0) *gain = h / s;
+  return BBC_OK;
 }

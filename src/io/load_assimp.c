@@ -371,6 +371,11 @@ static bbc_result load_materials(loader *L) {
       mat->base_color[2] = c.b;
       mat->base_color[3] = c.a;
     }
+    if (aiGetMaterialColor(am, AI_MATKEY_COLOR_AMBIENT, &c) == AI_SUCCESS) {
+      mat->ambient[0] = c.r;
+      mat->ambient[1] = c.g;
+      mat->ambient[2] = c.b;
+    }
     ai_real opacity;
     unsigned one = 1;
     if (aiGetMaterialFloatArray(am, AI_MATKEY_OPACITY, &opacity, &one) == AI_SUCCESS &&

@@ -127,6 +127,7 @@ int cmd_eval(cli *c, int argc, char **argv) {
   o.up_axis = c->params.up_axis;
   o.threads = c->params.threads;
   o.lighting = lit;
+  o.ambient = c->params.viewer_ambient;
   o.side_elevation_deg = side;
   bbc_params_light_direction(&c->params, o.light);
   bbc_image sheet = {0, 0, NULL};

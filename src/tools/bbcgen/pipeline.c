@@ -439,9 +439,11 @@ int job_preview(const cli *c, const job *j, const char *out, int cell) {
       shade = NULL;
     }
   }
-  double light[3];
+  double light[3], gain = 1.0;
   bbc_params_light_direction(&L->params, light);
   int rc = EXIT_OK;
+  if (L->params.prelight && bbc_light_gain(m, light, L->params.up_axis, &gain, &err) != BBC_OK)
+    rc = cli_fail(&err, 0);
   for (int v = 0; v < 4 && rc == EXIT_OK; v++) {
     for (int row = 0; row < 3 && rc == EXIT_OK; row++) {
       bbc_view view;
@@ -449,7 +451,8 @@ int job_preview(const cli *c, const job *j, const char *out, int cell) {
       /* The original lit as the textures were baked; the cloud unlit (its
        * textures carry the light). */
       view.lighting = row == 1 ? 0 : L->params.prelight;
-      view.light_gain = bbc_light_gain(m, light);
+      view.light_gain = gain;
+      view.ambient = L->params.viewer_ambient;
       memcpy(view.light, light, sizeof light);
       view.vertex_shade = row == 1 ? NULL : shade;
       if (row == 2) view.background[0] = view.background[1] = view.background[2] = 40;

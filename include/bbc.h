@@ -358,8 +358,8 @@ typedef struct bbc_params {
                           * billboards, with the normal map when nm), 1 = unlit
                           * (KHR_materials_unlit, VRML without Material: colours
                           * shown as baked), 2 = unlit when prelight is on */
-  int viewer_ambient;    /* ambient: prelight adds the ambient light fixed-function
-                          * viewers give the original (0.2 x Ka, 0.2 when none) */
+  int viewer_ambient;    /* ambient: prelight adds the ambient light X3D/OpenGL
+                          * viewers give the original (bbc_view.ambient) */
   double light_elev_deg; /* lightelev: prelight direction, degrees above the horizon */
   double light_azim_deg; /* lightazim: ... degrees around the up axis */
   int shade_voxels;      /* shade: voxel shadowing grid, voxels per axis, 0 off (2.3.11) */
@@ -679,9 +679,9 @@ typedef struct bbc_view {
                               * bbc_light_gain: as bright as a lit viewer shows it */
   int headlight;             /* with `lighting`: the light at the camera and the
                               * shade |n . v| (no floor), as viewers light a model */
-  int ambient;               /* with `lighting`: adds 0.2 x the material's ambient
-                              * (Ka; 0.2 when it has none), untextured: the global
-                              * ambient of OpenGL's fixed-function model and X3D */
+  int ambient;               /* with `lighting`: adds X3D viewers' ambient light,
+                              * 0.2 x mean(Ka) / mean(Kd) x Kd, untextured (Ka 0.2
+                              * when none; a grey Kd: OpenGL's 0.2 x Ka) */
 } bbc_view;
 
 /* The factor that makes a model lit by the directional light `light`

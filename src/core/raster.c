@@ -234,12 +234,17 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
   int slab = view->depth_max > view->depth_min;
   int need_normal = view->lighting || (tg->bake && (tg->bake->front_nm || tg->bake->back_nm));
   double gain = view->light_gain > 0 ? view->light_gain : 1.0;
-  /* Fixed-function ambient: 0.2 x Ka (0.2 when the material gives none),
-   * added untextured, as OpenGL's and X3D viewers light an OBJ. */
+  /* The ambient light of X3D viewers: 0.2 x ambientIntensity x the diffuse
+   * colour, untextured, with ambientIntensity = mean(Ka) / mean(Kd) as they
+   * map an MTL (Ka 0.2 when the material gives none); for a grey Kd this is
+   * OpenGL's fixed-function 0.2 x Ka. */
   double amb[3] = {0, 0, 0};
   if (view->lighting && view->ambient && !mat->unlit) {
-    int none = mat->ambient[0] <= 0 && mat->ambient[1] <= 0 && mat->ambient[2] <= 0;
-    for (int k = 0; k < 3; k++) amb[k] = 0.2 * (none ? 0.2 : mat->ambient[k]);
+    double ka = (mat->ambient[0] + mat->ambient[1] + mat->ambient[2]) / 3;
+    double kd = (mat->base_color[0] + mat->base_color[1] + mat->base_color[2]) / 3;
+    if (!(ka > 0)) ka = 0.2;
+    if (kd > 0)
+      for (int k = 0; k < 3; k++) amb[k] = 0.2 * ka / kd * mat->base_color[k];
   }
 
   double inv_area = 1.0 / area;

@@ -776,6 +776,11 @@ typedef struct bbc_eval_view {
                 * 99 for identical images */
   double mae;  /* mean absolute RGB difference over the intersection, 0..255 */
   double original_rgb[3], other_rgb[3]; /* mean colour of each one's covered pixels */
+  double coverage_ratio;                /* density: other_px / original_px (1 = as dense; 0 when the
+                                         * original covers nothing) */
+  double block_iou;                     /* density seen 8x farther: the image cut in 32 x 32 blocks,
+                                         * each block's covered fraction per model, sum of min / sum
+                                         * of max (1 when neither covers anything) */
 } bbc_eval_view;
 
 typedef struct bbc_eval_result {
@@ -787,6 +792,8 @@ typedef struct bbc_eval_result {
   double false_mean;
   double psnr_mean, psnr_min, psnr_side_mean;
   double mae_mean;
+  double coverage_ratio_mean, coverage_ratio_side_mean; /* of the views' coverage_ratio */
+  double block_iou_mean, block_iou_side_mean;           /* of the views' block_iou */
   double brightness_ratio[3]; /* per channel: the other's mean colour over its covered
                                * pixels / the original's, over all views (1 = as bright) */
 } bbc_eval_result;

@@ -64,23 +64,26 @@ static void test_self_and_moved(void **state) {
   bbc_mesh_free(&b);
 }
 
-/* A unit quad at z = 0 from x0 to x0 + 1, opaque red. */
-static void quad(bbc_mesh *m, double x0) {
+/* n opaque red quads at z = 0, 1 high, `width` wide, the k-th from
+ * x0 + k * period. */
+static void stripes(bbc_mesh *m, double x0, double width, int n, double period) {
   memset(m, 0, sizeof *m);
   m->kind = BBC_MESH_TRIANGLES;
-  m->vertex_count = 4;
-  m->positions = calloc(12, sizeof(double));
+  m->vertex_count = 4 * (size_t)n;
+  m->positions = calloc(12 * (size_t)n, sizeof(double));
+  m->triangle_count = 2 * (size_t)n;
+  m->indices = malloc(6 * (size_t)n * sizeof(uint32_t));
   const double p[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  for (int i = 0; i < 4; i++) {
-    m->positions[3 * i] = x0 + p[i][0];
-    m->positions[3 * i + 1] = p[i][1];
+  for (int k = 0; k < n; k++) {
+    for (int i = 0; i < 4; i++) {
+      m->positions[3 * (4 * k + i)] = x0 + k * period + p[i][0] * width;
+      m->positions[3 * (4 * k + i) + 1] = p[i][1];
+    }
+    const uint32_t ix[6] = {0, 1, 2, 0, 2, 3};
+    for (int i = 0; i < 6; i++) m->indices[6 * k + i] = (uint32_t)(4 * k) + ix[i];
   }
-  m->triangle_count = 2;
-  m->indices = malloc(6 * sizeof(uint32_t));
-  const uint32_t ix[6] = {0, 1, 2, 0, 2, 3};
-  memcpy(m->indices, ix, sizeof ix);
-  m->face_material = calloc(2, sizeof(uint32_t));
-  m->face_group = calloc(2, sizeof(uint32_t));
+  m->face_material = calloc(m->triangle_count, sizeof(uint32_t));
+  m->face_group = calloc(m->triangle_count, sizeof(uint32_t));
   m->material_count = 1;
   m->materials = calloc(1, sizeof(bbc_material));
   m->materials[0].name = strdup("red");
@@ -92,6 +95,11 @@ static void quad(bbc_mesh *m, double x0) {
   m->group_names[0] = strdup("q");
   bbc_error err;
   if (bbc_mesh_finalize(m, 0, "quad", &err) != BBC_OK) fail_msg("%s", err.message);
+}
+
+/* A unit quad at z = 0 from x0 to x0 + 1, opaque red. */
+static void quad(bbc_mesh *m, double x0) {
+  stripes(m, x0, 1, 1, 1);
 }
 
 static void test_two_quads(void **state) {
@@ -120,7 +128,37 @@ static void test_two_quads(void **state) {
     assert_true(v->mae == 0.0);
   }
   assert_true(fabs(r.iou_mean - 1.0 / 3.0) < 0.01);
+  /* As many pixels each: coverage ratio 1. */
+  assert_true(fabs(r.coverage_ratio_mean - 1.0) < 0.01);
+  assert_true(fabs(r.views[0].coverage_ratio - 1.0) < 0.01);
   bbc_eval_result_free(&r);
+  /* Density: 64 stripes 1/128 wide (about 4 pixels) against the same
+   * stripes shifted by their width. Pixel by pixel they never overlap
+   * (IoU 0), but every 16-pixel block is half covered by each: seen 8x
+   * farther they are the same (block IoU 1, coverage ratio 1). Against a
+   * solid quad: half as dense (ratio 0.5, block IoU 0.5). */
+  bbc_mesh s1, s2;
+  stripes(&s1, 0, 1.0 / 128, 64, 1.0 / 64);
+  stripes(&s2, 1.0 / 128, 1.0 / 128, 64, 1.0 / 64);
+  assert_int_equal(bbc_eval(&s1, &s2, &o, &r, &err), BBC_OK);
+  printf("stripes: iou %.4f coverage ratio %.4f block iou %.4f\n", r.iou_mean,
+         r.coverage_ratio_mean, r.block_iou_mean);
+  assert_true(r.iou_mean < 0.05);
+  assert_true(fabs(r.coverage_ratio_mean - 1.0) < 0.05);
+  assert_true(r.block_iou_mean > 0.9);
+  bbc_eval_result_free(&r);
+  bbc_mesh solid;
+  stripes(&solid, 0, 1.0 / 128 + 63.0 / 64, 1, 1);
+  assert_int_equal(bbc_eval(&solid, &s1, &o, &r, &err), BBC_OK);
+  printf("solid vs stripes: coverage ratio %.4f block iou %.4f\n", r.coverage_ratio_mean,
+         r.block_iou_mean);
+  assert_true(fabs(r.coverage_ratio_mean - 0.5) < 0.05);
+  assert_true(fabs(r.block_iou_mean - 0.5) < 0.05);
+  assert_true(r.side_count == 2 && fabs(r.block_iou_side_mean - r.block_iou_mean) < 1e-12);
+  bbc_eval_result_free(&r);
+  bbc_mesh_free(&s1);
+  bbc_mesh_free(&s2);
+  bbc_mesh_free(&solid);
   /* Bad options are refused. */
   o.directions = NULL;
   o.direction_count = 0;

@@ -88,6 +88,27 @@ static void compare(const bbc_image *a, const bbc_image *b, bbc_eval_view *ev) {
     ev->original_rgb[c] = na ? sa[c] / (double)na : 0.0;
     ev->other_rgb[c] = nb ? sb[c] / (double)nb : 0.0;
   }
+  ev->coverage_ratio = na ? (double)nb / (double)na : 0.0;
+  /* Block IoU: 32 x 32 blocks (8 x 8 pixels at 256), covered fractions. */
+  enum { NB = 32 };
+  int w = a->width, h = a->height;
+  double smin = 0, smax = 0;
+  for (int by = 0; by < NB; by++)
+    for (int bx = 0; bx < NB; bx++) {
+      int x0 = bx * w / NB, x1 = (bx + 1) * w / NB, y0 = by * h / NB, y1 = (by + 1) * h / NB;
+      if (x1 <= x0 || y1 <= y0) continue;
+      size_t fa = 0, fb = 0;
+      for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+          size_t i = (size_t)y * w + x;
+          fa += a->rgba[4 * i + 3] >= 128;
+          fb += b->rgba[4 * i + 3] >= 128;
+        }
+      double area = (double)(x1 - x0) * (y1 - y0);
+      smin += fmin((double)fa, (double)fb) / area;
+      smax += fmax((double)fa, (double)fb) / area;
+    }
+  ev->block_iou = smax > 0 ? smin / smax : 1.0;
 }
 
 /* Sheet row: original | other | coverage difference (grey both, red only
@@ -223,6 +244,8 @@ bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_
     res->false_mean += ev->false_coverage;
     res->psnr_mean += ev->psnr;
     res->mae_mean += ev->mae;
+    res->coverage_ratio_mean += ev->coverage_ratio;
+    res->block_iou_mean += ev->block_iou;
     for (int c = 0; c < 3; c++) {
       ob[c] += ev->original_rgb[c];
       tb[c] += ev->other_rgb[c];
@@ -234,6 +257,8 @@ bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_
       res->iou_side_mean += ev->iou;
       res->recall_side_mean += ev->recall;
       res->psnr_side_mean += ev->psnr;
+      res->coverage_ratio_side_mean += ev->coverage_ratio;
+      res->block_iou_side_mean += ev->block_iou;
       res->iou_side_min = fmin(res->iou_side_min, ev->iou);
     }
   }
@@ -242,12 +267,16 @@ bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_
   res->false_mean /= n;
   res->psnr_mean /= n;
   res->mae_mean /= n;
+  res->coverage_ratio_mean /= n;
+  res->block_iou_mean /= n;
   for (int c = 0; c < 3; c++) res->brightness_ratio[c] = ob[c] > 0 ? tb[c] / ob[c] : 0.0;
   res->side_count = ns;
   if (ns) {
     res->iou_side_mean /= (double)ns;
     res->recall_side_mean /= (double)ns;
     res->psnr_side_mean /= (double)ns;
+    res->coverage_ratio_side_mean /= (double)ns;
+    res->block_iou_side_mean /= (double)ns;
   } else {
     res->iou_side_min = 0;
   }

@@ -26,6 +26,10 @@ char *eval_json_text(const bbc_eval_result *r, const bbc_eval_options *o, const 
   cJSON_AddNumberToObject(j, "false_coverage_mean", r->false_mean);
   cJSON_AddNumberToObject(j, "psnr_mean", r->psnr_mean);
   SIDE("psnr_side_mean", r->psnr_side_mean);
+  cJSON_AddNumberToObject(j, "coverage_ratio_mean", r->coverage_ratio_mean);
+  SIDE("coverage_ratio_side_mean", r->coverage_ratio_side_mean);
+  cJSON_AddNumberToObject(j, "block_iou_mean", r->block_iou_mean);
+  SIDE("block_iou_side_mean", r->block_iou_side_mean);
 #undef SIDE
   cJSON_AddNumberToObject(j, "psnr_min", r->psnr_min);
   cJSON_AddNumberToObject(j, "mae_mean", r->mae_mean);
@@ -46,6 +50,8 @@ char *eval_json_text(const bbc_eval_result *r, const bbc_eval_options *o, const 
     cJSON_AddNumberToObject(q, "false_coverage", v->false_coverage);
     cJSON_AddNumberToObject(q, "psnr", v->psnr);
     cJSON_AddNumberToObject(q, "mae", v->mae);
+    cJSON_AddNumberToObject(q, "coverage_ratio", v->coverage_ratio);
+    cJSON_AddNumberToObject(q, "block_iou", v->block_iou);
     cJSON_AddNumberToObject(q, "original_px", (double)v->original_px);
     cJSON_AddNumberToObject(q, "other_px", (double)v->other_px);
     cJSON_AddItemToArray(vs, q);
@@ -138,10 +144,12 @@ int cmd_eval(cli *c, int argc, char **argv) {
   if (bbc_eval(&m[0], &m[1], &o, &r, &err) != BBC_OK) {
     rc = cli_fail(&err, 0);
   } else {
-    char side_iou[32] = "n/a", side_psnr[32] = "n/a";
+    char side_iou[32] = "n/a", side_psnr[32] = "n/a", side_cov[32] = "n/a", side_block[32] = "n/a";
     if (r.side_count) {
       snprintf(side_iou, sizeof side_iou, "%.4f", r.iou_side_mean);
       snprintf(side_psnr, sizeof side_psnr, "%.2f", r.psnr_side_mean);
+      snprintf(side_cov, sizeof side_cov, "%.3f", r.coverage_ratio_side_mean);
+      snprintf(side_block, sizeof side_block, "%.4f", r.block_iou_side_mean);
     }
     printf("iou %.4f (side %s, min %.4f)  recall %.4f  false coverage %.4f  psnr %.2f dB "
            "(side %s)  mae %.2f  brightness %.3f %.3f %.3f  [%zu views, %zu side, %d px, "
@@ -149,6 +157,8 @@ int cmd_eval(cli *c, int argc, char **argv) {
            r.iou_mean, side_iou, r.iou_min, r.recall_mean, r.false_mean, r.psnr_mean, side_psnr,
            r.mae_mean, r.brightness_ratio[0], r.brightness_ratio[1], r.brightness_ratio[2],
            r.view_count, r.side_count, o.size, cli_now() - t0);
+    printf("density: coverage ratio %.3f (side %s)  block iou 1/8 %.4f (side %s)\n",
+           r.coverage_ratio_mean, side_cov, r.block_iou_mean, side_block);
     if (json) {
       char *text = eval_json_text(&r, &o, paths[0], paths[1]);
       if (!text || bbc_write_file_atomic(json, text, strlen(text), &err) != BBC_OK)

@@ -364,6 +364,8 @@ typedef struct bbc_params {
   double light_azim_deg; /* lightazim: ... degrees around the up axis */
   int shade_voxels;      /* shade: voxel shadowing grid, voxels per axis, 0 off (2.3.11) */
   double shade_ambient;  /* shadeambient: ambient share of voxel shadowing, 0..1 */
+  int dither;            /* dither: quality 2: texel opacity by coverage-preserving error
+                          * diffusion of its samples' coverage (1) or by growing (0) */
   int grow_min;          /* growmin: quality 2: a texel is opaque when at least this
                           * many of its 16 samples are (1 = the thesis's growing) */
   int max_planes;        /* maxplanes: > 0: when steps 1-2 give more planes, they run
@@ -689,8 +691,9 @@ typedef struct bbc_view {
  * as bright, on average, as a lit viewer's headlight shows it (the light at
  * the camera, shade |n . v|: what model viewers and engine previews use).
  * Measured, not assumed: the model is rendered both ways (96 pixels, 8
- * azimuths around `up_axis` (0 = x, 1 = y, 2 = z) at 0 and 20 degrees of
- * elevation: a viewer near the ground; occlusion included) and *gain = the ratio of the covered
+ * azimuths around `up_axis` (0 = x, 1 = y, 2 = z), at 0 and 20 degrees of
+ * elevation in turn: a viewer near the ground; occlusion included; one
+ * pass per view) and *gain = the ratio of the covered
  * pixels' summed luminance. Prelit clouds are baked with it (plus the
  * fixed-function ambient, bbc_view.ambient), so that shown unlit they look
  * as bright as the original in a lit viewer; the sun only adds relief.
@@ -818,6 +821,10 @@ typedef enum bbc_tree_species {
   BBC_TREE_PINE,    /* conifer: straight stem, whorls of branches */
   BBC_TREE_BIRCH,   /* slender, upright, drooping twigs */
   BBC_TREE_BUSH,    /* several stems from the ground, dense */
+  /* Airy species: sparse crowns and thin parts. */
+  BBC_TREE_LARCH,   /* conifer: needle tufts on long thin twigs */
+  BBC_TREE_WEEPING, /* weeping birch: thin twigs hanging in curtains */
+  BBC_TREE_WINTER,  /* leafless oak: branches and twigs only */
   BBC_TREE_SPECIES_COUNT
 } bbc_tree_species;
 

@@ -606,6 +606,18 @@ static void test_suggestions(void **state) {
     free(out);
     free(err);
   }
+  /* Every command answers --help (it used to be "unknown option '--help'
+   * (did you mean --help?)"). */
+  const char *helps[] = {"tree --help",          "eval --help",   "info -h",
+                         "render --help",        "planes --help", "baseline --help",
+                         "x.obj -o x.glb --help"};
+  for (size_t i = 0; i < sizeof helps / sizeof helps[0]; i++) {
+    char *out, *err;
+    assert_int_equal(run(helps[i], &out, &err), 0);
+    if (!strstr(out, "Usage:") || !strstr(out, "larch")) fail_msg("bbcgen %s: '%s'", helps[i], out);
+    free(out);
+    free(err);
+  }
 }
 
 /* Materials and texture files: prelit clouds are unlit in every format

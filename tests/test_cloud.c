@@ -189,6 +189,7 @@ static void test_small_leaf_survives_quality2(void **state) {
   for (int quality = 0; quality <= 2; quality += 2) {
     bbc_params p;
     params_for(&p, N, quality);
+    p.dither = 0; /* the thesis's growing */
     bbc_cloud cl;
     bbc_error err;
     if (bbc_cloud_build(&sc.m, &sc.s, &p, NULL, &cl, &err) != BBC_OK) fail_msg("%s", err.message);
@@ -213,6 +214,62 @@ static void test_small_leaf_survives_quality2(void **state) {
     assert_int_equal(opaque, quality ? 2 : 0);
     bbc_cloud_free(&cl);
   }
+  scene_free(&sc);
+}
+
+/* 256 leaves, each 0.2 texels across on one of the 16 samples of its own
+ * texel of a 16 x 16 grid (1/16 of the texel's samples), and one solid
+ * 4 x 4-texel leaf. Growing makes every small leaf a full texel (16x the
+ * density); dithering keeps about 1/16 of them, and the solid leaf whole. */
+static void test_dither_keeps_density(void **state) {
+  (void)state;
+  const int N = 16;
+  scene sc;
+  scene_begin(&sc, 2 + (size_t)N * N + 2);
+  scene_frame(&sc);
+  for (int ty = 0; ty < N; ty++)
+    for (int tx = 0; tx < N; tx++) {
+      if (tx >= 2 && tx < 6 && ty >= 2 && ty < 6) continue; /* the solid leaf's texels */
+      double cx = (tx + 0.375) / N, cy = (ty + 0.375) / N, r = 0.1 / N;
+      const double a[3] = {cx - r, cy - r, 0.002}, b[3] = {cx + r, cy - r, 0.002},
+                   c[3] = {cx, cy + r, 0.002};
+      scene_tri(&sc, a, b, c, 2);
+    }
+  const double s0[3] = {2.0 / N, 2.0 / N, 0.001}, s1[3] = {6.0 / N, 2.0 / N, 0.001},
+               s2[3] = {6.0 / N, 6.0 / N, 0.001}, s3[3] = {2.0 / N, 6.0 / N, 0.001};
+  scene_tri(&sc, s0, s1, s2, 1);
+  scene_tri(&sc, s0, s2, s3, 1);
+  scene_end(&sc, 0.01);
+  size_t small_leaves = (size_t)N * N - 16, opaque[2] = {0, 0}, solid[2] = {0, 0};
+  for (int dither = 0; dither < 2; dither++) {
+    bbc_params p;
+    params_for(&p, N, 2);
+    p.dither = dither;
+    p.back_images = 0;
+    bbc_cloud cl;
+    bbc_error err;
+    if (bbc_cloud_build(&sc.m, &sc.s, &p, NULL, &cl, &err) != BBC_OK) fail_msg("%s", err.message);
+    const bbc_cloud_billboard *bb = &cl.billboards[0];
+    assert_int_equal(bb->front.width, N);
+    for (int ty = 0; ty < N; ty++)
+      for (int tx = 0; tx < N; tx++) {
+        const double q[3] = {(tx + 0.5) / N, (ty + 0.5) / N, 0};
+        const uint8_t *t = texel_at(&cl, bb, 0, q);
+        assert_true(t[3] == 0 || t[3] == 255);
+        int in_solid = tx >= 2 && tx < 6 && ty >= 2 && ty < 6;
+        if (in_solid)
+          solid[dither] += t[3] == 255;
+        else
+          opaque[dither] += t[3] == 255;
+      }
+    bbc_cloud_free(&cl);
+  }
+  printf("small leaves %zu: opaque texels growing %zu, dithering %zu; solid %zu, %zu of 16\n",
+         small_leaves, opaque[0], opaque[1], solid[0], solid[1]);
+  assert_int_equal(opaque[0], small_leaves);
+  assert_true(opaque[1] >= small_leaves / 16 - 4 && opaque[1] <= small_leaves / 16 + 4);
+  assert_int_equal(solid[0], 16);
+  assert_int_equal(solid[1], 16);
   scene_free(&sc);
 }
 
@@ -629,6 +686,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_texel_centres_quality0),
       cmocka_unit_test(test_small_leaf_survives_quality2),
+      cmocka_unit_test(test_dither_keeps_density),
       cmocka_unit_test(test_front_and_back),
       cmocka_unit_test(test_tilted_normal_map),
       cmocka_unit_test(test_voxel_shading),

@@ -37,22 +37,76 @@ typedef struct baked {
 /* quality 2 (2.3.9): a texel is opaque when any of its k x k samples is, with
  * the mean colour of the opaque samples, so small leaves do not vanish and
  * alpha stays 0 or 255. Normal maps: the mean normal, renormalised. */
-static bbc_result downsample_grow(bbc_image *img, int k, int is_normal, unsigned min_opaque) {
+/* Which texels of a k x k supersampled image end opaque (mask[texel] = 1).
+ * Growing (thesis 2.3.9, `dither 0`): at least `min_opaque` of its k^2
+ * samples are. Dithering (`dither 1`): coverage-preserving error diffusion
+ * (Floyd-Steinberg, serpentine rows) of each texel's covered fraction, so
+ * that over any small area the fraction of opaque texels is the fraction
+ * the original covers, and a texel none of whose samples is covered never
+ * turns opaque (its share of the error moves on to covered neighbours). */
+static bbc_result alpha_mask(const bbc_image *img, int k, int dither, unsigned min_opaque,
+                             uint8_t *mask) {
+  int w = img->width / k, h = img->height / k;
+  float *err = dither ? calloc(2 * ((size_t)w + 2), sizeof *err) : NULL;
+  if (dither && !err) return BBC_ERROR_OUT_OF_MEMORY;
+  for (int y = 0; y < h; y++) {
+    float *cur = err ? err + (y % 2) * ((size_t)w + 2) + 1 : NULL;
+    float *nxt = err ? err + ((y + 1) % 2) * ((size_t)w + 2) + 1 : NULL;
+    if (nxt) memset(nxt - 1, 0, ((size_t)w + 2) * sizeof *nxt);
+    int dir = y % 2 ? -1 : 1;
+    for (int i = 0; i < w; i++) {
+      int x = dir > 0 ? i : w - 1 - i;
+      unsigned n = 0; /* covered samples */
+      for (int j = 0; j < k; j++)
+        for (int q = 0; q < k; q++)
+          n += img->rgba[4 * ((size_t)(y * k + j) * img->width + (x * k + q)) + 3] > 0;
+      uint8_t on;
+      if (!dither) {
+        on = n > 0 && n >= min_opaque;
+      } else {
+        float v = (float)n / (float)(k * k) + cur[x];
+        on = n > 0 && v >= 0.5f;
+        /* The error goes to the neighbours inside the image, the weights
+         * renormalised, so that none leaves over an edge. */
+        float e = v - on;
+        int right = x + dir >= 0 && x + dir < w, below = y + 1 < h;
+        int left_below = below && x - dir >= 0 && x - dir < w;
+        float wr = right ? 7.0f : 0, wlb = left_below ? 3.0f : 0, wb = below ? 5.0f : 0;
+        float wrb = right && below ? 1.0f : 0, sum = wr + wlb + wb + wrb;
+        if (sum > 0) {
+          e /= sum;
+          cur[x + dir] += e * wr;
+          nxt[x - dir] += e * wlb;
+          nxt[x] += e * wb;
+          nxt[x + dir] += e * wrb;
+        }
+      }
+      mask[(size_t)y * w + x] = on;
+    }
+  }
+  free(err);
+  return BBC_OK;
+}
+
+/* Downsamples a k x k supersampled image to its texels: an opaque texel
+ * (mask) gets the mean of its covered samples (normals renormalised). */
+static bbc_result downsample_masked(bbc_image *img, int k, int is_normal, const uint8_t *mask) {
   bbc_image dst;
   bbc_result r = bbc_image_alloc(&dst, img->width / k, img->height / k);
   if (r != BBC_OK) return r;
   for (int y = 0; y < dst.height; y++)
     for (int x = 0; x < dst.width; x++) {
+      if (!mask[(size_t)y * dst.width + x]) continue;
       unsigned sum[3] = {0, 0, 0}, n = 0;
       for (int j = 0; j < k; j++)
         for (int i = 0; i < k; i++) {
           const uint8_t *s = img->rgba + 4 * ((size_t)(y * k + j) * img->width + (x * k + i));
-          if (s[3] < 128) continue;
+          if (!s[3]) continue;
           for (int c = 0; c < 3; c++) sum[c] += s[c];
           n++;
         }
       uint8_t *d = dst.rgba + 4 * ((size_t)y * dst.width + x);
-      if (!n || n < min_opaque) continue;
+      if (!n) continue;
       if (is_normal) {
         double v[3], len = 0;
         for (int c = 0; c < 3; c++) {
@@ -129,6 +183,27 @@ static void outline(const bbc_billboard *b, const double lo[3], const double hi[
 
 /* Faces drawn into a billboard: those crossing the +-eps slab (or, pure,
  * its plane's own), and their bounds. Returns the count. */
+/* Whether face t is drawn into plane p's billboard: it crosses the ±eps
+ * slab (and, with pure, belongs to the plane `owner`). */
+static int in_slab(const bbc_mesh *m, const bbc_planeset *set, const bbc_plane *p, uint32_t owner,
+                   double eps, int pure, size_t t) {
+  if (pure && set->face_plane[t] != owner) return 0;
+  double dmin = INFINITY, dmax = -INFINITY;
+  const uint32_t *ix = m->indices + 3 * t;
+  for (int c = 0; c < 3; c++) {
+    const double *x = m->positions + 3 * ix[c];
+    double d = p->normal[0] * x[0] + p->normal[1] * x[1] + p->normal[2] * x[2] - p->d;
+    dmin = fmin(dmin, d);
+    dmax = fmax(dmax, d);
+  }
+  return !(dmin > eps || dmax < -eps);
+}
+
+static uint32_t plane_owner(const bbc_planeset *set, size_t i) {
+  const bbc_plane *p = &set->planes[i];
+  return p->kind == BBC_PLANE_CARDBOARD ? (uint32_t)p->mother : (uint32_t)i;
+}
+
 static size_t slab_faces(const bbc_mesh *m, const bbc_planeset *set, const bbc_plane *p,
                          uint32_t owner, double eps, int pure, uint32_t *faces, double lo[3],
                          double hi[3]) {
@@ -138,16 +213,8 @@ static size_t slab_faces(const bbc_mesh *m, const bbc_planeset *set, const bbc_p
     hi[k] = -INFINITY;
   }
   for (size_t t = 0; t < m->triangle_count; t++) {
-    if (pure && set->face_plane[t] != owner) continue;
-    double dmin = INFINITY, dmax = -INFINITY;
+    if (!in_slab(m, set, p, owner, eps, pure, t)) continue;
     const uint32_t *ix = m->indices + 3 * t;
-    for (int c = 0; c < 3; c++) {
-      const double *x = m->positions + 3 * ix[c];
-      double d = p->normal[0] * x[0] + p->normal[1] * x[1] + p->normal[2] * x[2] - p->d;
-      dmin = fmin(dmin, d);
-      dmax = fmax(dmax, d);
-    }
-    if (dmin > eps || dmax < -eps) continue;
     faces[n++] = (uint32_t)t;
     for (int c = 0; c < 3; c++)
       for (int k = 0; k < 3; k++) {
@@ -165,7 +232,7 @@ static void bake_one(const bbc_mesh *m, const bbc_planeset *set, const bbc_param
   const bbc_plane *p = &set->planes[plane_index];
   const bbc_billboard *b = &cb->rect;
   double eps = set->parts[p->part].epsilon_abs;
-  uint32_t owner = p->kind == BBC_PLANE_CARDBOARD ? (uint32_t)p->mother : (uint32_t)plane_index;
+  uint32_t owner = plane_owner(set, plane_index);
   double lo[3], hi[3];
   cb->face_count = slab_faces(m, set, p, owner, eps, prm->pure, faces, lo, hi);
   if (cb->face_count) {
@@ -208,21 +275,31 @@ static void bake_one(const bbc_mesh *m, const bbc_planeset *set, const bbc_param
   v.light_gain = light_gain;
   v.ambient = prm->viewer_ambient;
   v.vertex_shade = vshade;
-  bbc__bake bk = {w,
-                  h,
-                  out->front.rgba,
-                  out->back.rgba,
-                  out->front_nm.rgba,
-                  out->back_nm.rgba,
-                  prm->backface,
-                  mips,
-                  ss == 4 ? 2 : 0};
+  bbc__bake bk;
+  memset(&bk, 0, sizeof bk);
+  bk.width = w;
+  bk.height = h;
+  bk.front = out->front.rgba;
+  bk.back = out->back.rgba;
+  bk.front_nm = out->front_nm.rgba;
+  bk.back_nm = out->back_nm.rgba;
+  bk.backface = prm->backface;
+  bk.mips = mips;
+  bk.mip_bias = ss == 4 ? 2 : 0;
   r = bbc__render_bake(m, faces, cb->face_count, &v, &bk, &out->err);
   if (r == BBC_OK && prm->quality == 2) {
-    bbc_image *im[4] = {&out->front, &out->back, &out->front_nm, &out->back_nm};
-    for (int i = 0; i < 4 && r == BBC_OK; i++)
-      if (im[i]->rgba)
-        r = downsample_grow(im[i], ss, i >= 2, (unsigned)(prm->grow_min > 0 ? prm->grow_min : 1));
+    /* One mask per side, shared by its colour and normal images. */
+    uint8_t *mask = malloc((size_t)cb->tex_width * cb->tex_height);
+    if (!mask) r = BBC_ERROR_OUT_OF_MEMORY;
+    bbc_image *col[2] = {&out->front, &out->back}, *nm[2] = {&out->front_nm, &out->back_nm};
+    unsigned grow = (unsigned)(prm->grow_min > 0 ? prm->grow_min : 1);
+    for (int i = 0; i < 2 && r == BBC_OK; i++) {
+      if (!col[i]->rgba) continue;
+      r = alpha_mask(col[i], ss, prm->dither, grow, mask);
+      if (r == BBC_OK && nm[i]->rgba) r = downsample_masked(nm[i], ss, 1, mask);
+      if (r == BBC_OK) r = downsample_masked(col[i], ss, 0, mask);
+    }
+    free(mask);
     if (r != BBC_OK) r = bbc__fail(&out->err, r, "step 3: out of memory");
   }
   out->r = r;

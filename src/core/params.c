@@ -128,6 +128,10 @@ static const param_row k_rows[] = {
     {{"shadeambient", BBC_PARAM_REAL, 0, 1, 0.4, F3, "extension", "",
       "voxel shadowing: brightness of the darkest voxel (ambient light)"},
      DBL_FIELD(shade_ambient)},
+    {{"dither", BBC_PARAM_BOOL, 0, 1, 1, F3, "extension", "",
+      "quality 2: texel opacity by error diffusion of its 16 samples' coverage, keeping the "
+      "original's density (0 = growing: opaque when >= growmin samples are)"},
+     INT_FIELD(dither)},
     {{"growmin", BBC_PARAM_INT, 1, 16, 1, F3, "extension", "samples",
       "quality 2: opaque texel when >= n of its 16 samples are (1 = thesis 2.3.9)"},
      INT_FIELD(grow_min)},
@@ -153,6 +157,7 @@ void bbc_params_thesis(bbc_params *p) {
   p->max_planes = 0;
   p->min_planes = 0;
   p->atlas_max = 0;
+  p->dither = 0; /* quality 2 grows (2.3.9) */
 }
 
 size_t bbc_param_count(void) {

@@ -102,6 +102,10 @@ typedef struct target {
   /* Baking only: */
   const bbc__bake *bake;
   float *depth_back; /* farthest depth so far (nearest from behind) */
+  /* bbc_light_gain only: the luminance each visible pixel would have lit by
+   * the directional light `sun` instead (same pass, same visibility). */
+  float *sun_lum;
+  double sun[3];
 } target;
 
 static void put_normal(uint8_t *o, const double *n, const camera *cam, double toward) {
@@ -307,6 +311,16 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
       uint8_t px4[4] = {to_byte(col[0] * shade + amb[0] * occl),
                         to_byte(col[1] * shade + amb[1] * occl),
                         to_byte(col[2] * shade + amb[2] * occl), 255};
+      if (tg->sun_lum && front) {
+        double s2 = 1.0;
+        if (view->lighting && !mat->unlit)
+          s2 = gain *
+               (0.35 + 0.65 * fabs(n[0] * tg->sun[0] + n[1] * tg->sun[1] + n[2] * tg->sun[2]));
+        s2 *= occl;
+        tg->sun_lum[pi] = (float)(0.2126 * to_byte(col[0] * s2 + amb[0] * occl) +
+                                  0.7152 * to_byte(col[1] * s2 + amb[1] * occl) +
+                                  0.0722 * to_byte(col[2] * s2 + amb[2] * occl));
+      }
       if (front) {
         tg->depth[pi] = z;
         memcpy(tg->rgba + 4 * pi, px4, 4);
@@ -367,8 +381,9 @@ static bbc_result check_view(const bbc_view *view, int w, int h, camera *cam, bb
   return BBC_OK;
 }
 
-bbc_result bbc_render_ortho(const bbc_mesh *m, const bbc_view *view, bbc_image *img,
-                            bbc_error *err) {
+/* bbc_render_ortho; with sun_lum, also the luminance lit by `sun`. */
+static bbc_result render(const bbc_mesh *m, const bbc_view *view, bbc_image *img, const double *sun,
+                         float *sun_lum, bbc_error *err) {
   if (!img->rgba) return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "render: image not allocated");
   camera cam;
   bbc_result r = check_view(view, img->width, img->height, &cam, err);
@@ -380,7 +395,9 @@ bbc_result bbc_render_ortho(const bbc_mesh *m, const bbc_view *view, bbc_image *
     depth[i] = FLT_MAX;
     memcpy(img->rgba + 4 * i, view->background, 4);
   }
-  target tg = {&cam, view, {0, 0, 0}, img->width, img->height, img->rgba, depth, NULL, NULL};
+  target tg = {&cam,  view, {0, 0, 0}, img->width, img->height, img->rgba,
+               depth, NULL, NULL,      sun_lum,    {0, 0, 0}};
+  if (sun) memcpy(tg.sun, sun, sizeof tg.sun);
   setup_light(&cam, view, tg.light);
   if (m->kind == BBC_MESH_POINTS) {
     for (size_t v = 0; v < m->vertex_count; v++) draw_point(m, v, &cam, view, img, depth);
@@ -390,6 +407,11 @@ bbc_result bbc_render_ortho(const bbc_mesh *m, const bbc_view *view, bbc_image *
   }
   free(depth);
   return BBC_OK;
+}
+
+bbc_result bbc_render_ortho(const bbc_mesh *m, const bbc_view *view, bbc_image *img,
+                            bbc_error *err) {
+  return render(m, view, img, NULL, NULL, err);
 }
 
 bbc_result bbc__mips_build(const bbc_mesh *m, bbc__mips **out, bbc_error *err) {
@@ -460,8 +482,8 @@ bbc_result bbc__render_bake(const bbc_mesh *m, const uint32_t *faces, size_t fac
     depth[i] = FLT_MAX;
     depth[n + i] = -FLT_MAX;
   }
-  target tg = {&cam,        view,  {0, 0, 0}, bake->width, bake->height,
-               bake->front, depth, bake,      depth + n};
+  target tg = {&cam,  view, {0, 0, 0}, bake->width, bake->height, bake->front,
+               depth, bake, depth + n, NULL,        {0, 0, 0}};
   setup_light(&cam, view, tg.light);
   size_t count = faces ? face_count : m->triangle_count;
   for (size_t i = 0; i < count; i++) draw_triangle(m, faces ? faces[i] : i, &tg);
@@ -527,42 +549,52 @@ static double covered_luminance(const bbc_image *img) {
   return sum;
 }
 
+void bbc__side_views(int up_axis, double views[BBC__SIDE_VIEWS][3]) {
+  int up = up_axis >= 0 && up_axis <= 2 ? up_axis : 1, ea = (up + 1) % 3, eb = (up + 2) % 3;
+  for (int v = 0; v < BBC__SIDE_VIEWS; v++) {
+    double el = 20.0 * (v % 2) * M_PI / 180.0, az = 2.0 * M_PI * v / BBC__SIDE_VIEWS;
+    views[v][up] = -sin(el);
+    views[v][ea] = -cos(el) * cos(az);
+    views[v][eb] = -cos(el) * sin(az);
+  }
+}
+
 bbc_result bbc_light_gain(const bbc_mesh *m, const double light[3], int up_axis, double *gain,
                           bbc_error *err) {
   *gain = 1.0;
   if (m->kind != BBC_MESH_TRIANGLES || !m->indices || !m->triangle_count) return BBC_OK;
-  /* Views: 8 azimuths at elevations 0 and 20 degrees (a viewer near the
-   * ground, 10 degrees on average); 96 pixels. */
-  enum { AZ = 8, EL = 2, NV = AZ * EL, SIZE = 96 };
-  int up = up_axis >= 0 && up_axis <= 2 ? up_axis : 1, ea = (up + 1) % 3, eb = (up + 2) % 3;
-  double head[NV], sun[NV];
+  /* Views: bbc__side_views (8 azimuths, at 0 and 20 degrees in turn: a
+   * viewer near the ground, 10 degrees on average); 96 pixels. */
+  enum { NV = BBC__SIDE_VIEWS, SIZE = 96 };
+  int up = up_axis >= 0 && up_axis <= 2 ? up_axis : 1;
+  double views[NV][3], head[NV], sun[NV];
+  bbc__side_views(up, views);
   int failed = 0;
 #pragma omp parallel for schedule(dynamic, 1)
   for (int v = 0; v < NV; v++) {
-    double el = 20.0 * (v / AZ) * M_PI / 180.0, az = 2.0 * M_PI * (v % AZ) / AZ;
-    double dir[3], upv[3] = {0, 0, 0};
-    dir[up] = -sin(el);
-    dir[ea] = -cos(el) * cos(az);
-    dir[eb] = -cos(el) * sin(az);
+    double upv[3] = {0, 0, 0};
     upv[up] = 1;
+    const double *dir = views[v];
     bbc_view view;
     bbc_view_frame_mesh(m, dir, upv, &view);
     view.lighting = 1;
     view.background[3] = 0;
     bbc_image img = {0};
+    float *lum = malloc((size_t)SIZE * SIZE * sizeof *lum);
     head[v] = sun[v] = 0;
-    if (bbc_image_alloc(&img, SIZE, SIZE) != BBC_OK) {
+    if (!lum || bbc_image_alloc(&img, SIZE, SIZE) != BBC_OK) {
+      free(lum);
 #pragma omp atomic write
       failed = 1;
       continue;
     }
+    /* One pass: the headlight into the image, the sun into lum. */
     view.headlight = 1;
-    int ok = bbc_render_ortho(m, &view, &img, NULL) == BBC_OK;
+    int ok = render(m, &view, &img, light, lum, NULL) == BBC_OK;
     head[v] = covered_luminance(&img);
-    view.headlight = 0;
-    memcpy(view.light, light, sizeof view.light);
-    ok = ok && bbc_render_ortho(m, &view, &img, NULL) == BBC_OK;
-    sun[v] = covered_luminance(&img);
+    for (size_t i = 0; i < (size_t)SIZE * SIZE; i++)
+      if (img.rgba[4 * i + 3]) sun[v] += lum[i];
+    free(lum);
     bbc_image_free(&img);
     if (!ok) {
 #pragma omp atomic write

@@ -123,35 +123,43 @@ typedef struct tg_rule {
 
 typedef struct tg_species {
   const char *name;
-  double height;         /* nominal total height, m */
-  size_t default_leaves; /* leaves when options->leaves is 0 */
-  double leaf_size;      /* edge of a leaf quad, m (the texture holds the blade) */
-  float bark[3];         /* bark base colour */
-  float leaf[3];         /* mean leaf colour of the texture */
-  int levels;            /* branch levels in use: 3 (bush, pine) or 4 */
-  double twig_factor;    /* twigs (finest level) = twig_factor * leaves^0.8 */
-  double branch_factor;  /* branches of level 2 when twigs are level 3 = factor * leaves^0.55 */
-  double leaf_exponent;  /* < 1 crowds leaves toward the twig tips */
+  bbc_tree_species shape;  /* the species whose branching code it shares */
+  size_t structure_leaves; /* leafless species (default_leaves 0): the leaf count
+                            * its twigs and branches are planned for */
+  double droop;            /* extra gravity on twigs (hanging twigs), 0 = none */
+  double twig_thin;        /* twig radius factor (< 1: thinner), 0 = 1 */
+  double height;           /* nominal total height, m */
+  size_t default_leaves;   /* leaves when options->leaves is 0 */
+  double leaf_size;        /* edge of a leaf quad, m (the texture holds the blade) */
+  float bark[3];           /* bark base colour */
+  float leaf[3];           /* mean leaf colour of the texture */
+  int levels;              /* branch levels in use: 3 (bush, pine) or 4 */
+  double twig_factor;      /* twigs (finest level) = twig_factor * leaves^0.8 */
+  double branch_factor;    /* branches of level 2 when twigs are level 3 = factor * leaves^0.55 */
+  double leaf_exponent;    /* < 1 crowds leaves toward the twig tips */
   tg_rule rules[TG_LEVELS][2];
   tg_rule leaf_rules[2]; /* which branches carry leaves */
 } tg_species;
 
+/* The oak's branching, shared by the winter oak. */
+#define TG_OAK_BRANCHING                                                                           \
+  .levels = 4, .twig_factor = 0.40, .branch_factor = 1.3, .leaf_exponent = 0.4,                    \
+  .rules = {[1] = {{0, 0.32, 0.97, 1}},                                                            \
+            [2] = {{1, 0.15, 1.0, 1}, {0, 0.80, 1.0, 1}},                                          \
+            [3] = {{2, 0.10, 1.0, 1}, {1, 0.5, 1.0, 1}}},                                          \
+  .leaf_rules = {{3, 0.40, 1.0, 1}}
+
 static const tg_species tg_species_table[BBC_TREE_SPECIES_COUNT] = {
     {.name = "oak",
+     .shape = BBC_TREE_OAK,
      .height = 13.0,
      .default_leaves = 20000,
      .leaf_size = 0.24,
      .bark = {0.46f, 0.37f, 0.29f},
      .leaf = {0.22f, 0.40f, 0.12f},
-     .levels = 4,
-     .twig_factor = 0.40,
-     .branch_factor = 1.3,
-     .leaf_exponent = 0.4,
-     .rules = {[1] = {{0, 0.32, 0.97, 1}},
-               [2] = {{1, 0.15, 1.0, 1}, {0, 0.80, 1.0, 1}},
-               [3] = {{2, 0.10, 1.0, 1}, {1, 0.5, 1.0, 1}}},
-     .leaf_rules = {{3, 0.40, 1.0, 1}}},
+     TG_OAK_BRANCHING},
     {.name = "pine",
+     .shape = BBC_TREE_PINE,
      .height = 20.0,
      .default_leaves = 8000,
      .leaf_size = 0.45,
@@ -164,6 +172,7 @@ static const tg_species tg_species_table[BBC_TREE_SPECIES_COUNT] = {
      .rules = {[2] = {{1, 0.10, 0.95, 1}}},
      .leaf_rules = {{2, 0.0, 1.0, 1}, {1, 0.35, 1.0, 0.8}}},
     {.name = "birch",
+     .shape = BBC_TREE_BIRCH,
      .height = 16.0,
      .default_leaves = 20000,
      .leaf_size = 0.13,
@@ -176,6 +185,7 @@ static const tg_species tg_species_table[BBC_TREE_SPECIES_COUNT] = {
      .rules = {[1] = {{0, 0.27, 0.97, 1}}, [2] = {{1, 0.15, 1.0, 1}}, [3] = {{2, 0.10, 1.0, 1}}},
      .leaf_rules = {{3, 0.0, 1.0, 1}, {2, 0.4, 1.0, 0.5}}},
     {.name = "bush",
+     .shape = BBC_TREE_BUSH,
      .height = 2.6,
      .default_leaves = 8000,
      .leaf_size = 0.12,
@@ -186,6 +196,44 @@ static const tg_species tg_species_table[BBC_TREE_SPECIES_COUNT] = {
      .leaf_exponent = 0.6,
      .rules = {[1] = {{0, 0.12, 0.95, 1}}, [2] = {{1, 0.10, 1.0, 1}, {0, 0.50, 1.0, 0.6}}},
      .leaf_rules = {{2, 0.15, 1.0, 1}}},
+    /* Airy species (sparse crowns, thin parts: what clouds find hardest). */
+    {.name = "larch", /* a conifer: needle tufts on long thin twigs, see-through */
+     .shape = BBC_TREE_PINE,
+     .height = 18.0,
+     .default_leaves = 2500,
+     .leaf_size = 0.22,
+     .bark = {0.45f, 0.33f, 0.26f},
+     .leaf = {0.30f, 0.45f, 0.16f},
+     .levels = 3,
+     .twig_factor = 0.9,
+     .leaf_exponent = 1.0,
+     .twig_thin = 0.6,
+     .rules = {[2] = {{1, 0.10, 0.95, 1}}},
+     .leaf_rules = {{2, 0.2, 1.0, 1}}},
+    {.name = "weeping", /* a weeping birch: thin twigs hanging in curtains */
+     .shape = BBC_TREE_BIRCH,
+     .height = 15.0,
+     .default_leaves = 6000,
+     .leaf_size = 0.10,
+     .bark = {0.88f, 0.86f, 0.82f},
+     .leaf = {0.36f, 0.55f, 0.16f},
+     .levels = 4,
+     .twig_factor = 0.9,
+     .branch_factor = 0.9,
+     .leaf_exponent = 1.0,
+     .droop = 2.5,
+     .twig_thin = 0.6,
+     .rules = {[1] = {{0, 0.30, 0.97, 1}}, [2] = {{1, 0.15, 1.0, 1}}, [3] = {{2, 0.10, 1.0, 1}}},
+     .leaf_rules = {{3, 0.0, 1.0, 1}}},
+    {.name = "winter", /* a leafless oak: branches and twigs only */
+     .shape = BBC_TREE_OAK,
+     .height = 12.0,
+     .default_leaves = 0,
+     .structure_leaves = 20000,
+     .leaf_size = 0.24,
+     .bark = {0.42f, 0.36f, 0.30f},
+     .leaf = {0.22f, 0.40f, 0.12f},
+     TG_OAK_BRANCHING},
 };
 
 const char *bbc_tree_species_name(bbc_tree_species species) {
@@ -245,6 +293,7 @@ typedef struct tg_growth {
 
 typedef struct tg_ctx {
   bbc_tree_species species;
+  bbc_tree_species shape; /* whose branching code it uses (info->shape) */
   const tg_species *info;
   size_t leaves;
   double height;    /* this tree's nominal height, m */
@@ -302,7 +351,7 @@ static void tg_branch_at(const tg_ctx *c, const tg_branch *b, double t, tg_attac
  * lengths instead.) */
 static int tg_inside_crown(const tg_ctx *c, vec3 p, double scale) {
   double h = c->height, cy, rx, ry;
-  switch (c->species) {
+  switch (c->shape) {
   case BBC_TREE_BIRCH:
     cy = 0.60 * h, rx = 0.24 * h, ry = 0.42 * h;
     break;
@@ -350,7 +399,7 @@ static void tg_grow(tg_ctx *c, int level, vec3 start, vec3 dir, double len, doub
   double step = len / nf;
   /* Keep branches above the ground: bush stems and drooping twigs would
    * otherwise dip into it. */
-  double ground = c->species == BBC_TREE_BUSH ? 0.06 : 0.25;
+  double ground = c->shape == BBC_TREE_BUSH ? 0.06 : 0.25;
   vec3 p = start, d = vnorm(dir), bend = v3(0, 0, 0);
   fine[0] = p;
   for (int i = 1; i <= nf; i++) {
@@ -402,7 +451,7 @@ static void tg_child_shape(tg_ctx *c, int level, const tg_attach *a, vec3 radial
   vec3 t = a->tangent;
   ch->vigor = a->parent->vigor;
   tg_growth g = {0.1, 0.1, 0.4, 0.3, 0};
-  switch (c->species) {
+  switch (c->shape) {
   case BBC_TREE_OAK:
     if (level == 1) {
       double u = clampd((a->t - 0.32) / 0.65, 0, 1);
@@ -488,6 +537,11 @@ static void tg_child_shape(tg_ctx *c, int level, const tg_attach *a, vec3 radial
   ch->radius = clampd(r, rmin, rmax);
   /* A child never looks thicker than its parent where it leaves it. */
   if (ch->radius > 0.8 * a->radius && a->radius > 0) ch->radius = 0.8 * a->radius;
+  /* Airy species: the finest level thinner, and hanging. */
+  if (level == c->levels - 1) {
+    if (c->info->twig_thin > 0) ch->radius *= c->info->twig_thin;
+    g.gravity += c->info->droop;
+  }
   if (ch->radius < 0.0015) ch->radius = 0.0015;
   ch->growth = g;
 }
@@ -556,7 +610,7 @@ static bbc_result tg_place_level(tg_ctx *c, int level, bbc__rng *rng) {
     tg_branch_at(c, parent, r ? lerp(r->t0, r->t1, u) : u, &a);
     vec3 n0 = vperp(a.tangent), b0 = vcross(a.tangent, n0);
     vec3 radial;
-    if (c->species == BBC_TREE_PINE) {
+    if (c->shape == BBC_TREE_PINE) {
       /* Conifer side shoots lie roughly in the plane of their parent. */
       radial = vnorm(vadd(vscale(n0, side), vscale(b0, rnd(rng, -0.25, 0.25))));
     } else {
@@ -575,7 +629,7 @@ static bbc_result tg_place_level(tg_ctx *c, int level, bbc__rng *rng) {
 /* Level 0: the trunk, or the stems of a bush. */
 static void tg_place_trunks(tg_ctx *c, bbc__rng *rng) {
   double h = c->height;
-  if (c->species == BBC_TREE_BUSH) {
+  if (c->shape == BBC_TREE_BUSH) {
     size_t k = c->count[0];
     double az0 = rnd(rng, 0, 2 * TG_PI);
     for (size_t i = 0; i < k; i++) {
@@ -592,10 +646,10 @@ static void tg_place_trunks(tg_ctx *c, bbc__rng *rng) {
   }
   double len = h, r0 = 0.012 * h, lean = 0.02;
   tg_growth g = {0, 0, 0.03, 0.04, 0.3};
-  if (c->species == BBC_TREE_OAK) {
+  if (c->shape == BBC_TREE_OAK) {
     len = 0.55 * h, r0 = 0.026 * h, lean = 0.08;
     g = (tg_growth){0, 0, 0.08, 0.3, 0.5};
-  } else if (c->species == BBC_TREE_BIRCH) {
+  } else if (c->shape == BBC_TREE_BIRCH) {
     len = 0.96 * h, r0 = 0.012 * h, lean = 0.05;
     g = (tg_growth){0, 0.02, 0.05, 0.06, 0.3};
   }
@@ -634,7 +688,7 @@ static void tg_place_whorls(tg_ctx *c, bbc__rng *rng) {
 /* ------------------------------------------------------------------------ */
 
 static void tg_tessellation(tg_ctx *c, double q) {
-  int bush = c->species == BBC_TREE_BUSH;
+  int bush = c->shape == BBC_TREE_BUSH;
   c->sides[0] = bush ? 4 + (int)lround(6 * q) : 6 + (int)lround(18 * q);
   c->rings[0] = 3 + (int)lround(13 * q);
   c->sides[1] = 3 + (int)lround(9 * q);
@@ -665,25 +719,27 @@ static size_t tg_wood_triangles(const tg_ctx *c) {
  * within about 30% of the leaf triangles. */
 static void tg_plan(tg_ctx *c) {
   const tg_species *sp = c->info;
-  double n = (double)c->leaves;
+  /* A leafless tree is planned as if it had structure_leaves. */
+  double n = (double)(c->leaves ? c->leaves : sp->structure_leaves ? sp->structure_leaves : 1);
   bbc__rng *rng = &c->rng_shape;
   c->levels = sp->levels;
   memset(c->count, 0, sizeof c->count);
   /* Bushes vary less: a much smaller one would be a different plant. */
-  double spread = c->species == BBC_TREE_BUSH ? 0.08 : 0.12;
+  double spread = c->shape == BBC_TREE_BUSH ? 0.08 : 0.12;
   c->height = sp->height * rnd(rng, 1 - spread, 1 + spread);
   /* Fewer leaves are drawn somewhat larger so a low-polygon tree still
    * reads as foliage; more leaves, somewhat smaller. */
-  double scale = clampd(pow((double)sp->default_leaves / n, 0.25), 0.75, 1.6);
+  double dl = sp->default_leaves ? (double)sp->default_leaves : (double)sp->structure_leaves;
+  double scale = clampd(pow(dl / n, 0.25), 0.75, 1.6);
   c->leaf_size = sp->leaf_size * scale;
 
   size_t twigs = tg_round(sp->twig_factor * pow(n, 0.8));
   if (twigs < 1) twigs = 1;
-  if (twigs > c->leaves) twigs = c->leaves;
+  if (c->leaves && twigs > c->leaves) twigs = c->leaves;
   size_t branches = tg_round(sp->branch_factor * pow(n, 0.55));
   if (branches < 4) branches = 4;
   c->count[0] = 1;
-  switch (c->species) {
+  switch (c->shape) {
   case BBC_TREE_OAK:
     c->count[1] = 8 + (size_t)(bbc__rng_next(rng) % 4);
     c->count[2] = branches;
@@ -802,7 +858,7 @@ static void tg_texture_blade(tg_ctx *c, bbc_image *img, const tg_lattice *nz) {
   int n = img->width;
   const float *base = c->info->leaf;
   double yb = 0.11, yt = 0.985;
-  int veins = c->species == BBC_TREE_OAK ? 5 : c->species == BBC_TREE_BIRCH ? 8 : 7;
+  int veins = c->shape == BBC_TREE_OAK ? 5 : c->shape == BBC_TREE_BIRCH ? 8 : 7;
   double px_w = 1.0 / n;
   for (int py = 0; py < n; py++) {
     double y = 1.0 - (py + 0.5) / n;
@@ -811,7 +867,7 @@ static void tg_texture_blade(tg_ctx *c, bbc_image *img, const tg_lattice *nz) {
       double grain = rnd(&c->rng_texture, -1, 1);
       double low = tg_noise(nz, (px + 0.5) / n, y, 8, 8);
       double s = (y - yb) / (yt - yb);
-      double w = tg_blade_half_width(c->species, s);
+      double w = tg_blade_half_width(c->shape, s);
       double petiole = fmax(0.012, 0.5 * px_w);
       double shade;
       if (ax < w) {
@@ -923,7 +979,7 @@ static void tg_leaf_texture(tg_ctx *c, bbc_image *img) {
   }
   tg_lattice nz;
   tg_lattice_fill(&nz, &c->rng_texture);
-  if (c->species == BBC_TREE_PINE)
+  if (c->shape == BBC_TREE_PINE)
     tg_texture_needles(c, img);
   else
     tg_texture_blade(c, img, &nz);
@@ -941,7 +997,7 @@ static void tg_bark_texture(tg_ctx *c, bbc_image *img) {
     for (int px = 0; px < n; px++) {
       double x = (px + 0.5) / n, v, warm = 0;
       double grain = rnd(&c->rng_texture, -1, 1);
-      switch (c->species) {
+      switch (c->shape) {
       case BBC_TREE_OAK: {
         /* Deep fissures (where the noise crosses zero), long along the
          * branch, between rough ridges. */
@@ -1071,7 +1127,7 @@ static void tg_emit_leaf(const tg_ctx *c, const tg_attach *a, vec3 radial, bbc__
                          tg_out *o) {
   vec3 t = a->tangent, up = v3(0, 1, 0), axis, pref;
   double size = c->leaf_size * rnd(rng, 0.8, 1.2);
-  switch (c->species) {
+  switch (c->shape) {
   case BBC_TREE_PINE: {
     /* Needle cards lie along the twig, rolled at random around it so the
      * cluster looks full from every side. */
@@ -1097,7 +1153,7 @@ static void tg_emit_leaf(const tg_ctx *c, const tg_attach *a, vec3 radial, bbc__
     break;
   }
   }
-  vec3 base = c->species == BBC_TREE_PINE ? a->pos : vmadd(a->pos, radial, a->radius);
+  vec3 base = c->shape == BBC_TREE_PINE ? a->pos : vmadd(a->pos, radial, a->radius);
   /* Leaves near the ground turn upward rather than into the soil. */
   if (base.y + axis.y * size < 0.02 && axis.y < 0) {
     axis.y = -axis.y;
@@ -1194,7 +1250,7 @@ bbc_result bbc_tree_generate(const bbc_tree_options *options, bbc_mesh *mesh, bb
   if ((int)options->species < 0 || (int)options->species >= BBC_TREE_SPECIES_COUNT)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "tree generator: species %d is not one of oak (0), pine (1), birch (2), "
-                     "bush (3)",
+                     "bush (3), larch (4), weeping (5), winter (6)",
                      (int)options->species);
   if (!tg_is_pow2(options->texture_size) || options->texture_size < TG_MIN_TEXTURE ||
       options->texture_size > TG_MAX_TEXTURE)
@@ -1212,6 +1268,7 @@ bbc_result bbc_tree_generate(const bbc_tree_options *options, bbc_mesh *mesh, bb
   memset(&c, 0, sizeof c);
   c.species = options->species;
   c.info = &tg_species_table[c.species];
+  c.shape = c.info->shape;
   c.leaves = options->leaves ? options->leaves : c.info->default_leaves;
   /* Independent streams: the textures never depend on the leaf count, and
    * the trunk and limbs of a seed mostly stay when only the leaf count
@@ -1243,7 +1300,7 @@ bbc_result bbc_tree_generate(const bbc_tree_options *options, bbc_mesh *mesh, bb
   c.first[1] = c.branch_count;
   for (int l = 1; l < c.levels; l++) {
     bbc__rng *rng = l == 1 ? &c.rng_shape : &c.rng_fine;
-    if (l == 1 && c.species == BBC_TREE_PINE)
+    if (l == 1 && c.shape == BBC_TREE_PINE)
       tg_place_whorls(&c, rng);
     else if (tg_place_level(&c, l, rng) != BBC_OK)
       return tg_oom(&c, mesh, err);

@@ -120,6 +120,7 @@ int cli_common_option(cli *c, int argc, char **argv, int *i) {
     if (c->params.max_planes == d.max_planes) c->params.max_planes = t.max_planes;
     if (c->params.min_planes == d.min_planes) c->params.min_planes = t.min_planes;
     if (c->params.atlas_max == d.atlas_max) c->params.atlas_max = t.atlas_max;
+    if (c->params.dither == d.dither) c->params.dither = t.dither;
     return 1;
   }
   bbc_error err;

@@ -32,7 +32,9 @@ static void print_help(FILE *out) {
           "  bbcgen tree [--seed S] [--leaves N] [--species NAME] [--texture-size N]\n"
           "              -o OUT.obj [--preview OUT.png]\n"
           "      Generate the built-in procedural tree as OBJ + MTL + PNG textures.\n"
-          "      Species: oak (default), pine, birch, bush. Leaves: number of leaf quads.\n"
+          "      Species: oak (default), pine, birch, bush; airy ones: larch (sparse\n"
+          "      needles on thin twigs), weeping (hanging twigs), winter (leafless oak).\n"
+          "      Leaves: number of leaf quads.\n"
           "  bbcgen render MODEL -o OUT.png [--size PX] [--up y|z] [--unlit]\n"
           "      Software render (no GPU) from the front, the side and above.\n"
           "  bbcgen planes MODEL [PARAMETER OPTIONS] [--json OUT.json]\n"
@@ -105,6 +107,12 @@ int main(int argc, char **argv) {
     printf("bbcgen %s\n", BBC_VERSION_STRING);
     return EXIT_OK;
   }
+  /* `bbcgen COMMAND --help` answers too. */
+  for (int i = 2; i < argc; i++)
+    if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+      print_help(stdout);
+      return EXIT_OK;
+    }
   if (!strcmp(cmd, "info")) return cmd_info(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "tree")) return cmd_tree(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "render")) return cmd_render(&c, argc - 1, argv + 1);

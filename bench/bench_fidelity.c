@@ -123,10 +123,12 @@ int main(int argc, char **argv) {
          "\"model_triangles\": %zu, \"planes\": %zu, \"triangles\": %zu, \"texels\": %zu, "
          "\"atlas\": \"%dx%d\", \"runs\": %d, \"median_s\": %.3f, \"peak_mib\": %.1f, "
          "\"iou\": %.4f, \"iou_side\": %.4f, \"recall\": %.4f, \"psnr\": %.2f, "
-         "\"psnr_side\": %.2f}\n",
+         "\"psnr_side\": %.2f, \"coverage\": %.4f, \"coverage_side\": %.4f, "
+         "\"block_iou\": %.4f, \"block_iou_side\": %.4f}\n",
          model, label, params, m.triangle_count, planes, tris, tex, aw, ah, runs,
          runs ? bench_median(times, runs) : 0.0, runs ? peak : 0.0, e.iou_mean, e.iou_side_mean,
-         e.recall_mean, e.psnr_mean, e.psnr_side_mean);
+         e.recall_mean, e.psnr_mean, e.psnr_side_mean, e.coverage_ratio_mean,
+         e.coverage_ratio_side_mean, e.block_iou_mean, e.block_iou_side_mean);
   bbc_eval_result_free(&e);
   bbc_mesh_free(&other);
   bbc_mesh_free(&m);

@@ -179,10 +179,10 @@ PY
   echo
   echo "## Fidelity: the default cloud against the alternatives"
   echo
-  echo "Every method judged by \`bbc_eval\` (64 views over the sphere, 256 px, unlit; side = elevation within 30 degrees). Time: median of 3 generations (gltfpack: wall clock of the external tool); peak memory of the process (model loading included)."
+  echo "Every method judged by \`bbc_eval\` (64 views over the sphere, 256 px, unlit; side = elevation within 30 degrees). Density: side views' coverage ratio (covered pixels / the original's) and block IoU at 1/8 resolution. Time: median of 3 generations (gltfpack: wall clock of the external tool); peak memory of the process (model loading included)."
   echo
-  echo "| model | method | params | planes | triangles | texels | time s | peak MiB | IoU | IoU side | PSNR dB |"
-  echo "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+  echo "| model | method | params | planes | triangles | texels | time s | peak MiB | IoU | IoU side | PSNR dB | coverage side | block IoU side |"
+  echo "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
   python3 - "$json" <<'PY'
 import json, sys
 for line in open(sys.argv[1]):
@@ -194,7 +194,8 @@ for line in open(sys.argv[1]):
     name = name[i + 12:] if i >= 0 else name
     planes = str(r['planes']) if r['planes'] else '-'
     peak = f"{r['peak_mib']:.0f}" if r['peak_mib'] else '-'
-    print(f"| {name} | {r['method']} | {r['params'] or 'defaults'} | {planes} | {r['triangles']:,} | {r['texels']:,} | {r['median_s']:.2f} | {peak} | {r['iou']:.3f} | {r['iou_side']:.3f} | {r['psnr']:.1f} |")
+    dens = ' | '.join(f"{r[k]:.3f}" if k in r else '-' for k in ('coverage_side', 'block_iou_side'))
+    print(f"| {name} | {r['method']} | {r['params'] or 'defaults'} | {planes} | {r['triangles']:,} | {r['texels']:,} | {r['median_s']:.2f} | {peak} | {r['iou']:.3f} | {r['iou_side']:.3f} | {r['psnr']:.1f} | {dens} |")
 PY
 } > "$res/latest.md.tmp.$$"
 mv "$json" "$res/latest.json"

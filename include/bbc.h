@@ -763,7 +763,9 @@ typedef struct bbc_eval_options {
   int threads;      /* 0 = all cores; results never depend on it */
   bbc_image *sheet; /* not NULL: receives a PNG-ready sheet, one row per
                      * shown view: original | other | coverage difference
-                     * (grey both, red original only, blue other only) */
+                     * (grey both, red original only, blue other only),
+                     * labelled with the view's coverage ratio over its
+                     * block IoU */
   int sheet_views;  /* rows of the sheet, spread over the views (0 = 8) */
 } bbc_eval_options;
 

@@ -128,6 +128,23 @@ static void test_two_quads(void **state) {
     assert_true(v->mae == 0.0);
   }
   assert_true(fabs(r.iou_mean - 1.0 / 3.0) < 0.01);
+  bbc_eval_result_free(&r);
+  /* The sheet labels each difference cell with the view's coverage ratio
+   * and block IoU in black digits on white, top left: "1.00". */
+  bbc_image sheet = {0, 0, NULL};
+  o.sheet = &sheet;
+  assert_int_equal(bbc_eval(&a, &b, &o, &r, &err), BBC_OK);
+  assert_int_equal(sheet.width, 3 * o.size);
+  size_t black = 0, white = 0;
+  for (int y = 2; y < 2 + 16; y++)
+    for (int x = 2 * o.size + 2; x < 2 * o.size + 2 + 34; x++) {
+      const uint8_t *p = sheet.rgba + 4 * ((size_t)y * sheet.width + x);
+      black += p[0] == 0 && p[1] == 0 && p[2] == 0;
+      white += p[0] == 255 && p[1] == 255 && p[2] == 255;
+    }
+  assert_true(black > 20 && white > 100);
+  bbc_image_free(&sheet);
+  o.sheet = NULL;
   /* As many pixels each: coverage ratio 1. */
   assert_true(fabs(r.coverage_ratio_mean - 1.0) < 0.01);
   assert_true(fabs(r.views[0].coverage_ratio - 1.0) < 0.01);

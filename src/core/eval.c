@@ -5,6 +5,7 @@
 #include "internal.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -111,8 +112,37 @@ static void compare(const bbc_image *a, const bbc_image *b, bbc_eval_view *ev) {
   ev->block_iou = smax > 0 ? smin / smax : 1.0;
 }
 
+/* Digits 0-9 and '.' in a 3 x 5 pixel font, one row per byte (bit 2 =
+ * left column). */
+static const uint8_t k_digits[11][5] = {{7, 5, 5, 5, 7}, {2, 6, 2, 2, 7}, {7, 1, 7, 4, 7},
+                                        {7, 1, 7, 1, 7}, {5, 5, 7, 1, 1}, {7, 4, 7, 1, 7},
+                                        {7, 4, 7, 5, 7}, {7, 1, 1, 1, 1}, {7, 5, 7, 5, 7},
+                                        {7, 5, 7, 1, 7}, {0, 0, 0, 0, 2}};
+
+/* Writes `text` (digits and '.') in black at (x, y) of the sheet, each
+ * font pixel `scale` x `scale`, on a white box one font pixel wider. */
+static void put_text(bbc_image *sheet, int x, int y, const char *text, int scale) {
+  int n = (int)strlen(text), w = (4 * n + 1) * scale, h = 7 * scale;
+  for (int j = 0; j < h; j++)
+    for (int i = 0; i < w; i++) {
+      int px = x + i, py = y + j;
+      if (px < 0 || py < 0 || px >= sheet->width || py >= sheet->height) continue;
+      int gx = i / scale - 1, gy = j / scale - 1, ci = gx >= 0 ? gx / 4 : -1, col = gx % 4;
+      int ink = 0;
+      if (ci >= 0 && ci < n && col < 3 && gy >= 0 && gy < 5) {
+        char c = text[ci];
+        int g = c == '.' ? 10 : c >= '0' && c <= '9' ? c - '0' : -1;
+        ink = g >= 0 && (k_digits[g][gy] >> (2 - col) & 1);
+      }
+      uint8_t *o = sheet->rgba + 4 * ((size_t)py * sheet->width + px);
+      o[0] = o[1] = o[2] = ink ? 0 : 255;
+      o[3] = 255;
+    }
+}
+
 /* Sheet row: original | other | coverage difference (grey both, red only
- * the original, blue only the other). */
+ * the original, blue only the other), the difference cell labelled with the
+ * view's coverage ratio (top) and block IoU (below). */
 static void put_row(bbc_image *sheet, int row, const bbc_image *a, const bbc_image *b) {
   int s = a->width;
   for (int y = 0; y < s; y++)
@@ -219,7 +249,15 @@ bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_
       compare(&a, &b, ev);
       /* Sheet rows: views spread over the whole list. */
       for (int r = 0; r < rows; r++)
-        if ((int)((long long)r * n / rows) == k) put_row(o.sheet, r, &a, &b);
+        if ((int)((long long)r * n / rows) == k) {
+          put_row(o.sheet, r, &a, &b);
+          char t1[16], t2[16];
+          snprintf(t1, sizeof t1, "%.2f", ev->coverage_ratio);
+          snprintf(t2, sizeof t2, "%.2f", ev->block_iou);
+          int sc = o.size >= 256 ? 2 : 1;
+          put_text(o.sheet, 2 * o.size + 2, r * o.size + 2, t1, sc);
+          put_text(o.sheet, 2 * o.size + 2, r * o.size + 2 + 8 * sc, t2, sc);
+        }
     }
     bbc_image_free(&a);
     bbc_image_free(&b);

@@ -64,7 +64,7 @@ char *eval_json_text(const bbc_eval_result *r, const bbc_eval_options *o, const 
 int cmd_eval(cli *c, int argc, char **argv) {
   const char *paths[2] = {NULL, NULL}, *json = NULL, *png = NULL;
   long long views = 64, size = 256;
-  int lit = 0, np = 0;
+  int lit = -1, np = 0; /* -1: lit when OTHER is prelit (all its materials unlit) */
   double side = 30;
   for (int i = 1; i < argc; i++) {
     int k = cli_common_option(c, argc, argv, &i);
@@ -97,17 +97,19 @@ int cmd_eval(cli *c, int argc, char **argv) {
       }
     } else if (!strcmp(argv[i], "--lit")) {
       lit = 1;
+    } else if (!strcmp(argv[i], "--no-lit")) {
+      lit = 0;
     } else if (argv[i][0] != '-' && np < 2) {
       paths[np++] = argv[i];
     } else {
-      static const char *const own[] = {"--views",          "--size", "--json", "--png",
-                                        "--side-elevation", "--lit",  NULL};
+      static const char *const own[] = {"--views", "--size",           "--json",   "--png",
+                                        "--lit",   "--side-elevation", "--no-lit", NULL};
       return cli_unknown_option("eval", argv[i], own);
     }
   }
   if (np != 2) {
     cli_error("eval: usage: bbcgen eval ORIGINAL OTHER [--views N] [--size PX] [--json OUT] "
-              "[--png SHEET] [--lit] [--side-elevation DEG]");
+              "[--png SHEET] [--lit|--no-lit] [--side-elevation DEG]");
     return EXIT_USAGE;
   }
   if ((json && !cli_output_ok("--json", json)) || (png && !cli_output_ok("--png", png)))
@@ -132,6 +134,11 @@ int cmd_eval(cli *c, int argc, char **argv) {
   o.size = (int)size;
   o.up_axis = c->params.up_axis;
   o.threads = c->params.threads;
+  if (lit < 0) { /* a prelit cloud is meant to look like the lit original */
+    int all_unlit = m[1].material_count > 0;
+    for (size_t i = 0; i < m[1].material_count; i++) all_unlit &= m[1].materials[i].unlit != 0;
+    lit = all_unlit;
+  }
   o.lighting = lit;
   o.ambient = c->params.viewer_ambient;
   o.side_elevation_deg = side;
@@ -152,11 +159,11 @@ int cmd_eval(cli *c, int argc, char **argv) {
       snprintf(side_block, sizeof side_block, "%.4f", r.block_iou_side_mean);
     }
     printf("iou %.4f (side %s, min %.4f)  recall %.4f  false coverage %.4f  psnr %.2f dB "
-           "(side %s)  mae %.2f  brightness %.3f %.3f %.3f  [%zu views, %zu side, %d px, "
+           "(side %s)  mae %.2f  brightness %.3f %.3f %.3f  [%zu views, %zu side, %d px, %s, "
            "%.2f s]\n",
            r.iou_mean, side_iou, r.iou_min, r.recall_mean, r.false_mean, r.psnr_mean, side_psnr,
            r.mae_mean, r.brightness_ratio[0], r.brightness_ratio[1], r.brightness_ratio[2],
-           r.view_count, r.side_count, o.size, cli_now() - t0);
+           r.view_count, r.side_count, o.size, o.lighting ? "lit" : "unlit", cli_now() - t0);
     printf("density: coverage ratio %.3f (side %s)  block iou 1/8 %.4f (side %s)\n",
            r.coverage_ratio_mean, side_cov, r.block_iou_mean, side_block);
     if (json) {

@@ -124,8 +124,6 @@ typedef struct bbc_material {
                         * MTL illum 0): its colours carry the light already */
   float ambient[3];    /* ambient reflectance (MTL Ka; 0 when the file gives
                         * none): what a lit viewer's global ambient adds */
-  float alpha_cutoff;  /* alpha test threshold written to glTF (alphaCutoff);
-                        * 0 = 0.5 */
 } bbc_material;
 
 typedef enum bbc_mesh_kind {

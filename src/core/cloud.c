@@ -319,59 +319,6 @@ void bbc_cloud_free(bbc_cloud *cloud) {
   memset(cloud, 0, sizeof *cloud);
 }
 
-static int cmp_desc(const void *a, const void *b) {
-  float x = *(const float *)a, y = *(const float *)b;
-  return (x < y) - (x > y);
-}
-
-/* The alpha cutoff that keeps a dithered atlas's coverage when a viewer
- * mipmaps it. A GPU box-filters the binary alpha, so at level k a block of
- * 2^k x 2^k texels has alpha = its covered fraction c, and an alpha test at
- * t shows the block whole when c >= t: at 0.5, sparse parts (thin fronds,
- * needles) vanish at a distance and dense parts fill in. For each level a
- * far LOD is seen at — the model (texres texels long) 64 to 512 pixels
- * tall, two levels more for billboards seen obliquely: levels
- * log2(texres / 512) .. log2(texres / 16), at least 1 — the
- * threshold t_k at which as many blocks pass as the texels cover (sum of c,
- * in blocks) is found by sorting; the cutoff is their mean, within
- * [0.1, 0.9]. Level 0 is binary, so any cutoff shows it as it is. */
-static float mip_cutoff(const bbc_image *atlas, int texres) {
-  size_t w = (size_t)atlas->width, h = (size_t)atlas->height;
-  float *c = malloc((w / 2 + 1) * (h / 2 + 1) * sizeof *c);
-  if (!c) return 0;
-  double sum_t = 0;
-  int levels = 0;
-  int k0 = (int)floor(log2(texres / 512.0) + 0.5), k1 = (int)floor(log2(texres / 16.0) + 0.5);
-  if (k0 < 1) k0 = 1;
-  if (k1 < k0) k1 = k0;
-  if (k1 > 10) k1 = 10;
-  for (int k = k0; k <= k1; k++) {
-    size_t s = (size_t)1 << k, bw = w / s, bh = h / s, n = 0;
-    double total = 0;
-    for (size_t by = 0; by < bh; by++)
-      for (size_t bx = 0; bx < bw; bx++) {
-        size_t on = 0;
-        for (size_t y = by * s; y < (by + 1) * s; y++)
-          for (size_t x = bx * s; x < (bx + 1) * s; x++)
-            on += atlas->rgba[4 * (y * w + x) + 3] >= 128;
-        if (!on) continue;
-        c[n++] = (float)on / (float)(s * s);
-        total += (double)on / (double)(s * s);
-      }
-    if (!n) continue;
-    qsort(c, n, sizeof *c, cmp_desc);
-    size_t pass = (size_t)floor(total + 0.5);
-    if (pass < 1) pass = 1;
-    if (pass > n) pass = n;
-    sum_t += c[pass - 1];
-    levels++;
-  }
-  free(c);
-  if (!levels) return 0;
-  double t = sum_t / levels;
-  return (float)(t < 0.1 ? 0.1 : t > 0.9 ? 0.9 : t);
-}
-
 /* Fills the mesh: per billboard its outline, front (and back) facing. */
 static bbc_result build_mesh(const bbc_planeset *set, const bbc_params *prm, bbc_cloud *cl,
                              bbc_image *atlas, bbc_image *nm_atlas, bbc_error *err) {
@@ -404,7 +351,6 @@ static bbc_result build_mesh(const bbc_planeset *set, const bbc_params *prm, bbc
   mat->texture = 0;
   mat->single_sided = prm->back_images;
   for (int c = 0; c < 4; c++) mat->base_color[c] = 1.0f;
-  if (prm->quality == 2 && prm->dither) mat->alpha_cutoff = mip_cutoff(atlas, cl->texres);
   me->texture_count = nm_atlas ? 2 : 1;
   me->textures[0].image = *atlas;
   me->textures[0].has_alpha = bbc_image_has_transparency(atlas);

@@ -662,8 +662,7 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
       if (nmt >= 0 && mo[n].tex_gltf[nmt] >= 0 && mo[n].has_tangent)
         gbuf_printf(j, ",\"normalTexture\":{\"index\":%d}", mo[n].tex_gltf[nmt]);
       if (unlit) gbuf_puts(j, ",\"extensions\":{\"KHR_materials_unlit\":{}}");
-      gbuf_printf(j, ",\"alphaMode\":\"MASK\",\"alphaCutoff\":%.4g,\"doubleSided\":%s}",
-                  mat->alpha_cutoff > 0 && mat->alpha_cutoff < 1 ? mat->alpha_cutoff : 0.5,
+      gbuf_printf(j, ",\"alphaMode\":\"MASK\",\"alphaCutoff\":0.5,\"doubleSided\":%s}",
                   mat->single_sided ? "false" : "true");
     }
   }

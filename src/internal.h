@@ -153,12 +153,6 @@ typedef struct bbc__bake {
                  * per side: 2), so that colours are those of one texel */
 } bbc__bake;
 
-/* The 8 views that stand for "seen from the side": 8 azimuths around
- * up_axis, 45 degrees apart, at elevations 0 and 20 degrees in turn (unit
- * vectors, towards the model). */
-enum { BBC__SIDE_VIEWS = 8 };
-void bbc__side_views(int up_axis, double views[BBC__SIDE_VIEWS][3]);
-
 bbc_result bbc__render_bake(const bbc_mesh *mesh, const uint32_t *faces, size_t face_count,
                             const bbc_view *view, bbc__bake *bake, bbc_error *err);
 

@@ -594,9 +594,9 @@ static double atlas_mean(const bbc_cloud *c) {
   return n ? sum / n : 0;
 }
 
-/* Prelight keeps the mean brightness: the prelit images are about as bright
- * as the unlit ones (the thesis's Lambert with 0.35 ambient made them about
- * 0.68x), and bbc_light_gain is 1 / the model's mean shade. */
+/* Prelight aims at a lit viewer: a generated tree's prelit images are about
+ * 2/3 as bright as its colours (a headlight's |n . v|); bbc_light_gain has
+ * the analytic value on a quad; the ambient term as X3D viewers add it. */
 static void test_prelight_for_a_lit_viewer(void **state) {
   (void)state;
   bbc_tree_options to;

@@ -34,10 +34,7 @@ typedef struct baked {
   bbc_result r;
 } baked;
 
-/* quality 2 (2.3.9): a texel is opaque when any of its k x k samples is, with
- * the mean colour of the opaque samples, so small leaves do not vanish and
- * alpha stays 0 or 255. Normal maps: the mean normal, renormalised. */
-/* Which texels of a k x k supersampled image end opaque (mask[texel] = 1).
+/* quality 2: which texels of a k x k supersampled image end opaque (mask[texel] = 1).
  * Growing (thesis 2.3.9, `dither 0`): at least `min_opaque` of its k^2
  * samples are. Dithering (`dither 1`): coverage-preserving error diffusion
  * (Floyd-Steinberg, serpentine rows) of each texel's covered fraction, so
@@ -183,27 +180,6 @@ static void outline(const bbc_billboard *b, const double lo[3], const double hi[
 
 /* Faces drawn into a billboard: those crossing the +-eps slab (or, pure,
  * its plane's own), and their bounds. Returns the count. */
-/* Whether face t is drawn into plane p's billboard: it crosses the ±eps
- * slab (and, with pure, belongs to the plane `owner`). */
-static int in_slab(const bbc_mesh *m, const bbc_planeset *set, const bbc_plane *p, uint32_t owner,
-                   double eps, int pure, size_t t) {
-  if (pure && set->face_plane[t] != owner) return 0;
-  double dmin = INFINITY, dmax = -INFINITY;
-  const uint32_t *ix = m->indices + 3 * t;
-  for (int c = 0; c < 3; c++) {
-    const double *x = m->positions + 3 * ix[c];
-    double d = p->normal[0] * x[0] + p->normal[1] * x[1] + p->normal[2] * x[2] - p->d;
-    dmin = fmin(dmin, d);
-    dmax = fmax(dmax, d);
-  }
-  return !(dmin > eps || dmax < -eps);
-}
-
-static uint32_t plane_owner(const bbc_planeset *set, size_t i) {
-  const bbc_plane *p = &set->planes[i];
-  return p->kind == BBC_PLANE_CARDBOARD ? (uint32_t)p->mother : (uint32_t)i;
-}
-
 static size_t slab_faces(const bbc_mesh *m, const bbc_planeset *set, const bbc_plane *p,
                          uint32_t owner, double eps, int pure, uint32_t *faces, double lo[3],
                          double hi[3]) {
@@ -213,8 +189,16 @@ static size_t slab_faces(const bbc_mesh *m, const bbc_planeset *set, const bbc_p
     hi[k] = -INFINITY;
   }
   for (size_t t = 0; t < m->triangle_count; t++) {
-    if (!in_slab(m, set, p, owner, eps, pure, t)) continue;
+    if (pure && set->face_plane[t] != owner) continue;
+    double dmin = INFINITY, dmax = -INFINITY;
     const uint32_t *ix = m->indices + 3 * t;
+    for (int c = 0; c < 3; c++) {
+      const double *x = m->positions + 3 * ix[c];
+      double d = p->normal[0] * x[0] + p->normal[1] * x[1] + p->normal[2] * x[2] - p->d;
+      dmin = fmin(dmin, d);
+      dmax = fmax(dmax, d);
+    }
+    if (dmin > eps || dmax < -eps) continue;
     faces[n++] = (uint32_t)t;
     for (int c = 0; c < 3; c++)
       for (int k = 0; k < 3; k++) {
@@ -232,7 +216,7 @@ static void bake_one(const bbc_mesh *m, const bbc_planeset *set, const bbc_param
   const bbc_plane *p = &set->planes[plane_index];
   const bbc_billboard *b = &cb->rect;
   double eps = set->parts[p->part].epsilon_abs;
-  uint32_t owner = plane_owner(set, plane_index);
+  uint32_t owner = p->kind == BBC_PLANE_CARDBOARD ? (uint32_t)p->mother : (uint32_t)plane_index;
   double lo[3], hi[3];
   cb->face_count = slab_faces(m, set, p, owner, eps, prm->pure, faces, lo, hi);
   if (cb->face_count) {
@@ -546,9 +530,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
      * (the sun adds relief, not darkness): shown unlit, the cloud looks as
      * the original does in a viewer. */
     double light_gain = 1.0;
-    if (prm->prelight) {
-      r = bbc_light_gain(m, light, prm->up_axis, &light_gain, err);
-    }
+    if (prm->prelight) r = bbc_light_gain(m, light, prm->up_axis, &light_gain, err);
     /* Colours as a GPU shows the textures from the billboards' distance. */
     if (r == BBC_OK) r = bbc__mips_build(m, &mips, err);
     int nt = prm->threads;
@@ -559,7 +541,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
 #endif
     size_t done = 0;
     const bbc_callbacks *cbp = cbk;
-#pragma omp parallel num_threads(nt) if (r == BBC_OK)
+#pragma omp parallel num_threads(nt)
     if (r == BBC_OK) {
       uint32_t *faces = malloc((nf ? nf : 1) * sizeof *faces);
 #pragma omp for schedule(dynamic, 1)

@@ -168,6 +168,11 @@ static int slab_bounds(const double *a, const double *b, const double *c, double
   return 1;
 }
 
+/* The renderer's directional shading: two-sided Lambert with 0.35 ambient. */
+static double sun_shade(const double *n, const double *l) {
+  return 0.35 + 0.65 * fabs(n[0] * l[0] + n[1] * l[1] + n[2] * l[2]);
+}
+
 static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
   const camera *cam = tg->cam;
   const bbc_view *view = tg->view;
@@ -303,8 +308,9 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
       }
       double shade = 1.0, occl = 1.0;
       if (view->lighting && !mat->unlit) { /* unlit materials carry their light */
-        double d = fabs(n[0] * tg->light[0] + n[1] * tg->light[1] + n[2] * tg->light[2]);
-        shade = gain * (view->headlight ? d : 0.35 + 0.65 * d);
+        shade = gain * (view->headlight
+                            ? fabs(n[0] * tg->light[0] + n[1] * tg->light[1] + n[2] * tg->light[2])
+                            : sun_shade(n, tg->light));
       }
       if (view->vertex_shade) occl = l0 * sh[0] + l1 * sh[1] + l2 * sh[2];
       shade *= occl;
@@ -313,9 +319,7 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
                         to_byte(col[2] * shade + amb[2] * occl), 255};
       if (tg->sun_lum && front) {
         double s2 = 1.0;
-        if (view->lighting && !mat->unlit)
-          s2 = gain *
-               (0.35 + 0.65 * fabs(n[0] * tg->sun[0] + n[1] * tg->sun[1] + n[2] * tg->sun[2]));
+        if (view->lighting && !mat->unlit) s2 = gain * sun_shade(n, tg->sun);
         s2 *= occl;
         tg->sun_lum[pi] = (float)(0.2126 * to_byte(col[0] * s2 + amb[0] * occl) +
                                   0.7152 * to_byte(col[1] * s2 + amb[1] * occl) +
@@ -549,10 +553,14 @@ static double covered_luminance(const bbc_image *img) {
   return sum;
 }
 
-void bbc__side_views(int up_axis, double views[BBC__SIDE_VIEWS][3]) {
-  int up = up_axis >= 0 && up_axis <= 2 ? up_axis : 1, ea = (up + 1) % 3, eb = (up + 2) % 3;
-  for (int v = 0; v < BBC__SIDE_VIEWS; v++) {
-    double el = 20.0 * (v % 2) * M_PI / 180.0, az = 2.0 * M_PI * v / BBC__SIDE_VIEWS;
+/* The views that stand for "seen from the side": 8 azimuths around up_axis,
+ * 45 degrees apart, at elevations 0 and 20 degrees in turn (unit vectors,
+ * towards the model). */
+enum { SIDE_VIEWS = 8 };
+static void side_views(int up, double views[SIDE_VIEWS][3]) {
+  int ea = (up + 1) % 3, eb = (up + 2) % 3;
+  for (int v = 0; v < SIDE_VIEWS; v++) {
+    double el = 20.0 * (v % 2) * M_PI / 180.0, az = 2.0 * M_PI * v / SIDE_VIEWS;
     views[v][up] = -sin(el);
     views[v][ea] = -cos(el) * cos(az);
     views[v][eb] = -cos(el) * sin(az);
@@ -563,12 +571,12 @@ bbc_result bbc_light_gain(const bbc_mesh *m, const double light[3], int up_axis,
                           bbc_error *err) {
   *gain = 1.0;
   if (m->kind != BBC_MESH_TRIANGLES || !m->indices || !m->triangle_count) return BBC_OK;
-  /* Views: bbc__side_views (8 azimuths, at 0 and 20 degrees in turn: a
-   * viewer near the ground, 10 degrees on average); 96 pixels. */
-  enum { NV = BBC__SIDE_VIEWS, SIZE = 96 };
+  /* Views: side_views (a viewer near the ground, 10 degrees on average);
+   * 96 pixels. */
+  enum { NV = SIDE_VIEWS, SIZE = 96 };
   int up = up_axis >= 0 && up_axis <= 2 ? up_axis : 1;
   double views[NV][3], head[NV], sun[NV];
-  bbc__side_views(up, views);
+  side_views(up, views);
   int failed = 0;
 #pragma omp parallel for schedule(dynamic, 1)
   for (int v = 0; v < NV; v++) {

@@ -366,6 +366,8 @@ typedef struct bbc_params {
   double shade_ambient;  /* shadeambient: ambient share of voxel shadowing, 0..1 */
   int dither;            /* dither: quality 2: texel opacity by coverage-preserving error
                           * diffusion of its samples' coverage (1) or by growing (0) */
+  int refine;            /* refine: quality 2: views of the original each billboard's
+                          * alpha is refined against (0 = off; src/core/refine.c) */
   int grow_min;          /* growmin: quality 2: a texel is opaque when at least this
                           * many of its 16 samples are (1 = the thesis's growing) */
   int max_planes;        /* maxplanes: > 0: when steps 1-2 give more planes, they run

@@ -170,4 +170,28 @@ bbc_result bbc__cloud_build_rects(const bbc_mesh *mesh, const bbc_planeset *set,
 /* Texels of all images for rectangles rects[n] at resolution texres. */
 size_t bbc__cloud_texels(const bbc_billboard *rects, size_t n, int texres, int sides);
 
+/* ---- alpha refinement (src/core/refine.c) ------------------------------------ */
+/* One billboard's texels: alpha[side] nonzero = opaque (side 1 NULL: the
+ * front image is seen from both sides), cand[side] nonzero = may turn
+ * opaque (some sample of the original covered it; NULL = none may). */
+typedef struct bbc__refine_image {
+  uint8_t *alpha[2];
+  const uint8_t *cand[2];
+  int width, height;
+} bbc__refine_image;
+
+typedef struct bbc__refine_options {
+  int views;   /* views over the sphere (0 = off) */
+  int size;    /* pixels per side of each view */
+  int rounds;  /* at most this many rounds (fewer when nothing changes) */
+  int up_axis; /* 0 = x, 1 = y, 2 = z */
+  int threads; /* 0 = all cores; never changes the result */
+} bbc__refine_options;
+
+/* Refines the alpha of the billboards cb[n] (images im[n]) of a cloud of
+ * `mesh` against renders of the mesh (src/core/refine.c). */
+bbc_result bbc__refine_alpha(const bbc_mesh *mesh, const bbc_cloud_billboard *cb,
+                             bbc__refine_image *im, size_t n, const bbc__refine_options *options,
+                             bbc_error *err);
+
 #endif /* BBC_INTERNAL_H */

@@ -30,6 +30,7 @@ void bbc_params_light_direction(const bbc_params *prm, double light[3]) {
 /* The images of one billboard before packing. */
 typedef struct baked {
   bbc_image front, back, front_nm, back_nm;
+  uint8_t *mask[2], *cand[2]; /* quality 2: per texel opaque / has covered samples */
   bbc_error err;
   bbc_result r;
 } baked;
@@ -42,7 +43,7 @@ typedef struct baked {
  * the original covers, and a texel none of whose samples is covered never
  * turns opaque (its share of the error moves on to covered neighbours). */
 static bbc_result alpha_mask(const bbc_image *img, int k, int dither, unsigned min_opaque,
-                             uint8_t *mask) {
+                             uint8_t *mask, uint8_t *cand) {
   int w = img->width / k, h = img->height / k;
   float *err = dither ? calloc(2 * ((size_t)w + 2), sizeof *err) : NULL;
   if (dither && !err) return BBC_ERROR_OUT_OF_MEMORY;
@@ -79,21 +80,23 @@ static bbc_result alpha_mask(const bbc_image *img, int k, int dither, unsigned m
         }
       }
       mask[(size_t)y * w + x] = on;
+      cand[(size_t)y * w + x] = n > 0;
     }
   }
   free(err);
   return BBC_OK;
 }
 
-/* Downsamples a k x k supersampled image to its texels: an opaque texel
- * (mask) gets the mean of its covered samples (normals renormalised). */
+/* Downsamples a k x k supersampled image to its texels: a texel with
+ * covered samples gets their mean (normals renormalised), opaque when
+ * `mask` says so, else with alpha 0 (the colour kept for refinement;
+ * clear_masked removes it). */
 static bbc_result downsample_masked(bbc_image *img, int k, int is_normal, const uint8_t *mask) {
   bbc_image dst;
   bbc_result r = bbc_image_alloc(&dst, img->width / k, img->height / k);
   if (r != BBC_OK) return r;
   for (int y = 0; y < dst.height; y++)
     for (int x = 0; x < dst.width; x++) {
-      if (!mask[(size_t)y * dst.width + x]) continue;
       unsigned sum[3] = {0, 0, 0}, n = 0;
       for (int j = 0; j < k; j++)
         for (int i = 0; i < k; i++) {
@@ -118,11 +121,23 @@ static bbc_result downsample_masked(bbc_image *img, int k, int is_normal, const 
       } else {
         for (int c = 0; c < 3; c++) d[c] = (uint8_t)((sum[c] + n / 2) / n);
       }
-      d[3] = 255;
+      d[3] = mask[(size_t)y * dst.width + x] ? 255 : 0;
     }
   bbc_image_free(img);
   *img = dst;
   return BBC_OK;
+}
+
+/* Texels that are not opaque in `mask` become (0, 0, 0, 0); opaque ones
+ * alpha 255. */
+static void clear_masked(bbc_image *img, const uint8_t *mask) {
+  if (!img->rgba) return;
+  size_t n = (size_t)img->width * img->height;
+  for (size_t i = 0; i < n; i++)
+    if (mask[i])
+      img->rgba[4 * i + 3] = 255;
+    else
+      memset(img->rgba + 4 * i, 0, 4);
 }
 
 /* Sutherland-Hodgman: keeps the part of polygon p (n corners, (s, t)) where
@@ -272,24 +287,30 @@ static void bake_one(const bbc_mesh *m, const bbc_planeset *set, const bbc_param
   bk.mip_bias = ss == 4 ? 2 : 0;
   r = bbc__render_bake(m, faces, cb->face_count, &v, &bk, &out->err);
   if (r == BBC_OK && prm->quality == 2) {
-    /* One mask per side, shared by its colour and normal images. */
-    uint8_t *mask = malloc((size_t)cb->tex_width * cb->tex_height);
-    if (!mask) r = BBC_ERROR_OUT_OF_MEMORY;
+    /* One mask per side, shared by its colour and normal images; kept
+     * until refinement (bbc__refine_alpha) has used it. */
+    size_t nx = (size_t)cb->tex_width * cb->tex_height;
     bbc_image *col[2] = {&out->front, &out->back}, *nm[2] = {&out->front_nm, &out->back_nm};
     unsigned grow = (unsigned)(prm->grow_min > 0 ? prm->grow_min : 1);
     for (int i = 0; i < 2 && r == BBC_OK; i++) {
       if (!col[i]->rgba) continue;
-      r = alpha_mask(col[i], ss, prm->dither, grow, mask);
-      if (r == BBC_OK && nm[i]->rgba) r = downsample_masked(nm[i], ss, 1, mask);
-      if (r == BBC_OK) r = downsample_masked(col[i], ss, 0, mask);
+      out->mask[i] = malloc(nx);
+      out->cand[i] = malloc(nx);
+      if (!out->mask[i] || !out->cand[i]) r = BBC_ERROR_OUT_OF_MEMORY;
+      if (r == BBC_OK) r = alpha_mask(col[i], ss, prm->dither, grow, out->mask[i], out->cand[i]);
+      if (r == BBC_OK && nm[i]->rgba) r = downsample_masked(nm[i], ss, 1, out->mask[i]);
+      if (r == BBC_OK) r = downsample_masked(col[i], ss, 0, out->mask[i]);
     }
-    free(mask);
     if (r != BBC_OK) r = bbc__fail(&out->err, r, "step 3: out of memory");
   }
   out->r = r;
 }
 
 static void baked_free(baked *b) {
+  for (int i = 0; i < 2; i++) {
+    free(b->mask[i]);
+    free(b->cand[i]);
+  }
   bbc_image_free(&b->front);
   bbc_image_free(&b->back);
   bbc_image_free(&b->front_nm);
@@ -565,6 +586,35 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
         r = bk[k].r;
         if (err) *err = bk[k].err;
       }
+  }
+  /* quality 2: alpha refined against renders of the original, then the
+   * colour of texels left transparent cleared. */
+  if (r == BBC_OK && prm->quality == 2) {
+    bbc__refine_image *ri = calloc(nk, sizeof *ri);
+    if (!ri) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
+    for (size_t k = 0; r == BBC_OK && k < nk; k++) {
+      for (int i = 0; i < 2; i++) {
+        ri[k].alpha[i] = bk[k].mask[i];
+        ri[k].cand[i] = bk[k].cand[i];
+      }
+      ri[k].width = cl->billboards[k].tex_width;
+      ri[k].height = cl->billboards[k].tex_height;
+    }
+    if (r == BBC_OK && prm->refine > 0) {
+      if (cbk) bbc__progress(cbk, "refining", 0.0);
+      bbc__refine_options ro = {prm->refine, 256, 3, prm->up_axis, prm->threads};
+      r = bbc__refine_alpha(m, cl->billboards, ri, nk, &ro, err);
+      if (cbk) bbc__progress(cbk, "refining", 1.0);
+    }
+    for (size_t k = 0; r == BBC_OK && k < nk; k++) {
+      clear_masked(&bk[k].front, bk[k].mask[0]);
+      clear_masked(&bk[k].front_nm, bk[k].mask[0]);
+      if (bk[k].mask[1]) {
+        clear_masked(&bk[k].back, bk[k].mask[1]);
+        clear_masked(&bk[k].back_nm, bk[k].mask[1]);
+      }
+    }
+    free(ri);
   }
   double t1 = bbc__now_s();
   cl->bake_s = t1 - t0;

@@ -132,6 +132,10 @@ static const param_row k_rows[] = {
       "quality 2: texel opacity by error diffusion of its 16 samples' coverage, keeping the "
       "original's density (0 = growing: opaque when >= growmin samples are)"},
      INT_FIELD(dither)},
+    {{"refine", BBC_PARAM_INT, 0, 1024, 16, F3, "extension", "views",
+      "quality 2: texels whose opacity adds more false than true coverage of the original, "
+      "over this many views, are cleared, and the reverse (0 = off)"},
+     INT_FIELD(refine)},
     {{"growmin", BBC_PARAM_INT, 1, 16, 1, F3, "extension", "samples",
       "quality 2: opaque texel when >= n of its 16 samples are (1 = thesis 2.3.9)"},
      INT_FIELD(grow_min)},
@@ -158,6 +162,7 @@ void bbc_params_thesis(bbc_params *p) {
   p->min_planes = 0;
   p->atlas_max = 0;
   p->dither = 0; /* quality 2 grows (2.3.9) */
+  p->refine = 0;
 }
 
 size_t bbc_param_count(void) {

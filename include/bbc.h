@@ -366,6 +366,8 @@ typedef struct bbc_params {
   double shade_ambient;  /* shadeambient: ambient share of voxel shadowing, 0..1 */
   int dither;            /* dither: quality 2: texel opacity by coverage-preserving error
                           * diffusion of its samples' coverage (1) or by growing (0) */
+  int stem;              /* stem: billboards through the trunk part's axis, 180/n
+                          * degrees apart, each showing the whole stem (0 = off) */
   int refine;            /* refine: quality 2: views of the original each billboard's
                           * alpha is refined against (0 = off; src/core/refine.c) */
   int grow_min;          /* growmin: quality 2: a texel is opaque when at least this
@@ -423,6 +425,7 @@ typedef enum bbc_plane_kind {
   BBC_PLANE_POSTTWEAKED,  /* refined by post-plane tweaking, 2.3.3 [pink] */
   BBC_PLANE_CARDBOARD,    /* perpendicular to its mother plane, 2.3.7 [green] */
   BBC_PLANE_PARACHUTE,    /* found by the fail-safe, 2.3.4 [cyan] */
+  BBC_PLANE_STEM,         /* step 3: through the trunk's axis (`stem`) [yellow] */
   BBC_PLANE_KIND_COUNT
 } bbc_plane_kind;
 

@@ -440,6 +440,75 @@ static void test_refine_keeps_density(void **state) {
   bbc_mesh_free(&m);
 }
 
+/* A stem that holds from every side (stem.c): a vertical cylinder in the
+ * part "trunk", simplified by one plane through its axis with a slab
+ * thinner than the cylinder. Without stem billboards the trunk vanishes
+ * where that plane is seen edge-on; with three (60 degrees apart) every
+ * side view shows at least 80 % of it. */
+static void test_stem_holds_from_every_side(void **state) {
+  (void)state;
+  enum { SIDES = 16 };
+  scene sc;
+  scene_begin(&sc, 2 * SIDES + 2 * (SIDES - 2));
+  const double r = 0.05, h = 1.0;
+  for (int i = 0; i < SIDES; i++) {
+    double a0 = 2 * 3.14159265358979323846 * i / SIDES,
+           a1 = 2 * 3.14159265358979323846 * (i + 1) / SIDES;
+    const double p00[3] = {r * cos(a0), 0, r * sin(a0)}, p10[3] = {r * cos(a1), 0, r * sin(a1)};
+    const double p01[3] = {r * cos(a0), h, r * sin(a0)}, p11[3] = {r * cos(a1), h, r * sin(a1)};
+    scene_tri(&sc, p00, p10, p11, 1);
+    scene_tri(&sc, p00, p11, p01, 1);
+  }
+  scene_end(&sc, 0.01);
+  strcpy(sc.s.parts[0].name, "trunk");
+  double dirs[12][3];
+  for (int k = 0; k < 12; k++) {
+    double a = 2 * 3.14159265358979323846 * (k + 0.25) / 12;
+    dirs[k][0] = cos(a);
+    dirs[k][1] = 0;
+    dirs[k][2] = sin(a);
+  }
+  double min_recall[2];
+  for (int with = 0; with < 2; with++) {
+    bbc_params p;
+    params_for(&p, 64, 2);
+    p.stem = with ? 3 : 0;
+    bbc_cloud cl;
+    bbc_error err;
+    if (bbc_cloud_build(&sc.m, &sc.s, &p, NULL, &cl, &err) != BBC_OK) fail_msg("%s", err.message);
+    size_t stems = 0;
+    for (size_t b = 0; b < cl.billboard_count; b++) {
+      const bbc_cloud_billboard *cb = &cl.billboards[b];
+      if (cb->kind != BBC_PLANE_STEM) continue;
+      stems++;
+      assert_true(fabs(cb->normal[1]) < 1e-6); /* through the vertical axis */
+      for (size_t c = 0; c < b; c++)
+        if (cl.billboards[c].kind == BBC_PLANE_STEM) /* 60 degrees apart */
+          assert_true(fabs(fabs(cb->normal[0] * cl.billboards[c].normal[0] +
+                                cb->normal[2] * cl.billboards[c].normal[2]) -
+                           0.5) < 1e-6);
+    }
+    assert_int_equal(stems, with ? 3 : 0);
+    bbc_eval_options eo;
+    bbc_eval_options_default(&eo);
+    eo.directions = &dirs[0][0];
+    eo.direction_count = 12;
+    eo.size = 128;
+    bbc_eval_result er;
+    if (bbc_eval(&sc.m, &cl.mesh, &eo, &er, &err) != BBC_OK) fail_msg("%s", err.message);
+    min_recall[with] = 1;
+    for (size_t v = 0; v < er.view_count; v++)
+      min_recall[with] = fmin(min_recall[with], er.views[v].recall);
+    bbc_eval_result_free(&er);
+    bbc_cloud_free(&cl);
+  }
+  printf("trunk: least side-view recall %.3f without stem billboards, %.3f with\n", min_recall[0],
+         min_recall[1]);
+  assert_true(min_recall[0] < 0.3);
+  assert_true(min_recall[1] >= 0.8);
+  scene_free(&sc);
+}
+
 /* ---- a real tree ----------------------------------------------------------- */
 
 static void build(const bbc_mesh *m, int quality, int threads, bbc_planeset *s, bbc_cloud *cloud) {
@@ -478,7 +547,11 @@ static void test_cloud_of_a_tree(void **state) {
     bbc_cloud cl;
     build(&m, quality, 1, &s, &cl);
     const bbc_mesh *cm = &cl.mesh;
-    assert_int_equal(cl.billboard_count, s.plane_count); /* polyskip 0, no cardboard */
+    size_t stems = 0;
+    for (size_t b = 0; b < cl.billboard_count; b++)
+      stems += cl.billboards[b].kind == BBC_PLANE_STEM;
+    assert_int_equal(stems, 3);                                  /* the trunk part's stem */
+    assert_int_equal(cl.billboard_count, s.plane_count + stems); /* polyskip 0, no cardboard */
     size_t tris = 0, verts = 0;
     for (size_t k = 0; k < cl.billboard_count; k++) {
       const bbc_cloud_billboard *b = &cl.billboards[k];
@@ -740,6 +813,7 @@ int main(void) {
       cmocka_unit_test(test_small_leaf_survives_quality2),
       cmocka_unit_test(test_dither_keeps_density),
       cmocka_unit_test(test_refine_keeps_density),
+      cmocka_unit_test(test_stem_holds_from_every_side),
       cmocka_unit_test(test_front_and_back),
       cmocka_unit_test(test_tilted_normal_map),
       cmocka_unit_test(test_voxel_shading),

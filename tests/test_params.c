@@ -30,7 +30,7 @@ static void test_defaults_match_appendix_a(void **state) {
   assert_int_equal(p.format, 0);
   assert_int_equal(p.max_planes, 0);
   assert_int_equal(p.atlas_max, 0);
-  /* The toolkit's defaults differ from the thesis in eight places only. */
+  /* The toolkit's defaults differ from the thesis in nine places only. */
   bbc_params d;
   bbc_params_default(&d);
   assert_int_equal(d.clustering, 0);
@@ -41,8 +41,10 @@ static void test_defaults_match_appendix_a(void **state) {
   assert_int_equal(d.min_planes, 16);
   assert_int_equal(d.dither, 1);
   assert_int_equal(d.refine, 16);
+  assert_int_equal(d.stem, 3);
   d.dither = 0;
   d.refine = 0;
+  d.stem = 0;
   d.min_planes = 0;
   d.clustering = 2;
   d.epsilon_pct = 5;

@@ -194,26 +194,31 @@ static void outline(const bbc_billboard *b, const double lo[3], const double hi[
 }
 
 /* Faces drawn into a billboard: those crossing the +-eps slab (or, pure,
- * its plane's own), and their bounds. Returns the count. */
+ * its plane's own), or with `mask` those it marks (a stem billboard), and
+ * their bounds. Returns the count. */
 static size_t slab_faces(const bbc_mesh *m, const bbc_planeset *set, const bbc_plane *p,
-                         uint32_t owner, double eps, int pure, uint32_t *faces, double lo[3],
-                         double hi[3]) {
+                         uint32_t owner, double eps, int pure, const uint8_t *mask, uint32_t *faces,
+                         double lo[3], double hi[3]) {
   size_t n = 0;
   for (int k = 0; k < 3; k++) {
     lo[k] = INFINITY;
     hi[k] = -INFINITY;
   }
   for (size_t t = 0; t < m->triangle_count; t++) {
-    if (pure && set->face_plane[t] != owner) continue;
-    double dmin = INFINITY, dmax = -INFINITY;
     const uint32_t *ix = m->indices + 3 * t;
-    for (int c = 0; c < 3; c++) {
-      const double *x = m->positions + 3 * ix[c];
-      double d = p->normal[0] * x[0] + p->normal[1] * x[1] + p->normal[2] * x[2] - p->d;
-      dmin = fmin(dmin, d);
-      dmax = fmax(dmax, d);
+    if (mask) {
+      if (!mask[t]) continue;
+    } else {
+      if (pure && set->face_plane[t] != owner) continue;
+      double dmin = INFINITY, dmax = -INFINITY;
+      for (int c = 0; c < 3; c++) {
+        const double *x = m->positions + 3 * ix[c];
+        double d = p->normal[0] * x[0] + p->normal[1] * x[1] + p->normal[2] * x[2] - p->d;
+        dmin = fmin(dmin, d);
+        dmax = fmax(dmax, d);
+      }
+      if (dmin > eps || dmax < -eps) continue;
     }
-    if (dmin > eps || dmax < -eps) continue;
     faces[n++] = (uint32_t)t;
     for (int c = 0; c < 3; c++)
       for (int k = 0; k < 3; k++) {
@@ -224,20 +229,23 @@ static size_t slab_faces(const bbc_mesh *m, const bbc_planeset *set, const bbc_p
   return n;
 }
 
+/* Bakes billboard cb of plane p: the faces crossing its +-eps slab (pure:
+ * those of plane `owner`), or with `mask` the faces it marks (a stem
+ * billboard, eps its slab). */
 static void bake_one(const bbc_mesh *m, const bbc_planeset *set, const bbc_params *prm,
                      const bbc__mips *mips, const float *vshade, const double *light,
-                     double light_gain, size_t plane_index, bbc_cloud_billboard *cb,
-                     uint32_t *faces, baked *out) {
-  const bbc_plane *p = &set->planes[plane_index];
+                     double light_gain, const bbc_plane *p, uint32_t owner, double eps,
+                     const uint8_t *mask, bbc_cloud_billboard *cb, uint32_t *faces, baked *out) {
   const bbc_billboard *b = &cb->rect;
-  double eps = set->parts[p->part].epsilon_abs;
-  uint32_t owner = p->kind == BBC_PLANE_CARDBOARD ? (uint32_t)p->mother : (uint32_t)plane_index;
   double lo[3], hi[3];
-  cb->face_count = slab_faces(m, set, p, owner, eps, prm->pure, faces, lo, hi);
+  cb->face_count = slab_faces(m, set, p, owner, eps, prm->pure, mask, faces, lo, hi);
   if (cb->face_count) {
-    for (int k = 0; k < 3; k++) { /* never beyond the model's own bounds */
-      lo[k] = fmax(lo[k], m->bbox_min[k]) - eps;
-      hi[k] = fmin(hi[k], m->bbox_max[k]) + eps;
+    /* Never beyond the model's own bounds (+- epsilon; a stem billboard,
+     * whose slab may be thicker, within its faces' bounds). */
+    double grow = mask ? 0 : eps;
+    for (int k = 0; k < 3; k++) {
+      lo[k] = fmax(lo[k], m->bbox_min[k]) - grow;
+      hi[k] = fmin(hi[k], m->bbox_max[k]) + grow;
     }
     outline(b, lo, hi, cb);
   } else {
@@ -439,21 +447,32 @@ static int plane_kept(const bbc_planeset *set, size_t i, const bbc_params *prm) 
 }
 
 static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
-                              const bbc_billboard *given, const bbc_params *prm,
-                              const bbc_callbacks *cbk, bbc_cloud *cl, bbc_error *err,
-                              int atlas_limit);
+                              const bbc_billboard *given, const bbc__stem *stem,
+                              const bbc_params *prm, const bbc_callbacks *cbk, bbc_cloud *cl,
+                              bbc_error *err, int atlas_limit);
 
 bbc_result bbc__cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
                                   const bbc_billboard *given, const bbc_params *prm,
                                   const bbc_callbacks *cbk, bbc_cloud *cl, bbc_error *err) {
-  if (prm->atlas_max <= 0) return build_inner(m, set, given, prm, cbk, cl, err, 16384);
+  memset(cl, 0, sizeof *cl);
+  bbc__stem stem;
+  bbc_result r = BBC_OK;
+  if (m->kind == BBC_MESH_TRIANGLES)
+    r = bbc__stem_find(m, set, prm->stem, prm->up_axis, &stem, err);
+  else
+    memset(&stem, 0, sizeof stem);
+  if (r != BBC_OK) return r;
+  if (prm->atlas_max <= 0) {
+    r = build_inner(m, set, given, &stem, prm, cbk, cl, err, 16384);
+    bbc__stem_free(&stem);
+    return r;
+  }
   /* atlasmax: the largest texres whose images fill about 70 % of the atlas
    * (packing loses the rest), then halved while they do not fit. */
-  memset(cl, 0, sizeof *cl);
   int limit = floor_pow2(prm->atlas_max < 64 ? 64 : prm->atlas_max); /* below 64: 64 */
   size_t np = set->plane_count, nk = 0;
-  bbc_billboard *bb = calloc(np ? np : 1, sizeof *bb), *kept = calloc(np ? np : 1, sizeof *kept);
-  bbc_result r = BBC_OK;
+  bbc_billboard *bb = calloc(np ? np : 1, sizeof *bb);
+  bbc_billboard *kept = calloc(np + stem.count + 1, sizeof *kept);
   if (!bb || !kept) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
   if (r == BBC_OK && given)
     memcpy(bb, given, np * sizeof *bb);
@@ -461,6 +480,7 @@ bbc_result bbc__cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
     r = bbc_billboards_compute(m, set, bb, err);
   for (size_t i = 0; r == BBC_OK && i < np; i++)
     if (plane_kept(set, i, prm)) kept[nk++] = bb[i];
+  for (size_t i = 0; r == BBC_OK && i < stem.count; i++) kept[nk++] = stem.rects[i];
   int texres = 4;
   size_t per = (size_t)(prm->back_images ? 2 : 1) * (prm->quality == 3 ? 16 : 1);
   for (int t = 4; r == BBC_OK && nk && t <= 8192; t *= 2)
@@ -469,20 +489,21 @@ bbc_result bbc__cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
   bbc_params p2 = *prm;
   while (r == BBC_OK) {
     p2.texres = texres;
-    r = build_inner(m, set, bb, &p2, cbk, cl, err, limit); /* billboards computed once */
+    r = build_inner(m, set, bb, &stem, &p2, cbk, cl, err, limit); /* billboards computed once */
     if (r != BBC_ERROR_OUT_OF_RANGE || texres <= 4) break;
     r = BBC_OK; /* did not fit: half the resolution */
     texres /= 2;
   }
   free(bb);
   free(kept);
+  bbc__stem_free(&stem);
   return r;
 }
 
 static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
-                              const bbc_billboard *given, const bbc_params *prm,
-                              const bbc_callbacks *cbk, bbc_cloud *cl, bbc_error *err,
-                              int atlas_limit) {
+                              const bbc_billboard *given, const bbc__stem *stem,
+                              const bbc_params *prm, const bbc_callbacks *cbk, bbc_cloud *cl,
+                              bbc_error *err, int atlas_limit) {
   memset(cl, 0, sizeof *cl);
   if (m->kind != BBC_MESH_TRIANGLES)
     return bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
@@ -520,6 +541,12 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
     }
   if (r == BBC_OK && nk == 0)
     r = bbc__fail(err, BBC_ERROR_EMPTY, "step 3: every plane was skipped");
+  /* Billboards 0..np_kept-1: the kept planes'; then the stem's. */
+  size_t np_kept = nk;
+  for (size_t i = 0; r == BBC_OK && i < stem->count; i++) {
+    longest = fmax(longest, fmax(stem->rects[i].width, stem->rects[i].height));
+    nk++;
+  }
   baked *bk = NULL;
   if (r == BBC_OK) {
     cl->billboards = calloc(nk, sizeof *cl->billboards);
@@ -534,8 +561,8 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
     double texel = longest / prm->texres;
     for (size_t k = 0; k < nk; k++) {
       bbc_cloud_billboard *cb = &cl->billboards[k];
-      const bbc_plane *p = &set->planes[order[k]];
-      cb->rect = bb[order[k]];
+      const bbc_plane *p = k < np_kept ? &set->planes[order[k]] : &stem->planes[k - np_kept];
+      cb->rect = k < np_kept ? bb[order[k]] : stem->rects[k - np_kept];
       cb->kind = p->kind;
       cb->part = p->part;
       memcpy(cb->normal, p->normal, sizeof cb->normal);
@@ -571,8 +598,17 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
           bk[k].r = bbc__fail(&bk[k].err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
           continue;
         }
-        bake_one(m, set, prm, mips, vshade, light, light_gain, order[k], &cl->billboards[k], faces,
-                 &bk[k]);
+        if (k < np_kept) {
+          const bbc_plane *p = &set->planes[order[k]];
+          uint32_t owner =
+              p->kind == BBC_PLANE_CARDBOARD ? (uint32_t)p->mother : (uint32_t)order[k];
+          bake_one(m, set, prm, mips, vshade, light, light_gain, p, owner,
+                   set->parts[p->part].epsilon_abs, NULL, &cl->billboards[k], faces, &bk[k]);
+        } else {
+          size_t i = k - np_kept;
+          bake_one(m, set, prm, mips, vshade, light, light_gain, &stem->planes[i], 0, stem->slab[i],
+                   stem->face_mask, &cl->billboards[k], faces, &bk[k]);
+        }
 #pragma omp critical(bbc_cloud_progress)
         {
           done++;

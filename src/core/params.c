@@ -132,6 +132,10 @@ static const param_row k_rows[] = {
       "quality 2: texel opacity by error diffusion of its 16 samples' coverage, keeping the "
       "original's density (0 = growing: opaque when >= growmin samples are)"},
      INT_FIELD(dither)},
+    {{"stem", BBC_PARAM_INT, 0, 8, 3, F3, "extension", "planes",
+      "billboards through the trunk part's axis, 180/n degrees apart, each showing the whole "
+      "stem, so it holds from every side (0 = off)"},
+     INT_FIELD(stem)},
     {{"refine", BBC_PARAM_INT, 0, 1024, 16, F3, "extension", "views",
       "quality 2: texels whose opacity adds more false than true coverage of the original, "
       "over this many views, are cleared, and the reverse (0 = off)"},
@@ -163,6 +167,7 @@ void bbc_params_thesis(bbc_params *p) {
   p->atlas_max = 0;
   p->dither = 0; /* quality 2 grows (2.3.9) */
   p->refine = 0;
+  p->stem = 0;
 }
 
 size_t bbc_param_count(void) {

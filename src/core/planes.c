@@ -17,7 +17,7 @@
 #include <strings.h>
 
 static const char *const k_kind_names[BBC_PLANE_KIND_COUNT] = {
-    "standard", "coplanar", "posttweaked", "cardboard", "parachute"};
+    "standard", "coplanar", "posttweaked", "cardboard", "parachute", "stem"};
 
 const char *bbc_plane_kind_name(bbc_plane_kind kind) {
   return (unsigned)kind < BBC_PLANE_KIND_COUNT ? k_kind_names[kind] : "unknown";

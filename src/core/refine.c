@@ -6,11 +6,13 @@
  * sample of the original covered). Each view is cut in 8 x 8 pixel blocks,
  * and a block is too dense or too sparse where the cloud covers more or
  * fewer of its pixels than the original. An opaque texel is cleared when it
- * is seen at least as often where the original is empty as where it is
- * covered, unless it lies more often in too sparse blocks than in too
- * dense ones (so thin outer parts are not thinned further); a transparent
- * one is set when it would fill more of the original's uncovered pixels
- * than it would add false ones, unless it lies mostly in too dense blocks.
+ * is seen more often where the original is empty than where it is covered,
+ * unless it lies more often in too sparse blocks than in too dense ones (so
+ * thin outer parts are not thinned further); where it lies mostly in too
+ * dense blocks, already when it is wrong 0.7 times as often as right. A
+ * transparent one is set when it would fill more of the original's
+ * uncovered pixels than it would add false ones, unless it lies mostly in
+ * too dense blocks.
  * Counts are integers summed per thread in a fixed order, so the result
  * does not depend on the number of threads. */
 #include "internal.h"
@@ -295,11 +297,13 @@ bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
         for (size_t i = 0; i < nx; i++) {
           const int32_t *c = counts + (base + i) * COUNTS;
           int32_t right = c[RIGHT], wrong = c[WRONG], bal = c[BALANCE];
-          /* Cleared when at least as often wrong as right and not where
-           * the cloud is too sparse (a tie only where it is too dense); set
-           * when more often right than wrong and not where it is too dense. */
+          /* Cleared when more often wrong than right (a tie too) and not
+           * where the cloud is too sparse, or, where it is too dense, when
+           * wrong at least 0.7 times as often as right; set when more often
+           * right than wrong and not where it is too dense. */
           int flip = im[k].alpha[s][i]
-                         ? (wrong > right && bal >= 0) || (wrong == right && wrong && bal > 0)
+                         ? (wrong > right && bal >= 0) ||
+                               (wrong && 10 * (int64_t)wrong >= 7 * (int64_t)right && bal > 0)
                          : right > wrong && bal <= 0;
           if (flip) {
             im[k].alpha[s][i] = im[k].alpha[s][i] ? 0 : 255;

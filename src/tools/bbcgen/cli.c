@@ -122,6 +122,7 @@ int cli_common_option(cli *c, int argc, char **argv, int *i) {
     if (c->params.atlas_max == d.atlas_max) c->params.atlas_max = t.atlas_max;
     if (c->params.dither == d.dither) c->params.dither = t.dither;
     if (c->params.refine == d.refine) c->params.refine = t.refine;
+    if (c->params.stem == d.stem) c->params.stem = t.stem;
     return 1;
   }
   bbc_error err;

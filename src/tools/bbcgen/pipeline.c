@@ -401,6 +401,7 @@ static const uint8_t k_kind_rgb[BBC_PLANE_KIND_COUNT][3] = {
     {255, 120, 200}, /* post-tweaked: pink */
     {40, 220, 60},   /* cardboard: green */
     {0, 255, 255},   /* parachute: cyan */
+    {255, 230, 40},  /* stem: yellow */
 };
 
 int job_preview(const cli *c, const job *j, const char *out, int cell) {

@@ -231,6 +231,19 @@ static void test_lod_and_vrml(void **state) {
     assert_true((strstr(text, "NormalMap") != NULL) == (format == 0));
     free(text);
   }
+  /* The Scopia palm's stem billboards are clipped to its trunk's bounds
+   * into outlines whose fans a VRML file must carry whole. */
+  char palm[1024];
+  tu_data_path(palm, sizeof palm, "trees/scopia/palm/palm.obj");
+  if (tu_have_file(palm)) {
+    snprintf(out, sizeof out, "%s/palm.wrl", dir);
+    snprintf(args, sizeof args, "'%s' -o '%s'", palm, out);
+    assert_int_equal(run(args), 0);
+    char *text = (char *)tu_read_file(out, NULL);
+    assert_non_null(text);
+    assert_non_null(strstr(text, "stem plane"));
+    free(text);
+  }
   snprintf(out, sizeof out, "%s/c.obj", dir);
   snprintf(args, sizeof args, "'%s' -o '%s' --clustering 0 --texres 64 --lod 5,10", model, out);
   assert_int_equal(run(args), 0);

@@ -184,6 +184,19 @@ static void outline(const bbc_billboard *b, const double lo[3], const double hi[
     n = clip_half(p, n, a, c, hi[k] - b->origin[k]);
     if (n >= 3) n = clip_half(p, n, -a, -c, b->origin[k] - lo[k]);
   }
+  /* Corners on a line with their neighbours (or on them) would give the
+   * fan zero-area triangles, which a mesh drops: removed. */
+  for (int i = 0; n > 3 && i < n;) {
+    const double *A = p[(i + n - 1) % n], *B = p[i], *C = p[(i + 1) % n];
+    double cr = (B[0] - A[0]) * (C[1] - B[1]) - (B[1] - A[1]) * (C[0] - B[0]);
+    if (fabs(cr) <= 1e-9) {
+      memmove(p[i], p[i + 1], (size_t)(n - 1 - i) * sizeof p[0]);
+      n--;
+      i = 0;
+    } else {
+      i++;
+    }
+  }
   if (n < 3 || n > 10 || polygon_area(p, n) < 1e-9) {
     double r[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
     memcpy(p, r, sizeof r);

@@ -855,6 +855,88 @@ void bbc_tree_options_default(bbc_tree_options *options);
  * quads with a generated RGBA leaf texture whose alpha is 0 or 255). */
 bbc_result bbc_tree_generate(const bbc_tree_options *options, bbc_mesh *mesh, bbc_error *err);
 
+/* ---- forest: map and model description files (thesis Appendix B) ------ */
+/* The forest engine's text files, as the thesis's "Perfect Motion manual"
+ * defines them: whitespace-separated words, a command's arguments wherever
+ * the lines break, comment lines beginning with ' (high comma), a word in
+ * double quotes may hold spaces. Parsed from memory (`name` is the file
+ * name used in messages) or from a file; every error is
+ * BBC_ERROR_CORRUPT (or a read or memory error) with "file:line: command:
+ * what was expected", and nothing is returned. File names are kept as
+ * written (relative to the file's folder). */
+
+typedef enum bbc_forest_place_kind {
+  BBC_FOREST_OBJECT2D = 0, /* one model at a map position */
+  BBC_FOREST_RNDTREE,      /* `count` models where the colour map is green */
+  BBC_FOREST_RNDTREE2      /* ... of two components (file and file2) */
+} bbc_forest_place_kind;
+
+typedef struct bbc_forest_placement {
+  bbc_forest_place_kind kind;
+  char *file;             /* model description file or 3D model */
+  char *file2;            /* rndtree2: the second component, else NULL */
+  double scale;           /* > 0 */
+  size_t count;           /* rndtree, rndtree2: how many; object2d: 1 */
+  int mipmap;             /* 0 or 1 */
+  int random;             /* rndtree, rndtree2: random orientation (0 or 1) */
+  double x, y;            /* object2d: map position, OpenGL units */
+  double rotation_deg[3]; /* xr, yr, zr */
+  double altitude;        /* added altitude */
+  int line;               /* where it is written */
+} bbc_forest_placement;
+
+typedef struct bbc_forest_map {
+  char *hmap;                                 /* hmap: heightmap image (required) */
+  int hmap_filter_radius, hmap_filter_passes; /* hmapfilter (0 0 = none) */
+  char *colmap;                               /* colmap: colour map image, NULL = none */
+  double heightscale;                         /* heightscale (1): vertical scale */
+  double stretch;                             /* stretch (1): horizontal scale */
+  double light[3];                            /* light (1 1 0.5): terrain prelighting */
+  double farclip;                             /* farclip: map vertices, 0 = not given */
+  double roetger;                             /* roetger (10): terrain detail factor */
+  char *skymap;                               /* skymap: file stem, NULL = none */
+  int has_water;                              /* waterheight given */
+  double water_height;
+  int has_fog; /* fog given */
+  double fog_start, fog_end;
+  int has_numobjs; /* numobjs given */
+  size_t numobjs;
+  size_t placement_count; /* object2d, rndtree, rndtree2 lines in order */
+  bbc_forest_placement *placements;
+} bbc_forest_map;
+
+/* The defaults above, nothing placed. */
+void bbc_forest_map_default(bbc_forest_map *map);
+bbc_result bbc_forest_map_parse(const char *text, size_t size, const char *name,
+                                bbc_forest_map *map, bbc_error *err);
+bbc_result bbc_forest_map_load(const char *path, bbc_forest_map *map, bbc_error *err);
+void bbc_forest_map_free(bbc_forest_map *map);
+
+typedef struct bbc_forest_lod_file {
+  char *file;
+  int displaylist, mipmap, lighting; /* the options written after it */
+} bbc_forest_lod_file;
+
+typedef struct bbc_forest_lod {
+  bbc_forest_lod_file part[2]; /* file1, file2 (two components: foliage and stem) */
+  int part_count;              /* 1 or 2 */
+  double min_dist, max_dist;   /* drawn from min to max (0 <= min < max) */
+  int line;                    /* where its LOD block starts */
+} bbc_forest_lod;
+
+typedef struct bbc_forest_model {
+  double fade;          /* fade: units for half an LOD transition (0 = not given) */
+  double shadow_radius; /* shadowrad: 0 = no shadow */
+  double shadow_cutoff; /* shadowcutoff: full darkness up to it, 0 = not given */
+  size_t lod_count;     /* at least one, in the order written */
+  bbc_forest_lod *lods;
+} bbc_forest_model;
+
+bbc_result bbc_forest_model_parse(const char *text, size_t size, const char *name,
+                                  bbc_forest_model *model, bbc_error *err);
+bbc_result bbc_forest_model_load(const char *path, bbc_forest_model *model, bbc_error *err);
+void bbc_forest_model_free(bbc_forest_model *model);
+
 #ifdef __cplusplus
 }
 #endif

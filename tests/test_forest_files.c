@@ -1,0 +1,233 @@
+/* test_forest_files.c — the forest engine's map and model description files
+ * (thesis Appendix B): every keyword read as the manual defines it, the
+ * manual's own example, and every mistake refused with file:line and what
+ * was expected. Run under ASan/UBSan by `make test`. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bbc.h"
+
+/* The model description file of Appendix B, as printed. */
+static const char k_thesis_model[] =
+    "fade 250\n"
+    "' we want a shadow with radius 5.2 units, and cutoff at 2.0 units\n"
+    "shadowrad 5.2\n"
+    "shadowcutoff 2.0\n"
+    "' first LOD: render 3ds tree, with creating displaylists and lighting on\n"
+    "LOD\n"
+    "(\n"
+    "    file1 tree.3ds displaylist lighting\n"
+    "    min 0\n"
+    "    max 1000\n"
+    ")\n"
+    "' second LOD: draw Billboard Clouds with displaylists\n"
+    "LOD\n"
+    "(\n"
+    "    file1 treefoliage.wrl displaylist\n"
+    "    file2 treetrunk.wrl displaylist\n"
+    "    min 1000\n"
+    "    max 5000\n"
+    ")\n"
+    "' third LOD is simplest Billboard Cloud\n"
+    "LOD\n"
+    "(\n"
+    "    file1 tree.wrl displaylist mipmap\n"
+    "    min 5000\n"
+    "    max 15000\n"
+    ")\n"
+    "' an object further away is not rendered at all\n";
+
+static void test_thesis_model(void **state) {
+  (void)state;
+  bbc_forest_model m;
+  bbc_error err;
+  if (bbc_forest_model_parse(k_thesis_model, strlen(k_thesis_model), "tree.txt", &m, &err) !=
+      BBC_OK)
+    fail_msg("%s", err.message);
+  assert_true(m.fade == 250 && m.shadow_radius == 5.2 && m.shadow_cutoff == 2.0);
+  assert_int_equal(m.lod_count, 3);
+  assert_int_equal(m.lods[0].part_count, 1);
+  assert_string_equal(m.lods[0].part[0].file, "tree.3ds");
+  assert_true(m.lods[0].part[0].displaylist && m.lods[0].part[0].lighting &&
+              !m.lods[0].part[0].mipmap);
+  assert_true(m.lods[0].min_dist == 0 && m.lods[0].max_dist == 1000);
+  assert_int_equal(m.lods[0].line, 6);
+  assert_int_equal(m.lods[1].part_count, 2);
+  assert_string_equal(m.lods[1].part[0].file, "treefoliage.wrl");
+  assert_string_equal(m.lods[1].part[1].file, "treetrunk.wrl");
+  assert_true(m.lods[1].part[1].displaylist && !m.lods[1].part[1].lighting);
+  assert_true(m.lods[1].min_dist == 1000 && m.lods[1].max_dist == 5000);
+  assert_string_equal(m.lods[2].part[0].file, "tree.wrl");
+  assert_true(m.lods[2].part[0].mipmap && m.lods[2].max_dist == 15000);
+  bbc_forest_model_free(&m);
+}
+
+static void test_every_map_keyword(void **state) {
+  (void)state;
+  const char *text = "' a map with every command of Appendix B\n"
+                     "hmap terrain.png\n"
+                     "hmapfilter 2 3\n"
+                     "colmap colour.png\n"
+                     "heightscale 10.0\n"
+                     "stretch 2.0\n"
+                     "light 1 -2 0.5\n"
+                     "farclip 400\n"
+                     "roetger 12.5\n"
+                     "skymap sky/clouds\n"
+                     "waterheight 15.5\n"
+                     "fog 100 900\n"
+                     "numobjs 38001\n"
+                     "object2d house.txt 1.5 1 100 200 0 90 0 -0.5\n"
+                     "rndtree tupelo.txt 1.0 20000 1 1 0 0 0 0\n"
+                     "rndtree2 foliage.wrl \"stem file.wrl\" 0.8 18000 0 1 -90 0 0 0.25\n";
+  bbc_forest_map m;
+  bbc_error err;
+  if (bbc_forest_map_parse(text, strlen(text), "mixed.txt", &m, &err) != BBC_OK)
+    fail_msg("%s", err.message);
+  assert_string_equal(m.hmap, "terrain.png");
+  assert_true(m.hmap_filter_radius == 2 && m.hmap_filter_passes == 3);
+  assert_string_equal(m.colmap, "colour.png");
+  assert_true(m.heightscale == 10 && m.stretch == 2);
+  assert_true(m.light[0] == 1 && m.light[1] == -2 && m.light[2] == 0.5);
+  assert_true(m.farclip == 400 && m.roetger == 12.5);
+  assert_string_equal(m.skymap, "sky/clouds");
+  assert_true(m.has_water && m.water_height == 15.5);
+  assert_true(m.has_fog && m.fog_start == 100 && m.fog_end == 900);
+  assert_true(m.has_numobjs && m.numobjs == 38001);
+  assert_int_equal(m.placement_count, 3);
+  const bbc_forest_placement *o = &m.placements[0];
+  assert_int_equal(o->kind, BBC_FOREST_OBJECT2D);
+  assert_string_equal(o->file, "house.txt");
+  assert_true(o->scale == 1.5 && o->mipmap == 1 && o->x == 100 && o->y == 200 && o->count == 1);
+  assert_true(o->rotation_deg[1] == 90 && o->altitude == -0.5 && o->line == 14);
+  const bbc_forest_placement *r = &m.placements[1];
+  assert_int_equal(r->kind, BBC_FOREST_RNDTREE);
+  assert_true(r->count == 20000 && r->mipmap == 1 && r->random == 1 && r->file2 == NULL);
+  const bbc_forest_placement *r2 = &m.placements[2];
+  assert_int_equal(r2->kind, BBC_FOREST_RNDTREE2);
+  assert_string_equal(r2->file, "foliage.wrl");
+  assert_string_equal(r2->file2, "stem file.wrl");
+  assert_true(r2->scale == 0.8 && r2->count == 18000 && r2->mipmap == 0 && r2->random == 1);
+  assert_true(r2->rotation_deg[0] == -90 && r2->altitude == 0.25);
+  bbc_forest_map_free(&m);
+  /* Defaults when a command is not given; keywords in any case; arguments
+   * across line breaks. */
+  const char *small = "HMAP h.png\nRNDTREE t.txt\n  2 10 0 0\n 0 0 0 0\n";
+  if (bbc_forest_map_parse(small, strlen(small), "small.txt", &m, &err) != BBC_OK)
+    fail_msg("%s", err.message);
+  assert_true(m.heightscale == 1 && m.stretch == 1 && !m.has_water && !m.has_fog && !m.colmap);
+  assert_true(m.placement_count == 1 && m.placements[0].count == 10 && m.placements[0].scale == 2);
+  bbc_forest_map_free(&m);
+}
+
+/* Each mistake: refused, and the message holds every needle. */
+static void expect_map_error(const char *text, const char *n1, const char *n2) {
+  bbc_forest_map m;
+  bbc_error err;
+  memset(&err, 0, sizeof err);
+  bbc_result r = bbc_forest_map_parse(text, strlen(text), "bad.txt", &m, &err);
+  if (r == BBC_OK) fail_msg("accepted: %s", text);
+  assert_int_equal(r, BBC_ERROR_CORRUPT);
+  if (!strstr(err.message, n1) || (n2 && !strstr(err.message, n2)))
+    fail_msg("'%s' lacks '%s'/'%s'", err.message, n1, n2 ? n2 : "");
+  assert_null(m.placements);
+  assert_null(m.hmap);
+}
+
+static void expect_model_error(const char *text, const char *n1, const char *n2) {
+  bbc_forest_model m;
+  bbc_error err;
+  memset(&err, 0, sizeof err);
+  bbc_result r = bbc_forest_model_parse(text, strlen(text), "bad.txt", &m, &err);
+  if (r == BBC_OK) fail_msg("accepted: %s", text);
+  assert_int_equal(r, BBC_ERROR_CORRUPT);
+  if (!strstr(err.message, n1) || (n2 && !strstr(err.message, n2)))
+    fail_msg("'%s' lacks '%s'/'%s'", err.message, n1, n2 ? n2 : "");
+  assert_null(m.lods);
+}
+
+static void test_mistakes_named(void **state) {
+  (void)state;
+  expect_map_error("hmap h.png\nheightscale ten\n", "bad.txt:2:", "heightscale");
+  expect_map_error("hmap h.png\nheightscale -1\n", "bad.txt:2:", "> 0");
+  expect_map_error("hmap h.png\n\nfog 900 100\n", "bad.txt:3:", "fog");
+  expect_map_error("hmap h.png\nlight 0 0 0\n", "bad.txt:2:", "light");
+  expect_map_error("hmap h.png\nforest 3\n", "bad.txt:2:", "unknown command 'forest'");
+  expect_map_error("hmap h.png\nrndtree t.txt 1 100 2 1 0 0 0 0\n", "bad.txt:2:", "mipmap");
+  expect_map_error("hmap h.png\nrndtree t.txt 1 -5 1 1 0 0 0 0\n", "bad.txt:2:", "number of");
+  expect_map_error("hmap h.png\nobject2d a.txt 1 1 10 20 0 0 0\n", "end of the file",
+                   "additional altitude");
+  expect_map_error("hmap h.png\nobject2d a.txt 0 1 10 20 0 0 0 0\n", "bad.txt:2:", "scale");
+  expect_map_error("hmap h.png\nhmapfilter 2\n", "hmapfilter", "end of the file");
+  expect_map_error("hmap \"h.png\n", "bad.txt:1:", "quoted");
+  expect_map_error("colmap c.png\n", "no heightmap", NULL);
+  expect_map_error("hmap h.png\nnumobjs 1e12\n", "bad.txt:2:", "numobjs");
+  expect_model_error("LOD ( file1 a.wrl min 0 max 100 )\nfade fast\n", "bad.txt:2:", "fade");
+  expect_model_error("LOD file1 a.wrl min 0 max 100 )\n", "bad.txt:1:", "'('");
+  expect_model_error("LOD (\n file1 a.wrl\n min 0\n", "end of the file", "LOD");
+  expect_model_error("LOD ( min 0 max 10 )\n", "bad.txt:1:", "no file");
+  expect_model_error("LOD ( file1 a.wrl min 0 )\n", "bad.txt:1:", "max");
+  expect_model_error("LOD ( file1 a.wrl min 50 max 10 )\n", "bad.txt:1:", "min < max");
+  expect_model_error("LOD ( file2 a.wrl min 0 max 10 )\n", "bad.txt:1:", "file2");
+  expect_model_error("LOD ( displaylist file1 a.wrl min 0 max 10 )\n", "bad.txt:1:", "option");
+  expect_model_error("LOD ( file1 a.wrl smooth min 0 max 10 )\n", "bad.txt:1:", "'smooth'");
+  expect_model_error("\n\nlod2 ( file1 a.wrl min 0 max 10 )\n", "bad.txt:3:", "unknown command");
+  expect_model_error("fade 10\n", "no LOD block", NULL);
+  expect_model_error("shadowrad 2\nshadowcutoff 3\nLOD ( file1 a min 0 max 1 )\n", "shadowcutoff",
+                     NULL);
+}
+
+/* Every prefix of a valid file is refused or accepted cleanly (ASan). */
+static void test_every_prefix(void **state) {
+  (void)state;
+  const char *map = "hmap h.png\ncolmap c.png\nfog 1 2\nrndtree2 a \"b c\" 1 2 1 0 0 0 0 0\n";
+  for (size_t n = 0; n <= strlen(map); n++) {
+    bbc_forest_map m;
+    bbc_error err;
+    if (bbc_forest_map_parse(map, n, "p.txt", &m, &err) == BBC_OK) bbc_forest_map_free(&m);
+  }
+  for (size_t n = 0; n <= strlen(k_thesis_model); n++) {
+    bbc_forest_model m;
+    bbc_error err;
+    if (bbc_forest_model_parse(k_thesis_model, n, "p.txt", &m, &err) == BBC_OK)
+      bbc_forest_model_free(&m);
+  }
+}
+
+static void test_from_files(void **state) {
+  (void)state;
+  bbc_forest_map m;
+  bbc_error err;
+  assert_int_equal(bbc_forest_map_load("/nonexistent/forest/map.txt", &m, &err),
+                   BBC_ERROR_NOT_FOUND);
+  assert_non_null(strstr(err.message, "map.txt"));
+  char path[] = "/tmp/bbc_forest_XXXXXX";
+  int fd = mkstemp(path);
+  assert_true(fd >= 0);
+  FILE *f = fdopen(fd, "w");
+  fputs(k_thesis_model, f);
+  fclose(f);
+  bbc_forest_model mo;
+  if (bbc_forest_model_load(path, &mo, &err) != BBC_OK) fail_msg("%s", err.message);
+  assert_int_equal(mo.lod_count, 3);
+  bbc_forest_model_free(&mo);
+  assert_int_equal(bbc_forest_map_load(path, &m, &err), BBC_ERROR_CORRUPT); /* not a map */
+  assert_non_null(strstr(err.message, "unknown command 'fade'"));
+  remove(path);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_thesis_model),   cmocka_unit_test(test_every_map_keyword),
+      cmocka_unit_test(test_mistakes_named), cmocka_unit_test(test_every_prefix),
+      cmocka_unit_test(test_from_files),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

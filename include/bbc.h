@@ -937,6 +937,44 @@ bbc_result bbc_forest_model_parse(const char *text, size_t size, const char *nam
 bbc_result bbc_forest_model_load(const char *path, bbc_forest_model *model, bbc_error *err);
 void bbc_forest_model_free(bbc_forest_model *model);
 
+/* A map's world, GL-free (src/forest/world.c): the terrain's heights, its
+ * colour map and every placed object on the ground. */
+typedef struct bbc_forest_instance {
+  float x, y, z;      /* world units: x, z across the map from its corner, y up */
+  float yaw_deg;      /* rotation about the up axis */
+  float scale;        /* the placement's scale */
+  uint32_t placement; /* index into bbc_forest_map.placements */
+} bbc_forest_instance;
+
+typedef struct bbc_forest_world {
+  int width, depth;   /* terrain vertices along x and z: (2^n + 1) each */
+  float *height;      /* width x depth heights, world units (heightmap value 0..255
+                       * times heightscale; 16-bit maps keep their fractions) */
+  double spacing;     /* world units between vertices (stretch) */
+  int heightmap_bits; /* 8 or 16 */
+  bbc_image colour;   /* (width - 1) x (depth - 1) colour map; empty without colmap */
+  size_t instance_count;
+  bbc_forest_instance *instances; /* in placement order */
+  size_t placements_short;        /* rndtree lines that found too little green ground
+                                   * for all their objects */
+  char note[512];                 /* what was resampled, for the log ("" = nothing) */
+} bbc_forest_world;
+
+/* Builds the world of `map`, its files relative to `folder` (NULL = as
+ * written): a heightmap of another size than (2^n+1)^2 is resampled
+ * (bilinear) to the next such size and a colour map to (2^n)^2 (nearest),
+ * both said in world->note; `hmapfilter` box-filters the heights; object2d
+ * stands at (x, y) of the map, rndtree objects at random places whose
+ * colour-map texel is green (G > 70, R < 2/3 G; anywhere without a colour
+ * map), facing a random direction with `random 1`. Deterministic. */
+bbc_result bbc_forest_world_build(const bbc_forest_map *map, const char *folder,
+                                  bbc_forest_world *world, bbc_error *err);
+/* The terrain's height at (x, z) (bilinear), and whether the ground there
+ * is green enough for vegetation. */
+double bbc_forest_world_height(const bbc_forest_world *world, double x, double z);
+int bbc_forest_world_green(const bbc_forest_world *world, double x, double z);
+void bbc_forest_world_free(bbc_forest_world *world);
+
 #ifdef __cplusplus
 }
 #endif

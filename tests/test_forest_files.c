@@ -10,7 +10,9 @@
 
 #include <stdio.h>
 #include <stdlib.h>
+#include <math.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "bbc.h"
 
@@ -223,11 +225,95 @@ static void test_from_files(void **state) {
   remove(path);
 }
 
+/* A world from a 20 x 12 ramp heightmap (resampled to 33 x 33) and a
+ * colour map green on its left half, red on the right: heights scaled,
+ * object2d on the ground where written, every rndtree object on green
+ * ground, the same world twice. */
+static void test_world(void **state) {
+  (void)state;
+  char dir[] = "/tmp/bbc_world_XXXXXX";
+  assert_non_null(mkdtemp(dir));
+  char path[256];
+  bbc_image hm, cm;
+  bbc_error err;
+  assert_int_equal(bbc_image_alloc(&hm, 20, 12), BBC_OK);
+  for (int y = 0; y < 12; y++)
+    for (int x = 0; x < 20; x++) {
+      uint8_t *p = hm.rgba + 4 * ((size_t)y * 20 + x);
+      p[0] = p[1] = p[2] = (uint8_t)(10 * x); /* 0..190 along x */
+      p[3] = 255;
+    }
+  snprintf(path, sizeof path, "%s/h.png", dir);
+  assert_int_equal(bbc_image_write_png(path, &hm, &err), BBC_OK);
+  assert_int_equal(bbc_image_alloc(&cm, 64, 64), BBC_OK);
+  for (int y = 0; y < 64; y++)
+    for (int x = 0; x < 64; x++) {
+      uint8_t *p = cm.rgba + 4 * ((size_t)y * 64 + x);
+      p[0] = x < 32 ? 40 : 200;
+      p[1] = x < 32 ? 160 : 60;
+      p[2] = 30;
+      p[3] = 255;
+    }
+  snprintf(path, sizeof path, "%s/c.png", dir);
+  assert_int_equal(bbc_image_write_png(path, &cm, &err), BBC_OK);
+  const char *text = "hmap h.png\ncolmap c.png\nheightscale 2\nstretch 3\n"
+                     "object2d house.txt 1 0 30 45 0 90 0 0.5\n"
+                     "rndtree tree.txt 1.5 500 1 1 0 0 0 0\n";
+  bbc_forest_map map;
+  if (bbc_forest_map_parse(text, strlen(text), "w.txt", &map, &err) != BBC_OK)
+    fail_msg("%s", err.message);
+  bbc_forest_world w[2];
+  for (int k = 0; k < 2; k++)
+    if (bbc_forest_world_build(&map, dir, &w[k], &err) != BBC_OK) fail_msg("%s", err.message);
+  assert_int_equal(w[0].width, 33);
+  assert_int_equal(w[0].depth, 33);
+  assert_non_null(strstr(w[0].note, "20 x 12 resampled to 33 x 33"));
+  assert_non_null(strstr(w[0].note, "64 x 64 resampled to 32 x 32"));
+  assert_true(w[0].spacing == 3 && w[0].heightmap_bits == 8);
+  /* The ramp: 0 at x = 0, 190 x heightscale at the far edge. */
+  assert_true(fabs(w[0].height[0]) < 1e-4);
+  assert_true(fabs(w[0].height[32] - 380) < 1e-3);
+  double mid = bbc_forest_world_height(&w[0], 16 * 3.0, 10);
+  assert_true(fabs(mid - 190) < 1.0);
+  assert_int_equal(w[0].instance_count, 501);
+  const bbc_forest_instance *o = &w[0].instances[0];
+  assert_true(o->x == 30 && o->z == 45 && o->yaw_deg == 90);
+  assert_true(fabs(o->y - (bbc_forest_world_height(&w[0], 30, 45) + 0.5)) < 1e-3);
+  double extent = 32 * 3.0;
+  for (size_t i = 1; i < w[0].instance_count; i++) {
+    const bbc_forest_instance *t = &w[0].instances[i];
+    assert_true(t->x >= 0 && t->x < extent / 2 + 1e-9); /* the green half */
+    assert_true(t->z >= 0 && t->z < extent);
+    assert_true(t->scale == 1.5f && t->yaw_deg >= 0 && t->yaw_deg < 360);
+    assert_true(fabs(t->y - bbc_forest_world_height(&w[0], t->x, t->z)) < 1e-3);
+  }
+  assert_int_equal(w[0].placements_short, 0);
+  assert_int_equal(w[1].instance_count, w[0].instance_count);
+  assert_memory_equal(w[0].instances, w[1].instances, w[0].instance_count * sizeof *w[0].instances);
+  assert_int_equal(sizeof(bbc_forest_instance) <= 32, 1);
+  for (int k = 0; k < 2; k++) bbc_forest_world_free(&w[k]);
+  /* A missing heightmap is named. */
+  bbc_forest_map_free(&map);
+  const char *bad = "hmap nothere.png\n";
+  assert_int_equal(bbc_forest_map_parse(bad, strlen(bad), "b.txt", &map, &err), BBC_OK);
+  bbc_forest_world nw;
+  assert_int_equal(bbc_forest_world_build(&map, dir, &nw, &err), BBC_ERROR_NOT_FOUND);
+  assert_non_null(strstr(err.message, "nothere.png"));
+  bbc_forest_map_free(&map);
+  bbc_image_free(&hm);
+  bbc_image_free(&cm);
+  snprintf(path, sizeof path, "%s/h.png", dir);
+  remove(path);
+  snprintf(path, sizeof path, "%s/c.png", dir);
+  remove(path);
+  rmdir(dir);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_thesis_model),   cmocka_unit_test(test_every_map_keyword),
       cmocka_unit_test(test_mistakes_named), cmocka_unit_test(test_every_prefix),
-      cmocka_unit_test(test_from_files),
+      cmocka_unit_test(test_from_files),     cmocka_unit_test(test_world),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

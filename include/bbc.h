@@ -957,6 +957,8 @@ typedef struct bbc_forest_world {
   bbc_forest_instance *instances; /* in placement order */
   size_t placements_short;        /* rndtree lines that found too little green ground
                                    * for all their objects */
+  double green_fraction;          /* of the colour map's texels, green enough for
+                                   * vegetation (1 without a colour map) */
   char note[512];                 /* what was resampled, for the log ("" = nothing) */
 } bbc_forest_world;
 

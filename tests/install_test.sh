@@ -8,6 +8,7 @@ prefix=$(mktemp -d)
 trap 'rm -rf "$prefix"' EXIT
 cmake --install "$build" --prefix "$prefix" > /dev/null
 test -x "$prefix/bin/bbcgen"
+test -x "$prefix/bin/forest"
 test -f "$prefix/include/bbc.h"
 cat > "$prefix/use.c" <<'C'
 #include <bbc.h>
@@ -33,4 +34,5 @@ export PKG_CONFIG_PATH="$prefix/lib/pkgconfig"
 n=$("$prefix/use")
 [ "$n" -gt 200 ] || { echo "unexpected triangle count: $n"; exit 1; }
 "$prefix/bin/bbcgen" --version
+"$prefix/bin/forest" --version
 echo "install + pkg-config: ok ($n triangles)"

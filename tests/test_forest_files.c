@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <math.h>
 #include <string.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "bbc.h"
@@ -225,6 +226,13 @@ static void test_from_files(void **state) {
   remove(path);
 }
 
+static void put_file(const char *path, const char *text) {
+  FILE *f = fopen(path, "w");
+  assert_non_null(f);
+  fputs(text, f);
+  fclose(f);
+}
+
 /* A world from a 20 x 12 ramp heightmap (resampled to 33 x 33) and a
  * colour map green on its left half, red on the right: heights scaled,
  * object2d on the ground where written, every rndtree object on green
@@ -288,10 +296,57 @@ static void test_world(void **state) {
     assert_true(fabs(t->y - bbc_forest_world_height(&w[0], t->x, t->z)) < 1e-3);
   }
   assert_int_equal(w[0].placements_short, 0);
+  assert_true(fabs(w[0].green_fraction - 0.5) < 1e-9);
   assert_int_equal(w[1].instance_count, w[0].instance_count);
   assert_memory_equal(w[0].instances, w[1].instances, w[0].instance_count * sizeof *w[0].instances);
   assert_int_equal(sizeof(bbc_forest_instance) <= 32, 1);
   for (int k = 0; k < 2; k++) bbc_forest_world_free(&w[k]);
+  /* The tool: `forest --check` reads the map and its model descriptions
+   * and names what is missing. */
+  char cmd[1024], out[512], model[256], house[256];
+  snprintf(model, sizeof model, "%s/tree.txt", dir);
+  put_file(model, "fade 10\nLOD ( file1 tree.glb mipmap min 0 max 500 )\n");
+  snprintf(house, sizeof house, "%s/house.txt", dir);
+  put_file(house, "LOD ( file1 tree.glb min 0 max 100 )\n");
+  snprintf(path, sizeof path, "%s/tree.glb", dir);
+  put_file(path, "");
+  snprintf(path, sizeof path, "%s/map.txt", dir);
+  put_file(path, text);
+  snprintf(out, sizeof out, "%s/out.txt", dir);
+  snprintf(cmd, sizeof cmd, "'%s/forest' --check '%s' > '%s' 2>&1", BBC_BIN_DIR, path, out);
+  int rc = system(cmd);
+  char *log = NULL;
+  FILE *f = fopen(out, "r");
+  if (f) {
+    log = calloc(1, 65536);
+    if (log) fread(log, 1, 65535, f);
+    fclose(f);
+  }
+  assert_non_null(log);
+  if (rc != 0) fail_msg("forest --check: %s", log);
+  assert_non_null(strstr(log, "objects: 501 placed of 501 asked"));
+  assert_non_null(strstr(log, "green ground"));
+  free(log);
+  put_file(path, "hmap h.png\nrndtree tree.txt 1 5 0 1 0 0 0 0\n"
+                 "rndtree2 tree.txt stem.wrl 1 5 0 1 0 0 0 0\n");
+  rc = system(cmd);
+  f = fopen(out, "r");
+  log = calloc(1, 65536);
+  if (f && log) fread(log, 1, 65535, f);
+  if (f) fclose(f);
+  assert_true(rc != 0 && WEXITSTATUS(rc) == 1);
+  assert_non_null(strstr(log, "map.txt:3: model 'stem.wrl' not found"));
+  assert_non_null(strstr(log, "objects: 10 placed of 10 asked"));
+  free(log);
+  snprintf(cmd, sizeof cmd, "'%s/forest' '%s' > /dev/null 2>&1", BBC_BIN_DIR, path);
+  rc = system(cmd);
+  assert_int_equal(WEXITSTATUS(rc), 2); /* no drawing yet: said, not pretended */
+  remove(model);
+  remove(house);
+  remove(path);
+  remove(out);
+  snprintf(path, sizeof path, "%s/tree.glb", dir);
+  remove(path);
   /* A missing heightmap is named. */
   bbc_forest_map_free(&map);
   const char *bad = "hmap nothere.png\n";

@@ -193,6 +193,15 @@ bbc_result bbc_forest_world_build(const bbc_forest_map *map, const char *folder,
       bbc_image_free(&c);
     }
   }
+  w->green_fraction = 1.0;
+  if (w->colour.rgba) {
+    size_t g = 0, nt = (size_t)w->colour.width * w->colour.height;
+    for (size_t i = 0; i < nt; i++) {
+      const uint8_t *p = w->colour.rgba + 4 * i;
+      g += p[1] > 70 && 3 * (int)p[0] < 2 * (int)p[1];
+    }
+    w->green_fraction = (double)g / (double)nt;
+  }
   /* Instances: object2d where written, rndtree where green. */
   size_t total = 0;
   for (size_t i = 0; i < map->placement_count; i++) total += map->placements[i].count;

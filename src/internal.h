@@ -106,6 +106,9 @@ bbc_result bbc__load_assimp(const char *path, const bbc_load_options *options, b
  * fans, one material "default", one group named after the file's stem), a
  * point cloud otherwise. Finishes the mesh with bbc_mesh_finalize and frees
  * it on failure; `options` may be NULL (defaults). */
+/* VRML 2.0 / VRML97 meshes (src/io/load_vrml.c); the caller finalizes. */
+bbc_result bbc__load_vrml(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
+                          bbc_error *err);
 bbc_result bbc__load_ply(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
                          bbc_error *err);
 /* Point clouds in XYZ text (.xyz, .pts, .txt); same contract. */

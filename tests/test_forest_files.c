@@ -305,11 +305,11 @@ static void test_world(void **state) {
    * and names what is missing. */
   char cmd[1024], out[512], model[256], house[256];
   snprintf(model, sizeof model, "%s/tree.txt", dir);
-  put_file(model, "fade 10\nLOD ( file1 tree.glb mipmap min 0 max 500 )\n");
+  put_file(model, "fade 10\nLOD ( file1 tree.obj mipmap min 0 max 500 )\n");
   snprintf(house, sizeof house, "%s/house.txt", dir);
-  put_file(house, "LOD ( file1 tree.glb min 0 max 100 )\n");
-  snprintf(path, sizeof path, "%s/tree.glb", dir);
-  put_file(path, "");
+  put_file(house, "LOD ( file1 tree.obj min 0 max 100 )\n");
+  snprintf(path, sizeof path, "%s/tree.obj", dir);
+  put_file(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   snprintf(path, sizeof path, "%s/map.txt", dir);
   put_file(path, text);
   snprintf(out, sizeof out, "%s/out.txt", dir);
@@ -345,7 +345,7 @@ static void test_world(void **state) {
   remove(house);
   remove(path);
   remove(out);
-  snprintf(path, sizeof path, "%s/tree.glb", dir);
+  snprintf(path, sizeof path, "%s/tree.obj", dir);
   remove(path);
   /* A missing heightmap is named. */
   bbc_forest_map_free(&map);

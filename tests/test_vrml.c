@@ -366,6 +366,108 @@ static void test_refused_paths_write_nothing(void **state) {
   bbc_cloud_free(&cl);
 }
 
+/* Read back (src/io/load_vrml.c): both formats (format 0 declares a PROTO
+ * for its normal maps) give the cloud's triangles, texture coordinates and
+ * atlas; damaged files are refused with file:line. */
+static void test_read_back(void **state) {
+  (void)state;
+  bbc_cloud cl;
+  build_cloud(1, 1, &cl);
+  char *dir = sub_dir("read");
+  bbc_error err;
+  for (int format = 0; format <= 1; format++) {
+    char name[32];
+    snprintf(name, sizeof name, "r%d.wrl", format);
+    char *wrl = path_in(dir, name);
+    if (bbc_cloud_write_vrml(wrl, &cl, format, NULL, &err) != BBC_OK) fail_msg("%s", err.message);
+    bbc_mesh m;
+    if (bbc_mesh_load(wrl, NULL, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+    assert_int_equal(m.triangle_count, cl.mesh.triangle_count);
+    assert_int_equal(m.material_count, 1);
+    assert_true(m.materials[0].unlit == cl.mesh.materials[0].unlit);
+    assert_true(m.materials[0].single_sided == cl.mesh.materials[0].single_sided);
+    assert_int_equal(m.textures[0].image.width, cl.mesh.textures[0].image.width);
+    for (int k = 0; k < 3; k++) {
+      assert_true(fabs(m.bbox_min[k] - cl.mesh.bbox_min[k]) < 1e-6 * (1 + cl.mesh.radius));
+      assert_true(fabs(m.bbox_max[k] - cl.mesh.bbox_max[k]) < 1e-6 * (1 + cl.mesh.radius));
+    }
+    /* Every corner read is a corner of the cloud with its texture
+     * coordinates (polygons may be fanned from another corner), and the
+     * area is the cloud's. */
+    double area[2] = {0, 0};
+    const bbc_mesh *ms[2] = {&m, &cl.mesh};
+    for (int w = 0; w < 2; w++)
+      for (size_t t = 0; t < ms[w]->triangle_count; t++) {
+        double c[3];
+        const uint32_t *ix = ms[w]->indices + 3 * t;
+        const double *p0 = ms[w]->positions + 3 * ix[0], *p1 = ms[w]->positions + 3 * ix[1],
+                     *p2 = ms[w]->positions + 3 * ix[2];
+        double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+        double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+        c[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        c[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        area[w] += 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+      }
+    assert_true(fabs(area[0] - area[1]) < 1e-6 * (1 + area[1]));
+    double tol = 1e-6 * (1 + cl.mesh.radius);
+    for (size_t v = 0; v < m.vertex_count; v++) {
+      int found = 0;
+      for (size_t u = 0; u < cl.mesh.vertex_count && !found; u++) {
+        found = 1;
+        for (int k = 0; k < 3; k++)
+          found &= fabs(m.positions[3 * v + k] - cl.mesh.positions[3 * u + k]) < tol;
+        for (int k = 0; k < 2; k++) found &= fabs(m.uvs[2 * v + k] - cl.mesh.uvs[2 * u + k]) < 1e-6;
+      }
+      assert_true(found);
+    }
+    bbc_mesh_free(&m);
+    free(wrl);
+  }
+  static const struct {
+    const char *text, *needle;
+  } bad[] = {
+      {"#VRML V2.0 utf8\nShape { geometry IndexedFaceSet {\n", "not closed"},
+      {"#VRML V2.0 utf8\nUSE Nothing\n", "no DEF"},
+      {"#VRML V2.0 utf8\nShape { geometry IndexedFaceSet { coord Coordinate { point [ 0 0 0, 1 0 "
+       "0, 0 1 0 ] }\n coordIndex [ 0 1 7 -1 ] } }\n",
+       ":3: a coordIndex"},
+      {"#VRML V2.0 utf8\nShape { geometry IndexedFaceSet { coord Coordinate { point [ 0 0 x ] } "
+       "} }\n",
+       ":2: field 'point'"},
+      {"#VRML V1.0 ascii\nSeparator { }\n", "VRML 2.0"},
+      {"#VRML V2.0 utf8\nShape { geometry Box { } }\n", "no IndexedFaceSet"},
+  };
+  for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+    char name[32];
+    snprintf(name, sizeof name, "bad%zu.wrl", i);
+    char *wrl = path_in(dir, name);
+    FILE *f = fopen(wrl, "w");
+    assert_non_null(f);
+    fputs(bad[i].text, f);
+    fclose(f);
+    bbc_mesh m;
+    memset(&err, 0, sizeof err);
+    if (bbc_mesh_load(wrl, NULL, &m, &err) == BBC_OK) fail_msg("%s accepted", name);
+    if (!strstr(err.message, name) || !strstr(err.message, bad[i].needle))
+      fail_msg("%s: '%s' lacks '%s'", name, err.message, bad[i].needle);
+    free(wrl);
+  }
+  /* Deep nesting is refused, not a stack overflow. */
+  char *deep = path_in(dir, "deep.wrl");
+  FILE *f = fopen(deep, "w");
+  assert_non_null(f);
+  fputs("#VRML V2.0 utf8\n", f);
+  for (int i = 0; i < 5000; i++) fputs("Group { children [ ", f);
+  fclose(f);
+  bbc_mesh m;
+  assert_int_not_equal(bbc_mesh_load(deep, NULL, &m, &err), BBC_OK);
+  assert_non_null(strstr(err.message, "deeply"));
+  free(deep);
+  free(dir);
+  bbc_cloud_free(&cl);
+}
+
 static void test_deterministic(void **state) {
   (void)state;
   bbc_cloud cl;
@@ -408,6 +510,7 @@ int main(void) {
       cmocka_unit_test(test_double_sided_without_back_images),
       cmocka_unit_test(test_refused_paths_write_nothing),
       cmocka_unit_test(test_deterministic),
+      cmocka_unit_test(test_read_back),
   };
   return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

@@ -30,7 +30,11 @@ bbc_result bbc_mesh_load(const char *path, const bbc_load_options *options, bbc_
   else if (!strcmp(ext, "ply"))
     r = bbc__load_ply(path, options, mesh, err);
   else {
-    r = bbc__load_assimp(path, options, mesh, err);
+    /* VRML: the project's reader (Debian's Assimp has no VRML importer). */
+    if (!strcmp(ext, "wrl") || !strcmp(ext, "vrml"))
+      r = bbc__load_vrml(path, options, mesh, err);
+    else
+      r = bbc__load_assimp(path, options, mesh, err);
     if (r == BBC_OK) r = bbc_mesh_finalize(mesh, options->compute_normals, path, err);
     if (r == BBC_OK && mesh->dropped_degenerate)
       bbc__log(&options->callbacks, BBC_LOG_WARNING, "%s: dropped %zu zero-area triangles", path,

@@ -19,7 +19,8 @@ static void usage(FILE *f) {
           "      Reads MAP (a map file as Appendix B defines it) and every model\n"
           "      description file it names, builds the map's world (terrain, colour map,\n"
           "      objects placed on the ground) and checks that every file it needs is\n"
-          "      there. Prints a summary; every problem as FILE:LINE: what is wrong.\n"
+          "      there and reads (every 3D model and LOD file is loaded once). Prints a\n"
+          "      summary; every problem as FILE:LINE: what is wrong.\n"
           "      Exit status 0 when the map is whole, 1 when something is wrong or\n"
           "      missing.\n"
           "  forest --help | --version\n"
@@ -31,6 +32,38 @@ static void usage(FILE *f) {
 static int file_exists(const char *path) {
   struct stat st;
   return stat(path, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+/* Models already read (each is read once however often it is placed). */
+static char **g_seen;
+static size_t g_seen_count;
+
+/* Whether the 3D model at `path` reads; prints why not. */
+static int model_reads(const char *where, int line, const char *name, const char *path) {
+  for (size_t i = 0; i < g_seen_count; i++)
+    if (!strcmp(g_seen[i], path)) return 1;
+  if (!file_exists(path)) {
+    fprintf(stderr, "%s:%d: model '%s' not found (%s)\n", where, line, name, path);
+    return 0;
+  }
+  bbc_load_options lo;
+  bbc_load_options_default(&lo);
+  lo.load_textures = 0;
+  bbc_mesh m;
+  bbc_error err;
+  if (bbc_mesh_load(path, &lo, &m, &err) != BBC_OK) {
+    fprintf(stderr, "%s:%d: model '%s': %s\n", where, line, name, err.message);
+    return 0;
+  }
+  printf("    %s: %zu triangles\n", name, m.triangle_count);
+  bbc_mesh_free(&m);
+  char **s2 = realloc(g_seen, (g_seen_count + 1) * sizeof *s2);
+  if (s2) {
+    g_seen = s2;
+    g_seen[g_seen_count] = strdup(path);
+    if (g_seen[g_seen_count]) g_seen_count++;
+  }
+  return 1;
 }
 
 static void folder_of(const char *path, char *out, size_t n) {
@@ -63,11 +96,7 @@ static int is_model_file(const char *name) {
 static int check_file(const char *map_path, int line, const char *folder, const char *name) {
   char path[4096];
   join(folder, name, path, sizeof path);
-  if (is_model_file(name)) {
-    if (file_exists(path)) return 0;
-    fprintf(stderr, "%s:%d: model '%s' not found (%s)\n", map_path, line, name, path);
-    return 1;
-  }
+  if (is_model_file(name)) return !model_reads(map_path, line, name, path);
   bbc_forest_model m;
   bbc_error err;
   if (bbc_forest_model_load(path, &m, &err) != BBC_OK) {
@@ -81,11 +110,7 @@ static int check_file(const char *map_path, int line, const char *folder, const 
     for (int k = 0; k < m.lods[l].part_count; k++) {
       char p2[8192];
       join(mfolder, m.lods[l].part[k].file, p2, sizeof p2);
-      if (!file_exists(p2)) {
-        fprintf(stderr, "%s:%d: LOD file%d '%s' not found (%s)\n", path, m.lods[l].line, k + 1,
-                m.lods[l].part[k].file, p2);
-        bad++;
-      }
+      bad += !model_reads(path, m.lods[l].line, m.lods[l].part[k].file, p2);
     }
   if (!bad)
     printf("    %s: %zu LOD%s, %g to %g, fade %g%s\n", name, m.lod_count,
@@ -193,5 +218,7 @@ int main(int argc, char **argv) {
   if (bad) fprintf(stderr, "forest: %s: %d problem%s\n", map_path, bad, bad == 1 ? "" : "s");
   bbc_forest_world_free(&w);
   bbc_forest_map_free(&map);
+  for (size_t i = 0; i < g_seen_count; i++) free(g_seen[i]);
+  free(g_seen);
   return bad ? 1 : 0;
 }

@@ -176,6 +176,11 @@ typedef struct bbc_load_options {
   int compute_normals;
   /* 1 = decode diffuse textures; 0 = record their paths only (faster). */
   int load_textures;
+  /* 0 = every node; k + 1 = only the level of detail k: the nodes (and
+   * their subtrees) named "<anything>_LOD<k>", the engines' convention that
+   * bbcgen's glTF LOD chains follow (Assimp-read formats; BBC_ERROR_NOT_FOUND
+   * when the file has no such node). */
+  int lod_node;
   bbc_callbacks callbacks;
 } bbc_load_options;
 

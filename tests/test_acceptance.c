@@ -217,6 +217,31 @@ static void test_lod_and_vrml(void **state) {
   } else {
     printf("assimp (Debian assimp-utils) not installed: the Assimp import check is skipped\n");
   }
+  /* The engine's view: each level loads on its own (lod_node), the levels
+   * together make the whole file, and there is no fourth. */
+  size_t whole = 0, sum = 0;
+  for (int k = 0; k <= 4; k++) {
+    bbc_load_options lo;
+    bbc_load_options_default(&lo);
+    lo.load_textures = 0;
+    lo.lod_node = k;
+    bbc_mesh lm;
+    bbc_error lerr;
+    bbc_result lr = bbc_mesh_load(out, &lo, &lm, &lerr);
+    if (k == 4) {
+      assert_int_equal(lr, BBC_ERROR_NOT_FOUND);
+      assert_non_null(strstr(lerr.message, "_LOD3"));
+      continue;
+    }
+    if (lr != BBC_OK) fail_msg("%s", lerr.message);
+    if (k == 0)
+      whole = lm.triangle_count;
+    else
+      sum += lm.triangle_count;
+    assert_true(lm.triangle_count > 0);
+    bbc_mesh_free(&lm);
+  }
+  assert_int_equal(sum, whole);
   cJSON_Delete(j);
   free(g);
   /* VRML, both formats, and the OBJ chain. */

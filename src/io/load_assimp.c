@@ -8,6 +8,7 @@
 
 #include <limits.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -26,6 +27,7 @@ typedef struct loader {
   size_t vertex_cap, triangle_cap, group_cap;
   int has_normals, has_uvs;
   size_t skipped_primitives; /* points and lines: not surfaces */
+  int lod_found;             /* lod_node: a node of that level was met */
   bbc_error *err;
 } loader;
 
@@ -171,13 +173,25 @@ static bbc_result add_mesh(loader *L, const struct aiMesh *am, const struct aiMa
   return BBC_OK;
 }
 
+/* Whether a node's name ends with "_LOD<k>" (k = level). */
+static int is_lod_node(const struct aiNode *node, int level) {
+  char suffix[32];
+  snprintf(suffix, sizeof suffix, "_LOD%d", level);
+  size_t n = node->mName.length, m = strlen(suffix);
+  return n >= m && !strcmp(node->mName.data + n - m, suffix);
+}
+
 static bbc_result walk(loader *L, const struct aiNode *node, const struct aiMatrix4x4 *parent,
-                       int depth) {
+                       int depth, int inside) {
   if (depth > 1000)
     return bbc__fail(L->err, BBC_ERROR_CORRUPT, "%s: node tree deeper than 1000 levels", L->path);
   struct aiMatrix4x4 M;
   mat_mul(parent, &node->mTransformation, &M);
-  for (unsigned i = 0; i < node->mNumMeshes; i++) {
+  if (!inside && is_lod_node(node, L->opt->lod_node - 1)) {
+    inside = 1;
+    L->lod_found = 1;
+  }
+  for (unsigned i = 0; inside && i < node->mNumMeshes; i++) {
     unsigned mi = node->mMeshes[i];
     if (mi >= L->scene->mNumMeshes)
       return bbc__fail(L->err, BBC_ERROR_CORRUPT, "%s: node '%s' refers to missing mesh %u",
@@ -196,7 +210,7 @@ static bbc_result walk(loader *L, const struct aiNode *node, const struct aiMatr
     if (r != BBC_OK) return r;
   }
   for (unsigned c = 0; c < node->mNumChildren; c++) {
-    bbc_result r = walk(L, node->mChildren[c], &M, depth + 1);
+    bbc_result r = walk(L, node->mChildren[c], &M, depth + 1, inside);
     if (r != BBC_OK) return r;
   }
   return BBC_OK;
@@ -519,7 +533,10 @@ bbc_result bbc__load_assimp(const char *path, const bbc_load_options *opt, bbc_m
   if (r == BBC_OK) r = load_materials(&L);
   if (r == BBC_OK) {
     struct aiMatrix4x4 I = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-    r = walk(&L, sc->mRootNode, &I, 0);
+    r = walk(&L, sc->mRootNode, &I, 0, opt->lod_node <= 0);
+    if (r == BBC_OK && opt->lod_node > 0 && !L.lod_found)
+      r = bbc__fail(err, BBC_ERROR_NOT_FOUND, "%s: no node named *_LOD%d (no such level of detail)",
+                    path, opt->lod_node - 1);
   }
   aiReleaseImport(sc);
   if (r != BBC_OK) return r;

@@ -106,6 +106,9 @@ bbc_result bbc__load_assimp(const char *path, const bbc_load_options *options, b
  * fans, one material "default", one group named after the file's stem), a
  * point cloud otherwise. Finishes the mesh with bbc_mesh_finalize and frees
  * it on failure; `options` may be NULL (defaults). */
+/* Reads a whole file into a NUL-terminated buffer (*size bytes without
+ * the NUL); free with free() (src/io/load_points.c). */
+bbc_result bbc__read_whole_file(const char *path, char **data, size_t *size, bbc_error *err);
 /* VRML 2.0 / VRML97 meshes (src/io/load_vrml.c); the caller finalizes. */
 bbc_result bbc__load_vrml(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
                           bbc_error *err);
@@ -158,6 +161,26 @@ typedef struct bbc__bake {
 
 bbc_result bbc__render_bake(const bbc_mesh *mesh, const uint32_t *faces, size_t face_count,
                             const bbc_view *view, bbc__bake *bake, bbc_error *err);
+
+/* The orthographic camera of a bbc_view on a w x h image (src/core/raster.c). */
+typedef struct bbc__camera {
+  double r[3], u[3], f[3]; /* right, up, forward (unit) */
+  double c[3];
+  double scale;   /* pixels per model unit, x */
+  double scale_y; /* pixels per model unit, y */
+  double w2, h2;
+} bbc__camera;
+
+/* 0 when the view's up is parallel to its direction. */
+int bbc__camera_setup(bbc__camera *cam, const bbc_view *view, int w, int h);
+
+/* Screen position (x right, y down, pixels) and depth (model units along f). */
+static inline void bbc__camera_project(const bbc__camera *cam, const double *p, double *s) {
+  double d[3] = {p[0] - cam->c[0], p[1] - cam->c[1], p[2] - cam->c[2]};
+  s[0] = cam->w2 + cam->scale * (d[0] * cam->r[0] + d[1] * cam->r[1] + d[2] * cam->r[2]);
+  s[1] = cam->h2 - cam->scale_y * (d[0] * cam->u[0] + d[1] * cam->u[1] + d[2] * cam->u[2]);
+  s[2] = d[0] * cam->f[0] + d[1] * cam->f[1] + d[2] * cam->f[2];
+}
 
 /* A view along `direction` (up hint `up`) centred on the box lo..hi and
  * framing its corners times `margin`; everything else zero. */

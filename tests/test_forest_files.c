@@ -130,30 +130,33 @@ static void test_every_map_keyword(void **state) {
   bbc_forest_map_free(&m);
 }
 
-/* Each mistake: refused, and the message holds every needle. */
-static void expect_map_error(const char *text, const char *n1, const char *n2) {
-  bbc_forest_map m;
+/* Each mistake: refused, and the message holds every needle (model 1:
+ * a model description file, else a map). */
+static void expect_error(int model, const char *text, const char *n1, const char *n2) {
+  bbc_forest_map mp;
+  bbc_forest_model mo;
   bbc_error err;
   memset(&err, 0, sizeof err);
-  bbc_result r = bbc_forest_map_parse(text, strlen(text), "bad.txt", &m, &err);
+  bbc_result r = model ? bbc_forest_model_parse(text, strlen(text), "bad.txt", &mo, &err)
+                       : bbc_forest_map_parse(text, strlen(text), "bad.txt", &mp, &err);
   if (r == BBC_OK) fail_msg("accepted: %s", text);
   assert_int_equal(r, BBC_ERROR_CORRUPT);
   if (!strstr(err.message, n1) || (n2 && !strstr(err.message, n2)))
     fail_msg("'%s' lacks '%s'/'%s'", err.message, n1, n2 ? n2 : "");
-  assert_null(m.placements);
-  assert_null(m.hmap);
+  if (model) {
+    assert_null(mo.lods);
+  } else {
+    assert_null(mp.placements);
+    assert_null(mp.hmap);
+  }
+}
+
+static void expect_map_error(const char *text, const char *n1, const char *n2) {
+  expect_error(0, text, n1, n2);
 }
 
 static void expect_model_error(const char *text, const char *n1, const char *n2) {
-  bbc_forest_model m;
-  bbc_error err;
-  memset(&err, 0, sizeof err);
-  bbc_result r = bbc_forest_model_parse(text, strlen(text), "bad.txt", &m, &err);
-  if (r == BBC_OK) fail_msg("accepted: %s", text);
-  assert_int_equal(r, BBC_ERROR_CORRUPT);
-  if (!strstr(err.message, n1) || (n2 && !strstr(err.message, n2)))
-    fail_msg("'%s' lacks '%s'/'%s'", err.message, n1, n2 ? n2 : "");
-  assert_null(m.lods);
+  expect_error(1, text, n1, n2);
 }
 
 static void test_mistakes_named(void **state) {

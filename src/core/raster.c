@@ -17,13 +17,7 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-typedef struct camera {
-  double r[3], u[3], f[3]; /* right, up, forward (unit) */
-  double c[3];
-  double scale;   /* pixels per model unit, x */
-  double scale_y; /* pixels per model unit, y */
-  double w2, h2;
-} camera;
+typedef bbc__camera camera;
 
 static void normalize3(double *v) {
   double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -37,7 +31,7 @@ static void cross3(const double *a, const double *b, double *o) {
   o[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-static int camera_setup(camera *cam, const bbc_view *v, int w, int h) {
+int bbc__camera_setup(bbc__camera *cam, const bbc_view *v, int w, int h) {
   memcpy(cam->f, v->direction, sizeof cam->f);
   normalize3(cam->f);
   cross3(cam->f, v->up, cam->r);
@@ -56,14 +50,6 @@ static int camera_setup(camera *cam, const bbc_view *v, int w, int h) {
   cam->w2 = 0.5 * w;
   cam->h2 = 0.5 * h;
   return 1;
-}
-
-/* Screen position (x right, y down, pixels) and depth (model units along f). */
-static void project(const camera *cam, const double *p, double *s) {
-  double d[3] = {p[0] - cam->c[0], p[1] - cam->c[1], p[2] - cam->c[2]};
-  s[0] = cam->w2 + cam->scale * (d[0] * cam->r[0] + d[1] * cam->r[1] + d[2] * cam->r[2]);
-  s[1] = cam->h2 - cam->scale_y * (d[0] * cam->u[0] + d[1] * cam->u[1] + d[2] * cam->u[2]);
-  s[2] = d[0] * cam->f[0] + d[1] * cam->f[1] + d[2] * cam->f[2];
 }
 
 /* Top-left rule for edge a->b of a triangle with positive orientation in
@@ -178,7 +164,7 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
   const bbc_view *view = tg->view;
   const uint32_t *ix = m->indices + 3 * t;
   double s[3][3];
-  for (int k = 0; k < 3; k++) project(cam, m->positions + 3 * ix[k], s[k]);
+  for (int k = 0; k < 3; k++) bbc__camera_project(cam, m->positions + 3 * ix[k], s[k]);
   double area =
       (s[1][0] - s[0][0]) * (s[2][1] - s[0][1]) - (s[1][1] - s[0][1]) * (s[2][0] - s[0][0]);
   if (area == 0 || !isfinite(area)) return;
@@ -342,7 +328,7 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
 static void draw_point(const bbc_mesh *m, size_t v, const camera *cam, const bbc_view *view,
                        bbc_image *img, float *depth) {
   double s[3];
-  project(cam, m->positions + 3 * v, s);
+  bbc__camera_project(cam, m->positions + 3 * v, s);
   double half = 0.5 * (view->point_size_px >= 1 ? view->point_size_px : 1);
   int x0 = (int)floor(s[0] - half + 0.5), x1 = (int)floor(s[0] + half - 0.5);
   int y0 = (int)floor(s[1] - half + 0.5), y1 = (int)floor(s[1] + half - 0.5);
@@ -379,7 +365,7 @@ static bbc_result check_view(const bbc_view *view, int w, int h, camera *cam, bb
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "render: image not allocated");
   if (!(view->half_extent > 0))
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "render: half_extent must be > 0");
-  if (!camera_setup(cam, view, w, h))
+  if (!bbc__camera_setup(cam, view, w, h))
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "render: up vector is parallel to the view direction");
   return BBC_OK;
@@ -499,10 +485,10 @@ int bbc_view_project(const bbc_view *view, int width, int height, const double p
                      double out[2]) {
   camera cam;
   if (width <= 0 || height <= 0 || !(view->half_extent > 0) ||
-      !camera_setup(&cam, view, width, height))
+      !bbc__camera_setup(&cam, view, width, height))
     return 0;
   double s[3];
-  project(&cam, p, s);
+  bbc__camera_project(&cam, p, s);
   out[0] = s[0];
   out[1] = s[1];
   return 1;

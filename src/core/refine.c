@@ -34,36 +34,6 @@
 enum { RIGHT, WRONG, BALANCE, COUNTS }; /* BALANCE: too dense minus too sparse */
 #define BLOCK 8                         /* pixels per block side: density is matched over blocks */
 
-typedef struct view_cam {
-  double r[3], u[3], f[3], c[3], scale, half;
-} view_cam;
-
-static void cam_from_view(const bbc_view *v, int size, view_cam *c) {
-  double f[3], l = 0;
-  for (int k = 0; k < 3; k++) l += v->direction[k] * v->direction[k];
-  l = sqrt(l);
-  for (int k = 0; k < 3; k++) f[k] = v->direction[k] / l;
-  double r[3] = {f[1] * v->up[2] - f[2] * v->up[1], f[2] * v->up[0] - f[0] * v->up[2],
-                 f[0] * v->up[1] - f[1] * v->up[0]};
-  l = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
-  for (int k = 0; k < 3; k++) r[k] /= l;
-  double u[3] = {r[1] * f[2] - r[2] * f[1], r[2] * f[0] - r[0] * f[2], r[0] * f[1] - r[1] * f[0]};
-  memcpy(c->r, r, sizeof r);
-  memcpy(c->u, u, sizeof u);
-  memcpy(c->f, f, sizeof f);
-  memcpy(c->c, v->center, sizeof c->c);
-  c->scale = 0.5 * size / v->half_extent;
-  c->half = 0.5 * size;
-}
-
-/* Screen x (right), y (down), depth; as the software rasterizer projects. */
-static void cam_project(const view_cam *c, const double *p, double *s) {
-  double d[3] = {p[0] - c->c[0], p[1] - c->c[1], p[2] - c->c[2]};
-  s[0] = c->half + c->scale * (d[0] * c->r[0] + d[1] * c->r[1] + d[2] * c->r[2]);
-  s[1] = c->half - c->scale * (d[0] * c->u[0] + d[1] * c->u[1] + d[2] * c->u[2]);
-  s[2] = d[0] * c->f[0] + d[1] * c->f[1] + d[2] * c->f[2];
-}
-
 typedef struct buffers {
   float *z, *cz;      /* nearest opaque / candidate texel depth */
   uint32_t *id, *cid; /* its texel + 1, 0 = none */
@@ -71,7 +41,7 @@ typedef struct buffers {
 
 /* Draws every billboard's visible side into the buffers. */
 static void draw_cloud(const bbc_cloud_billboard *cb, const bbc__refine_image *im, size_t n,
-                       const size_t *offset, const view_cam *cam, int size, buffers *b) {
+                       const size_t *offset, const bbc__camera *cam, int size, buffers *b) {
   size_t np = (size_t)size * size;
   for (size_t i = 0; i < np; i++) {
     b->z[i] = b->cz[i] = FLT_MAX;
@@ -87,11 +57,11 @@ static void draw_cloud(const bbc_cloud_billboard *cb, const bbc__refine_image *i
     size_t base = offset[2 * k + side];
     /* x(s, t) = o + s A + t B on the screen. */
     double o[3], pa[3], pb[3], A[3], B[3], q[3];
-    cam_project(cam, rc->origin, o);
+    bbc__camera_project(cam, rc->origin, o);
     for (int j = 0; j < 3; j++) q[j] = rc->origin[j] + rc->width * rc->u[j];
-    cam_project(cam, q, pa);
+    bbc__camera_project(cam, q, pa);
     for (int j = 0; j < 3; j++) q[j] = rc->origin[j] + rc->height * rc->w[j];
-    cam_project(cam, q, pb);
+    bbc__camera_project(cam, q, pb);
     for (int j = 0; j < 3; j++) {
       A[j] = pa[j] - o[j];
       B[j] = pb[j] - o[j];
@@ -177,7 +147,7 @@ bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
     }
   size_t np = (size_t)size * size;
   uint8_t *orig = malloc((size_t)nv * np);
-  view_cam *cams = malloc((size_t)nv * sizeof *cams);
+  bbc__camera *cams = malloc((size_t)nv * sizeof *cams);
   int nt = opt->threads;
 #ifdef _OPENMP
   if (nt <= 0) nt = omp_get_max_threads();
@@ -215,7 +185,7 @@ bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
       upv[fabs(dir[up]) > 0.999 ? (up + 2) % 3 : up] = 1;
       bbc_view view;
       bbc__view_frame_box(m->bbox_min, m->bbox_max, dir, upv, 1.02, &view);
-      cam_from_view(&view, size, &cams[v]);
+      bbc__camera_setup(&cams[v], &view, size, size);
       bbc_error e;
       if (!ok || bbc_render_ortho(m, &view, &img, &e) != BBC_OK) {
 #pragma omp critical(bbc_refine_fail)

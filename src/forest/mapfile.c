@@ -434,47 +434,12 @@ bbc_result bbc_forest_model_parse(const char *text, size_t size, const char *nam
 
 /* ---- from files ----------------------------------------------------------- */
 
-static bbc_result read_text(const char *path, char **text, size_t *size, bbc_error *err) {
-  bbc_result r = bbc__check_input_file(path, err);
-  if (r != BBC_OK) return r;
-  FILE *f = fopen(path, "rb");
-  if (!f) return bbc__fail(err, BBC_ERROR_IO, "%s: cannot open it", path);
-  size_t cap = 4096, n = 0;
-  char *buf = malloc(cap);
-  while (buf) {
-    if (n == cap) {
-      if (cap >= ((size_t)64 << 20)) { /* description files are small */
-        free(buf);
-        fclose(f);
-        return bbc__fail(err, BBC_ERROR_CORRUPT, "%s: larger than 64 MB: not a description file",
-                         path);
-      }
-      char *nb = realloc(buf, cap * 2);
-      if (!nb) break;
-      buf = nb;
-      cap *= 2;
-    }
-    size_t got = fread(buf + n, 1, cap - n, f);
-    n += got;
-    if (got == 0) break;
-  }
-  int bad = ferror(f);
-  fclose(f);
-  if (!buf) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
-  if (bad) {
-    free(buf);
-    return bbc__fail(err, BBC_ERROR_IO, "%s: read error", path);
-  }
-  *text = buf;
-  *size = n;
-  return BBC_OK;
-}
-
 bbc_result bbc_forest_map_load(const char *path, bbc_forest_map *map, bbc_error *err) {
   char *text = NULL;
   size_t n = 0;
   bbc_forest_map_default(map);
-  bbc_result r = read_text(path, &text, &n, err);
+  bbc_result r = bbc__check_input_file(path, err);
+  if (r == BBC_OK) r = bbc__read_whole_file(path, &text, &n, err);
   if (r != BBC_OK) return r;
   r = bbc_forest_map_parse(text, n, path, map, err);
   free(text);
@@ -485,7 +450,8 @@ bbc_result bbc_forest_model_load(const char *path, bbc_forest_model *model, bbc_
   char *text = NULL;
   size_t n = 0;
   memset(model, 0, sizeof *model);
-  bbc_result r = read_text(path, &text, &n, err);
+  bbc_result r = bbc__check_input_file(path, err);
+  if (r == BBC_OK) r = bbc__read_whole_file(path, &text, &n, err);
   if (r != BBC_OK) return r;
   r = bbc_forest_model_parse(text, n, path, model, err);
   free(text);

@@ -65,8 +65,7 @@ static const char *quote_token(char *out, size_t out_size, const char *s, const 
   return out;
 }
 
-/* Reads a whole file into a NUL-terminated buffer. */
-static bbc_result read_whole_file(const char *path, char **data, size_t *size, bbc_error *err) {
+bbc_result bbc__read_whole_file(const char *path, char **data, size_t *size, bbc_error *err) {
   *data = NULL;
   *size = 0;
   FILE *f = fopen(path, "rb");
@@ -1530,7 +1529,7 @@ bbc_result bbc__load_ply(const char *path, const bbc_load_options *options, bbc_
   if (r != BBC_OK) return r;
   char *buf;
   size_t size;
-  r = read_whole_file(path, &buf, &size, err);
+  r = bbc__read_whole_file(path, &buf, &size, err);
   if (r != BBC_OK) return r;
 
   ply_header h;
@@ -1618,7 +1617,7 @@ bbc_result bbc__load_xyz_points(const char *path, const bbc_load_options *option
   if (r != BBC_OK) return r;
   char *buf;
   size_t size;
-  r = read_whole_file(path, &buf, &size, err);
+  r = bbc__read_whole_file(path, &buf, &size, err);
   if (r != BBC_OK) return r;
 
   /* A NUL byte near the start means a binary file with the wrong extension;

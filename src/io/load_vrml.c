@@ -180,8 +180,10 @@ static int skip_declaration(parser *p) {
     int external = !strcmp(p->tok, "EXTERNPROTO");
     next(p); /* the name */
     next(p);
-    if (p->kind != T_LBRACK)
-      return fail(p, BBC_ERROR_CORRUPT, "expected '[' after the PROTO's name"), 1;
+    if (p->kind != T_LBRACK) {
+      fail(p, BBC_ERROR_CORRUPT, "expected '[' after the PROTO's name");
+      return 1; /* consumed; p->failed tells the caller */
+    }
     if (!skip_group(p)) return 1;
     if (external) {
       if (p->kind == T_LBRACK)
@@ -189,8 +191,10 @@ static int skip_declaration(parser *p) {
       else
         next(p);
     } else {
-      if (p->kind != T_LBRACE)
-        return fail(p, BBC_ERROR_CORRUPT, "expected '{' for the PROTO's body"), 1;
+      if (p->kind != T_LBRACE) {
+        fail(p, BBC_ERROR_CORRUPT, "expected '{' for the PROTO's body");
+        return 1;
+      }
       skip_group(p);
     }
     return 1;
@@ -583,27 +587,10 @@ static int walk(builder *b, const vnode *n, const double *xf, int depth) {
 
 bbc_result bbc__load_vrml(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
                           bbc_error *err) {
-  FILE *f = fopen(path, "rb");
-  if (!f) return bbc__fail(err, BBC_ERROR_IO, "%s: cannot open it", path);
-  size_t cap = 1 << 16, n = 0;
-  char *text = malloc(cap);
-  while (text) {
-    if (n == cap) {
-      char *t2 = realloc(text, cap * 2);
-      if (!t2) {
-        free(text);
-        text = NULL;
-        break;
-      }
-      text = t2;
-      cap *= 2;
-    }
-    size_t got = fread(text + n, 1, cap - n, f);
-    if (!got) break;
-    n += got;
-  }
-  fclose(f);
-  if (!text) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+  char *text = NULL;
+  size_t n = 0;
+  bbc_result rr = bbc__read_whole_file(path, &text, &n, err);
+  if (rr != BBC_OK) return rr;
   if (n < 15 || strncmp(text, "#VRML V2.0", 10)) {
     free(text);
     return bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,

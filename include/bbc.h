@@ -99,6 +99,15 @@ bbc_result bbc_image_load_memory(const void *data, size_t size, bbc_image *image
 bbc_result bbc_image_write_png(const char *path, const bbc_image *image, bbc_error *err);
 /* 1 when at least one texel has alpha < 255. */
 int bbc_image_has_transparency(const bbc_image *image);
+/* The mip chain of an alpha-tested image below level 0, halving down to
+ * 1 x 1 (`*count` levels into a malloc'd array, each freed with
+ * bbc_image_free, then the array with free): colours averaged weighted by
+ * alpha (transparent texels keep the average of their footprint, so no
+ * dark fringes), alpha binary (0 or 255) and chosen per level so that the
+ * fraction of opaque texels stays level 0's (Castano 2010, "Computing
+ * Alpha Mipmaps": leaves neither thin out nor vanish in the distance). An
+ * opaque image gets plain box-filtered levels. */
+bbc_result bbc_image_mipmaps(const bbc_image *base, bbc_image **levels, int *count, bbc_error *err);
 
 /* ------------------------------------------------------------------------ */
 /* Meshes and point clouds                                                   */
@@ -981,6 +990,157 @@ bbc_result bbc_forest_world_build(const bbc_forest_map *map, const char *folder,
 double bbc_forest_world_height(const bbc_forest_world *world, double x, double z);
 int bbc_forest_world_green(const bbc_forest_world *world, double x, double z);
 void bbc_forest_world_free(bbc_forest_world *world);
+
+/* ---- forest: culling and levels of detail (thesis 3.2.3), GL-free ------- */
+/* The world's instances bucketed in a grid of cells; each frame whole cells
+ * are tested against the view frustum (only cells that cross its boundary
+ * test their trees one by one) and every visible tree gets the level(s) of
+ * detail its distance asks for, with the thesis's blending: across a switch
+ * at distance D the next level blends in over [D - fade, D] while the
+ * previous is still whole, then the previous fades out over [D, D + fade]
+ * (Wimmer et al. 2002). The result is one list of draw records per
+ * (model, level), ready for one instanced draw each. No allocation per
+ * frame. */
+
+typedef struct bbc_forest_lod_model {
+  size_t lod_count;
+  const double *ranges; /* 2 per level: min and max distance, world units */
+  double fade;          /* world units for half a transition; 0 = switch at once */
+  double radius;        /* bounding sphere around the model's origin, model units */
+} bbc_forest_lod_model;
+
+/* One tree drawn with one level: 24 bytes, the GPU's instance record. */
+typedef struct bbc_forest_draw {
+  float x, y, z;
+  float yaw;   /* radians about the up axis */
+  float scale; /* the placement's scale */
+  float fade;  /* 0..1: how much of the tree this level draws (1 = whole) */
+} bbc_forest_draw;
+
+typedef struct bbc_forest_cull {
+  size_t model_count;
+  bbc_forest_lod_model *models;    /* copies, ranges owned */
+  size_t *bucket_base;             /* per model: index of its level 0's bucket */
+  size_t bucket_count;             /* sum of lod_count */
+  uint32_t (*placement_models)[2]; /* per placement: model ids (UINT32_MAX = none) */
+  size_t placement_count;
+  /* grid */
+  int cells_x, cells_z;
+  double cell_size;
+  size_t *cell_start;   /* cells_x * cells_z + 1 offsets into `order` */
+  uint32_t *order;      /* instance indices sorted by cell */
+  float (*cell_box)[6]; /* min xyz, max xyz of the trees in the cell (with radius) */
+  const bbc_forest_instance *instances;
+  size_t instance_count;
+  /* per-frame output (capacity: every tree in two levels of each model) */
+  size_t capacity;
+  bbc_forest_draw *draws; /* grouped by bucket */
+  size_t *bucket_start;   /* bucket_count + 1 offsets into draws */
+  uint32_t *scratch_bucket;
+  bbc_forest_draw *scratch;
+  /* statistics of the last frame */
+  size_t cells_visible, cells_tested_per_tree, trees_visible;
+} bbc_forest_cull;
+
+/* `placement_models[p]` names the model(s) of placement p: [0] and, for
+ * two components, [1] (UINT32_MAX when none). */
+bbc_result bbc_forest_cull_init(bbc_forest_cull *cull, const bbc_forest_world *world,
+                                const bbc_forest_lod_model *models, size_t model_count,
+                                const uint32_t (*placement_models)[2], size_t placement_count,
+                                bbc_error *err);
+/* One frame: `viewproj` column-major (OpenGL), `eye` the camera position;
+ * distances are divided by `zoom` (zooming in shows finer levels). After it,
+ * bucket b's draws are draws[bucket_start[b] .. bucket_start[b + 1]). */
+void bbc_forest_cull_run(bbc_forest_cull *cull, const float viewproj[16], const double eye[3],
+                         double zoom);
+/* The weight (0..1) level `lod` of `model` gets at distance d. */
+double bbc_forest_lod_weight(const bbc_forest_lod_model *model, size_t lod, double d);
+void bbc_forest_cull_free(bbc_forest_cull *cull);
+
+/* Frustum planes (a, b, c, d: inside when a x + b y + c z + d >= 0) of a
+ * column-major view-projection matrix. */
+void bbc_forest_frustum(const float viewproj[16], double planes[6][4]);
+/* 0 = the box is outside, 1 = it crosses the frustum, 2 = wholly inside. */
+int bbc_forest_box_in_frustum(const double planes[6][4], const double lo[3], const double hi[3]);
+
+/* ---- forest: terrain (thesis 3.2.1), GL-free --------------------------- */
+/* Continuous level of detail on the GPU's terms (CDLOD, Strugar 2010, in
+ * place of Roettger et al. 1998): a quadtree over the (2^n+1)^2 heightmap
+ * whose leaves are 32 x 32 squares; each frame the nodes to draw are chosen
+ * by distance ranges that double per level, the finest range `detail`
+ * (the map's `roetger`) times a leaf's size / 4 (never under 3.5 leaves, so
+ * neighbours differ by one level at most). The vertex shader morphs each
+ * node's odd vertices onto the coarser grid as they near the end of its
+ * range, so there are no cracks and no pops. */
+
+#define BBC_FOREST_TERRAIN_LEAF 32 /* squares along a leaf node */
+
+typedef struct bbc_forest_terrain_node {
+  int x, z;    /* first square, heightmap squares */
+  int size;    /* squares along the node (a quarter of a node: half its size) */
+  int level;   /* 0 = finest: vertices every 2^level squares */
+  int quarter; /* -1 the whole node's grid; 0..3 one quarter of the grid of a node
+                * twice this size at (x - (quarter & 1) * size, z - (quarter >> 1) * size) */
+} bbc_forest_terrain_node;
+
+typedef struct bbc_forest_terrain {
+  int squares;      /* 2^n squares along the map */
+  int leaf;         /* squares along a leaf node: BBC_FOREST_TERRAIN_LEAF, or fewer on small maps */
+  int levels;       /* quadtree levels (root = levels - 1) */
+  float **bounds;   /* per level: min and max height per node, row-major */
+  double range[24]; /* per level, world units */
+  double morph_start[24];
+  size_t node_count, capacity;
+  bbc_forest_terrain_node *nodes;
+} bbc_forest_terrain;
+
+bbc_result bbc_forest_terrain_init(bbc_forest_terrain *t, const bbc_forest_world *world,
+                                   bbc_error *err);
+/* Chooses the nodes for a camera at `eye` with view-projection `viewproj`
+ * (column-major) and detail factor `detail` (roetger). */
+void bbc_forest_terrain_select(bbc_forest_terrain *t, const bbc_forest_world *world,
+                               const float viewproj[16], const double eye[3], double detail);
+void bbc_forest_terrain_free(bbc_forest_terrain *t);
+
+/* The terrain's colour texture with the `light` direction's lighting baked
+ * in (thesis 3.2.1) and a soft dark disc under every object whose model
+ * casts a shadow (3.2.4): shadow[p] = {radius, cutoff} for placement p in
+ * world units ({0, 0} = none; full darkness up to cutoff, then falling off
+ * to none at radius). Without a colour map, grass and rock by slope and
+ * height. (width - 1) x (depth - 1) texels. */
+bbc_result bbc_forest_terrain_colour(const bbc_forest_world *world, const double light[3],
+                                     const double (*shadow)[2], bbc_image *out, bbc_error *err);
+
+/* ---- forest: the camera and stored positions, GL-free ------------------- */
+typedef struct bbc_forest_camera {
+  double pos[3]; /* world units */
+  double yaw;    /* degrees: 0 looks along -z, 90 along +x */
+  double pitch;  /* degrees, up positive, within +-89 */
+  double zoom;   /* 1 = the normal field of view (60 degrees vertical) */
+} bbc_forest_camera;
+
+/* Unit vector the camera looks along. */
+void bbc_forest_camera_forward(const bbc_forest_camera *cam, double f[3]);
+/* Column-major perspective x view matrix (OpenGL clip space). */
+void bbc_forest_camera_matrix(const bbc_forest_camera *cam, double aspect, double near_clip,
+                              double far_clip, float viewproj[16]);
+/* Stored positions (Appendix B's F3/F2): text lines "x y z yaw pitch".
+ * Appends one; reads all into a malloc'd array (NULL and 0 when the file
+ * does not exist). */
+bbc_result bbc_forest_positions_append(const char *path, const bbc_forest_camera *cam,
+                                       bbc_error *err);
+bbc_result bbc_forest_positions_read(const char *path, bbc_forest_camera **cams, size_t *count,
+                                     bbc_error *err);
+
+/* ---- forest: a procedural landscape for the demo map ------------------- */
+/* A (size + 1)^2 8-bit heightmap (grey in `height`'s RGB) and a size^2
+ * colour map: rolling hills from value noise, a ridge along one side, a
+ * lake basin (its floor below `*water_level`, in heightmap units 0..255),
+ * meadows (yellow-green: no trees by the Appendix B rule), forest floor
+ * (green: trees), rock where steep or high, sand on the shore. `size` a
+ * power of two, 16..4096. Deterministic from `seed`. */
+bbc_result bbc_forest_demo_terrain(int size, uint32_t seed, bbc_image *height, bbc_image *colour,
+                                   double *water_level, bbc_error *err);
 
 #ifdef __cplusplus
 }

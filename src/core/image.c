@@ -85,3 +85,127 @@ int bbc_image_has_transparency(const bbc_image *image) {
     if (image->rgba[4 * i + 3] != 255) return 1;
   return 0;
 }
+
+/* One level of the continuous chain: premultiplied colour and coverage
+ * (0..1) per texel, averaged over 2 x 2 of the level above (clamped at
+ * odd edges); plain colour sums for texels no sample covers. */
+typedef struct mip_level {
+  int w, h;
+  float *cov;   /* w * h */
+  float *pre;   /* 3 per texel: colour times coverage */
+  float *plain; /* 3 per texel: colour regardless of coverage */
+} mip_level;
+
+static void mip_level_free(mip_level *m) {
+  free(m->cov);
+  free(m->pre);
+  free(m->plain);
+}
+
+static int mip_level_alloc(mip_level *m, int w, int h) {
+  size_t n = (size_t)w * h;
+  m->w = w;
+  m->h = h;
+  m->cov = malloc(n * sizeof *m->cov);
+  m->pre = malloc(n * 3 * sizeof *m->pre);
+  m->plain = malloc(n * 3 * sizeof *m->plain);
+  return m->cov && m->pre && m->plain;
+}
+
+/* The coverage threshold that leaves `want` texels of `n` at or above it. */
+static float coverage_threshold(const float *cov, size_t n, size_t want) {
+  enum { BINS = 4096 };
+  size_t hist[BINS + 1] = {0};
+  for (size_t i = 0; i < n; i++) hist[(int)(cov[i] * BINS + 0.5f)]++;
+  size_t above = 0;
+  for (int b = BINS; b > 0; b--) {
+    if (above + hist[b] >= want) {
+      /* take bin b when it gets closer to `want` than stopping before it */
+      if (above + hist[b] - want <= want - above) return (b - 0.5f) / BINS;
+      return (b + 0.5f) / BINS;
+    }
+    above += hist[b];
+  }
+  return 0.5f / BINS; /* every texel with any coverage */
+}
+
+bbc_result bbc_image_mipmaps(const bbc_image *base, bbc_image **levels, int *count,
+                             bbc_error *err) {
+  *levels = NULL;
+  *count = 0;
+  if (!base->rgba || base->width < 1 || base->height < 1)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "mipmaps of an empty image");
+  int n = 0;
+  for (int w = base->width, h = base->height; w > 1 || h > 1; n++) {
+    w = w > 1 ? w / 2 : 1;
+    h = h > 1 ? h / 2 : 1;
+  }
+  if (n == 0) return BBC_OK;
+  bbc_image *out = calloc((size_t)n, sizeof *out);
+  mip_level prev = {0}, cur = {0};
+  if (!out || !mip_level_alloc(&prev, base->width, base->height)) goto oom;
+  size_t opaque0 = 0, n0 = (size_t)base->width * base->height;
+  for (size_t i = 0; i < n0; i++) {
+    const uint8_t *p = base->rgba + 4 * i;
+    float a = p[3] / 255.0f;
+    prev.cov[i] = a;
+    opaque0 += p[3] >= 128;
+    for (int k = 0; k < 3; k++) {
+      prev.pre[3 * i + k] = p[k] * a;
+      prev.plain[3 * i + k] = p[k];
+    }
+  }
+  int alpha_tested = bbc_image_has_transparency(base);
+  for (int l = 0; l < n; l++) {
+    int w = prev.w > 1 ? prev.w / 2 : 1, h = prev.h > 1 ? prev.h / 2 : 1;
+    if (!mip_level_alloc(&cur, w, h)) goto oom;
+    for (int y = 0; y < h; y++)
+      for (int x = 0; x < w; x++) {
+        float c = 0, pre[3] = {0}, plain[3] = {0};
+        for (int dy = 0; dy < 2; dy++)
+          for (int dx = 0; dx < 2; dx++) {
+            int sx = 2 * x + dx < prev.w ? 2 * x + dx : prev.w - 1;
+            int sy = 2 * y + dy < prev.h ? 2 * y + dy : prev.h - 1;
+            size_t s = (size_t)sy * prev.w + sx;
+            c += prev.cov[s];
+            for (int k = 0; k < 3; k++) {
+              pre[k] += prev.pre[3 * s + k];
+              plain[k] += prev.plain[3 * s + k];
+            }
+          }
+        size_t d = (size_t)y * w + x;
+        cur.cov[d] = c / 4;
+        for (int k = 0; k < 3; k++) {
+          cur.pre[3 * d + k] = pre[k] / 4;
+          cur.plain[3 * d + k] = plain[k] / 4;
+        }
+      }
+    if (bbc_image_alloc(&out[l], w, h) != BBC_OK) goto oom;
+    size_t nt = (size_t)w * h;
+    /* as many opaque texels, in proportion, as level 0 has */
+    size_t want = (size_t)((double)opaque0 / (double)n0 * (double)nt + 0.5);
+    float thr = alpha_tested ? coverage_threshold(cur.cov, nt, want) : 0;
+    for (size_t i = 0; i < nt; i++) {
+      uint8_t *p = out[l].rgba + 4 * i;
+      for (int k = 0; k < 3; k++) {
+        float v = cur.cov[i] > 1e-6f ? cur.pre[3 * i + k] / cur.cov[i] : cur.plain[3 * i + k];
+        p[k] = (uint8_t)(v > 255 ? 255 : v + 0.5f);
+      }
+      p[3] = alpha_tested ? (cur.cov[i] >= thr && cur.cov[i] > 0 ? 255 : 0)
+                          : (uint8_t)(cur.cov[i] * 255 + 0.5f);
+    }
+    mip_level_free(&prev);
+    prev = cur;
+    memset(&cur, 0, sizeof cur);
+  }
+  mip_level_free(&prev);
+  *levels = out;
+  *count = n;
+  return BBC_OK;
+oom:
+  mip_level_free(&prev);
+  mip_level_free(&cur);
+  for (int l = 0; out && l < n; l++) bbc_image_free(&out[l]);
+  free(out);
+  return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "mipmaps: out of memory");
+}

@@ -1,32 +1,72 @@
-/* forest — the forest engine of the thesis (Perfect Motion, Appendix B),
- * being rebuilt (issue 12). What exists: reading a map and every model
- * description file it names, building its world and checking that every
- * file is there (`--check`). Drawing does not exist yet. */
+/* forest — the forest engine of the thesis (Perfect Motion, Appendix B):
+ * command line, `--check`, and the log; loading is scene.c, the frame loop
+ * and the controls run.c, the drawing src/gl/. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
 
+#include <math.h>
+#include <time.h>
+#include <unistd.h>
+
 #include "bbc.h"
+#include "run.h"
 
 static void usage(FILE *f) {
   fprintf(f,
-          "forest %s — the forest engine (thesis 3.2, Appendix B), being rebuilt\n"
+          "forest %s — the forest engine (thesis 3.2, Appendix B: Perfect Motion)\n"
           "\n"
           "Usage:\n"
+          "  forest MAP [options]\n"
+          "      Loads MAP (a map file as Appendix B defines it) and flies through it in a\n"
+          "      window (OpenGL 4.5). Keys: mouse look; s/x faster/slower; a/d strafe;\n"
+          "      y/c (or z/c) up/down; Space stop; q/e zoom out/in, w reset; F3 store and\n"
+          "      F2 load positions (save/MAPNAME.txt beside the map); F1 wireframe;\n"
+          "      F4 terrain; F5 objects; 1/2 terrain detail; 3 lock the terrain's\n"
+          "      frustum; F10 statistics; h key help; Esc quits.\n"
+          "  forest MAP --size WxH [options]\n"
+          "      The same drawing without a display (EGL), for screenshots and benchmarks.\n"
           "  forest --check MAP\n"
-          "      Reads MAP (a map file as Appendix B defines it) and every model\n"
-          "      description file it names, builds the map's world (terrain, colour map,\n"
-          "      objects placed on the ground) and checks that every file it needs is\n"
-          "      there and reads (every 3D model and LOD file is loaded once). Prints a\n"
-          "      summary; every problem as FILE:LINE: what is wrong.\n"
-          "      Exit status 0 when the map is whole, 1 when something is wrong or\n"
-          "      missing.\n"
+          "      Reads MAP and every model description file it names, builds the map's\n"
+          "      world and checks that every file it needs is there and reads (each 3D\n"
+          "      model once). Prints a summary; every problem as FILE:LINE: what is wrong.\n"
+          "      Exit status 0 when the map is whole, 1 when something is wrong.\n"
+          "  forest --demo-terrain DIR [--terrain-size N] [--seed S]\n"
+          "      Writes a procedural landscape (hills, a ridge, a lake, meadows, forest\n"
+          "      floor, rock) as DIR/heightmap.png ((N+1)^2, default N 512) and\n"
+          "      DIR/colmap.png (N^2), and prints the lake's water level in heightmap\n"
+          "      units (0..255): what `make demo` builds its forest map on.\n"
           "  forest --help | --version\n"
           "\n"
-          "Not built yet: drawing the forest (a window, flying through it).\n",
+          "Options:\n"
+          "  --size WxH           headless framebuffer size (with --window: the window's)\n"
+          "  --window             a window even with --size (e.g. under xvfb-run)\n"
+          "  --camera X,Y,Z,YAW,PITCH   start there (degrees; yaw 0 looks along -z, 90 along +x)\n"
+          "  --path FILE          camera positions (lines: x y z yaw pitch) flown through over\n"
+          "                       the frames, linearly\n"
+          "  --frames N           frames to draw headless (default 1; 30 per --path position)\n"
+          "  --screenshot PNG     write the last frame\n"
+          "  --bench              print timings; the last line is\n"
+          "                       frame_ms_median=… frame_ms_p95=… cull_ms_median=…\n"
+          "                       trees_drawn=… billboards_drawn=… draw_calls=…\n"
+          "  --keys \"K K 30f shot:A.png K\"  scripted keys (names as in the list above:\n"
+          "                       s x a d y c space q e w F1 F2 F3 F4 F5 F10 1 2 3 h esc), Nf\n"
+          "                       runs N frames of 1/30 s, shot:FILE writes a screenshot;\n"
+          "                       the program ends after the script\n"
+          "  --stats              the statistics overlay (F10) from the start\n"
+          "  --print-camera       print the final camera as --camera takes it\n"
+          "  --log FILE           the log (default: log.txt beside the map)\n"
+          "\n"
+          "Exit status: 0 done, 1 a file or the drawing failed, 2 bad usage.\n",
           BBC_VERSION_STRING);
+}
+
+static double clock_s(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return t.tv_sec + t.tv_nsec * 1e-9;
 }
 
 static int file_exists(const char *path) {
@@ -120,40 +160,183 @@ static int check_file(const char *map_path, int line, const char *folder, const 
   return bad;
 }
 
+static int parse_size(const char *v, int *w, int *h) {
+  char x;
+  return sscanf(v, "%d%c%d", w, &x, h) == 3 && (x == 'x' || x == 'X') && *w > 0 && *h > 0 &&
+         *w <= 16384 && *h <= 16384;
+}
+
+static int draw_map(const char *map_path, run_options *o, const char *log_path) {
+  char folder[4096], lp[4200];
+  folder_of(map_path, folder, sizeof folder);
+  if (!log_path) {
+    snprintf(lp, sizeof lp, "%s/log.txt", folder);
+    log_path = lp;
+  }
+  FILE *log = fopen(log_path, "w");
+  if (!log) fprintf(stderr, "forest: cannot write the log %s; going on without\n", log_path);
+  if (log) fprintf(log, "forest %s: map %s\n", BBC_VERSION_STRING, map_path);
+  scene s;
+  double t0 = clock_s();
+  if (!scene_load(&s, map_path, log, o->progress)) {
+    if (log) {
+      fprintf(log, "error: the map did not load (see the messages on stderr)\n");
+      fclose(log);
+    }
+    scene_free(&s);
+    return 1;
+  }
+  double load_s = clock_s() - t0;
+  if (log) {
+    fprintf(log,
+            "terrain %d x %d, %g units apart; %zu objects of %zu models; %zu triangles in %zu "
+            "files; loaded in %.2f s\n",
+            s.world.width, s.world.depth, s.world.spacing, s.world.instance_count, s.model_count,
+            s.triangles_loaded, s.mesh_count, load_s);
+    fflush(log);
+  }
+  if (o->progress)
+    fprintf(stderr, "forest: %zu objects, %zu models, loaded in %.2f s\n", s.world.instance_count,
+            s.model_count, load_s);
+  int status = run(&s, o, log);
+  if (log) {
+    fprintf(log, "done (exit status %d)\n", status);
+    fclose(log);
+  }
+  scene_free(&s);
+  return status;
+}
+
+static int demo_terrain(const char *dir, int size, uint32_t seed) {
+  bbc_image h, c;
+  double water;
+  bbc_error err;
+  if (bbc_forest_demo_terrain(size, seed, &h, &c, &water, &err) != BBC_OK) {
+    fprintf(stderr, "forest: %s\n", err.message);
+    return 1;
+  }
+  char p1[4200], p2[4200];
+  snprintf(p1, sizeof p1, "%s/heightmap.png", dir);
+  snprintf(p2, sizeof p2, "%s/colmap.png", dir);
+  int ok =
+      bbc_image_write_png(p1, &h, &err) == BBC_OK && bbc_image_write_png(p2, &c, &err) == BBC_OK;
+  if (!ok)
+    fprintf(stderr, "forest: %s\n", err.message);
+  else
+    printf("water_level=%.2f\n", water);
+  bbc_image_free(&h);
+  bbc_image_free(&c);
+  return ok ? 0 : 1;
+}
+
 int main(int argc, char **argv) {
-  const char *map_path = NULL;
-  int check = 0;
+  const char *map_path = NULL, *log_path = NULL, *demo_dir = NULL;
+  int check = 0, window = 0, size_given = 0, terrain_size = 512;
+  unsigned long seed = 1;
+  run_options o;
+  memset(&o, 0, sizeof o);
+  o.width = 1024;
+  o.height = 768;
+  o.progress = isatty(2);
   for (int i = 1; i < argc; i++) {
-    if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+    const char *a = argv[i];
+    const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+    int takes = !strcmp(a, "--size") || !strcmp(a, "--camera") || !strcmp(a, "--path") ||
+                !strcmp(a, "--frames") || !strcmp(a, "--screenshot") || !strcmp(a, "--keys") ||
+                !strcmp(a, "--log") || !strcmp(a, "--demo-terrain") ||
+                !strcmp(a, "--terrain-size") || !strcmp(a, "--seed");
+    if (takes && !v) {
+      fprintf(stderr, "forest: %s needs a value (try forest --help)\n", a);
+      return 2;
+    }
+    if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
       usage(stdout);
       return 0;
-    }
-    if (!strcmp(argv[i], "--version")) {
+    } else if (!strcmp(a, "--version")) {
       printf("forest %s\n", BBC_VERSION_STRING);
       return 0;
-    }
-    if (!strcmp(argv[i], "--check")) {
+    } else if (!strcmp(a, "--check")) {
       check = 1;
-    } else if (argv[i][0] == '-' && argv[i][1]) {
-      fprintf(stderr, "forest: unknown option '%s' (try forest --help)\n", argv[i]);
+    } else if (!strcmp(a, "--window")) {
+      window = 1;
+    } else if (!strcmp(a, "--bench")) {
+      o.bench = 1;
+    } else if (!strcmp(a, "--stats")) {
+      o.stats = 1;
+    } else if (!strcmp(a, "--print-camera")) {
+      o.print_camera = 1;
+    } else if (!strcmp(a, "--size")) {
+      if (!parse_size(v, &o.width, &o.height)) {
+        fprintf(stderr, "forest: --size %s: expected WxH, e.g. 640x480\n", v);
+        return 2;
+      }
+      size_given = 1;
+      i++;
+    } else if (!strcmp(a, "--camera")) {
+      bbc_forest_camera *c = &o.camera;
+      char extra;
+      if (sscanf(v, "%lf,%lf,%lf,%lf,%lf%c", &c->pos[0], &c->pos[1], &c->pos[2], &c->yaw, &c->pitch,
+                 &extra) != 5 ||
+          fabs(c->pitch) > 89) {
+        fprintf(stderr, "forest: --camera %s: expected X,Y,Z,YAW,PITCH (pitch within +-89)\n", v);
+        return 2;
+      }
+      o.has_camera = 1;
+      i++;
+    } else if (!strcmp(a, "--frames")) {
+      char *end;
+      long n = strtol(v, &end, 10);
+      if (*end || n < 1 || n > 10000000) {
+        fprintf(stderr, "forest: --frames %s: expected a number of frames (1 or more)\n", v);
+        return 2;
+      }
+      o.frames = (int)n;
+      i++;
+    } else if (!strcmp(a, "--path")) {
+      o.path = v;
+      i++;
+    } else if (!strcmp(a, "--screenshot")) {
+      o.screenshot = v;
+      i++;
+    } else if (!strcmp(a, "--keys")) {
+      o.keys = v;
+      i++;
+    } else if (!strcmp(a, "--demo-terrain")) {
+      demo_dir = v;
+      i++;
+    } else if (!strcmp(a, "--terrain-size") || !strcmp(a, "--seed")) {
+      char *end;
+      unsigned long n = strtoul(v, &end, 10);
+      if (*end || !*v || n > 0xFFFFFFFFul) {
+        fprintf(stderr, "forest: %s %s: expected a whole number\n", a, v);
+        return 2;
+      }
+      if (a[2] == 't')
+        terrain_size = (int)(n > 65536 ? 65536 : n);
+      else
+        seed = n;
+      i++;
+    } else if (!strcmp(a, "--log")) {
+      log_path = v;
+      i++;
+    } else if (a[0] == '-' && a[1]) {
+      fprintf(stderr, "forest: unknown option '%s' (try forest --help)\n", a);
       return 2;
     } else if (!map_path) {
-      map_path = argv[i];
+      map_path = a;
     } else {
-      fprintf(stderr, "forest: one map at a time ('%s' is a second one)\n", argv[i]);
+      fprintf(stderr, "forest: one map at a time ('%s' is a second one)\n", a);
       return 2;
     }
   }
+  if (demo_dir) return demo_terrain(demo_dir, terrain_size, (uint32_t)seed);
   if (!map_path) {
     usage(stderr);
     return 2;
   }
   if (!check) {
-    fprintf(stderr,
-            "forest: drawing a forest is not built yet (issue 12); `forest --check %s` reads "
-            "and checks the map\n",
-            map_path);
-    return 2;
+    o.headless = size_given && !window;
+    return draw_map(map_path, &o, log_path);
   }
   bbc_forest_map map;
   bbc_error err;

@@ -1,0 +1,88 @@
+/* bbcgl.h — the drawing layer (OpenGL 4.5 core) that `forest` and the
+ * viewer share. The only GL code in the project lives in src/gl/; the
+ * library (libbbc) stays GL-free. Functions here never print or exit:
+ * failures return 0 / NULL with a message in `err` (a caller's buffer of
+ * BBCGL_ERR bytes). */
+#ifndef BBCGL_H
+#define BBCGL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "bbc.h"
+
+#define BBCGL_ERR 512
+
+/* ---- context (context.c) ------------------------------------------------ */
+typedef struct bbcgl_context bbcgl_context;
+
+/* A context without a display (EGL, surfaceless platform: Mesa's llvmpipe
+ * or a GPU driver) drawing into an offscreen width x height framebuffer. */
+bbcgl_context *bbcgl_context_headless(int width, int height, char *err);
+/* A window (GLFW) of width x height; `title` in its bar. */
+bbcgl_context *bbcgl_context_window(int width, int height, const char *title, char *err);
+void bbcgl_context_free(bbcgl_context *ctx);
+/* The window (a GLFWwindow *), NULL when headless. */
+void *bbcgl_context_window_handle(bbcgl_context *ctx);
+/* Framebuffer size now (a window may be resized). */
+void bbcgl_context_size(bbcgl_context *ctx, int *width, int *height);
+/* Binds the context's framebuffer for drawing. */
+void bbcgl_context_begin(bbcgl_context *ctx);
+/* Shows the frame (window) or waits for it to finish (headless). */
+void bbcgl_context_end(bbcgl_context *ctx);
+/* The last frame's pixels, rows top first. */
+int bbcgl_context_read(bbcgl_context *ctx, bbc_image *out, char *err);
+/* "OpenGL 4.5 (Core Profile) Mesa 22.3.6, llvmpipe ..." */
+const char *bbcgl_context_describe(bbcgl_context *ctx);
+
+/* ---- the forest renderer (forest.c) -------------------------------------- */
+typedef struct bbcgl_forest bbcgl_forest;
+
+typedef struct bbcgl_scene {
+  const bbc_forest_world *world;
+  const bbc_image *terrain_colour; /* (width - 1) x (depth - 1), lighting baked in */
+  double light[3];                 /* for models drawn with `lighting` */
+  int has_water;
+  double water_height;
+  double fog_start, fog_end; /* world units; fog_end <= fog_start = no fog */
+  const bbc_image *sky[6];   /* FR, BK, LF, RT, UP, DN; NULLs = a gradient */
+  size_t bucket_count;       /* (model, level) buckets of the culling */
+} bbcgl_scene;
+
+bbcgl_forest *bbcgl_forest_create(const bbcgl_scene *scene, char *err);
+void bbcgl_forest_free(bbcgl_forest *f);
+
+/* Adds `mesh` as a component of bucket `bucket` (one level of one model):
+ * its triangles by material, each textured material's image uploaded once
+ * (mipmaps that keep alpha binary when `mipmap`), lit by the scene's light
+ * when `lit` and the material is not unlit. `billboards` is what the
+ * statistics count for it per tree (0 for polygon models). */
+int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *mesh, int lit,
+                          int mipmap, size_t billboards, char *err);
+
+typedef struct bbcgl_frame {
+  float viewproj[16]; /* column-major */
+  double eye[3];
+  int width, height;
+  int wireframe;   /* F1 */
+  int no_terrain;  /* F4 */
+  int no_objects;  /* F5 */
+  int fill_colour; /* 0: a lit, textured scene (always 0 unless testing) */
+} bbcgl_frame;
+
+typedef struct bbcgl_stats {
+  size_t draw_calls, texture_binds;
+  size_t trees, billboards, triangles, terrain_nodes;
+} bbcgl_stats;
+
+/* Draws one frame: sky, terrain nodes, water, every bucket's instances
+ * (one instanced draw per bucket, component and material). */
+void bbcgl_forest_draw(bbcgl_forest *f, const bbcgl_frame *frame, const bbc_forest_terrain *terrain,
+                       const bbc_forest_cull *cull, bbcgl_stats *stats);
+
+/* Lines of text over the frame (statistics, key help), top left, in a
+ * built-in 5 x 7 pixel font scaled by `scale`. */
+void bbcgl_forest_text(bbcgl_forest *f, int width, int height, const char *const *lines,
+                       size_t line_count, int scale);
+
+#endif /* BBCGL_H */

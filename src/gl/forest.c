@@ -1,0 +1,925 @@
+/* forest.c — the forest renderer (thesis 3.2 on OpenGL 4.5 core): sky,
+ * terrain (CDLOD nodes from src/forest/terrain.c, heights read in the
+ * vertex shader, odd vertices morphed to the coarser grid), water, and the
+ * 3D objects the culling of src/forest/objects.c chose: per (model, level,
+ * component, material) one instanced draw with one texture, whatever the
+ * number of trees; levels blended by screen-door dithering (each level
+ * discards the pixels its fade weight does not cover, so no sorting and
+ * depth stays right). Textures with alpha keep it binary in every mip level
+ * (bbc_image_mipmaps). No allocation per frame once buffers have grown. */
+#include "bbcgl.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <epoxy/gl.h>
+
+/* ---- shaders ------------------------------------------------------------ */
+
+#define GLSL_FOG                                                                          \
+  "uniform vec3 u_eye;\n"                                                                 \
+  "uniform vec3 u_fog_colour;\n"                                                          \
+  "uniform vec2 u_fog;\n" /* start, end; end <= start: none */                          \
+  "vec3 fogged(vec3 c, vec3 world) {\n"                                                   \
+  "  if (u_fog.y <= u_fog.x) return c;\n"                                                 \
+  "  float f = clamp((distance(world, u_eye) - u_fog.x) / (u_fog.y - u_fog.x), 0.0, 1.0);\n" \
+  "  return mix(c, u_fog_colour, f);\n"                                                   \
+  "}\n"
+
+static const char *const terrain_vs =
+    "#version 450 core\n"
+    "layout(location = 0) in vec2 a_grid;\n"
+    "layout(location = 1) in vec4 a_node;\n" /* origin x, z (squares), step, level */
+    "uniform mat4 u_viewproj;\n"
+    "uniform vec3 u_eye;\n"
+    "uniform float u_spacing;\n"
+    "uniform float u_squares;\n"
+    "uniform vec2 u_morph[24];\n"
+    "uniform sampler2D u_height;\n"
+    "out vec3 v_world;\n"
+    "out vec2 v_uv;\n"
+    "float height_at(vec2 sq) {\n"
+    "  return texture(u_height, (sq + 0.5) / (u_squares + 1.0)).r;\n"
+    "}\n"
+    "void main() {\n"
+    "  vec2 sq = a_node.xy + a_grid * a_node.z;\n"
+    "  vec3 p = vec3(sq.x * u_spacing, height_at(sq), sq.y * u_spacing);\n"
+    "  vec2 m = u_morph[int(a_node.w)];\n"
+    "  float k = clamp((distance(p, u_eye) - m.x) / max(m.y - m.x, 1e-6), 0.0, 1.0);\n"
+    "  vec2 g = a_grid - fract(a_grid * 0.5) * 2.0 * k;\n"
+    "  sq = a_node.xy + g * a_node.z;\n"
+    "  p = vec3(sq.x * u_spacing, height_at(sq), sq.y * u_spacing);\n"
+    "  v_world = p;\n"
+    "  v_uv = sq / u_squares;\n"
+    "  gl_Position = u_viewproj * vec4(p, 1.0);\n"
+    "}\n";
+
+static const char *const terrain_fs = "#version 450 core\n" GLSL_FOG
+                                      "in vec3 v_world;\n"
+                                      "in vec2 v_uv;\n"
+                                      "uniform sampler2D u_colour;\n"
+                                      "uniform int u_flat;\n"
+                                      "out vec4 o_colour;\n"
+                                      "void main() {\n"
+                                      "  vec3 c = u_flat != 0 ? vec3(0.9) : texture(u_colour, v_uv).rgb;\n"
+                                      "  o_colour = vec4(fogged(c, v_world), 1.0);\n"
+                                      "}\n";
+
+static const char *const model_vs =
+    "#version 450 core\n"
+    "layout(location = 0) in vec3 a_pos;\n"
+    "layout(location = 1) in vec3 a_normal;\n"
+    "layout(location = 2) in vec2 a_uv;\n"
+    "layout(location = 3) in vec4 a_inst;\n"  /* x, y, z, yaw */
+    "layout(location = 4) in vec2 a_inst2;\n" /* scale, fade */
+    "uniform mat4 u_viewproj;\n"
+    "out vec3 v_world;\n"
+    "out vec3 v_normal;\n"
+    "out vec2 v_uv;\n"
+    "out float v_fade;\n"
+    "void main() {\n"
+    "  float c = cos(a_inst.w), s = sin(a_inst.w);\n"
+    "  vec3 p = a_pos * a_inst2.x;\n"
+    "  p = vec3(c * p.x + s * p.z, p.y, -s * p.x + c * p.z);\n"
+    "  v_normal = vec3(c * a_normal.x + s * a_normal.z, a_normal.y, -s * a_normal.x + c * a_normal.z);\n"
+    "  v_world = p + a_inst.xyz;\n"
+    "  v_uv = vec2(a_uv.x, 1.0 - a_uv.y);\n" /* uvs: v up; images: rows top first */
+    "  v_fade = a_inst2.y;\n"
+    "  gl_Position = u_viewproj * vec4(v_world, 1.0);\n"
+    "}\n";
+
+static const char *const model_fs =
+    "#version 450 core\n" GLSL_FOG
+    "in vec3 v_world;\n"
+    "in vec3 v_normal;\n"
+    "in vec2 v_uv;\n"
+    "in float v_fade;\n"
+    "uniform sampler2D u_tex;\n"
+    "uniform int u_has_tex;\n"
+    "uniform vec4 u_base;\n"
+    "uniform int u_lit;\n"
+    "uniform vec3 u_light;\n"
+    "out vec4 o_colour;\n"
+    /* 8 x 8 ordered dither: the screen door of the level blending */
+    "float bayer(ivec2 p) {\n"
+    "  int v = 0;\n"
+    "  for (int i = 0; i < 3; i++) {\n"
+    "    int x = (p.x >> i) & 1, y = (p.y >> i) & 1;\n"
+    "    v |= (((x ^ y) << 1) | y) << (2 * (2 - i));\n"
+    "  }\n"
+    "  return (float(v) + 0.5) / 64.0;\n"
+    "}\n"
+    "void main() {\n"
+    "  if (v_fade < 1.0 && bayer(ivec2(gl_FragCoord.xy)) >= v_fade) discard;\n"
+    "  vec4 c = u_base;\n"
+    "  if (u_has_tex != 0) c *= texture(u_tex, v_uv);\n"
+    "  if (c.a < 0.5) discard;\n"
+    "  if (u_lit != 0) {\n"
+    "    vec3 n = normalize(gl_FrontFacing ? v_normal : -v_normal);\n"
+    "    c.rgb *= 0.45 + 0.55 * max(dot(n, u_light), 0.0);\n"
+    "  }\n"
+    "  o_colour = vec4(fogged(c.rgb, v_world), 1.0);\n"
+    "}\n";
+
+static const char *const sky_vs = "#version 450 core\n"
+                                  "out vec2 v_ndc;\n"
+                                  "void main() {\n"
+                                  "  vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2) * 2.0 - 1.0;\n"
+                                  "  v_ndc = p;\n"
+                                  "  gl_Position = vec4(p, 1.0, 1.0);\n"
+                                  "}\n";
+
+static const char *const sky_fs =
+    "#version 450 core\n"
+    "in vec2 v_ndc;\n"
+    "uniform mat4 u_inverse;\n"
+    "uniform vec3 u_fog_colour;\n"
+    "uniform int u_has_cube;\n"
+    "uniform samplerCube u_cube;\n"
+    "out vec4 o_colour;\n"
+    "void main() {\n"
+    "  vec4 a = u_inverse * vec4(v_ndc, -1.0, 1.0), b = u_inverse * vec4(v_ndc, 1.0, 1.0);\n"
+    "  vec3 d = normalize(b.xyz / b.w - a.xyz / a.w);\n"
+    "  if (u_has_cube != 0) { o_colour = vec4(texture(u_cube, d).rgb, 1.0); return; }\n"
+    "  vec3 zenith = vec3(0.30, 0.50, 0.82);\n"
+    "  float t = clamp(d.y * 2.2, 0.0, 1.0);\n"
+    "  o_colour = vec4(mix(u_fog_colour, zenith, sqrt(t)), 1.0);\n"
+    "}\n";
+
+static const char *const water_vs = "#version 450 core\n"
+                                    "layout(location = 0) in vec3 a_pos;\n"
+                                    "uniform mat4 u_viewproj;\n"
+                                    "out vec3 v_world;\n"
+                                    "void main() {\n"
+                                    "  v_world = a_pos;\n"
+                                    "  gl_Position = u_viewproj * vec4(a_pos, 1.0);\n"
+                                    "}\n";
+
+static const char *const water_fs = "#version 450 core\n" GLSL_FOG
+                                    "in vec3 v_world;\n"
+                                    "out vec4 o_colour;\n"
+                                    "void main() {\n"
+                                    "  o_colour = vec4(fogged(vec3(0.16, 0.32, 0.42), v_world), 0.82);\n"
+                                    "}\n";
+
+static const char *const text_vs = "#version 450 core\n"
+                                   "layout(location = 0) in vec4 a_v;\n" /* pixel x, y, u, v */
+                                   "uniform vec2 u_size;\n"
+                                   "out vec2 v_uv;\n"
+                                   "void main() {\n"
+                                   "  v_uv = a_v.zw;\n"
+                                   "  gl_Position = vec4(a_v.x / u_size.x * 2.0 - 1.0,\n"
+                                   "                     1.0 - a_v.y / u_size.y * 2.0, 0.0, 1.0);\n"
+                                   "}\n";
+
+static const char *const text_fs = "#version 450 core\n"
+                                   "in vec2 v_uv;\n"
+                                   "uniform sampler2D u_font;\n"
+                                   "uniform vec4 u_colour;\n"
+                                   "out vec4 o_colour;\n"
+                                   "void main() {\n"
+                                   "  if (v_uv.x < 0.0) { o_colour = vec4(0.0, 0.0, 0.0, 0.55); return; }\n"
+                                   "  if (texelFetch(u_font, ivec2(v_uv), 0).r < 0.5) discard;\n"
+                                   "  o_colour = u_colour;\n"
+                                   "}\n";
+
+static GLuint compile(GLenum type, const char *src, const char *name, char *err) {
+  GLuint s = glCreateShader(type);
+  glShaderSource(s, 1, &src, NULL);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[400];
+    glGetShaderInfoLog(s, sizeof log, NULL, log);
+    snprintf(err, BBCGL_ERR, "shader %s does not compile: %s", name, log);
+    glDeleteShader(s);
+    return 0;
+  }
+  return s;
+}
+
+static GLuint program(const char *vs, const char *fs, const char *name, char *err) {
+  GLuint v = compile(GL_VERTEX_SHADER, vs, name, err);
+  if (!v) return 0;
+  GLuint f = compile(GL_FRAGMENT_SHADER, fs, name, err);
+  if (!f) {
+    glDeleteShader(v);
+    return 0;
+  }
+  GLuint p = glCreateProgram();
+  glAttachShader(p, v);
+  glAttachShader(p, f);
+  glLinkProgram(p);
+  glDeleteShader(v);
+  glDeleteShader(f);
+  GLint ok = 0;
+  glGetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[400];
+    glGetProgramInfoLog(p, sizeof log, NULL, log);
+    snprintf(err, BBCGL_ERR, "shader %s does not link: %s", name, log);
+    glDeleteProgram(p);
+    return 0;
+  }
+  return p;
+}
+
+/* ---- the built-in 5 x 7 font ------------------------------------------- */
+
+static const char font_chars[] = " %()+,-./0123456789:=<>ABCDEFGHIJKLMNOPQRSTUVWXYZ_[]|";
+static const uint8_t font_rows[][7] = {
+    {0, 0, 0, 0, 0, 0, 0},                          /* space */
+    {0x18, 0x19, 0x02, 0x04, 0x08, 0x13, 0x03},     /* % */
+    {0x02, 0x04, 0x08, 0x08, 0x08, 0x04, 0x02},     /* ( */
+    {0x08, 0x04, 0x02, 0x02, 0x02, 0x04, 0x08},     /* ) */
+    {0, 0x04, 0x04, 0x1F, 0x04, 0x04, 0},           /* + */
+    {0, 0, 0, 0, 0x0C, 0x04, 0x08},                 /* , */
+    {0, 0, 0, 0x1F, 0, 0, 0},                       /* - */
+    {0, 0, 0, 0, 0, 0x0C, 0x0C},                    /* . */
+    {0x01, 0x01, 0x02, 0x04, 0x08, 0x10, 0x10},     /* / */
+    {0x0E, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0E},     /* 0 */
+    {0x04, 0x0C, 0x04, 0x04, 0x04, 0x04, 0x0E},     /* 1 */
+    {0x0E, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1F},     /* 2 */
+    {0x1F, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0E},     /* 3 */
+    {0x02, 0x06, 0x0A, 0x12, 0x1F, 0x02, 0x02},     /* 4 */
+    {0x1F, 0x10, 0x1E, 0x01, 0x01, 0x11, 0x0E},     /* 5 */
+    {0x06, 0x08, 0x10, 0x1E, 0x11, 0x11, 0x0E},     /* 6 */
+    {0x1F, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08},     /* 7 */
+    {0x0E, 0x11, 0x11, 0x0E, 0x11, 0x11, 0x0E},     /* 8 */
+    {0x0E, 0x11, 0x11, 0x0F, 0x01, 0x02, 0x0C},     /* 9 */
+    {0, 0x0C, 0x0C, 0, 0x0C, 0x0C, 0},              /* : */
+    {0, 0, 0x1F, 0, 0x1F, 0, 0},                    /* = */
+    {0x02, 0x04, 0x08, 0x10, 0x08, 0x04, 0x02},     /* < */
+    {0x08, 0x04, 0x02, 0x01, 0x02, 0x04, 0x08},     /* > */
+    {0x0E, 0x11, 0x11, 0x1F, 0x11, 0x11, 0x11},     /* A */
+    {0x1E, 0x11, 0x11, 0x1E, 0x11, 0x11, 0x1E},     /* B */
+    {0x0E, 0x11, 0x10, 0x10, 0x10, 0x11, 0x0E},     /* C */
+    {0x1C, 0x12, 0x11, 0x11, 0x11, 0x12, 0x1C},     /* D */
+    {0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x1F},     /* E */
+    {0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x10},     /* F */
+    {0x0E, 0x11, 0x10, 0x17, 0x11, 0x11, 0x0F},     /* G */
+    {0x11, 0x11, 0x11, 0x1F, 0x11, 0x11, 0x11},     /* H */
+    {0x0E, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0E},     /* I */
+    {0x07, 0x02, 0x02, 0x02, 0x02, 0x12, 0x0C},     /* J */
+    {0x11, 0x12, 0x14, 0x18, 0x14, 0x12, 0x11},     /* K */
+    {0x10, 0x10, 0x10, 0x10, 0x10, 0x10, 0x1F},     /* L */
+    {0x11, 0x1B, 0x15, 0x15, 0x11, 0x11, 0x11},     /* M */
+    {0x11, 0x11, 0x19, 0x15, 0x13, 0x11, 0x11},     /* N */
+    {0x0E, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0E},     /* O */
+    {0x1E, 0x11, 0x11, 0x1E, 0x10, 0x10, 0x10},     /* P */
+    {0x0E, 0x11, 0x11, 0x11, 0x15, 0x12, 0x0D},     /* Q */
+    {0x1E, 0x11, 0x11, 0x1E, 0x14, 0x12, 0x11},     /* R */
+    {0x0F, 0x10, 0x10, 0x0E, 0x01, 0x01, 0x1E},     /* S */
+    {0x1F, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04},     /* T */
+    {0x11, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0E},     /* U */
+    {0x11, 0x11, 0x11, 0x11, 0x11, 0x0A, 0x04},     /* V */
+    {0x11, 0x11, 0x11, 0x15, 0x15, 0x15, 0x0A},     /* W */
+    {0x11, 0x11, 0x0A, 0x04, 0x0A, 0x11, 0x11},     /* X */
+    {0x11, 0x11, 0x11, 0x0A, 0x04, 0x04, 0x04},     /* Y */
+    {0x1F, 0x01, 0x02, 0x04, 0x08, 0x10, 0x1F},     /* Z */
+    {0, 0, 0, 0, 0, 0, 0x1F},                       /* _ */
+    {0x0E, 0x08, 0x08, 0x08, 0x08, 0x08, 0x0E},     /* [ */
+    {0x0E, 0x02, 0x02, 0x02, 0x02, 0x02, 0x0E},     /* ] */
+    {0x04, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04},     /* | */
+};
+#define FONT_COUNT ((int)(sizeof font_rows / sizeof font_rows[0]))
+
+/* ---- the renderer -------------------------------------------------------- */
+
+typedef struct batch {
+  GLuint tex; /* 0 = untextured */
+  float base[4];
+  int lit;
+  size_t first, count; /* indices */
+} batch;
+
+typedef struct part {
+  size_t bucket;
+  GLuint vao, vbo, ebo;
+  batch *batches;
+  size_t batch_count;
+  size_t triangles, billboards;
+} part;
+
+typedef struct texture_entry {
+  const uint8_t *key; /* the image's texels: one GL texture per image */
+  int mipmap;
+  GLuint tex;
+} texture_entry;
+
+struct bbcgl_forest {
+  bbcgl_scene scene;
+  const bbc_forest_world *world;
+  float fog_colour[3];
+  GLuint p_terrain, p_model, p_sky, p_water, p_text;
+  /* terrain */
+  GLuint t_vao, t_vbo, t_ebo, t_nodes, t_height, t_colour;
+  size_t t_first[5], t_count[5], t_node_capacity;
+  float *t_node_data; /* 4 floats per node, grouped by quarter */
+  int leaf, squares;
+  /* sky, water */
+  GLuint sky_vao, cube, w_vao, w_vbo;
+  /* objects */
+  part *parts;
+  size_t part_count;
+  texture_entry *textures;
+  size_t texture_count;
+  GLuint instances;
+  size_t instance_capacity; /* records */
+  /* text */
+  GLuint x_vao, x_vbo, font;
+  size_t x_capacity; /* vertices */
+  float *x_data;
+};
+
+static void set_fog(GLuint p, const bbcgl_forest *f, const double eye[3]) {
+  glProgramUniform3f(p, glGetUniformLocation(p, "u_eye"), (float)eye[0], (float)eye[1],
+                     (float)eye[2]);
+  glProgramUniform3fv(p, glGetUniformLocation(p, "u_fog_colour"), 1, f->fog_colour);
+  glProgramUniform2f(p, glGetUniformLocation(p, "u_fog"), (float)f->scene.fog_start,
+                     (float)f->scene.fog_end);
+}
+
+static int build_terrain(bbcgl_forest *f, char *err) {
+  const bbc_forest_world *w = f->world;
+  f->squares = w->width - 1;
+  f->leaf = f->squares < BBC_FOREST_TERRAIN_LEAF ? f->squares : BBC_FOREST_TERRAIN_LEAF;
+  int n = f->leaf, verts = (n + 1) * (n + 1);
+  float *grid = malloc((size_t)verts * 2 * sizeof *grid);
+  uint32_t *idx = malloc((size_t)n * n * 6 * 2 * sizeof *idx);
+  if (!grid || !idx) {
+    free(grid);
+    free(idx);
+    snprintf(err, BBCGL_ERR, "out of memory");
+    return 0;
+  }
+  for (int z = 0; z <= n; z++)
+    for (int x = 0; x <= n; x++) {
+      grid[2 * (z * (n + 1) + x)] = (float)x;
+      grid[2 * (z * (n + 1) + x) + 1] = (float)z;
+    }
+  /* index ranges: the whole grid, then its four quarters */
+  size_t k = 0;
+  for (int r = -1; r < 4; r++) {
+    int x0 = 0, z0 = 0, len = n;
+    if (r >= 0) {
+      len = n / 2 ? n / 2 : 1;
+      x0 = (r & 1) * len;
+      z0 = (r >> 1) * len;
+    }
+    f->t_first[r + 1] = k;
+    for (int z = z0; z < z0 + len && z < n; z++)
+      for (int x = x0; x < x0 + len && x < n; x++) {
+        uint32_t a = (uint32_t)(z * (n + 1) + x), b = a + 1, c = a + (uint32_t)(n + 1), d = c + 1;
+        /* alternate diagonals so the mesh has no direction */
+        if ((x + z) & 1) {
+          uint32_t t[6] = {a, c, b, b, c, d};
+          memcpy(idx + k, t, sizeof t);
+        } else {
+          uint32_t t[6] = {a, c, d, a, d, b};
+          memcpy(idx + k, t, sizeof t);
+        }
+        k += 6;
+      }
+    f->t_count[r + 1] = k - f->t_first[r + 1];
+  }
+  glCreateVertexArrays(1, &f->t_vao);
+  glCreateBuffers(1, &f->t_vbo);
+  glCreateBuffers(1, &f->t_ebo);
+  glCreateBuffers(1, &f->t_nodes);
+  glNamedBufferStorage(f->t_vbo, (GLsizeiptr)verts * 2 * sizeof *grid, grid, 0);
+  glNamedBufferStorage(f->t_ebo, (GLsizeiptr)k * sizeof *idx, idx, 0);
+  free(grid);
+  free(idx);
+  glVertexArrayVertexBuffer(f->t_vao, 0, f->t_vbo, 0, 2 * sizeof(float));
+  glVertexArrayElementBuffer(f->t_vao, f->t_ebo);
+  glEnableVertexArrayAttrib(f->t_vao, 0);
+  glVertexArrayAttribFormat(f->t_vao, 0, 2, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(f->t_vao, 0, 0);
+  glEnableVertexArrayAttrib(f->t_vao, 1);
+  glVertexArrayAttribFormat(f->t_vao, 1, 4, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(f->t_vao, 1, 1);
+  glVertexArrayBindingDivisor(f->t_vao, 1, 1);
+  /* heights, 32-bit float, filtered */
+  glCreateTextures(GL_TEXTURE_2D, 1, &f->t_height);
+  glTextureStorage2D(f->t_height, 1, GL_R32F, w->width, w->depth);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage2D(f->t_height, 0, 0, 0, w->width, w->depth, GL_RED, GL_FLOAT, w->height);
+  glTextureParameteri(f->t_height, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(f->t_height, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(f->t_height, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(f->t_height, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  /* colour, with the lighting baked in, mipmapped */
+  const bbc_image *c = f->scene.terrain_colour;
+  int levels = 1;
+  while ((c->width >> levels) > 0 || (c->height >> levels) > 0) levels++;
+  glCreateTextures(GL_TEXTURE_2D, 1, &f->t_colour);
+  glTextureStorage2D(f->t_colour, levels, GL_RGBA8, c->width, c->height);
+  glTextureSubImage2D(f->t_colour, 0, 0, 0, c->width, c->height, GL_RGBA, GL_UNSIGNED_BYTE,
+                      c->rgba);
+  glGenerateTextureMipmap(f->t_colour);
+  glTextureParameteri(f->t_colour, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTextureParameteri(f->t_colour, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(f->t_colour, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(f->t_colour, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTextureParameterf(f->t_colour, GL_TEXTURE_MAX_ANISOTROPY, 4.0f);
+  return 1;
+}
+
+static void build_water(bbcgl_forest *f) {
+  const bbc_forest_world *w = f->world;
+  float e = (float)((w->width - 1) * w->spacing), h = (float)f->scene.water_height;
+  float v[18] = {-e, h, -e, -e, h, 2 * e, 2 * e, h, 2 * e,
+                 -e, h, -e, 2 * e, h, 2 * e, 2 * e, h, -e};
+  glCreateVertexArrays(1, &f->w_vao);
+  glCreateBuffers(1, &f->w_vbo);
+  glNamedBufferStorage(f->w_vbo, sizeof v, v, 0);
+  glVertexArrayVertexBuffer(f->w_vao, 0, f->w_vbo, 0, 3 * sizeof(float));
+  glEnableVertexArrayAttrib(f->w_vao, 0);
+  glVertexArrayAttribFormat(f->w_vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(f->w_vao, 0, 0);
+}
+
+static void build_sky(bbcgl_forest *f) {
+  glCreateVertexArrays(1, &f->sky_vao);
+  if (!f->scene.sky[0]) return;
+  /* FR, BK, LF, RT, UP, DN onto the cube's faces: front = -z (the
+   * direction a GL camera looks by default), right = +x, up = +y. */
+  static const int face_of[6] = {5, 4, 1, 0, 2, 3}; /* +X=0 -X=1 +Y=2 -Y=3 +Z=4 -Z=5 */
+  int size = f->scene.sky[0]->width;
+  glCreateTextures(GL_TEXTURE_CUBE_MAP, 1, &f->cube);
+  glTextureStorage2D(f->cube, 1, GL_RGBA8, size, size);
+  for (int s = 0; s < 6; s++) {
+    const bbc_image *im = f->scene.sky[s];
+    if (!im || im->width != size || im->height != size) continue;
+    glTextureSubImage3D(f->cube, 0, 0, 0, face_of[s], size, size, 1, GL_RGBA, GL_UNSIGNED_BYTE,
+                        im->rgba);
+  }
+  glTextureParameteri(f->cube, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(f->cube, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(f->cube, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(f->cube, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(f->cube, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+}
+
+static void build_text(bbcgl_forest *f) {
+  int w = FONT_COUNT * 6, h = 8;
+  uint8_t *px = calloc((size_t)w * h, 1);
+  if (px)
+    for (int g = 0; g < FONT_COUNT; g++)
+      for (int y = 0; y < 7; y++)
+        for (int x = 0; x < 5; x++)
+          if (font_rows[g][y] & (0x10 >> x)) px[y * w + g * 6 + x] = 255;
+  glCreateTextures(GL_TEXTURE_2D, 1, &f->font);
+  glTextureStorage2D(f->font, 1, GL_R8, w, h);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  if (px) glTextureSubImage2D(f->font, 0, 0, 0, w, h, GL_RED, GL_UNSIGNED_BYTE, px);
+  free(px);
+  glCreateVertexArrays(1, &f->x_vao);
+  glCreateBuffers(1, &f->x_vbo);
+  glEnableVertexArrayAttrib(f->x_vao, 0);
+  glVertexArrayAttribFormat(f->x_vao, 0, 4, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(f->x_vao, 0, 0);
+}
+
+bbcgl_forest *bbcgl_forest_create(const bbcgl_scene *scene, char *err) {
+  bbcgl_forest *f = calloc(1, sizeof *f);
+  if (!f) {
+    snprintf(err, BBCGL_ERR, "out of memory");
+    return NULL;
+  }
+  f->scene = *scene;
+  f->world = scene->world;
+  f->fog_colour[0] = 0.74f;
+  f->fog_colour[1] = 0.81f;
+  f->fog_colour[2] = 0.88f;
+  if (!(f->p_terrain = program(terrain_vs, terrain_fs, "terrain", err)) ||
+      !(f->p_model = program(model_vs, model_fs, "model", err)) ||
+      !(f->p_sky = program(sky_vs, sky_fs, "sky", err)) ||
+      !(f->p_water = program(water_vs, water_fs, "water", err)) ||
+      !(f->p_text = program(text_vs, text_fs, "text", err)) || !build_terrain(f, err)) {
+    bbcgl_forest_free(f);
+    return NULL;
+  }
+  build_water(f);
+  build_sky(f);
+  build_text(f);
+  glCreateBuffers(1, &f->instances);
+  return f;
+}
+
+void bbcgl_forest_free(bbcgl_forest *f) {
+  if (!f) return;
+  for (size_t i = 0; i < f->part_count; i++) {
+    glDeleteVertexArrays(1, &f->parts[i].vao);
+    glDeleteBuffers(1, &f->parts[i].vbo);
+    glDeleteBuffers(1, &f->parts[i].ebo);
+    free(f->parts[i].batches);
+  }
+  free(f->parts);
+  for (size_t i = 0; i < f->texture_count; i++) glDeleteTextures(1, &f->textures[i].tex);
+  free(f->textures);
+  GLuint progs[5] = {f->p_terrain, f->p_model, f->p_sky, f->p_water, f->p_text};
+  for (int i = 0; i < 5; i++)
+    if (progs[i]) glDeleteProgram(progs[i]);
+  GLuint bufs[7] = {f->t_vbo, f->t_ebo, f->t_nodes, f->w_vbo, f->instances, f->x_vbo, 0};
+  glDeleteBuffers(6, bufs);
+  GLuint vaos[4] = {f->t_vao, f->sky_vao, f->w_vao, f->x_vao};
+  glDeleteVertexArrays(4, vaos);
+  GLuint texs[4] = {f->t_height, f->t_colour, f->cube, f->font};
+  glDeleteTextures(4, texs);
+  free(f->t_node_data);
+  free(f->x_data);
+  free(f);
+}
+
+/* One GL texture per image (thesis 3.2.2: models that share a texture share
+ * it in memory). */
+static GLuint texture_for(bbcgl_forest *f, const bbc_image *im, int mipmap, char *err) {
+  for (size_t i = 0; i < f->texture_count; i++)
+    if (f->textures[i].key == im->rgba && f->textures[i].mipmap == mipmap)
+      return f->textures[i].tex;
+  texture_entry *t2 = realloc(f->textures, (f->texture_count + 1) * sizeof *t2);
+  if (!t2) {
+    snprintf(err, BBCGL_ERR, "out of memory");
+    return 0;
+  }
+  f->textures = t2;
+  bbc_image *mips = NULL;
+  int nm = 0;
+  bbc_error e;
+  if (mipmap && bbc_image_mipmaps(im, &mips, &nm, &e) != BBC_OK) {
+    snprintf(err, BBCGL_ERR, "%s", e.message);
+    return 0;
+  }
+  GLuint tex;
+  glCreateTextures(GL_TEXTURE_2D, 1, &tex);
+  glTextureStorage2D(tex, 1 + nm, GL_RGBA8, im->width, im->height);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage2D(tex, 0, 0, 0, im->width, im->height, GL_RGBA, GL_UNSIGNED_BYTE, im->rgba);
+  for (int l = 0; l < nm; l++) {
+    glTextureSubImage2D(tex, l + 1, 0, 0, mips[l].width, mips[l].height, GL_RGBA,
+                        GL_UNSIGNED_BYTE, mips[l].rgba);
+    bbc_image_free(&mips[l]);
+  }
+  free(mips);
+  glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, nm ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+  glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_REPEAT);
+  f->textures[f->texture_count].key = im->rgba;
+  f->textures[f->texture_count].mipmap = mipmap;
+  f->textures[f->texture_count++].tex = tex;
+  return tex;
+}
+
+int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *m, int lit, int mipmap,
+                          size_t billboards, char *err) {
+  if (m->kind != BBC_MESH_TRIANGLES || !m->triangle_count) {
+    snprintf(err, BBCGL_ERR, "a model to draw needs triangles");
+    return 0;
+  }
+  part *p2 = realloc(f->parts, (f->part_count + 1) * sizeof *p2);
+  if (!p2) {
+    snprintf(err, BBCGL_ERR, "out of memory");
+    return 0;
+  }
+  f->parts = p2;
+  part *p = &f->parts[f->part_count];
+  memset(p, 0, sizeof *p);
+  p->bucket = bucket;
+  p->triangles = m->triangle_count;
+  p->billboards = billboards;
+  /* vertices: position, normal, uv (8 floats) */
+  size_t nv = m->vertex_count;
+  float *v = malloc(nv * 8 * sizeof *v);
+  uint32_t *idx = malloc(m->triangle_count * 3 * sizeof *idx);
+  p->batches = calloc(m->material_count ? m->material_count : 1, sizeof *p->batches);
+  if (!v || !idx || !p->batches) {
+    free(v);
+    free(idx);
+    free(p->batches);
+    snprintf(err, BBCGL_ERR, "out of memory");
+    return 0;
+  }
+  for (size_t i = 0; i < nv; i++) {
+    float *o = v + 8 * i;
+    for (int k = 0; k < 3; k++) o[k] = (float)m->positions[3 * i + k];
+    for (int k = 0; k < 3; k++) o[3 + k] = m->normals ? m->normals[3 * i + k] : (k == 1);
+    o[6] = m->uvs ? m->uvs[2 * i] : 0;
+    o[7] = m->uvs ? m->uvs[2 * i + 1] : 0;
+  }
+  /* triangles grouped by material, materials in order */
+  size_t k = 0;
+  for (size_t mat = 0; mat < m->material_count; mat++) {
+    size_t first = k;
+    for (size_t t = 0; t < m->triangle_count; t++)
+      if (m->face_material[t] == mat) {
+        memcpy(idx + k, m->indices + 3 * t, 3 * sizeof *idx);
+        k += 3;
+      }
+    if (k == first) continue;
+    const bbc_material *ma = &m->materials[mat];
+    batch *b = &p->batches[p->batch_count++];
+    b->first = first;
+    b->count = k - first;
+    memcpy(b->base, ma->base_color, sizeof b->base);
+    b->lit = lit && !ma->unlit;
+    if (ma->texture >= 0 && (size_t)ma->texture < m->texture_count &&
+        m->textures[ma->texture].image.rgba) {
+      b->tex = texture_for(f, &m->textures[ma->texture].image, mipmap, err);
+      if (!b->tex) {
+        free(v);
+        free(idx);
+        free(p->batches);
+        return 0;
+      }
+    }
+  }
+  glCreateVertexArrays(1, &p->vao);
+  glCreateBuffers(1, &p->vbo);
+  glCreateBuffers(1, &p->ebo);
+  glNamedBufferStorage(p->vbo, (GLsizeiptr)(nv * 8 * sizeof *v), v, 0);
+  glNamedBufferStorage(p->ebo, (GLsizeiptr)(k * sizeof *idx), idx, 0);
+  free(v);
+  free(idx);
+  GLuint a = p->vao;
+  glVertexArrayVertexBuffer(a, 0, p->vbo, 0, 8 * sizeof(float));
+  glVertexArrayElementBuffer(a, p->ebo);
+  static const int size[3] = {3, 3, 2}, off[3] = {0, 3, 6};
+  for (int i = 0; i < 3; i++) {
+    glEnableVertexArrayAttrib(a, (GLuint)i);
+    glVertexArrayAttribFormat(a, (GLuint)i, size[i], GL_FLOAT, GL_FALSE,
+                              (GLuint)(off[i] * sizeof(float)));
+    glVertexArrayAttribBinding(a, (GLuint)i, 0);
+  }
+  glEnableVertexArrayAttrib(a, 3);
+  glVertexArrayAttribFormat(a, 3, 4, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(a, 3, 1);
+  glEnableVertexArrayAttrib(a, 4);
+  glVertexArrayAttribFormat(a, 4, 2, GL_FLOAT, GL_FALSE, 4 * sizeof(float));
+  glVertexArrayAttribBinding(a, 4, 1);
+  glVertexArrayBindingDivisor(a, 1, 1);
+  if (f->instances && f->instance_capacity)
+    glVertexArrayVertexBuffer(a, 1, f->instances, 0, sizeof(bbc_forest_draw));
+  f->part_count++;
+  return 1;
+}
+
+static void inverse4(const float m[16], float out[16]) {
+  /* cofactor expansion, double precision */
+  double inv[16], a[16];
+  for (int i = 0; i < 16; i++) a[i] = m[i];
+  inv[0] = a[5] * a[10] * a[15] - a[5] * a[11] * a[14] - a[9] * a[6] * a[15] +
+           a[9] * a[7] * a[14] + a[13] * a[6] * a[11] - a[13] * a[7] * a[10];
+  inv[4] = -a[4] * a[10] * a[15] + a[4] * a[11] * a[14] + a[8] * a[6] * a[15] -
+           a[8] * a[7] * a[14] - a[12] * a[6] * a[11] + a[12] * a[7] * a[10];
+  inv[8] = a[4] * a[9] * a[15] - a[4] * a[11] * a[13] - a[8] * a[5] * a[15] +
+           a[8] * a[7] * a[13] + a[12] * a[5] * a[11] - a[12] * a[7] * a[9];
+  inv[12] = -a[4] * a[9] * a[14] + a[4] * a[10] * a[13] + a[8] * a[5] * a[14] -
+            a[8] * a[6] * a[13] - a[12] * a[5] * a[10] + a[12] * a[6] * a[9];
+  inv[1] = -a[1] * a[10] * a[15] + a[1] * a[11] * a[14] + a[9] * a[2] * a[15] -
+           a[9] * a[3] * a[14] - a[13] * a[2] * a[11] + a[13] * a[3] * a[10];
+  inv[5] = a[0] * a[10] * a[15] - a[0] * a[11] * a[14] - a[8] * a[2] * a[15] +
+           a[8] * a[3] * a[14] + a[12] * a[2] * a[11] - a[12] * a[3] * a[10];
+  inv[9] = -a[0] * a[9] * a[15] + a[0] * a[11] * a[13] + a[8] * a[1] * a[15] -
+           a[8] * a[3] * a[13] - a[12] * a[1] * a[11] + a[12] * a[3] * a[9];
+  inv[13] = a[0] * a[9] * a[14] - a[0] * a[10] * a[13] - a[8] * a[1] * a[14] +
+            a[8] * a[2] * a[13] + a[12] * a[1] * a[10] - a[12] * a[2] * a[9];
+  inv[2] = a[1] * a[6] * a[15] - a[1] * a[7] * a[14] - a[5] * a[2] * a[15] +
+           a[5] * a[3] * a[14] + a[13] * a[2] * a[7] - a[13] * a[3] * a[6];
+  inv[6] = -a[0] * a[6] * a[15] + a[0] * a[7] * a[14] + a[4] * a[2] * a[15] -
+           a[4] * a[3] * a[14] - a[12] * a[2] * a[7] + a[12] * a[3] * a[6];
+  inv[10] = a[0] * a[5] * a[15] - a[0] * a[7] * a[13] - a[4] * a[1] * a[15] +
+            a[4] * a[3] * a[13] + a[12] * a[1] * a[7] - a[12] * a[3] * a[5];
+  inv[14] = -a[0] * a[5] * a[14] + a[0] * a[6] * a[13] + a[4] * a[1] * a[14] -
+            a[4] * a[2] * a[13] - a[12] * a[1] * a[6] + a[12] * a[2] * a[5];
+  inv[3] = -a[1] * a[6] * a[11] + a[1] * a[7] * a[10] + a[5] * a[2] * a[11] -
+           a[5] * a[3] * a[10] - a[9] * a[2] * a[7] + a[9] * a[3] * a[6];
+  inv[7] = a[0] * a[6] * a[11] - a[0] * a[7] * a[10] - a[4] * a[2] * a[11] +
+           a[4] * a[3] * a[10] + a[8] * a[2] * a[7] - a[8] * a[3] * a[6];
+  inv[11] = -a[0] * a[5] * a[11] + a[0] * a[7] * a[9] + a[4] * a[1] * a[11] -
+            a[4] * a[3] * a[9] - a[8] * a[1] * a[7] + a[8] * a[3] * a[5];
+  inv[15] = a[0] * a[5] * a[10] - a[0] * a[6] * a[9] - a[4] * a[1] * a[10] +
+            a[4] * a[2] * a[9] + a[8] * a[1] * a[6] - a[8] * a[2] * a[5];
+  double det = a[0] * inv[0] + a[1] * inv[4] + a[2] * inv[8] + a[3] * inv[12];
+  det = det != 0 ? 1.0 / det : 0;
+  for (int i = 0; i < 16; i++) out[i] = (float)(inv[i] * det);
+}
+
+static void draw_terrain(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_terrain *t,
+                         bbcgl_stats *st) {
+  if (!t || !t->node_count) return;
+  if (t->node_count > f->t_node_capacity) {
+    size_t cap = t->node_count * 2;
+    float *d = realloc(f->t_node_data, cap * 4 * sizeof *d);
+    if (!d) return;
+    f->t_node_data = d;
+    f->t_node_capacity = cap;
+    glNamedBufferData(f->t_nodes, (GLsizeiptr)(cap * 4 * sizeof(float)), NULL, GL_STREAM_DRAW);
+    glVertexArrayVertexBuffer(f->t_vao, 1, f->t_nodes, 0, 4 * sizeof(float));
+  }
+  /* grouped by index range: whole grids, then each quarter */
+  size_t start[6] = {0}, fill[5];
+  for (size_t i = 0; i < t->node_count; i++) start[t->nodes[i].quarter + 2]++;
+  for (int r = 0; r < 5; r++) start[r + 1] += start[r];
+  memcpy(fill, start, sizeof fill);
+  for (size_t i = 0; i < t->node_count; i++) {
+    const bbc_forest_terrain_node *n = &t->nodes[i];
+    float *d = f->t_node_data + 4 * fill[n->quarter + 1]++;
+    int full = n->quarter < 0 ? n->size : 2 * n->size;
+    d[0] = (float)(n->x - (n->quarter < 0 ? 0 : (n->quarter & 1) * n->size));
+    d[1] = (float)(n->z - (n->quarter < 0 ? 0 : (n->quarter >> 1) * n->size));
+    d[2] = (float)full / (float)f->leaf;
+    d[3] = (float)n->level;
+  }
+  glNamedBufferSubData(f->t_nodes, 0, (GLsizeiptr)(t->node_count * 4 * sizeof(float)),
+                       f->t_node_data);
+  GLuint p = f->p_terrain;
+  glUseProgram(p);
+  glUniformMatrix4fv(glGetUniformLocation(p, "u_viewproj"), 1, GL_FALSE, fr->viewproj);
+  set_fog(p, f, fr->eye);
+  glUniform1f(glGetUniformLocation(p, "u_spacing"), (float)f->world->spacing);
+  glUniform1f(glGetUniformLocation(p, "u_squares"), (float)f->squares);
+  float morph[48];
+  for (int l = 0; l < 24; l++) {
+    morph[2 * l] = (float)(l < t->levels ? t->morph_start[l] : 1e30);
+    morph[2 * l + 1] = (float)(l < t->levels ? t->range[l] : 2e30);
+  }
+  glUniform2fv(glGetUniformLocation(p, "u_morph"), 24, morph);
+  glUniform1i(glGetUniformLocation(p, "u_height"), 0);
+  glUniform1i(glGetUniformLocation(p, "u_colour"), 1);
+  glUniform1i(glGetUniformLocation(p, "u_flat"), fr->wireframe);
+  glBindTextureUnit(0, f->t_height);
+  glBindTextureUnit(1, f->t_colour);
+  st->texture_binds += 2;
+  glBindVertexArray(f->t_vao);
+  for (int r = 0; r < 5; r++) {
+    size_t n = start[r + 1] - start[r];
+    if (!n) continue;
+    glDrawElementsInstancedBaseInstance(GL_TRIANGLES, (GLsizei)f->t_count[r], GL_UNSIGNED_INT,
+                                        (const void *)(f->t_first[r] * sizeof(uint32_t)),
+                                        (GLsizei)n, (GLuint)start[r]);
+    st->draw_calls++;
+    st->triangles += n * f->t_count[r] / 3;
+  }
+  st->terrain_nodes = t->node_count;
+}
+
+static void draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_cull *c,
+                         bbcgl_stats *st) {
+  size_t n = c->bucket_start[c->bucket_count];
+  st->trees = c->trees_visible;
+  if (!n) return;
+  if (n > f->instance_capacity) {
+    size_t cap = n + n / 2 + 64;
+    glNamedBufferData(f->instances, (GLsizeiptr)(cap * sizeof(bbc_forest_draw)), NULL,
+                      GL_STREAM_DRAW);
+    f->instance_capacity = cap;
+    for (size_t i = 0; i < f->part_count; i++)
+      glVertexArrayVertexBuffer(f->parts[i].vao, 1, f->instances, 0, sizeof(bbc_forest_draw));
+  } else {
+    glInvalidateBufferData(f->instances);
+  }
+  glNamedBufferSubData(f->instances, 0, (GLsizeiptr)(n * sizeof(bbc_forest_draw)), c->draws);
+  GLuint p = f->p_model;
+  glUseProgram(p);
+  glUniformMatrix4fv(glGetUniformLocation(p, "u_viewproj"), 1, GL_FALSE, fr->viewproj);
+  set_fog(p, f, fr->eye);
+  double L[3] = {f->scene.light[0], f->scene.light[1], f->scene.light[2]};
+  double ln = sqrt(L[0] * L[0] + L[1] * L[1] + L[2] * L[2]);
+  if (ln <= 0) ln = L[1] = 1;
+  glUniform3f(glGetUniformLocation(p, "u_light"), (float)(L[0] / ln), (float)(L[1] / ln),
+              (float)(L[2] / ln));
+  glUniform1i(glGetUniformLocation(p, "u_tex"), 0);
+  GLint u_has = glGetUniformLocation(p, "u_has_tex"), u_base = glGetUniformLocation(p, "u_base"),
+        u_lit = glGetUniformLocation(p, "u_lit");
+  GLuint bound = 0;
+  for (size_t i = 0; i < f->part_count; i++) {
+    const part *pt = &f->parts[i];
+    if (pt->bucket >= c->bucket_count) continue;
+    size_t first = c->bucket_start[pt->bucket], count = c->bucket_start[pt->bucket + 1] - first;
+    if (!count) continue;
+    glBindVertexArray(pt->vao);
+    for (size_t b = 0; b < pt->batch_count; b++) {
+      const batch *ba = &pt->batches[b];
+      if (ba->tex && ba->tex != bound) {
+        glBindTextureUnit(0, ba->tex);
+        bound = ba->tex;
+        st->texture_binds++;
+      }
+      glUniform1i(u_has, ba->tex != 0);
+      glUniform4fv(u_base, 1, ba->base);
+      glUniform1i(u_lit, ba->lit);
+      glDrawElementsInstancedBaseInstance(GL_TRIANGLES, (GLsizei)ba->count, GL_UNSIGNED_INT,
+                                          (const void *)(ba->first * sizeof(uint32_t)),
+                                          (GLsizei)count, (GLuint)first);
+      st->draw_calls++;
+      st->triangles += count * ba->count / 3;
+    }
+    st->billboards += count * pt->billboards;
+  }
+}
+
+void bbcgl_forest_draw(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_terrain *t,
+                       const bbc_forest_cull *c, bbcgl_stats *st) {
+  memset(st, 0, sizeof *st);
+  glViewport(0, 0, fr->width, fr->height);
+  glClearColor(f->fog_colour[0], f->fog_colour[1], f->fog_colour[2], 1);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  /* sky at the far plane, behind everything */
+  if (!fr->wireframe) {
+    glDisable(GL_DEPTH_TEST);
+    glUseProgram(f->p_sky);
+    float inv[16];
+    inverse4(fr->viewproj, inv);
+    glUniformMatrix4fv(glGetUniformLocation(f->p_sky, "u_inverse"), 1, GL_FALSE, inv);
+    glUniform3fv(glGetUniformLocation(f->p_sky, "u_fog_colour"), 1, f->fog_colour);
+    glUniform1i(glGetUniformLocation(f->p_sky, "u_has_cube"), f->cube != 0);
+    glUniform1i(glGetUniformLocation(f->p_sky, "u_cube"), 2);
+    if (f->cube) glBindTextureUnit(2, f->cube);
+    glBindVertexArray(f->sky_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    st->draw_calls++;
+  }
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glPolygonMode(GL_FRONT_AND_BACK, fr->wireframe ? GL_LINE : GL_FILL);
+  if (!fr->no_terrain) draw_terrain(f, fr, t, st);
+  if (!fr->no_objects && c) draw_objects(f, fr, c, st);
+  if (f->scene.has_water && !fr->no_terrain) {
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glUseProgram(f->p_water);
+    glUniformMatrix4fv(glGetUniformLocation(f->p_water, "u_viewproj"), 1, GL_FALSE, fr->viewproj);
+    set_fog(f->p_water, f, fr->eye);
+    glBindVertexArray(f->w_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 6);
+    st->draw_calls++;
+    glDisable(GL_BLEND);
+  }
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+}
+
+void bbcgl_forest_text(bbcgl_forest *f, int width, int height, const char *const *lines,
+                       size_t line_count, int scale) {
+  if (scale < 1) scale = 1;
+  size_t chars = 0, longest = 0;
+  for (size_t i = 0; i < line_count; i++) {
+    size_t l = strlen(lines[i]);
+    chars += l;
+    longest = l > longest ? l : longest;
+  }
+  size_t need = (chars + 1) * 6;
+  if (need > f->x_capacity) {
+    float *d = realloc(f->x_data, need * 2 * 4 * sizeof *d);
+    if (!d) return;
+    f->x_data = d;
+    f->x_capacity = need * 2;
+    glNamedBufferData(f->x_vbo, (GLsizeiptr)(f->x_capacity * 4 * sizeof(float)), NULL,
+                      GL_STREAM_DRAW);
+    glVertexArrayVertexBuffer(f->x_vao, 0, f->x_vbo, 0, 4 * sizeof(float));
+  }
+  float *v = f->x_data;
+  size_t n = 0;
+  float cw = 6.0f * scale, lh = 9.0f * scale, pad = 4.0f * scale;
+  /* a dark panel behind the text (u < 0) */
+  float bx = pad + longest * cw + pad, by = pad + line_count * lh + pad;
+  float panel[6][4] = {{0, 0, -1, 0}, {bx, 0, -1, 0},  {bx, by, -1, 0},
+                       {0, 0, -1, 0}, {bx, by, -1, 0}, {0, by, -1, 0}};
+  memcpy(v, panel, sizeof panel);
+  n = 6;
+  for (size_t i = 0; i < line_count; i++)
+    for (size_t j = 0; lines[i][j]; j++) {
+      int ch = (unsigned char)lines[i][j];
+      if (ch >= 'a' && ch <= 'z') ch -= 'a' - 'A';
+      const char *at = ch ? strchr(font_chars, ch) : NULL;
+      if (!at || ch == ' ') continue;
+      int g = (int)(at - font_chars);
+      float x0 = pad + j * cw, y0 = pad + i * lh, x1 = x0 + 6.0f * scale, y1 = y0 + 8.0f * scale;
+      float u0 = g * 6.0f, u1 = u0 + 6.0f;
+      float q[6][4] = {{x0, y0, u0, 0}, {x1, y0, u1, 0}, {x1, y1, u1, 8},
+                       {x0, y0, u0, 0}, {x1, y1, u1, 8}, {x0, y1, u0, 8}};
+      memcpy(v + 4 * n, q, sizeof q);
+      n += 6;
+    }
+  glNamedBufferSubData(f->x_vbo, 0, (GLsizeiptr)(n * 4 * sizeof(float)), v);
+  glDisable(GL_DEPTH_TEST);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glViewport(0, 0, width, height);
+  glUseProgram(f->p_text);
+  glUniform2f(glGetUniformLocation(f->p_text, "u_size"), (float)width, (float)height);
+  glUniform4f(glGetUniformLocation(f->p_text, "u_colour"), 1, 1, 0.85f, 1);
+  glUniform1i(glGetUniformLocation(f->p_text, "u_font"), 3);
+  glBindTextureUnit(3, f->font);
+  glBindVertexArray(f->x_vao);
+  glDrawArrays(GL_TRIANGLES, 0, (GLsizei)n);
+  glDisable(GL_BLEND);
+  glEnable(GL_DEPTH_TEST);
+}

@@ -1,0 +1,535 @@
+/* run.c — flying through a loaded map: the frame loop (window or
+ * headless), Appendix B's controls, scripted keys, camera paths,
+ * screenshots, statistics and the benchmark line. */
+#include "run.h"
+
+#include <errno.h>
+#include <stdarg.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+#include <GLFW/glfw3.h>
+
+#include "bbcgl.h"
+
+static double now_s(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return t.tv_sec + t.tv_nsec * 1e-9;
+}
+
+/* ---- state and controls (Appendix B) ------------------------------------- */
+
+typedef struct state {
+  scene *s;
+  const run_options *o;
+  FILE *log;
+  bbc_forest_camera cam;
+  double speed, strafe, lift; /* units per second */
+  double unit;                /* speed step per key press */
+  double detail;              /* roetger */
+  int locked;                 /* terrain frustum locked (key 3) */
+  float locked_viewproj[16];
+  double locked_eye[3];
+  int wireframe, no_terrain, no_objects, stats, help, quit;
+  bbc_forest_camera *stored;
+  size_t stored_count, stored_next;
+  char save_path[4600];
+  char message[600];
+  double message_until;
+  /* mouse */
+  double mouse_x, mouse_y;
+  int mouse_known;
+} state;
+
+__attribute__((format(printf, 3, 4))) static void say(state *st, double t, const char *fmt,
+                                                      ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(st->message, sizeof st->message, fmt, ap);
+  va_end(ap);
+  st->message_until = t + 3;
+  if (st->log) {
+    fprintf(st->log, "%s\n", st->message);
+    fflush(st->log);
+  }
+}
+
+static void store_position(state *st, double t) {
+  char dir[4300];
+  snprintf(dir, sizeof dir, "%s/save", st->s->folder);
+  if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
+    say(st, t, "cannot make the folder %s", dir);
+    return;
+  }
+  bbc_error err;
+  if (bbc_forest_positions_append(st->save_path, &st->cam, &err) != BBC_OK) {
+    say(st, t, "%s", err.message);
+    return;
+  }
+  free(st->stored);
+  st->stored = NULL;
+  st->stored_count = 0;
+  bbc_forest_positions_read(st->save_path, &st->stored, &st->stored_count, &err);
+  say(st, t, "position stored in %s", st->save_path);
+}
+
+static void load_position(state *st, double t) {
+  bbc_error err;
+  if (!st->stored_count) {
+    free(st->stored);
+    st->stored = NULL;
+    if (bbc_forest_positions_read(st->save_path, &st->stored, &st->stored_count, &err) !=
+        BBC_OK) {
+      say(st, t, "%s", err.message);
+      return;
+    }
+  }
+  if (!st->stored_count) {
+    say(st, t, "no stored positions in %s (F3 stores one)", st->save_path);
+    return;
+  }
+  double zoom = st->cam.zoom;
+  st->cam = st->stored[st->stored_next++ % st->stored_count];
+  st->cam.zoom = zoom;
+  st->speed = st->strafe = st->lift = 0;
+  say(st, t, "position %zu of %zu loaded", (st->stored_next - 1) % st->stored_count + 1,
+      st->stored_count);
+}
+
+/* Keys by name, the same for GLFW's callback and scripts. */
+static int handle_key(state *st, const char *k, double t) {
+  if (!strcmp(k, "s")) {
+    st->speed += st->unit;
+  } else if (!strcmp(k, "x")) {
+    st->speed -= st->unit;
+  } else if (!strcmp(k, "a")) {
+    st->strafe -= st->unit;
+  } else if (!strcmp(k, "d")) {
+    st->strafe += st->unit;
+  } else if (!strcmp(k, "y")) {
+    st->lift += st->unit;
+  } else if (!strcmp(k, "c")) {
+    st->lift -= st->unit;
+  } else if (!strcmp(k, "space")) {
+    st->speed = st->strafe = st->lift = 0;
+  } else if (!strcmp(k, "q")) {
+    st->cam.zoom /= 1.25;
+  } else if (!strcmp(k, "e")) {
+    st->cam.zoom *= 1.25;
+  } else if (!strcmp(k, "w")) {
+    st->cam.zoom = 1;
+  } else if (!strcmp(k, "F1")) {
+    st->wireframe = !st->wireframe;
+  } else if (!strcmp(k, "F2")) {
+    load_position(st, t);
+  } else if (!strcmp(k, "F3")) {
+    store_position(st, t);
+  } else if (!strcmp(k, "F4")) {
+    st->no_terrain = !st->no_terrain;
+  } else if (!strcmp(k, "F5")) {
+    st->no_objects = !st->no_objects;
+  } else if (!strcmp(k, "F10")) {
+    st->stats = !st->stats;
+  } else if (!strcmp(k, "1") || !strcmp(k, "2")) {
+    st->detail *= k[0] == '1' ? 1 / 1.25 : 1.25;
+    say(st, t, "terrain detail (roetger) %.2f", st->detail);
+  } else if (!strcmp(k, "3")) {
+    st->locked = !st->locked;
+    say(st, t, "terrain frustum %s", st->locked ? "locked" : "unlocked");
+  } else if (!strcmp(k, "h")) {
+    st->help = !st->help;
+  } else if (!strcmp(k, "esc")) {
+    st->quit = 1;
+  } else {
+    return 0;
+  }
+  return 1;
+}
+
+static const char *glfw_key_name(int key) {
+  static char one[2];
+  if (key >= GLFW_KEY_A && key <= GLFW_KEY_Z) {
+    one[0] = (char)('a' + key - GLFW_KEY_A);
+    one[1] = 0;
+    return one;
+  }
+  switch (key) {
+  case GLFW_KEY_1: return "1";
+  case GLFW_KEY_2: return "2";
+  case GLFW_KEY_3: return "3";
+  case GLFW_KEY_SPACE: return "space";
+  case GLFW_KEY_ESCAPE: return "esc";
+  case GLFW_KEY_F1: return "F1";
+  case GLFW_KEY_F2: return "F2";
+  case GLFW_KEY_F3: return "F3";
+  case GLFW_KEY_F4: return "F4";
+  case GLFW_KEY_F5: return "F5";
+  case GLFW_KEY_F10: return "F10";
+  default: return NULL;
+  }
+}
+
+static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods) {
+  (void)scancode;
+  (void)mods;
+  if (action == GLFW_RELEASE) return;
+  state *st = glfwGetWindowUserPointer(w);
+  const char *k = glfw_key_name(key);
+  /* z and y swap places on German keyboards (the thesis's): accept both */
+  if (key == GLFW_KEY_Z) k = "y";
+  if (k) handle_key(st, k, glfwGetTime());
+}
+
+static void on_mouse(GLFWwindow *w, double x, double y) {
+  state *st = glfwGetWindowUserPointer(w);
+  if (st->mouse_known) {
+    st->cam.yaw += (x - st->mouse_x) * 0.15 / st->cam.zoom;
+    st->cam.pitch -= (y - st->mouse_y) * 0.15 / st->cam.zoom;
+    if (st->cam.pitch > 89) st->cam.pitch = 89;
+    if (st->cam.pitch < -89) st->cam.pitch = -89;
+  }
+  st->mouse_x = x;
+  st->mouse_y = y;
+  st->mouse_known = 1;
+}
+
+/* Moves the camera by its speeds over dt seconds; never below the ground. */
+static void move(state *st, double dt) {
+  double f[3];
+  bbc_forest_camera_forward(&st->cam, f);
+  double yaw = st->cam.yaw * 3.14159265358979323846 / 180;
+  double right[3] = {cos(yaw), 0, sin(yaw)};
+  for (int k = 0; k < 3; k++)
+    st->cam.pos[k] += (f[k] * st->speed + right[k] * st->strafe) * dt;
+  st->cam.pos[1] += st->lift * dt;
+  double ground = bbc_forest_world_height(&st->s->world, st->cam.pos[0], st->cam.pos[2]);
+  double floor_y = ground + (st->s->world.spacing > 2 ? 0.5 * st->s->world.spacing : 1.0);
+  if (st->s->map.has_water && st->s->map.water_height + 0.5 > floor_y)
+    floor_y = st->s->map.water_height + 0.5;
+  if (st->cam.pos[1] < floor_y) st->cam.pos[1] = floor_y;
+}
+
+/* ---- one frame --------------------------------------------------------------- */
+
+typedef struct frame_result {
+  double frame_ms, cull_ms;
+  bbcgl_stats stats;
+  size_t per_level[8];
+} frame_result;
+
+static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fps, frame_result *res,
+                       double t) {
+  int w, h;
+  bbcgl_context_size(ctx, &w, &h);
+  if (w < 1 || h < 1) return;
+  double t0 = now_s();
+  bbcgl_frame fr;
+  memset(&fr, 0, sizeof fr);
+  double near_clip = st->s->world.spacing * 0.05 > 0.05 ? st->s->world.spacing * 0.05 : 0.05;
+  bbc_forest_camera_matrix(&st->cam, (double)w / h, near_clip, st->s->far_clip, fr.viewproj);
+  memcpy(fr.eye, st->cam.pos, sizeof fr.eye);
+  fr.width = w;
+  fr.height = h;
+  fr.wireframe = st->wireframe;
+  fr.no_terrain = st->no_terrain;
+  fr.no_objects = st->no_objects;
+  if (!st->locked) {
+    memcpy(st->locked_viewproj, fr.viewproj, sizeof fr.viewproj);
+    memcpy(st->locked_eye, fr.eye, sizeof fr.eye);
+  }
+  double c0 = now_s();
+  bbc_forest_terrain_select(&st->s->terrain, &st->s->world, st->locked_viewproj, st->locked_eye,
+                            st->detail);
+  bbc_forest_cull_run(&st->s->cull, fr.viewproj, fr.eye, st->cam.zoom);
+  res->cull_ms = (now_s() - c0) * 1000;
+  bbcgl_context_begin(ctx);
+  bbcgl_forest_draw(r, &fr, &st->s->terrain, &st->s->cull, &res->stats);
+  memset(res->per_level, 0, sizeof res->per_level);
+  for (size_t m = 0; m < st->s->model_count; m++)
+    for (size_t l = 0; l < st->s->models[m].lod_count; l++) {
+      size_t b = st->s->cull.bucket_base[m] + l;
+      res->per_level[l < 7 ? l : 7] += st->s->cull.bucket_start[b + 1] - st->s->cull.bucket_start[b];
+    }
+  const char *lines[24];
+  char buf[8][160];
+  size_t n = 0;
+  if (st->stats) {
+    snprintf(buf[0], sizeof buf[0], "FPS %.1f  frame %.1f ms  cull %.2f ms", fps,
+             fps > 0 ? 1000 / fps : 0, res->cull_ms);
+    int len = snprintf(buf[1], sizeof buf[1], "trees %zu  per LOD:", res->stats.trees);
+    for (int l = 0; l < 8 && len < 150; l++)
+      if (res->per_level[l])
+        len += snprintf(buf[1] + len, sizeof buf[1] - (size_t)len, " %d=%zu", l, res->per_level[l]);
+    snprintf(buf[2], sizeof buf[2], "billboards %zu  triangles %zu", res->stats.billboards,
+             res->stats.triangles);
+    snprintf(buf[3], sizeof buf[3], "draw calls %zu  texture binds %zu  terrain nodes %zu",
+             res->stats.draw_calls, res->stats.texture_binds, res->stats.terrain_nodes);
+    snprintf(buf[4], sizeof buf[4], "detail %.2f%s  zoom %.2f  pos %.0f %.0f %.0f", st->detail,
+             st->locked ? " (locked)" : "", st->cam.zoom, st->cam.pos[0], st->cam.pos[1],
+             st->cam.pos[2]);
+    for (int i = 0; i < 5; i++) lines[n++] = buf[i];
+  }
+  if (st->help) {
+    static const char *const help[] = {
+        "mouse: look   s/x: faster/slower   a/d: strafe   y/c: up/down",
+        "space: stop   q/e: zoom out/in   w: zoom reset",
+        "F3: store position   F2: next stored position",
+        "F1: wireframe   F4: terrain   F5: objects   F10: statistics",
+        "1/2: terrain detail   3: lock terrain frustum   h: this help   esc: quit"};
+    for (size_t i = 0; i < sizeof help / sizeof help[0]; i++) lines[n++] = help[i];
+  }
+  if (st->message[0] && t < st->message_until) lines[n++] = st->message;
+  if (n) bbcgl_forest_text(r, w, h, lines, n, h >= 600 ? 2 : 1);
+  res->frame_ms = (now_s() - t0) * 1000;
+}
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return x < y ? -1 : x > y;
+}
+
+static int screenshot(bbcgl_context *ctx, const char *path) {
+  bbc_image im;
+  char err[BBCGL_ERR];
+  if (!bbcgl_context_read(ctx, &im, err)) {
+    fprintf(stderr, "forest: %s\n", err);
+    return 0;
+  }
+  bbc_error e;
+  int ok = bbc_image_write_png(path, &im, &e) == BBC_OK;
+  if (!ok) fprintf(stderr, "forest: %s\n", e.message);
+  bbc_image_free(&im);
+  return ok;
+}
+
+int run(scene *s, const run_options *o, FILE *log) {
+  char err[BBCGL_ERR];
+  bbcgl_context *ctx = o->headless ? bbcgl_context_headless(o->width, o->height, err)
+                                   : bbcgl_context_window(o->width, o->height, "forest", err);
+  if (!ctx) {
+    fprintf(stderr, "forest: %s\n", err);
+    if (log) fprintf(log, "error: %s\n", err);
+    return 1;
+  }
+  if (log) fprintf(log, "%s\n", bbcgl_context_describe(ctx));
+  bbcgl_scene sc;
+  memset(&sc, 0, sizeof sc);
+  sc.world = &s->world;
+  sc.terrain_colour = &s->terrain_colour;
+  memcpy(sc.light, s->map.light, sizeof sc.light);
+  sc.has_water = s->map.has_water;
+  sc.water_height = s->map.water_height;
+  if (s->map.has_fog) {
+    sc.fog_start = s->map.fog_start;
+    sc.fog_end = s->map.fog_end;
+  } else { /* a light haze that ends at the far clip, so the clip is not seen */
+    sc.fog_start = s->far_clip * 0.6;
+    sc.fog_end = s->far_clip;
+  }
+  for (int i = 0; i < 6 && s->has_sky; i++) sc.sky[i] = &s->sky[i];
+  sc.bucket_count = s->cull.bucket_count;
+  bbcgl_forest *r = bbcgl_forest_create(&sc, err);
+  if (!r) {
+    fprintf(stderr, "forest: %s\n", err);
+    bbcgl_context_free(ctx);
+    return 1;
+  }
+  for (size_t m = 0; m < s->model_count; m++)
+    for (size_t l = 0; l < s->models[m].lod_count; l++)
+      for (int k = 0; k < s->models[m].part_count[l]; k++) {
+        const scene_part *p = &s->models[m].parts[l][k];
+        const scene_mesh *me = &s->meshes[p->mesh];
+        if (!bbcgl_forest_add_part(r, s->cull.bucket_base[m] + l, &me->mesh, p->lit, p->mipmap,
+                                   me->billboards, err)) {
+          fprintf(stderr, "forest: %s: %s\n", me->path, err);
+          bbcgl_forest_free(r);
+          bbcgl_context_free(ctx);
+          return 1;
+        }
+      }
+
+  state st;
+  memset(&st, 0, sizeof st);
+  st.s = s;
+  st.o = o;
+  st.log = log;
+  st.detail = s->map.roetger > 0 ? s->map.roetger : 10;
+  st.unit = s->extent / 200;
+  st.stats = o->stats;
+  st.help = !o->headless && !o->keys;
+  snprintf(st.save_path, sizeof st.save_path, "%s/save/%s.txt", s->folder, s->map_name);
+  /* Appendix B: the viewer starts in the map's top left corner. */
+  st.cam.zoom = 1;
+  st.cam.pos[0] = s->extent * 0.02;
+  st.cam.pos[2] = s->extent * 0.02;
+  st.cam.pos[1] = bbc_forest_world_height(&s->world, st.cam.pos[0], st.cam.pos[2]) + s->extent * 0.04;
+  st.cam.yaw = 135;
+  st.cam.pitch = -8;
+  if (o->has_camera) {
+    st.cam = o->camera;
+    st.cam.zoom = 1;
+  }
+  bbc_forest_camera *path = NULL;
+  size_t path_count = 0;
+  if (o->path) {
+    bbc_error e;
+    if (bbc_forest_positions_read(o->path, &path, &path_count, &e) != BBC_OK || !path_count) {
+      fprintf(stderr, "forest: %s\n",
+              path_count ? e.message : "the camera path has no positions (x y z yaw pitch)");
+      bbcgl_forest_free(r);
+      bbcgl_context_free(ctx);
+      return 1;
+    }
+  }
+  int status = 0;
+  GLFWwindow *win = bbcgl_context_window_handle(ctx);
+  if (win) {
+    glfwSetWindowUserPointer(win, &st);
+    glfwSetKeyCallback(win, on_key);
+    glfwSetCursorPosCallback(win, on_mouse);
+    if (!o->keys) glfwSetInputMode(win, GLFW_CURSOR, GLFW_CURSOR_DISABLED);
+  }
+  size_t frames = o->frames > 0 ? (size_t)o->frames : (path_count > 1 ? path_count * 30 : 1);
+  double *frame_ms = calloc(frames + 1, sizeof *frame_ms), *cull_ms = calloc(frames + 1, sizeof *cull_ms);
+  size_t *trees = calloc(frames + 1, sizeof *trees), *bills = calloc(frames + 1, sizeof *bills),
+         *calls = calloc(frames + 1, sizeof *calls);
+  if (!frame_ms || !cull_ms || !trees || !bills || !calls) {
+    fprintf(stderr, "forest: out of memory\n");
+    status = 1;
+    goto done;
+  }
+  frame_result res;
+  memset(&res, 0, sizeof res);
+  const double script_dt = 1.0 / 30;
+  double t = 0, fps = 0;
+  /* Scripted keys: names, numbers of frames to run, shot:FILE. */
+  if (o->keys) {
+    char *copy = strdup(o->keys), *save = NULL;
+    for (char *tok = copy ? strtok_r(copy, " ,", &save) : NULL; tok && !st.quit;
+         tok = strtok_r(NULL, " ,", &save)) {
+      char *end;
+      long nframes = strtol(tok, &end, 10);
+      if (!strncmp(tok, "shot:", 5)) {
+        draw_frame(&st, ctx, r, fps, &res, t);
+        if (!screenshot(ctx, tok + 5)) status = 1;
+        bbcgl_context_end(ctx);
+      } else if (end != tok && end[0] == 'f' && end[1] == '\0' && nframes > 0) {
+        for (long i = 0; i < nframes && !st.quit; i++) {
+          if (win) glfwPollEvents();
+          move(&st, script_dt);
+          t += script_dt;
+          draw_frame(&st, ctx, r, fps, &res, t);
+          bbcgl_context_end(ctx);
+          fps = res.frame_ms > 0 ? 1000 / res.frame_ms : 0;
+        }
+      } else if (!handle_key(&st, tok, t)) {
+        fprintf(stderr, "forest: --keys: unknown key or step '%s' (keys: s x a d y c space q e w "
+                        "F1 F2 F3 F4 F5 F10 1 2 3 h esc; frames to run as Nf, e.g. 30f; "
+                        "shot:FILE.png)\n",
+                tok);
+        status = 2;
+        break;
+      }
+    }
+    free(copy);
+    if (status) goto done;
+  }
+  if (win && !o->keys) {
+    double last = glfwGetTime(), fps_t = last;
+    int fps_n = 0;
+    while (!glfwWindowShouldClose(win) && !st.quit) {
+      glfwPollEvents();
+      double tn = glfwGetTime();
+      move(&st, tn - last);
+      last = tn;
+      draw_frame(&st, ctx, r, fps, &res, tn);
+      if (tn > 10 && st.help == 1 && !o->keys) st.help = 2; /* the start's help fades */
+      bbcgl_context_end(ctx);
+      fps_n++;
+      if (tn - fps_t >= 0.5) {
+        fps = fps_n / (tn - fps_t);
+        fps_t = tn;
+        fps_n = 0;
+      }
+    }
+  } else {
+    for (size_t i = 0; i < frames; i++) {
+      if (path_count) {
+        double u = frames > 1 ? (double)i / (frames - 1) * (path_count - 1) : 0;
+        size_t a = (size_t)u < path_count - 1 ? (size_t)u : path_count - 1;
+        size_t b = a + 1 < path_count ? a + 1 : a;
+        double f = u - a;
+        double zoom = st.cam.zoom;
+        for (int k = 0; k < 3; k++) st.cam.pos[k] = path[a].pos[k] * (1 - f) + path[b].pos[k] * f;
+        double dy = path[b].yaw - path[a].yaw;
+        while (dy > 180) dy -= 360;
+        while (dy < -180) dy += 360;
+        st.cam.yaw = path[a].yaw + dy * f;
+        st.cam.pitch = path[a].pitch * (1 - f) + path[b].pitch * f;
+        st.cam.zoom = zoom;
+      } else if (i) {
+        move(&st, script_dt);
+      }
+      t += script_dt;
+      draw_frame(&st, ctx, r, fps, &res, t);
+      if (i + 1 == frames && o->screenshot && !screenshot(ctx, o->screenshot)) status = 1;
+      bbcgl_context_end(ctx);
+      frame_ms[i] = res.frame_ms;
+      cull_ms[i] = res.cull_ms;
+      trees[i] = res.stats.trees;
+      bills[i] = res.stats.billboards;
+      calls[i] = res.stats.draw_calls;
+      fps = res.frame_ms > 0 ? 1000 / res.frame_ms : 0;
+      if (o->progress && frames > 1)
+        fprintf(stderr, "\rforest: frame %zu of %zu", i + 1, frames);
+    }
+    if (o->progress && frames > 1) fprintf(stderr, "\n");
+    if (o->bench) {
+      double *fm = malloc(frames * sizeof *fm), *cm = malloc(frames * sizeof *cm);
+      if (fm && cm) {
+        memcpy(fm, frame_ms, frames * sizeof *fm);
+        memcpy(cm, cull_ms, frames * sizeof *cm);
+        qsort(fm, frames, sizeof *fm, cmp_double);
+        qsort(cm, frames, sizeof *cm, cmp_double);
+        size_t tsum = 0, bsum = 0, csum = 0;
+        for (size_t i = 0; i < frames; i++) {
+          tsum += trees[i];
+          bsum += bills[i];
+          csum += calls[i];
+        }
+        size_t p95 = (size_t)ceil(0.95 * frames) - 1;
+        printf("frames=%zu size=%dx%d renderer=\"%s\"\n", frames, o->width, o->height,
+               bbcgl_context_describe(ctx));
+        printf("frame_ms_median=%.3f frame_ms_p95=%.3f cull_ms_median=%.3f trees_drawn=%zu "
+               "billboards_drawn=%zu draw_calls=%zu\n",
+               fm[frames / 2], fm[p95], cm[frames / 2], tsum / frames, bsum / frames,
+               csum / frames);
+      }
+      free(fm);
+      free(cm);
+    }
+  }
+  if (o->keys && o->screenshot) {
+    draw_frame(&st, ctx, r, fps, &res, t);
+    if (!screenshot(ctx, o->screenshot)) status = 1;
+    bbcgl_context_end(ctx);
+  }
+  if (o->print_camera)
+    printf("camera=%.3f,%.3f,%.3f,%.2f,%.2f\n", st.cam.pos[0], st.cam.pos[1], st.cam.pos[2],
+           st.cam.yaw, st.cam.pitch);
+done:
+  free(frame_ms);
+  free(cull_ms);
+  free(trees);
+  free(bills);
+  free(calls);
+  free(path);
+  free(st.stored);
+  bbcgl_forest_free(r);
+  bbcgl_context_free(ctx);
+  return status;
+}

@@ -1,0 +1,25 @@
+/* run.h — the forest's frame loop (window or headless). */
+#ifndef FOREST_RUN_H
+#define FOREST_RUN_H
+
+#include "scene.h"
+
+typedef struct run_options {
+  int headless;          /* EGL without a display */
+  int width, height;     /* framebuffer or window size */
+  int has_camera;        /* --camera given */
+  bbc_forest_camera camera;
+  const char *path;       /* --path: camera positions, interpolated over the frames */
+  int frames;             /* --frames (0 = 1, or 30 per path position) */
+  const char *screenshot; /* --screenshot PNG: the last frame */
+  int bench;              /* --bench: timing line at the end */
+  const char *keys;       /* --keys: a scripted key sequence */
+  int stats;              /* --stats: the F10 overlay from the start */
+  int progress;           /* messages while loading and drawing (a terminal) */
+  int print_camera;       /* --print-camera: the final camera on stdout */
+} run_options;
+
+/* Draws `s` as `o` says; the exit status. */
+int run(scene *s, const run_options *o, FILE *log);
+
+#endif

@@ -1,0 +1,325 @@
+/* scene.c — loading a map for `forest`: the map file, its world, each
+ * placed model (a model description file with its LOD blocks, or a 3D file
+ * placed directly: one level, or one per level of a glTF LOD chain), every
+ * 3D file read once however often it is used (thesis 3.2.2-3.2.3), the
+ * terrain's colour with the light and the objects' shadows baked in, the
+ * culling grid and the terrain quadtree. */
+#include "scene.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static void join(const char *folder, const char *name, char *out, size_t n) {
+  size_t lf = name[0] == '/' || !folder[0] ? 0 : strlen(folder), ln = strlen(name);
+  if (lf + 1 + ln + 1 > n) { /* too long: an empty name, which then is not found */
+    out[0] = '\0';
+    return;
+  }
+  if (lf) {
+    memcpy(out, folder, lf);
+    out[lf++] = '/';
+  }
+  memcpy(out + lf, name, ln + 1);
+}
+
+static void folder_of(const char *path, char *out, size_t n) {
+  snprintf(out, n, "%s", path);
+  char *slash = strrchr(out, '/');
+  if (slash)
+    *slash = '\0';
+  else
+    snprintf(out, n, ".");
+}
+
+static int is_model_file(const char *name) {
+  const char *dot = strrchr(name, '.');
+  static const char *const ext[] = {".wrl", ".vrml", ".glb", ".gltf", ".obj",
+                                    ".3ds", ".ply",  ".dae", ".fbx",  ".ac"};
+  for (size_t i = 0; dot && i < sizeof ext / sizeof ext[0]; i++)
+    if (!strcasecmp(dot, ext[i])) return 1;
+  return 0;
+}
+
+/* Distinct planes of a mesh's triangles when it looks like a Billboard
+ * Cloud (few triangles per plane), else 0. */
+static size_t count_billboards(const bbc_mesh *m) {
+  enum { MAX = 1024 };
+  double pl[MAX][4];
+  size_t n = 0;
+  for (size_t t = 0; t < m->triangle_count; t++) {
+    const double *a = m->positions + 3 * m->indices[3 * t],
+                 *b = m->positions + 3 * m->indices[3 * t + 1],
+                 *e = m->positions + 3 * m->indices[3 * t + 2];
+    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double v[3] = {e[0] - a[0], e[1] - a[1], e[2] - a[2]};
+    double c[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    double l = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    if (l <= 0) continue;
+    for (int k = 0; k < 3; k++) c[k] /= l;
+    double d = c[0] * a[0] + c[1] * a[1] + c[2] * a[2];
+    size_t i = 0;
+    for (; i < n; i++) {
+      double dot = c[0] * pl[i][0] + c[1] * pl[i][1] + c[2] * pl[i][2];
+      if (fabs(fabs(dot) - 1) < 1e-4 && fabs(d - (dot > 0 ? 1 : -1) * pl[i][3]) < 1e-4 * (1 + m->radius))
+        break;
+    }
+    if (i < n) continue;
+    if (n == MAX) return 0;
+    memcpy(pl[n], c, sizeof c);
+    pl[n++][3] = d;
+  }
+  return m->triangle_count <= 8 * n ? n : 0;
+}
+
+static long find_mesh(scene *s, const char *path, int lod_node, FILE *log, int progress,
+                      const char *where, int line) {
+  for (size_t i = 0; i < s->mesh_count; i++)
+    if (s->meshes[i].lod_node == lod_node && !strcmp(s->meshes[i].path, path)) return (long)i;
+  scene_mesh *m2 = realloc(s->meshes, (s->mesh_count + 1) * sizeof *m2);
+  if (!m2) return -1;
+  s->meshes = m2;
+  scene_mesh *m = &s->meshes[s->mesh_count];
+  memset(m, 0, sizeof *m);
+  bbc_load_options lo;
+  bbc_load_options_default(&lo);
+  lo.lod_node = lod_node;
+  bbc_error err;
+  if (progress) fprintf(stderr, "forest: loading %s\n", path);
+  bbc_result r = bbc_mesh_load(path, &lo, &m->mesh, &err);
+  if (r != BBC_OK) {
+    if (lod_node > 1 && r == BBC_ERROR_NOT_FOUND) return -2; /* no such level */
+    fprintf(stderr, "%s:%d: %s\n", where, line, err.message);
+    return -1;
+  }
+  if (m->mesh.kind != BBC_MESH_TRIANGLES) {
+    fprintf(stderr, "%s:%d: %s is a point cloud; forest draws polygon models and clouds\n",
+            where, line, path);
+    bbc_mesh_free(&m->mesh);
+    return -1;
+  }
+  m->path = strdup(path);
+  m->lod_node = lod_node;
+  m->billboards = count_billboards(&m->mesh);
+  for (size_t v = 0; v < m->mesh.vertex_count; v++) {
+    const double *p = m->mesh.positions + 3 * v;
+    double d = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    if (d > m->radius) m->radius = d;
+  }
+  s->triangles_loaded += m->mesh.triangle_count;
+  if (log)
+    fprintf(log, "model %s%s: %zu triangles, %zu materials, %zu billboards\n", path,
+            lod_node ? " (one level)" : "", m->mesh.triangle_count, m->mesh.material_count,
+            m->billboards);
+  return (long)s->mesh_count++;
+}
+
+/* The model of a placement file (loaded once per file and mipmap flag). */
+static long find_model(scene *s, const char *file, int mipmap, int line, const char *map_path,
+                       FILE *log, int progress) {
+  char key[4200];
+  snprintf(key, sizeof key, "%s|%d", file, mipmap);
+  for (size_t i = 0; i < s->model_count; i++)
+    if (!strcmp(s->models[i].key, key)) return (long)i;
+  scene_model *m2 = realloc(s->models, (s->model_count + 1) * sizeof *m2);
+  if (!m2) return -1;
+  s->models = m2;
+  scene_model *m = &s->models[s->model_count];
+  memset(m, 0, sizeof *m);
+  char path[4096];
+  join(s->folder, file, path, sizeof path);
+  if (is_model_file(file)) {
+    /* A 3D file placed directly: one level, or each level of a glTF chain,
+     * switching at 40, 120, 360... times the model's radius. */
+    size_t cap = 8;
+    m->ranges = malloc(cap * 2 * sizeof *m->ranges);
+    m->parts = calloc(cap, sizeof *m->parts);
+    m->part_count = calloc(cap, sizeof *m->part_count);
+    if (!m->ranges || !m->parts || !m->part_count) return -1;
+    int chain = 0;
+    const char *dot = strrchr(file, '.');
+    if (dot && (!strcasecmp(dot, ".glb") || !strcasecmp(dot, ".gltf"))) chain = 1;
+    for (int level = 0; level < (chain ? 8 : 1); level++) {
+      long mesh = find_mesh(s, path, chain ? level + 1 : 0, log, progress, map_path, line);
+      if (mesh == -2 && level == 0) mesh = find_mesh(s, path, 0, log, progress, map_path, line);
+      if (mesh == -2) break;
+      if (mesh < 0) return -1;
+      m->parts[level][0].mesh = (size_t)mesh;
+      m->parts[level][0].lit = 1;
+      m->parts[level][0].mipmap = mipmap;
+      m->part_count[level] = 1;
+      m->lod_count++;
+      if (s->meshes[mesh].lod_node == 0) break;
+    }
+    double r = s->meshes[m->parts[0][0].mesh].radius;
+    for (size_t l = 0; l < m->lod_count; l++) {
+      m->ranges[2 * l] = l ? 40 * r * pow(3, (double)l - 1) : 0;
+      m->ranges[2 * l + 1] = l + 1 < m->lod_count ? 40 * r * pow(3, (double)l) : 1e30;
+    }
+    m->fade = m->lod_count > 1 ? 4 * r : 0;
+  } else {
+    bbc_forest_model d;
+    bbc_error err;
+    if (bbc_forest_model_load(path, &d, &err) != BBC_OK) {
+      fprintf(stderr, "%s:%d: model description %s: %s\n", map_path, line, file, err.message);
+      return -1;
+    }
+    char mfolder[4096];
+    folder_of(path, mfolder, sizeof mfolder);
+    m->lod_count = d.lod_count;
+    m->fade = d.fade;
+    m->shadow_radius = d.shadow_radius;
+    m->shadow_cutoff = d.shadow_cutoff;
+    m->ranges = malloc(d.lod_count * 2 * sizeof *m->ranges);
+    m->parts = calloc(d.lod_count, sizeof *m->parts);
+    m->part_count = calloc(d.lod_count, sizeof *m->part_count);
+    if (!m->ranges || !m->parts || !m->part_count) {
+      bbc_forest_model_free(&d);
+      return -1;
+    }
+    for (size_t l = 0; l < d.lod_count; l++) {
+      m->ranges[2 * l] = d.lods[l].min_dist;
+      m->ranges[2 * l + 1] = d.lods[l].max_dist;
+      m->part_count[l] = d.lods[l].part_count;
+      for (int k = 0; k < d.lods[l].part_count; k++) {
+        char p2[8300];
+        join(mfolder, d.lods[l].part[k].file, p2, sizeof p2);
+        long mesh = find_mesh(s, p2, 0, log, progress, path, d.lods[l].line);
+        if (mesh < 0) {
+          bbc_forest_model_free(&d);
+          return -1;
+        }
+        m->parts[l][k].mesh = (size_t)mesh;
+        m->parts[l][k].lit = d.lods[l].part[k].lighting;
+        m->parts[l][k].mipmap = mipmap || d.lods[l].part[k].mipmap;
+      }
+    }
+    bbc_forest_model_free(&d);
+  }
+  for (size_t l = 0; l < m->lod_count; l++)
+    for (int k = 0; k < m->part_count[l]; k++)
+      if (s->meshes[m->parts[l][k].mesh].radius > m->radius)
+        m->radius = s->meshes[m->parts[l][k].mesh].radius;
+  m->key = strdup(key);
+  m->name = strdup(file);
+  if (log) {
+    fprintf(log, "object %s: %zu level%s", file, m->lod_count, m->lod_count == 1 ? "" : "s");
+    for (size_t l = 0; l < m->lod_count; l++)
+      fprintf(log, " [%g, %g)", m->ranges[2 * l], m->ranges[2 * l + 1]);
+    fprintf(log, ", fade %g, shadow %g/%g, radius %g\n", m->fade, m->shadow_radius,
+            m->shadow_cutoff, m->radius);
+  }
+  return (long)s->model_count++;
+}
+
+void scene_free(scene *s) {
+  for (size_t i = 0; i < s->mesh_count; i++) {
+    free(s->meshes[i].path);
+    bbc_mesh_free(&s->meshes[i].mesh);
+  }
+  free(s->meshes);
+  for (size_t i = 0; i < s->model_count; i++) {
+    free(s->models[i].key);
+    free(s->models[i].name);
+    free(s->models[i].ranges);
+    free(s->models[i].parts);
+    free(s->models[i].part_count);
+  }
+  free(s->models);
+  free(s->placement_models);
+  bbc_image_free(&s->terrain_colour);
+  for (int i = 0; i < 6; i++) bbc_image_free(&s->sky[i]);
+  bbc_forest_cull_free(&s->cull);
+  bbc_forest_terrain_free(&s->terrain);
+  bbc_forest_world_free(&s->world);
+  bbc_forest_map_free(&s->map);
+  memset(s, 0, sizeof *s);
+}
+
+int scene_load(scene *s, const char *map_path, FILE *log, int progress) {
+  memset(s, 0, sizeof *s);
+  folder_of(map_path, s->folder, sizeof s->folder);
+  const char *base = strrchr(map_path, '/');
+  snprintf(s->map_name, sizeof s->map_name, "%s", base ? base + 1 : map_path);
+  char *dot = strrchr(s->map_name, '.');
+  if (dot && dot != s->map_name) *dot = '\0';
+  bbc_error err;
+  if (bbc_forest_map_load(map_path, &s->map, &err) != BBC_OK) {
+    fprintf(stderr, "forest: %s\n", err.message);
+    return 0;
+  }
+  if (progress) fprintf(stderr, "forest: building the terrain and placing objects\n");
+  if (bbc_forest_world_build(&s->map, s->folder, &s->world, &err) != BBC_OK) {
+    fprintf(stderr, "forest: %s\n", err.message);
+    return 0;
+  }
+  if (log && s->world.note[0]) fprintf(log, "note: %s\n", s->world.note);
+  s->extent = (s->world.width - 1) * s->world.spacing;
+  s->far_clip = s->map.farclip > 0 ? s->map.farclip * s->world.spacing : s->extent * 1.5;
+  s->placement_models = calloc(s->map.placement_count + 1, sizeof *s->placement_models);
+  if (!s->placement_models) return 0;
+  for (size_t p = 0; p < s->map.placement_count; p++) {
+    const bbc_forest_placement *pl = &s->map.placements[p];
+    s->placement_models[p][0] = s->placement_models[p][1] = UINT32_MAX;
+    long a = find_model(s, pl->file, pl->mipmap, pl->line, map_path, log, progress);
+    if (a < 0) return 0;
+    s->placement_models[p][0] = (uint32_t)a;
+    if (pl->file2) {
+      long b = find_model(s, pl->file2, pl->mipmap, pl->line, map_path, log, progress);
+      if (b < 0) return 0;
+      s->placement_models[p][1] = (uint32_t)b;
+    }
+  }
+  /* shadows per placement: the first component's model decides */
+  double (*shadow)[2] = calloc(s->map.placement_count + 1, sizeof *shadow);
+  if (!shadow) return 0;
+  for (size_t p = 0; p < s->map.placement_count; p++) {
+    const scene_model *m = &s->models[s->placement_models[p][0]];
+    shadow[p][0] = m->shadow_radius;
+    shadow[p][1] = m->shadow_cutoff;
+  }
+  bbc_result r = bbc_forest_terrain_colour(&s->world, s->map.light, (const double(*)[2])shadow,
+                                           &s->terrain_colour, &err);
+  free(shadow);
+  if (r != BBC_OK) {
+    fprintf(stderr, "forest: %s\n", err.message);
+    return 0;
+  }
+  bbc_forest_lod_model *lm = calloc(s->model_count + 1, sizeof *lm);
+  if (!lm) return 0;
+  for (size_t i = 0; i < s->model_count; i++) {
+    lm[i].lod_count = s->models[i].lod_count;
+    lm[i].ranges = s->models[i].ranges;
+    lm[i].fade = s->models[i].fade;
+    lm[i].radius = s->models[i].radius;
+  }
+  r = bbc_forest_cull_init(&s->cull, &s->world, lm, s->model_count,
+                           (const uint32_t(*)[2])s->placement_models, s->map.placement_count, &err);
+  free(lm);
+  if (r != BBC_OK || bbc_forest_terrain_init(&s->terrain, &s->world, &err) != BBC_OK) {
+    fprintf(stderr, "forest: %s\n", err.message);
+    return 0;
+  }
+  if (s->map.skymap) {
+    static const char *const side[6] = {"FR", "BK", "LF", "RT", "UP", "DN"};
+    for (int i = 0; i < 6; i++) {
+      char name[4200], path[8400];
+      snprintf(name, sizeof name, "%s_%s.tga", s->map.skymap, side[i]);
+      join(s->folder, name, path, sizeof path);
+      if (bbc_image_load(path, &s->sky[i], &err) != BBC_OK) {
+        fprintf(stderr, "%s: skymap: %s\n", map_path, err.message);
+        return 0;
+      }
+      if (s->sky[i].width != s->sky[i].height || s->sky[i].width != s->sky[0].width) {
+        fprintf(stderr, "%s: skymap: %s is %d x %d; the six images must be square and alike\n",
+                map_path, name, s->sky[i].width, s->sky[i].height);
+        return 0;
+      }
+    }
+    s->has_sky = 1;
+  }
+  return 1;
+}

@@ -1,0 +1,61 @@
+/* scene.h — what `forest` loads for a map: the world, every model with its
+ * levels of detail and components (each 3D file read once), the terrain's
+ * colour with lighting and shadows, the culling grid and the terrain
+ * quadtree. GL-free; the drawing layer gets the meshes afterwards. */
+#ifndef FOREST_SCENE_H
+#define FOREST_SCENE_H
+
+#include <stdio.h>
+
+#include "bbc.h"
+
+typedef struct scene_mesh {
+  char *path;
+  int lod_node; /* as bbc_load_options.lod_node */
+  bbc_mesh mesh;
+  size_t billboards; /* planes of the mesh when it is a Billboard Cloud, else 0 */
+  double radius;     /* farthest vertex from the model's origin */
+} scene_mesh;
+
+typedef struct scene_part {
+  size_t mesh; /* index into scene.meshes */
+  int lit, mipmap;
+} scene_part;
+
+typedef struct scene_model {
+  char *key; /* file + mipmap flag */
+  char *name;
+  size_t lod_count;
+  double *ranges; /* 2 per level */
+  double fade, shadow_radius, shadow_cutoff;
+  scene_part (*parts)[2];
+  int *part_count; /* per level: 1 or 2 */
+  double radius;
+} scene_model;
+
+typedef struct scene {
+  char folder[4096];
+  char map_name[256]; /* file name without folder and extension */
+  bbc_forest_map map;
+  bbc_forest_world world;
+  scene_mesh *meshes;
+  size_t mesh_count;
+  scene_model *models;
+  size_t model_count;
+  uint32_t (*placement_models)[2];
+  bbc_image terrain_colour;
+  bbc_image sky[6];
+  int has_sky;
+  bbc_forest_cull cull;
+  bbc_forest_terrain terrain;
+  double extent;   /* map size, world units */
+  double far_clip; /* world units */
+  size_t triangles_loaded;
+} scene;
+
+/* Loads everything; messages (progress when `progress`, details to `log`)
+ * as it goes. 0 with a message on stderr when something is wrong. */
+int scene_load(scene *s, const char *map_path, FILE *log, int progress);
+void scene_free(scene *s);
+
+#endif

@@ -112,21 +112,37 @@ static int mip_level_alloc(mip_level *m, int w, int h) {
   return m->cov && m->pre && m->plain;
 }
 
-/* The coverage threshold that leaves `want` texels of `n` at or above it. */
-static float coverage_threshold(const float *cov, size_t n, size_t want) {
-  enum { BINS = 4096 };
-  size_t hist[BINS + 1] = {0};
-  for (size_t i = 0; i < n; i++) hist[(int)(cov[i] * BINS + 0.5f)]++;
+enum { COVERAGE_BINS = 4096 };
+
+static int coverage_bin(float c) {
+  return (int)(c * COVERAGE_BINS + 0.5f);
+}
+
+/* The coverage bin from which texels turn opaque so that `want` of the `n`
+ * are, and the fraction of that bin's texels that do (texels of equal
+ * coverage are split by an ordered dither, not all or none). */
+static int coverage_threshold(const float *cov, size_t n, size_t want, double *fraction) {
+  size_t *hist = calloc(COVERAGE_BINS + 1, sizeof *hist);
+  *fraction = 1;
+  if (!hist) return 1;
+  for (size_t i = 0; i < n; i++) hist[coverage_bin(cov[i])]++;
   size_t above = 0;
-  for (int b = BINS; b > 0; b--) {
+  int b = COVERAGE_BINS;
+  for (; b > 0; b--) {
     if (above + hist[b] >= want) {
-      /* take bin b when it gets closer to `want` than stopping before it */
-      if (above + hist[b] - want <= want - above) return (b - 0.5f) / BINS;
-      return (b + 0.5f) / BINS;
+      *fraction = hist[b] ? (double)(want - above) / (double)hist[b] : 1;
+      break;
     }
     above += hist[b];
   }
-  return 0.5f / BINS; /* every texel with any coverage */
+  free(hist);
+  return b > 0 ? b : 1; /* at most every texel with any coverage */
+}
+
+/* 4 x 4 ordered dither threshold in (0, 1). */
+static double bayer4(int x, int y) {
+  static const int m[4][4] = {{0, 8, 2, 10}, {12, 4, 14, 6}, {3, 11, 1, 9}, {15, 7, 13, 5}};
+  return (m[y & 3][x & 3] + 0.5) / 16.0;
 }
 
 bbc_result bbc_image_mipmaps(const bbc_image *base, bbc_image **levels, int *count,
@@ -184,15 +200,18 @@ bbc_result bbc_image_mipmaps(const bbc_image *base, bbc_image **levels, int *cou
     size_t nt = (size_t)w * h;
     /* as many opaque texels, in proportion, as level 0 has */
     size_t want = (size_t)((double)opaque0 / (double)n0 * (double)nt + 0.5);
-    float thr = alpha_tested ? coverage_threshold(cur.cov, nt, want) : 0;
+    double frac = 1;
+    int thr = alpha_tested ? coverage_threshold(cur.cov, nt, want, &frac) : 0;
     for (size_t i = 0; i < nt; i++) {
       uint8_t *p = out[l].rgba + 4 * i;
+      int bin = coverage_bin(cur.cov[i]);
+      int opaque =
+          bin > thr || (bin == thr && bayer4((int)(i % (size_t)w), (int)(i / (size_t)w)) < frac);
       for (int k = 0; k < 3; k++) {
         float v = cur.cov[i] > 1e-6f ? cur.pre[3 * i + k] / cur.cov[i] : cur.plain[3 * i + k];
         p[k] = (uint8_t)(v > 255 ? 255 : v + 0.5f);
       }
-      p[3] = alpha_tested ? (cur.cov[i] >= thr && cur.cov[i] > 0 ? 255 : 0)
-                          : (uint8_t)(cur.cov[i] * 255 + 0.5f);
+      p[3] = alpha_tested ? (opaque ? 255 : 0) : (uint8_t)(cur.cov[i] * 255 + 0.5f);
     }
     mip_level_free(&prev);
     prev = cur;

@@ -85,8 +85,8 @@ bbc_result bbc_forest_positions_read(const char *path, bbc_forest_camera **cams,
     if (nl) *nl = '\0';
     bbc_forest_camera c = {{0, 0, 0}, 0, 0, 1};
     char extra;
-    int n = sscanf(p, "%lf %lf %lf %lf %lf %c", &c.pos[0], &c.pos[1], &c.pos[2], &c.yaw,
-                   &c.pitch, &extra);
+    int n = sscanf(p, "%lf %lf %lf %lf %lf %c", &c.pos[0], &c.pos[1], &c.pos[2], &c.yaw, &c.pitch,
+                   &extra);
     if (n == 5 && isfinite(c.pos[0]) && isfinite(c.pos[1]) && isfinite(c.pos[2]) &&
         isfinite(c.yaw) && isfinite(c.pitch)) {
       (*cams)[(*count)++] = c;

@@ -47,8 +47,8 @@ double bbc_forest_lod_weight(const bbc_forest_lod_model *m, size_t lod, double d
   if (lod >= m->lod_count) return 0;
   double lo = m->ranges[2 * lod], hi = m->ranges[2 * lod + 1], f = m->fade;
   if (f <= 0) return (d >= lo && d < hi) ? 1.0 : 0.0;
-  double in = lo <= 0 ? 1.0 : (d - (lo - f)) / f;  /* blends in before its range */
-  double out = (hi + f - d) / f;                   /* fades out after it */
+  double in = lo <= 0 ? 1.0 : (d - (lo - f)) / f; /* blends in before its range */
+  double out = (hi + f - d) / f;                  /* fades out after it */
   double w = in < out ? in : out;
   return w <= 0 ? 0 : w >= 1 ? 1 : w;
 }
@@ -191,8 +191,8 @@ void bbc_forest_cull_run(bbc_forest_cull *c, const float viewproj[16], const dou
             rad = c->models[pm[k]].radius * in->scale;
         int out = 0;
         for (int i = 0; i < 6 && !out; i++)
-          out = planes[i][0] * in->x + planes[i][1] * in->y + planes[i][2] * in->z +
-                    planes[i][3] < -rad;
+          out = planes[i][0] * in->x + planes[i][1] * in->y + planes[i][2] * in->z + planes[i][3] <
+                -rad;
         if (out) continue;
       }
       double dx = in->x - eye[0], dy = in->y - eye[1], dz = in->z - eye[2];

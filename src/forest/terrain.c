@@ -56,8 +56,8 @@ bbc_result bbc_forest_terrain_init(bbc_forest_terrain *t, const bbc_forest_world
         } else { /* from the four children */
           int cn = nodes_along(t, l - 1);
           for (int q = 0; q < 4; q++) {
-            const float *c = t->bounds[l - 1] + 2 * ((size_t)(2 * nz + (q >> 1)) * cn + 2 * nx +
-                                                     (q & 1));
+            const float *c =
+                t->bounds[l - 1] + 2 * ((size_t)(2 * nz + (q >> 1)) * cn + 2 * nx + (q & 1));
             lo = c[0] < lo ? c[0] : lo;
             hi = c[1] > hi ? c[1] : hi;
           }

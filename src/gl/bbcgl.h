@@ -57,8 +57,8 @@ void bbcgl_forest_free(bbcgl_forest *f);
  * (mipmaps that keep alpha binary when `mipmap`), lit by the scene's light
  * when `lit` and the material is not unlit. `billboards` is what the
  * statistics count for it per tree (0 for polygon models). */
-int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *mesh, int lit,
-                          int mipmap, size_t billboards, char *err);
+int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *mesh, int lit, int mipmap,
+                          size_t billboards, char *err);
 
 typedef struct bbcgl_frame {
   float viewproj[16]; /* column-major */
@@ -67,7 +67,7 @@ typedef struct bbcgl_frame {
   int wireframe;   /* F1 */
   int no_terrain;  /* F4 */
   int no_objects;  /* F5 */
-  int fill_colour; /* 0: a lit, textured scene (always 0 unless testing) */
+  int fill_colour; /* 1: only the objects, white on black (coverage measurements) */
 } bbcgl_frame;
 
 typedef struct bbcgl_stats {

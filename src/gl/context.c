@@ -28,8 +28,8 @@ struct bbcgl_context {
 };
 
 static void describe(bbcgl_context *c) {
-  snprintf(c->describe, sizeof c->describe, "OpenGL %s, %s",
-           (const char *)glGetString(GL_VERSION), (const char *)glGetString(GL_RENDERER));
+  snprintf(c->describe, sizeof c->describe, "OpenGL %s, %s", (const char *)glGetString(GL_VERSION),
+           (const char *)glGetString(GL_RENDERER));
 }
 
 static int check_version(bbcgl_context *c, char *err) {
@@ -94,8 +94,7 @@ bbcgl_context *bbcgl_context_headless(int width, int height, char *err) {
                                     EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
                                     EGL_NONE};
   c->egl = eglCreateContext(c->dpy, cfg, EGL_NO_CONTEXT, ctx_attr);
-  if (c->egl == EGL_NO_CONTEXT ||
-      !eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, c->egl)) {
+  if (c->egl == EGL_NO_CONTEXT || !eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, c->egl)) {
     snprintf(err, BBCGL_ERR, "EGL cannot make an OpenGL 4.5 core context (EGL error 0x%x)",
              eglGetError());
     if (c->egl != EGL_NO_CONTEXT) eglDestroyContext(c->dpy, c->egl);

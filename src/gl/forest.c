@@ -18,14 +18,14 @@
 
 /* ---- shaders ------------------------------------------------------------ */
 
-#define GLSL_FOG                                                                          \
-  "uniform vec3 u_eye;\n"                                                                 \
-  "uniform vec3 u_fog_colour;\n"                                                          \
-  "uniform vec2 u_fog;\n" /* start, end; end <= start: none */                          \
-  "vec3 fogged(vec3 c, vec3 world) {\n"                                                   \
-  "  if (u_fog.y <= u_fog.x) return c;\n"                                                 \
-  "  float f = clamp((distance(world, u_eye) - u_fog.x) / (u_fog.y - u_fog.x), 0.0, 1.0);\n" \
-  "  return mix(c, u_fog_colour, f);\n"                                                   \
+#define GLSL_FOG                                                                                   \
+  "uniform vec3 u_eye;\n"                                                                          \
+  "uniform vec3 u_fog_colour;\n"                                                                   \
+  "uniform vec2 u_fog;\n" /* start, end; end <= start: none */                                     \
+  "vec3 fogged(vec3 c, vec3 world) {\n"                                                            \
+  "  if (u_fog.y <= u_fog.x) return c;\n"                                                          \
+  "  float f = clamp((distance(world, u_eye) - u_fog.x) / (u_fog.y - u_fog.x), 0.0, 1.0);\n"       \
+  "  return mix(c, u_fog_colour, f);\n"                                                            \
   "}\n"
 
 static const char *const terrain_vs =
@@ -56,16 +56,16 @@ static const char *const terrain_vs =
     "  gl_Position = u_viewproj * vec4(p, 1.0);\n"
     "}\n";
 
-static const char *const terrain_fs = "#version 450 core\n" GLSL_FOG
-                                      "in vec3 v_world;\n"
-                                      "in vec2 v_uv;\n"
-                                      "uniform sampler2D u_colour;\n"
-                                      "uniform int u_flat;\n"
-                                      "out vec4 o_colour;\n"
-                                      "void main() {\n"
-                                      "  vec3 c = u_flat != 0 ? vec3(0.9) : texture(u_colour, v_uv).rgb;\n"
-                                      "  o_colour = vec4(fogged(c, v_world), 1.0);\n"
-                                      "}\n";
+static const char *const terrain_fs =
+    "#version 450 core\n" GLSL_FOG "in vec3 v_world;\n"
+    "in vec2 v_uv;\n"
+    "uniform sampler2D u_colour;\n"
+    "uniform int u_flat;\n"
+    "out vec4 o_colour;\n"
+    "void main() {\n"
+    "  vec3 c = u_flat != 0 ? vec3(0.9) : texture(u_colour, v_uv).rgb;\n"
+    "  o_colour = vec4(fogged(c, v_world), 1.0);\n"
+    "}\n";
 
 static const char *const model_vs =
     "#version 450 core\n"
@@ -83,7 +83,8 @@ static const char *const model_vs =
     "  float c = cos(a_inst.w), s = sin(a_inst.w);\n"
     "  vec3 p = a_pos * a_inst2.x;\n"
     "  p = vec3(c * p.x + s * p.z, p.y, -s * p.x + c * p.z);\n"
-    "  v_normal = vec3(c * a_normal.x + s * a_normal.z, a_normal.y, -s * a_normal.x + c * a_normal.z);\n"
+    "  v_normal = vec3(c * a_normal.x + s * a_normal.z, a_normal.y, -s * a_normal.x + c * "
+    "a_normal.z);\n"
     "  v_world = p + a_inst.xyz;\n"
     "  v_uv = vec2(a_uv.x, 1.0 - a_uv.y);\n" /* uvs: v up; images: rows top first */
     "  v_fade = a_inst2.y;\n"
@@ -91,8 +92,7 @@ static const char *const model_vs =
     "}\n";
 
 static const char *const model_fs =
-    "#version 450 core\n" GLSL_FOG
-    "in vec3 v_world;\n"
+    "#version 450 core\n" GLSL_FOG "in vec3 v_world;\n"
     "in vec3 v_normal;\n"
     "in vec2 v_uv;\n"
     "in float v_fade;\n"
@@ -101,6 +101,7 @@ static const char *const model_fs =
     "uniform vec4 u_base;\n"
     "uniform int u_lit;\n"
     "uniform vec3 u_light;\n"
+    "uniform int u_fill;\n"
     "out vec4 o_colour;\n"
     /* 8 x 8 ordered dither: the screen door of the level blending */
     "float bayer(ivec2 p) {\n"
@@ -120,16 +121,17 @@ static const char *const model_fs =
     "    vec3 n = normalize(gl_FrontFacing ? v_normal : -v_normal);\n"
     "    c.rgb *= 0.45 + 0.55 * max(dot(n, u_light), 0.0);\n"
     "  }\n"
-    "  o_colour = vec4(fogged(c.rgb, v_world), 1.0);\n"
+    "  o_colour = u_fill != 0 ? vec4(1.0) : vec4(fogged(c.rgb, v_world), 1.0);\n"
     "}\n";
 
-static const char *const sky_vs = "#version 450 core\n"
-                                  "out vec2 v_ndc;\n"
-                                  "void main() {\n"
-                                  "  vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2) * 2.0 - 1.0;\n"
-                                  "  v_ndc = p;\n"
-                                  "  gl_Position = vec4(p, 1.0, 1.0);\n"
-                                  "}\n";
+static const char *const sky_vs =
+    "#version 450 core\n"
+    "out vec2 v_ndc;\n"
+    "void main() {\n"
+    "  vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2) * 2.0 - 1.0;\n"
+    "  v_ndc = p;\n"
+    "  gl_Position = vec4(p, 1.0, 1.0);\n"
+    "}\n";
 
 static const char *const sky_fs =
     "#version 450 core\n"
@@ -157,12 +159,12 @@ static const char *const water_vs = "#version 450 core\n"
                                     "  gl_Position = u_viewproj * vec4(a_pos, 1.0);\n"
                                     "}\n";
 
-static const char *const water_fs = "#version 450 core\n" GLSL_FOG
-                                    "in vec3 v_world;\n"
-                                    "out vec4 o_colour;\n"
-                                    "void main() {\n"
-                                    "  o_colour = vec4(fogged(vec3(0.16, 0.32, 0.42), v_world), 0.82);\n"
-                                    "}\n";
+static const char *const water_fs =
+    "#version 450 core\n" GLSL_FOG "in vec3 v_world;\n"
+    "out vec4 o_colour;\n"
+    "void main() {\n"
+    "  o_colour = vec4(fogged(vec3(0.16, 0.32, 0.42), v_world), 0.82);\n"
+    "}\n";
 
 static const char *const text_vs = "#version 450 core\n"
                                    "layout(location = 0) in vec4 a_v;\n" /* pixel x, y, u, v */
@@ -174,16 +176,17 @@ static const char *const text_vs = "#version 450 core\n"
                                    "                     1.0 - a_v.y / u_size.y * 2.0, 0.0, 1.0);\n"
                                    "}\n";
 
-static const char *const text_fs = "#version 450 core\n"
-                                   "in vec2 v_uv;\n"
-                                   "uniform sampler2D u_font;\n"
-                                   "uniform vec4 u_colour;\n"
-                                   "out vec4 o_colour;\n"
-                                   "void main() {\n"
-                                   "  if (v_uv.x < 0.0) { o_colour = vec4(0.0, 0.0, 0.0, 0.55); return; }\n"
-                                   "  if (texelFetch(u_font, ivec2(v_uv), 0).r < 0.5) discard;\n"
-                                   "  o_colour = u_colour;\n"
-                                   "}\n";
+static const char *const text_fs =
+    "#version 450 core\n"
+    "in vec2 v_uv;\n"
+    "uniform sampler2D u_font;\n"
+    "uniform vec4 u_colour;\n"
+    "out vec4 o_colour;\n"
+    "void main() {\n"
+    "  if (v_uv.x < 0.0) { o_colour = vec4(0.0, 0.0, 0.0, 0.55); return; }\n"
+    "  if (texelFetch(u_font, ivec2(v_uv), 0).r < 0.5) discard;\n"
+    "  o_colour = u_colour;\n"
+    "}\n";
 
 static GLuint compile(GLenum type, const char *src, const char *name, char *err) {
   GLuint s = glCreateShader(type);
@@ -231,59 +234,59 @@ static GLuint program(const char *vs, const char *fs, const char *name, char *er
 
 static const char font_chars[] = " %()+,-./0123456789:=<>ABCDEFGHIJKLMNOPQRSTUVWXYZ_[]|";
 static const uint8_t font_rows[][7] = {
-    {0, 0, 0, 0, 0, 0, 0},                          /* space */
-    {0x18, 0x19, 0x02, 0x04, 0x08, 0x13, 0x03},     /* % */
-    {0x02, 0x04, 0x08, 0x08, 0x08, 0x04, 0x02},     /* ( */
-    {0x08, 0x04, 0x02, 0x02, 0x02, 0x04, 0x08},     /* ) */
-    {0, 0x04, 0x04, 0x1F, 0x04, 0x04, 0},           /* + */
-    {0, 0, 0, 0, 0x0C, 0x04, 0x08},                 /* , */
-    {0, 0, 0, 0x1F, 0, 0, 0},                       /* - */
-    {0, 0, 0, 0, 0, 0x0C, 0x0C},                    /* . */
-    {0x01, 0x01, 0x02, 0x04, 0x08, 0x10, 0x10},     /* / */
-    {0x0E, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0E},     /* 0 */
-    {0x04, 0x0C, 0x04, 0x04, 0x04, 0x04, 0x0E},     /* 1 */
-    {0x0E, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1F},     /* 2 */
-    {0x1F, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0E},     /* 3 */
-    {0x02, 0x06, 0x0A, 0x12, 0x1F, 0x02, 0x02},     /* 4 */
-    {0x1F, 0x10, 0x1E, 0x01, 0x01, 0x11, 0x0E},     /* 5 */
-    {0x06, 0x08, 0x10, 0x1E, 0x11, 0x11, 0x0E},     /* 6 */
-    {0x1F, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08},     /* 7 */
-    {0x0E, 0x11, 0x11, 0x0E, 0x11, 0x11, 0x0E},     /* 8 */
-    {0x0E, 0x11, 0x11, 0x0F, 0x01, 0x02, 0x0C},     /* 9 */
-    {0, 0x0C, 0x0C, 0, 0x0C, 0x0C, 0},              /* : */
-    {0, 0, 0x1F, 0, 0x1F, 0, 0},                    /* = */
-    {0x02, 0x04, 0x08, 0x10, 0x08, 0x04, 0x02},     /* < */
-    {0x08, 0x04, 0x02, 0x01, 0x02, 0x04, 0x08},     /* > */
-    {0x0E, 0x11, 0x11, 0x1F, 0x11, 0x11, 0x11},     /* A */
-    {0x1E, 0x11, 0x11, 0x1E, 0x11, 0x11, 0x1E},     /* B */
-    {0x0E, 0x11, 0x10, 0x10, 0x10, 0x11, 0x0E},     /* C */
-    {0x1C, 0x12, 0x11, 0x11, 0x11, 0x12, 0x1C},     /* D */
-    {0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x1F},     /* E */
-    {0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x10},     /* F */
-    {0x0E, 0x11, 0x10, 0x17, 0x11, 0x11, 0x0F},     /* G */
-    {0x11, 0x11, 0x11, 0x1F, 0x11, 0x11, 0x11},     /* H */
-    {0x0E, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0E},     /* I */
-    {0x07, 0x02, 0x02, 0x02, 0x02, 0x12, 0x0C},     /* J */
-    {0x11, 0x12, 0x14, 0x18, 0x14, 0x12, 0x11},     /* K */
-    {0x10, 0x10, 0x10, 0x10, 0x10, 0x10, 0x1F},     /* L */
-    {0x11, 0x1B, 0x15, 0x15, 0x11, 0x11, 0x11},     /* M */
-    {0x11, 0x11, 0x19, 0x15, 0x13, 0x11, 0x11},     /* N */
-    {0x0E, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0E},     /* O */
-    {0x1E, 0x11, 0x11, 0x1E, 0x10, 0x10, 0x10},     /* P */
-    {0x0E, 0x11, 0x11, 0x11, 0x15, 0x12, 0x0D},     /* Q */
-    {0x1E, 0x11, 0x11, 0x1E, 0x14, 0x12, 0x11},     /* R */
-    {0x0F, 0x10, 0x10, 0x0E, 0x01, 0x01, 0x1E},     /* S */
-    {0x1F, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04},     /* T */
-    {0x11, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0E},     /* U */
-    {0x11, 0x11, 0x11, 0x11, 0x11, 0x0A, 0x04},     /* V */
-    {0x11, 0x11, 0x11, 0x15, 0x15, 0x15, 0x0A},     /* W */
-    {0x11, 0x11, 0x0A, 0x04, 0x0A, 0x11, 0x11},     /* X */
-    {0x11, 0x11, 0x11, 0x0A, 0x04, 0x04, 0x04},     /* Y */
-    {0x1F, 0x01, 0x02, 0x04, 0x08, 0x10, 0x1F},     /* Z */
-    {0, 0, 0, 0, 0, 0, 0x1F},                       /* _ */
-    {0x0E, 0x08, 0x08, 0x08, 0x08, 0x08, 0x0E},     /* [ */
-    {0x0E, 0x02, 0x02, 0x02, 0x02, 0x02, 0x0E},     /* ] */
-    {0x04, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04},     /* | */
+    {0, 0, 0, 0, 0, 0, 0},                      /* space */
+    {0x18, 0x19, 0x02, 0x04, 0x08, 0x13, 0x03}, /* % */
+    {0x02, 0x04, 0x08, 0x08, 0x08, 0x04, 0x02}, /* ( */
+    {0x08, 0x04, 0x02, 0x02, 0x02, 0x04, 0x08}, /* ) */
+    {0, 0x04, 0x04, 0x1F, 0x04, 0x04, 0},       /* + */
+    {0, 0, 0, 0, 0x0C, 0x04, 0x08},             /* , */
+    {0, 0, 0, 0x1F, 0, 0, 0},                   /* - */
+    {0, 0, 0, 0, 0, 0x0C, 0x0C},                /* . */
+    {0x01, 0x01, 0x02, 0x04, 0x08, 0x10, 0x10}, /* / */
+    {0x0E, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0E}, /* 0 */
+    {0x04, 0x0C, 0x04, 0x04, 0x04, 0x04, 0x0E}, /* 1 */
+    {0x0E, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1F}, /* 2 */
+    {0x1F, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0E}, /* 3 */
+    {0x02, 0x06, 0x0A, 0x12, 0x1F, 0x02, 0x02}, /* 4 */
+    {0x1F, 0x10, 0x1E, 0x01, 0x01, 0x11, 0x0E}, /* 5 */
+    {0x06, 0x08, 0x10, 0x1E, 0x11, 0x11, 0x0E}, /* 6 */
+    {0x1F, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08}, /* 7 */
+    {0x0E, 0x11, 0x11, 0x0E, 0x11, 0x11, 0x0E}, /* 8 */
+    {0x0E, 0x11, 0x11, 0x0F, 0x01, 0x02, 0x0C}, /* 9 */
+    {0, 0x0C, 0x0C, 0, 0x0C, 0x0C, 0},          /* : */
+    {0, 0, 0x1F, 0, 0x1F, 0, 0},                /* = */
+    {0x02, 0x04, 0x08, 0x10, 0x08, 0x04, 0x02}, /* < */
+    {0x08, 0x04, 0x02, 0x01, 0x02, 0x04, 0x08}, /* > */
+    {0x0E, 0x11, 0x11, 0x1F, 0x11, 0x11, 0x11}, /* A */
+    {0x1E, 0x11, 0x11, 0x1E, 0x11, 0x11, 0x1E}, /* B */
+    {0x0E, 0x11, 0x10, 0x10, 0x10, 0x11, 0x0E}, /* C */
+    {0x1C, 0x12, 0x11, 0x11, 0x11, 0x12, 0x1C}, /* D */
+    {0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x1F}, /* E */
+    {0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x10}, /* F */
+    {0x0E, 0x11, 0x10, 0x17, 0x11, 0x11, 0x0F}, /* G */
+    {0x11, 0x11, 0x11, 0x1F, 0x11, 0x11, 0x11}, /* H */
+    {0x0E, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0E}, /* I */
+    {0x07, 0x02, 0x02, 0x02, 0x02, 0x12, 0x0C}, /* J */
+    {0x11, 0x12, 0x14, 0x18, 0x14, 0x12, 0x11}, /* K */
+    {0x10, 0x10, 0x10, 0x10, 0x10, 0x10, 0x1F}, /* L */
+    {0x11, 0x1B, 0x15, 0x15, 0x11, 0x11, 0x11}, /* M */
+    {0x11, 0x11, 0x19, 0x15, 0x13, 0x11, 0x11}, /* N */
+    {0x0E, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0E}, /* O */
+    {0x1E, 0x11, 0x11, 0x1E, 0x10, 0x10, 0x10}, /* P */
+    {0x0E, 0x11, 0x11, 0x11, 0x15, 0x12, 0x0D}, /* Q */
+    {0x1E, 0x11, 0x11, 0x1E, 0x14, 0x12, 0x11}, /* R */
+    {0x0F, 0x10, 0x10, 0x0E, 0x01, 0x01, 0x1E}, /* S */
+    {0x1F, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04}, /* T */
+    {0x11, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0E}, /* U */
+    {0x11, 0x11, 0x11, 0x11, 0x11, 0x0A, 0x04}, /* V */
+    {0x11, 0x11, 0x11, 0x15, 0x15, 0x15, 0x0A}, /* W */
+    {0x11, 0x11, 0x0A, 0x04, 0x0A, 0x11, 0x11}, /* X */
+    {0x11, 0x11, 0x11, 0x0A, 0x04, 0x04, 0x04}, /* Y */
+    {0x1F, 0x01, 0x02, 0x04, 0x08, 0x10, 0x1F}, /* Z */
+    {0, 0, 0, 0, 0, 0, 0x1F},                   /* _ */
+    {0x0E, 0x08, 0x08, 0x08, 0x08, 0x08, 0x0E}, /* [ */
+    {0x0E, 0x02, 0x02, 0x02, 0x02, 0x02, 0x0E}, /* ] */
+    {0x04, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04}, /* | */
 };
 #define FONT_COUNT ((int)(sizeof font_rows / sizeof font_rows[0]))
 
@@ -432,7 +435,7 @@ static int build_terrain(bbcgl_forest *f, char *err) {
 static void build_water(bbcgl_forest *f) {
   const bbc_forest_world *w = f->world;
   float e = (float)((w->width - 1) * w->spacing), h = (float)f->scene.water_height;
-  float v[18] = {-e, h, -e, -e, h, 2 * e, 2 * e, h, 2 * e,
+  float v[18] = {-e, h, -e, -e,    h, 2 * e, 2 * e, h, 2 * e,
                  -e, h, -e, 2 * e, h, 2 * e, 2 * e, h, -e};
   glCreateVertexArrays(1, &f->w_vao);
   glCreateBuffers(1, &f->w_vbo);
@@ -555,16 +558,23 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_image *im, int mipmap, char
     snprintf(err, BBCGL_ERR, "%s", e.message);
     return 0;
   }
+  /* Alpha-tested textures stop at 8 x 8 texels: below, a level cannot keep
+   * the opaque fraction (a 1 x 1 level of a 40 % leaf is nothing at all)
+   * and small leaves would vanish; sampling 8 x 8 texels keeps it on
+   * average. */
+  int nm_all = nm;
+  if (nm && bbc_image_has_transparency(im))
+    while (nm > 0 && (mips[nm - 1].width < 8 || mips[nm - 1].height < 8)) nm--;
   GLuint tex;
   glCreateTextures(GL_TEXTURE_2D, 1, &tex);
   glTextureStorage2D(tex, 1 + nm, GL_RGBA8, im->width, im->height);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTextureSubImage2D(tex, 0, 0, 0, im->width, im->height, GL_RGBA, GL_UNSIGNED_BYTE, im->rgba);
   for (int l = 0; l < nm; l++) {
-    glTextureSubImage2D(tex, l + 1, 0, 0, mips[l].width, mips[l].height, GL_RGBA,
-                        GL_UNSIGNED_BYTE, mips[l].rgba);
-    bbc_image_free(&mips[l]);
+    glTextureSubImage2D(tex, l + 1, 0, 0, mips[l].width, mips[l].height, GL_RGBA, GL_UNSIGNED_BYTE,
+                        mips[l].rgba);
   }
+  for (int l = 0; l < nm_all; l++) bbc_image_free(&mips[l]);
   free(mips);
   glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, nm ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
   glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -673,38 +683,38 @@ static void inverse4(const float m[16], float out[16]) {
   /* cofactor expansion, double precision */
   double inv[16], a[16];
   for (int i = 0; i < 16; i++) a[i] = m[i];
-  inv[0] = a[5] * a[10] * a[15] - a[5] * a[11] * a[14] - a[9] * a[6] * a[15] +
-           a[9] * a[7] * a[14] + a[13] * a[6] * a[11] - a[13] * a[7] * a[10];
+  inv[0] = a[5] * a[10] * a[15] - a[5] * a[11] * a[14] - a[9] * a[6] * a[15] + a[9] * a[7] * a[14] +
+           a[13] * a[6] * a[11] - a[13] * a[7] * a[10];
   inv[4] = -a[4] * a[10] * a[15] + a[4] * a[11] * a[14] + a[8] * a[6] * a[15] -
            a[8] * a[7] * a[14] - a[12] * a[6] * a[11] + a[12] * a[7] * a[10];
-  inv[8] = a[4] * a[9] * a[15] - a[4] * a[11] * a[13] - a[8] * a[5] * a[15] +
-           a[8] * a[7] * a[13] + a[12] * a[5] * a[11] - a[12] * a[7] * a[9];
+  inv[8] = a[4] * a[9] * a[15] - a[4] * a[11] * a[13] - a[8] * a[5] * a[15] + a[8] * a[7] * a[13] +
+           a[12] * a[5] * a[11] - a[12] * a[7] * a[9];
   inv[12] = -a[4] * a[9] * a[14] + a[4] * a[10] * a[13] + a[8] * a[5] * a[14] -
             a[8] * a[6] * a[13] - a[12] * a[5] * a[10] + a[12] * a[6] * a[9];
   inv[1] = -a[1] * a[10] * a[15] + a[1] * a[11] * a[14] + a[9] * a[2] * a[15] -
            a[9] * a[3] * a[14] - a[13] * a[2] * a[11] + a[13] * a[3] * a[10];
-  inv[5] = a[0] * a[10] * a[15] - a[0] * a[11] * a[14] - a[8] * a[2] * a[15] +
-           a[8] * a[3] * a[14] + a[12] * a[2] * a[11] - a[12] * a[3] * a[10];
-  inv[9] = -a[0] * a[9] * a[15] + a[0] * a[11] * a[13] + a[8] * a[1] * a[15] -
-           a[8] * a[3] * a[13] - a[12] * a[1] * a[11] + a[12] * a[3] * a[9];
-  inv[13] = a[0] * a[9] * a[14] - a[0] * a[10] * a[13] - a[8] * a[1] * a[14] +
-            a[8] * a[2] * a[13] + a[12] * a[1] * a[10] - a[12] * a[2] * a[9];
-  inv[2] = a[1] * a[6] * a[15] - a[1] * a[7] * a[14] - a[5] * a[2] * a[15] +
-           a[5] * a[3] * a[14] + a[13] * a[2] * a[7] - a[13] * a[3] * a[6];
-  inv[6] = -a[0] * a[6] * a[15] + a[0] * a[7] * a[14] + a[4] * a[2] * a[15] -
-           a[4] * a[3] * a[14] - a[12] * a[2] * a[7] + a[12] * a[3] * a[6];
-  inv[10] = a[0] * a[5] * a[15] - a[0] * a[7] * a[13] - a[4] * a[1] * a[15] +
-            a[4] * a[3] * a[13] + a[12] * a[1] * a[7] - a[12] * a[3] * a[5];
-  inv[14] = -a[0] * a[5] * a[14] + a[0] * a[6] * a[13] + a[4] * a[1] * a[14] -
-            a[4] * a[2] * a[13] - a[12] * a[1] * a[6] + a[12] * a[2] * a[5];
-  inv[3] = -a[1] * a[6] * a[11] + a[1] * a[7] * a[10] + a[5] * a[2] * a[11] -
-           a[5] * a[3] * a[10] - a[9] * a[2] * a[7] + a[9] * a[3] * a[6];
-  inv[7] = a[0] * a[6] * a[11] - a[0] * a[7] * a[10] - a[4] * a[2] * a[11] +
-           a[4] * a[3] * a[10] + a[8] * a[2] * a[7] - a[8] * a[3] * a[6];
-  inv[11] = -a[0] * a[5] * a[11] + a[0] * a[7] * a[9] + a[4] * a[1] * a[11] -
-            a[4] * a[3] * a[9] - a[8] * a[1] * a[7] + a[8] * a[3] * a[5];
-  inv[15] = a[0] * a[5] * a[10] - a[0] * a[6] * a[9] - a[4] * a[1] * a[10] +
-            a[4] * a[2] * a[9] + a[8] * a[1] * a[6] - a[8] * a[2] * a[5];
+  inv[5] = a[0] * a[10] * a[15] - a[0] * a[11] * a[14] - a[8] * a[2] * a[15] + a[8] * a[3] * a[14] +
+           a[12] * a[2] * a[11] - a[12] * a[3] * a[10];
+  inv[9] = -a[0] * a[9] * a[15] + a[0] * a[11] * a[13] + a[8] * a[1] * a[15] - a[8] * a[3] * a[13] -
+           a[12] * a[1] * a[11] + a[12] * a[3] * a[9];
+  inv[13] = a[0] * a[9] * a[14] - a[0] * a[10] * a[13] - a[8] * a[1] * a[14] + a[8] * a[2] * a[13] +
+            a[12] * a[1] * a[10] - a[12] * a[2] * a[9];
+  inv[2] = a[1] * a[6] * a[15] - a[1] * a[7] * a[14] - a[5] * a[2] * a[15] + a[5] * a[3] * a[14] +
+           a[13] * a[2] * a[7] - a[13] * a[3] * a[6];
+  inv[6] = -a[0] * a[6] * a[15] + a[0] * a[7] * a[14] + a[4] * a[2] * a[15] - a[4] * a[3] * a[14] -
+           a[12] * a[2] * a[7] + a[12] * a[3] * a[6];
+  inv[10] = a[0] * a[5] * a[15] - a[0] * a[7] * a[13] - a[4] * a[1] * a[15] + a[4] * a[3] * a[13] +
+            a[12] * a[1] * a[7] - a[12] * a[3] * a[5];
+  inv[14] = -a[0] * a[5] * a[14] + a[0] * a[6] * a[13] + a[4] * a[1] * a[14] - a[4] * a[2] * a[13] -
+            a[12] * a[1] * a[6] + a[12] * a[2] * a[5];
+  inv[3] = -a[1] * a[6] * a[11] + a[1] * a[7] * a[10] + a[5] * a[2] * a[11] - a[5] * a[3] * a[10] -
+           a[9] * a[2] * a[7] + a[9] * a[3] * a[6];
+  inv[7] = a[0] * a[6] * a[11] - a[0] * a[7] * a[10] - a[4] * a[2] * a[11] + a[4] * a[3] * a[10] +
+           a[8] * a[2] * a[7] - a[8] * a[3] * a[6];
+  inv[11] = -a[0] * a[5] * a[11] + a[0] * a[7] * a[9] + a[4] * a[1] * a[11] - a[4] * a[3] * a[9] -
+            a[8] * a[1] * a[7] + a[8] * a[3] * a[5];
+  inv[15] = a[0] * a[5] * a[10] - a[0] * a[6] * a[9] - a[4] * a[1] * a[10] + a[4] * a[2] * a[9] +
+            a[8] * a[1] * a[6] - a[8] * a[2] * a[5];
   double det = a[0] * inv[0] + a[1] * inv[4] + a[2] * inv[8] + a[3] * inv[12];
   det = det != 0 ? 1.0 / det : 0;
   for (int i = 0; i < 16; i++) out[i] = (float)(inv[i] * det);
@@ -795,6 +805,7 @@ static void draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_fores
   glUniform3f(glGetUniformLocation(p, "u_light"), (float)(L[0] / ln), (float)(L[1] / ln),
               (float)(L[2] / ln));
   glUniform1i(glGetUniformLocation(p, "u_tex"), 0);
+  glUniform1i(glGetUniformLocation(p, "u_fill"), fr->fill_colour);
   GLint u_has = glGetUniformLocation(p, "u_has_tex"), u_base = glGetUniformLocation(p, "u_base"),
         u_lit = glGetUniformLocation(p, "u_lit");
   GLuint bound = 0;
@@ -828,12 +839,15 @@ void bbcgl_forest_draw(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_
                        const bbc_forest_cull *c, bbcgl_stats *st) {
   memset(st, 0, sizeof *st);
   glViewport(0, 0, fr->width, fr->height);
-  glClearColor(f->fog_colour[0], f->fog_colour[1], f->fog_colour[2], 1);
+  if (fr->fill_colour)
+    glClearColor(0, 0, 0, 1);
+  else
+    glClearColor(f->fog_colour[0], f->fog_colour[1], f->fog_colour[2], 1);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
   /* sky at the far plane, behind everything */
-  if (!fr->wireframe) {
+  if (!fr->wireframe && !fr->fill_colour) {
     glDisable(GL_DEPTH_TEST);
     glUseProgram(f->p_sky);
     float inv[16];
@@ -850,9 +864,9 @@ void bbcgl_forest_draw(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glPolygonMode(GL_FRONT_AND_BACK, fr->wireframe ? GL_LINE : GL_FILL);
-  if (!fr->no_terrain) draw_terrain(f, fr, t, st);
+  if (!fr->no_terrain && !fr->fill_colour) draw_terrain(f, fr, t, st);
   if (!fr->no_objects && c) draw_objects(f, fr, c, st);
-  if (f->scene.has_water && !fr->no_terrain) {
+  if (f->scene.has_water && !fr->no_terrain && !fr->fill_colour) {
     glEnable(GL_BLEND);
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     glUseProgram(f->p_water);

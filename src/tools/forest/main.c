@@ -57,6 +57,8 @@ static void usage(FILE *f) {
           "                       the program ends after the script\n"
           "  --stats              the statistics overlay (F10) from the start\n"
           "  --print-camera       print the final camera as --camera takes it\n"
+          "  --coverage           per frame, print how many pixels the objects cover\n"
+          "                       (drawn again white on black: LOD transition checks)\n"
           "  --log FILE           the log (default: log.txt beside the map)\n"
           "\n"
           "Exit status: 0 done, 1 a file or the drawing failed, 2 bad usage.\n",
@@ -263,6 +265,8 @@ int main(int argc, char **argv) {
       o.bench = 1;
     } else if (!strcmp(a, "--stats")) {
       o.stats = 1;
+    } else if (!strcmp(a, "--coverage")) {
+      o.coverage = 1;
     } else if (!strcmp(a, "--print-camera")) {
       o.print_camera = 1;
     } else if (!strcmp(a, "--size")) {

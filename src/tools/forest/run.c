@@ -45,8 +45,7 @@ typedef struct state {
   int mouse_known;
 } state;
 
-__attribute__((format(printf, 3, 4))) static void say(state *st, double t, const char *fmt,
-                                                      ...) {
+__attribute__((format(printf, 3, 4))) static void say(state *st, double t, const char *fmt, ...) {
   va_list ap;
   va_start(ap, fmt);
   vsnprintf(st->message, sizeof st->message, fmt, ap);
@@ -82,8 +81,7 @@ static void load_position(state *st, double t) {
   if (!st->stored_count) {
     free(st->stored);
     st->stored = NULL;
-    if (bbc_forest_positions_read(st->save_path, &st->stored, &st->stored_count, &err) !=
-        BBC_OK) {
+    if (bbc_forest_positions_read(st->save_path, &st->stored, &st->stored_count, &err) != BBC_OK) {
       say(st, t, "%s", err.message);
       return;
     }
@@ -158,18 +156,30 @@ static const char *glfw_key_name(int key) {
     return one;
   }
   switch (key) {
-  case GLFW_KEY_1: return "1";
-  case GLFW_KEY_2: return "2";
-  case GLFW_KEY_3: return "3";
-  case GLFW_KEY_SPACE: return "space";
-  case GLFW_KEY_ESCAPE: return "esc";
-  case GLFW_KEY_F1: return "F1";
-  case GLFW_KEY_F2: return "F2";
-  case GLFW_KEY_F3: return "F3";
-  case GLFW_KEY_F4: return "F4";
-  case GLFW_KEY_F5: return "F5";
-  case GLFW_KEY_F10: return "F10";
-  default: return NULL;
+  case GLFW_KEY_1:
+    return "1";
+  case GLFW_KEY_2:
+    return "2";
+  case GLFW_KEY_3:
+    return "3";
+  case GLFW_KEY_SPACE:
+    return "space";
+  case GLFW_KEY_ESCAPE:
+    return "esc";
+  case GLFW_KEY_F1:
+    return "F1";
+  case GLFW_KEY_F2:
+    return "F2";
+  case GLFW_KEY_F3:
+    return "F3";
+  case GLFW_KEY_F4:
+    return "F4";
+  case GLFW_KEY_F5:
+    return "F5";
+  case GLFW_KEY_F10:
+    return "F10";
+  default:
+    return NULL;
   }
 }
 
@@ -203,8 +213,7 @@ static void move(state *st, double dt) {
   bbc_forest_camera_forward(&st->cam, f);
   double yaw = st->cam.yaw * 3.14159265358979323846 / 180;
   double right[3] = {cos(yaw), 0, sin(yaw)};
-  for (int k = 0; k < 3; k++)
-    st->cam.pos[k] += (f[k] * st->speed + right[k] * st->strafe) * dt;
+  for (int k = 0; k < 3; k++) st->cam.pos[k] += (f[k] * st->speed + right[k] * st->strafe) * dt;
   st->cam.pos[1] += st->lift * dt;
   double ground = bbc_forest_world_height(&st->s->world, st->cam.pos[0], st->cam.pos[2]);
   double floor_y = ground + (st->s->world.spacing > 2 ? 0.5 * st->s->world.spacing : 1.0);
@@ -221,8 +230,8 @@ typedef struct frame_result {
   size_t per_level[8];
 } frame_result;
 
-static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fps, frame_result *res,
-                       double t) {
+static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fps,
+                       frame_result *res, double t) {
   int w, h;
   bbcgl_context_size(ctx, &w, &h);
   if (w < 1 || h < 1) return;
@@ -252,7 +261,8 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
   for (size_t m = 0; m < st->s->model_count; m++)
     for (size_t l = 0; l < st->s->models[m].lod_count; l++) {
       size_t b = st->s->cull.bucket_base[m] + l;
-      res->per_level[l < 7 ? l : 7] += st->s->cull.bucket_start[b + 1] - st->s->cull.bucket_start[b];
+      res->per_level[l < 7 ? l : 7] +=
+          st->s->cull.bucket_start[b + 1] - st->s->cull.bucket_start[b];
     }
   const char *lines[24];
   char buf[8][160];
@@ -285,6 +295,23 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
   if (st->message[0] && t < st->message_until) lines[n++] = st->message;
   if (n) bbcgl_forest_text(r, w, h, lines, n, h >= 600 ? 2 : 1);
   res->frame_ms = (now_s() - t0) * 1000;
+  if (st->o->coverage) { /* the same frame again: objects only, white on black */
+    fr.fill_colour = 1;
+    bbcgl_stats dummy;
+    bbcgl_forest_draw(r, &fr, &st->s->terrain, &st->s->cull, &dummy);
+    bbc_image im;
+    char err[BBCGL_ERR];
+    size_t covered = 0;
+    if (bbcgl_context_read(ctx, &im, err)) {
+      for (size_t i = 0; i < (size_t)im.width * im.height; i++) covered += im.rgba[4 * i] > 127;
+      if (getenv("FOREST_DEBUG_FILL")) bbc_image_write_png(getenv("FOREST_DEBUG_FILL"), &im, NULL);
+      bbc_image_free(&im);
+    }
+    printf("coverage=%zu pos=%.3f,%.3f,%.3f\n", covered, st->cam.pos[0], st->cam.pos[1],
+           st->cam.pos[2]);
+    fr.fill_colour = 0;
+    bbcgl_forest_draw(r, &fr, &st->s->terrain, &st->s->cull, &dummy); /* what is shown */
+  }
 }
 
 static int cmp_double(const void *a, const void *b) {
@@ -366,7 +393,8 @@ int run(scene *s, const run_options *o, FILE *log) {
   st.cam.zoom = 1;
   st.cam.pos[0] = s->extent * 0.02;
   st.cam.pos[2] = s->extent * 0.02;
-  st.cam.pos[1] = bbc_forest_world_height(&s->world, st.cam.pos[0], st.cam.pos[2]) + s->extent * 0.04;
+  st.cam.pos[1] =
+      bbc_forest_world_height(&s->world, st.cam.pos[0], st.cam.pos[2]) + s->extent * 0.04;
   st.cam.yaw = 135;
   st.cam.pitch = -8;
   if (o->has_camera) {
@@ -394,7 +422,8 @@ int run(scene *s, const run_options *o, FILE *log) {
     if (!o->keys) glfwSetInputMode(win, GLFW_CURSOR, GLFW_CURSOR_DISABLED);
   }
   size_t frames = o->frames > 0 ? (size_t)o->frames : (path_count > 1 ? path_count * 30 : 1);
-  double *frame_ms = calloc(frames + 1, sizeof *frame_ms), *cull_ms = calloc(frames + 1, sizeof *cull_ms);
+  double *frame_ms = calloc(frames + 1, sizeof *frame_ms),
+         *cull_ms = calloc(frames + 1, sizeof *cull_ms);
   size_t *trees = calloc(frames + 1, sizeof *trees), *bills = calloc(frames + 1, sizeof *bills),
          *calls = calloc(frames + 1, sizeof *calls);
   if (!frame_ms || !cull_ms || !trees || !bills || !calls) {
@@ -427,9 +456,10 @@ int run(scene *s, const run_options *o, FILE *log) {
           fps = res.frame_ms > 0 ? 1000 / res.frame_ms : 0;
         }
       } else if (!handle_key(&st, tok, t)) {
-        fprintf(stderr, "forest: --keys: unknown key or step '%s' (keys: s x a d y c space q e w "
-                        "F1 F2 F3 F4 F5 F10 1 2 3 h esc; frames to run as Nf, e.g. 30f; "
-                        "shot:FILE.png)\n",
+        fprintf(stderr,
+                "forest: --keys: unknown key or step '%s' (keys: s x a d y c space q e w "
+                "F1 F2 F3 F4 F5 F10 1 2 3 h esc; frames to run as Nf, e.g. 30f; "
+                "shot:FILE.png)\n",
                 tok);
         status = 2;
         break;
@@ -484,8 +514,7 @@ int run(scene *s, const run_options *o, FILE *log) {
       bills[i] = res.stats.billboards;
       calls[i] = res.stats.draw_calls;
       fps = res.frame_ms > 0 ? 1000 / res.frame_ms : 0;
-      if (o->progress && frames > 1)
-        fprintf(stderr, "\rforest: frame %zu of %zu", i + 1, frames);
+      if (o->progress && frames > 1) fprintf(stderr, "\rforest: frame %zu of %zu", i + 1, frames);
     }
     if (o->progress && frames > 1) fprintf(stderr, "\n");
     if (o->bench) {

@@ -5,9 +5,9 @@
 #include "scene.h"
 
 typedef struct run_options {
-  int headless;          /* EGL without a display */
-  int width, height;     /* framebuffer or window size */
-  int has_camera;        /* --camera given */
+  int headless;      /* EGL without a display */
+  int width, height; /* framebuffer or window size */
+  int has_camera;    /* --camera given */
   bbc_forest_camera camera;
   const char *path;       /* --path: camera positions, interpolated over the frames */
   int frames;             /* --frames (0 = 1, or 30 per path position) */
@@ -17,6 +17,7 @@ typedef struct run_options {
   int stats;              /* --stats: the F10 overlay from the start */
   int progress;           /* messages while loading and drawing (a terminal) */
   int print_camera;       /* --print-camera: the final camera on stdout */
+  int coverage;           /* --coverage: per frame, the pixels the objects cover */
 } run_options;
 
 /* Draws `s` as `o` says; the exit status. */

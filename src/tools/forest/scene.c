@@ -64,7 +64,8 @@ static size_t count_billboards(const bbc_mesh *m) {
     size_t i = 0;
     for (; i < n; i++) {
       double dot = c[0] * pl[i][0] + c[1] * pl[i][1] + c[2] * pl[i][2];
-      if (fabs(fabs(dot) - 1) < 1e-4 && fabs(d - (dot > 0 ? 1 : -1) * pl[i][3]) < 1e-4 * (1 + m->radius))
+      if (fabs(fabs(dot) - 1) < 1e-4 &&
+          fabs(d - (dot > 0 ? 1 : -1) * pl[i][3]) < 1e-4 * (1 + m->radius))
         break;
     }
     if (i < n) continue;
@@ -96,8 +97,8 @@ static long find_mesh(scene *s, const char *path, int lod_node, FILE *log, int p
     return -1;
   }
   if (m->mesh.kind != BBC_MESH_TRIANGLES) {
-    fprintf(stderr, "%s:%d: %s is a point cloud; forest draws polygon models and clouds\n",
-            where, line, path);
+    fprintf(stderr, "%s:%d: %s is a point cloud; forest draws polygon models and clouds\n", where,
+            line, path);
     bbc_mesh_free(&m->mesh);
     return -1;
   }
@@ -274,7 +275,7 @@ int scene_load(scene *s, const char *map_path, FILE *log, int progress) {
     }
   }
   /* shadows per placement: the first component's model decides */
-  double (*shadow)[2] = calloc(s->map.placement_count + 1, sizeof *shadow);
+  double(*shadow)[2] = calloc(s->map.placement_count + 1, sizeof *shadow);
   if (!shadow) return 0;
   for (size_t p = 0; p < s->map.placement_count; p++) {
     const scene_model *m = &s->models[s->placement_models[p][0]];

@@ -1,0 +1,349 @@
+/* test_forest_draw.c — `forest` drawing, headless (EGL: Mesa's llvmpipe
+ * without a display) and in a window under xvfb-run: a small map built
+ * here from the demo landscape and the built-in tree; screenshots that show
+ * sky, ground and trees; the LOD transition without a jump; scripted keys
+ * that move the camera, the F10 statistics, F3/F2 positions; the
+ * benchmark line; bad options. */
+#include <math.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+#include "bbc.h"
+#include "test_util.h"
+
+static char dir[512];
+static int have_gl = 1;
+
+/* Runs a shell command; its stdout+stderr into *out (malloc'd). */
+static int sh(char **out, const char *fmt, ...) {
+  char cmd[4096], path[600];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(cmd, sizeof cmd, fmt, ap);
+  va_end(ap);
+  snprintf(path, sizeof path, "%s/out.txt", dir);
+  char full[4800];
+  snprintf(full, sizeof full, "(%s) > '%s' 2>&1", cmd, path);
+  int rc = system(full);
+  size_t n;
+  unsigned char *text = tu_read_file(path, &n);
+  if (out) {
+    *out = text ? (char *)text : strdup("");
+  } else {
+    free(text);
+  }
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : 255;
+}
+
+static void put(const char *name, const char *text) {
+  free(tu_write_file(dir, name, text, strlen(text)));
+}
+
+static int group_setup(void **state) {
+  (void)state;
+  char *d = tu_make_temp_dir();
+  snprintf(dir, sizeof dir, "%s", d);
+  free(d);
+  char *out = NULL;
+  /* the landscape, a tree and its clouds */
+  if (sh(&out, "'%s/forest' --demo-terrain '%s' --terrain-size 64 --seed 3", BBC_BIN_DIR, dir)) {
+    fprintf(stderr, "demo terrain: %s\n", out);
+    free(out);
+    return -1;
+  }
+  free(out);
+  if (sh(&out,
+         "'%s/bbcgen' tree --species oak --seed 2 --leaves 3000 -o '%s/t.obj' && "
+         "'%s/bbcgen' '%s/t.obj' -o '%s/t22.glb' --maxplanes 22 --texres 128 -q && "
+         "'%s/bbcgen' '%s/t.obj' -o '%s/t8.glb' --maxplanes 8 --minplanes 0 --texres 64 -q",
+         BBC_BIN_DIR, dir, BBC_BIN_DIR, dir, dir, BBC_BIN_DIR, dir, dir)) {
+    fprintf(stderr, "trees: %s\n", out);
+    free(out);
+    return -1;
+  }
+  free(out);
+  put("tree.txt", "fade 3\nshadowrad 6\nshadowcutoff 2\n"
+                  "LOD ( file1 t.obj lighting mipmap min 0 max 30 )\n"
+                  "LOD\n(\n  file1 t22.glb mipmap\n  min 30\n  max 60\n)\n"
+                  "LOD ( file1 t8.glb mipmap min 60 max 400 )\n");
+  put("hills.txt", "hmap heightmap.png\nhmapfilter 1 1\ncolmap colmap.png\nheightscale 0.3\n"
+                   "stretch 3\nfarclip 300\nwaterheight 11.6\nfog 150 400\n"
+                   "rndtree tree.txt 1 300 1 1 0 0 0 0\n");
+  /* flat ground, one tree in the middle: for the LOD transition */
+  bbc_image flat;
+  bbc_error err;
+  if (bbc_image_alloc(&flat, 65, 65) != BBC_OK) return -1;
+  for (int i = 0; i < 65 * 65; i++) {
+    uint8_t px[4] = {0, 0, 0, 255}; /* height 0 */
+    memcpy(flat.rgba + 4 * i, px, 4);
+  }
+  char p[700];
+  snprintf(p, sizeof p, "%s/flat.png", dir);
+  int ok = bbc_image_write_png(p, &flat, &err) == BBC_OK;
+  bbc_image_free(&flat);
+  if (!ok) return -1;
+  put("one.txt", "hmap flat.png\nstretch 4\nobject2d tree.txt 1 1 128 128 0 0 0 0\n");
+  put("one_hard.txt", "hmap flat.png\nstretch 4\nobject2d tree_hard.txt 1 1 128 128 0 0 0 0\n");
+  put("tree_hard.txt", "LOD ( file1 t.obj lighting mipmap min 0 max 30 )\n"
+                       "LOD ( file1 t22.glb mipmap min 30 max 60 )\n"
+                       "LOD ( file1 t8.glb mipmap min 60 max 400 )\n");
+  /* Is there OpenGL 4.5 without a display here? */
+  if (sh(&out, "'%s/forest' '%s/hills.txt' --size 16x16 --log '%s/log.txt'", BBC_BIN_DIR, dir,
+         dir) != 0) {
+    fprintf(stderr, "no headless OpenGL 4.5 (EGL): %s\n", out);
+    have_gl = 0;
+  }
+  free(out);
+  return 0;
+}
+
+static int group_teardown(void **state) {
+  (void)state;
+  char p[700];
+  snprintf(p, sizeof p, "%s/save/hills.txt", dir);
+  remove(p);
+  snprintf(p, sizeof p, "%s/save", dir);
+  rmdir(p);
+  tu_remove_dir(dir);
+  return 0;
+}
+
+static bbc_image load_png(const char *name) {
+  char p[700];
+  snprintf(p, sizeof p, "%s/%s", dir, name);
+  bbc_image im = {0};
+  bbc_error err;
+  if (bbc_image_load(p, &im, &err) != BBC_OK) fail_msg("%s: %s", p, err.message);
+  return im;
+}
+
+static double pixel_difference(const bbc_image *a, const bbc_image *b) {
+  assert_int_equal(a->width, b->width);
+  size_t diff = 0, n = (size_t)a->width * a->height;
+  for (size_t i = 0; i < n; i++)
+    diff += abs(a->rgba[4 * i] - b->rgba[4 * i]) + abs(a->rgba[4 * i + 1] - b->rgba[4 * i + 1]) +
+                abs(a->rgba[4 * i + 2] - b->rgba[4 * i + 2]) >
+            30;
+  return (double)diff / n;
+}
+
+/* A view over the hills: sky above (blue over red), ground below, trees. */
+static void test_screenshot(void **state) {
+  (void)state;
+  if (!have_gl) skip();
+  char *out;
+  const char *cam = "--camera 20,60,20,135,-12";
+  int rc = sh(&out,
+              "'%s/forest' '%s/hills.txt' --size 160x120 %s --screenshot '%s/a.png' "
+              "--log '%s/log.txt' && '%s/forest' '%s/hills.txt' --size 160x120 %s --keys F5 "
+              "--screenshot '%s/b.png' --log '%s/log.txt'",
+              BBC_BIN_DIR, dir, cam, dir, dir, BBC_BIN_DIR, dir, cam, dir, dir);
+  if (rc) fail_msg("%s", out);
+  free(out);
+  bbc_image a = load_png("a.png"), b = load_png("b.png");
+  assert_int_equal(a.width, 160);
+  assert_int_equal(a.height, 120);
+  const uint8_t *sky = a.rgba + 4 * (2 * 160 + 80), *ground = a.rgba + 4 * (118 * 160 + 80);
+  assert_true(sky[2] > sky[0] + 20);        /* blue sky at the top */
+  assert_true(ground[1] > ground[2]);       /* green-ish ground at the bottom */
+  /* trees (F5 switches them off): a good part of the picture changes */
+  double d = pixel_difference(&a, &b);
+  assert_true(d > 0.05);
+  bbc_image_free(&a);
+  bbc_image_free(&b);
+  /* the log says what was loaded and the renderer */
+  char p[700];
+  snprintf(p, sizeof p, "%s/log.txt", dir);
+  size_t n;
+  char *log = (char *)tu_read_file(p, &n);
+  assert_non_null(log);
+  assert_non_null(strstr(log, "OpenGL"));
+  assert_non_null(strstr(log, "object tree.txt: 3 levels"));
+  free(log);
+}
+
+/* Walking towards one tree across both switches (30 and 60 units): the
+ * pixels it covers change smoothly, no step between frames larger than the
+ * largest step away from the switches. */
+static void lod_walk(const char *map, double *max_near, double *max_away) {
+  char path[700];
+  snprintf(path, sizeof path, "%s/walk.txt", dir);
+  FILE *f = fopen(path, "w");
+  assert_non_null(f);
+  /* eye height 6 looking at the tree's middle, from 90 to 12 units away */
+  fprintf(f, "128 6 218 0 0\n128 6 140 0 0\n");
+  fclose(f);
+  char *out;
+  int frames = 157; /* 0.5 units a frame */
+  int rc = sh(&out, "'%s/forest' '%s/%s' --size 256x256 --path '%s' --frames %d --coverage "
+                    "--log '%s/log.txt'",
+              BBC_BIN_DIR, dir, map, path, frames, dir);
+  if (rc) fail_msg("%s", out);
+  double cov[400], dist[400];
+  int n = 0;
+  for (char *line = strtok(out, "\n"); line && n < 400; line = strtok(NULL, "\n")) {
+    double x, y, z;
+    size_t c;
+    if (sscanf(line, "coverage=%zu pos=%lf,%lf,%lf", &c, &x, &y, &z) == 4) {
+      cov[n] = (double)c;
+      dist[n++] = sqrt((x - 128) * (x - 128) + (z - 128) * (z - 128));
+    }
+  }
+  free(out);
+  assert_int_equal(n, frames);
+  *max_near = *max_away = 0;
+  for (int i = 1; i < n; i++) {
+    double step = fabs(cov[i] - cov[i - 1]) / (cov[i] > cov[i - 1] ? cov[i] : cov[i - 1]);
+    double d = 0.5 * (dist[i] + dist[i - 1]);
+    int near = fabs(d - 30) < 4 || fabs(d - 60) < 4;
+    if (near && step > *max_near) *max_near = step;
+    if (!near && step > *max_away) *max_away = step;
+    assert_true(cov[i] > 0);
+  }
+}
+
+static void test_lod_transition(void **state) {
+  (void)state;
+  if (!have_gl) skip();
+  double near, away;
+  lod_walk("one.txt", &near, &away);
+  fprintf(stderr, "LOD blending (fade 3): largest relative step near the switches %.4f, away %.4f\n",
+          near, away);
+  assert_true(near <= away);
+  /* The measurement can fail: without blending (no `fade`) the switch
+   * shows as a larger step. */
+  double near0, away0;
+  lod_walk("one_hard.txt", &near0, &away0);
+  fprintf(stderr, "LOD switch (no fade): largest relative step near the switches %.4f, away %.4f\n",
+          near0, away0);
+  assert_true(near0 > near);
+}
+
+/* Keys as Appendix B has them, scripted: moving, statistics, positions. */
+static void test_keys(void **state) {
+  (void)state;
+  if (!have_gl) skip();
+  char *out;
+  int rc = sh(&out,
+              "'%s/forest' '%s/hills.txt' --size 200x150 --camera 30,50,30,135,-10 "
+              "--log '%s/log.txt' --print-camera --keys 'shot:%s/k0.png F10 shot:%s/k1.png s s s "
+              "s s d 60f space F3 s s 10f space F2 shot:%s/k2.png'",
+              BBC_BIN_DIR, dir, dir, dir, dir, dir);
+  if (rc) fail_msg("%s", out);
+  /* F2 loads the position F3 stored */
+  char p[700];
+  snprintf(p, sizeof p, "%s/save/hills.txt", dir);
+  size_t n;
+  char *saved = (char *)tu_read_file(p, &n);
+  assert_non_null(saved);
+  double sx, sy, sz, syaw, spitch, cx, cy, cz, cyaw, cpitch;
+  assert_int_equal(sscanf(saved, "%lf %lf %lf %lf %lf", &sx, &sy, &sz, &syaw, &spitch), 5);
+  const char *c = strstr(out, "camera=");
+  assert_non_null(c);
+  assert_int_equal(sscanf(c, "camera=%lf,%lf,%lf,%lf,%lf", &cx, &cy, &cz, &cyaw, &cpitch), 5);
+  assert_true(fabs(cx - sx) < 0.01 && fabs(cz - sz) < 0.01 && fabs(cy - sy) < 0.01);
+  /* 5 x s + d for 2 seconds moved the camera away from where it began */
+  assert_true(fabs(sx - 30) + fabs(sz - 30) > 5);
+  free(saved);
+  free(out);
+  bbc_image k0 = load_png("k0.png"), k1 = load_png("k1.png"), k2 = load_png("k2.png");
+  /* F10: the statistics panel (dark, top left) appears */
+  double lum0 = 0, lum1 = 0;
+  for (int y = 2; y < 30; y++)
+    for (int x = 2; x < 60; x++) {
+      lum0 += k0.rgba[4 * (y * 200 + x)] + k0.rgba[4 * (y * 200 + x) + 1];
+      lum1 += k1.rgba[4 * (y * 200 + x)] + k1.rgba[4 * (y * 200 + x) + 1];
+    }
+  assert_true(lum1 < 0.8 * lum0);
+  /* the view after moving differs */
+  assert_true(pixel_difference(&k0, &k2) > 0.05);
+  bbc_image_free(&k0);
+  bbc_image_free(&k1);
+  bbc_image_free(&k2);
+  /* unknown keys are refused by name */
+  rc = sh(&out, "'%s/forest' '%s/hills.txt' --size 16x16 --log '%s/log.txt' --keys 'F9'",
+          BBC_BIN_DIR, dir, dir);
+  assert_int_equal(rc, 2);
+  assert_non_null(strstr(out, "'F9'"));
+  free(out);
+}
+
+/* --bench: its last line has every figure the issue names. */
+static void test_bench_line(void **state) {
+  (void)state;
+  if (!have_gl) skip();
+  char *out;
+  int rc = sh(&out, "'%s/forest' '%s/hills.txt' --size 96x64 --frames 4 --bench --log '%s/log.txt'",
+              BBC_BIN_DIR, dir, dir);
+  if (rc) fail_msg("%s", out);
+  const char *last = strstr(out, "frame_ms_median=");
+  assert_non_null(last);
+  double fm, fp, cm;
+  size_t trees, bills, calls;
+  assert_int_equal(sscanf(last,
+                          "frame_ms_median=%lf frame_ms_p95=%lf cull_ms_median=%lf "
+                          "trees_drawn=%zu billboards_drawn=%zu draw_calls=%zu",
+                          &fm, &fp, &cm, &trees, &bills, &calls),
+                   6);
+  assert_true(fm > 0 && fp >= fm && cm >= 0);
+  assert_true(trees > 0 && calls > 0 && calls < 40); /* instanced: a handful of draws */
+  free(out);
+}
+
+/* The same in a window (GLFW) under a virtual X server. */
+static void test_window(void **state) {
+  (void)state;
+  if (!have_gl) skip();
+  char *out;
+  if (sh(&out, "command -v xvfb-run") != 0) {
+    free(out);
+    fprintf(stderr, "xvfb-run is not installed: window test skipped\n");
+    skip();
+  }
+  free(out);
+  int rc = sh(&out,
+              "xvfb-run -a -s '-screen 0 640x480x24' '%s/forest' '%s/hills.txt' --window "
+              "--size 200x150 --camera 30,50,30,135,-10 --log '%s/log.txt' "
+              "--keys 'shot:%s/w0.png s s s 20f F10 shot:%s/w1.png'",
+              BBC_BIN_DIR, dir, dir, dir, dir);
+  if (rc) fail_msg("%s", out);
+  free(out);
+  bbc_image a = load_png("w0.png"), b = load_png("w1.png");
+  assert_int_equal(a.width, 200);
+  assert_true(pixel_difference(&a, &b) > 0.05);
+  bbc_image_free(&a);
+  bbc_image_free(&b);
+}
+
+static void test_bad_usage(void **state) {
+  (void)state;
+  char *out;
+  assert_int_equal(sh(&out, "'%s/forest' '%s/hills.txt' --size 0x10", BBC_BIN_DIR, dir), 2);
+  assert_non_null(strstr(out, "--size"));
+  free(out);
+  assert_int_equal(sh(&out, "'%s/forest' '%s/hills.txt' --camera 1,2,3", BBC_BIN_DIR, dir), 2);
+  assert_non_null(strstr(out, "X,Y,Z,YAW,PITCH"));
+  free(out);
+  assert_int_equal(sh(&out, "'%s/forest' '%s/nothere.txt' --size 8x8 --log '%s/log.txt'",
+                      BBC_BIN_DIR, dir, dir),
+                   1);
+  assert_non_null(strstr(out, "nothere.txt"));
+  free(out);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_bad_usage), cmocka_unit_test(test_screenshot),
+      cmocka_unit_test(test_lod_transition), cmocka_unit_test(test_keys),
+      cmocka_unit_test(test_bench_line), cmocka_unit_test(test_window),
+  };
+  return cmocka_run_group_tests(tests, group_setup, group_teardown);
+}

@@ -1,0 +1,388 @@
+/* test_forest_engine.c — the forest engine's GL-free parts: frustum tests,
+ * the LOD blending weights (thesis 3.2.3), culling over the grid, the
+ * terrain quadtree (CDLOD: neighbours at most one level apart, no holes),
+ * the prelit colour map with shadows, coverage-keeping alpha mipmaps, the
+ * camera and stored positions, the demo landscape. */
+#include <math.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "bbc.h"
+#include "test_util.h"
+
+/* A flat or hilly world of (n+1)^2 vertices, without files. */
+static void make_world(bbc_forest_world *w, int n, double spacing, int hilly) {
+  memset(w, 0, sizeof *w);
+  w->width = w->depth = n + 1;
+  w->spacing = spacing;
+  w->heightmap_bits = 8;
+  w->height = calloc((size_t)(n + 1) * (n + 1), sizeof *w->height);
+  assert_non_null(w->height);
+  for (int z = 0; z <= n; z++)
+    for (int x = 0; x <= n; x++)
+      w->height[(size_t)z * (n + 1) + x] =
+          hilly ? (float)(20 * sin(x * 0.1) * cos(z * 0.07) + 20) : 0.0f;
+  w->green_fraction = 1;
+}
+
+static void look(bbc_forest_camera *c, double x, double y, double z, double yaw, double pitch) {
+  c->pos[0] = x;
+  c->pos[1] = y;
+  c->pos[2] = z;
+  c->yaw = yaw;
+  c->pitch = pitch;
+  c->zoom = 1;
+}
+
+static void test_frustum(void **state) {
+  (void)state;
+  bbc_forest_camera c;
+  look(&c, 0, 0, 0, 0, 0); /* looks along -z */
+  float vp[16];
+  bbc_forest_camera_matrix(&c, 1.0, 0.1, 100, vp);
+  double p[6][4];
+  bbc_forest_frustum(vp, p);
+  double lo[3] = {-1, -1, -11}, hi[3] = {1, 1, -9};
+  assert_int_equal(bbc_forest_box_in_frustum(p, lo, hi), 2); /* ahead */
+  double lo2[3] = {-1, -1, 9}, hi2[3] = {1, 1, 11};
+  assert_int_equal(bbc_forest_box_in_frustum(p, lo2, hi2), 0); /* behind */
+  double lo3[3] = {-1, -1, -200}, hi3[3] = {1, 1, -50};
+  assert_int_equal(bbc_forest_box_in_frustum(p, lo3, hi3), 1); /* crosses the far plane */
+  double lo4[3] = {30, -1, -11}, hi4[3] = {40, 1, -9};
+  assert_int_equal(bbc_forest_box_in_frustum(p, lo4, hi4), 0); /* far to the right */
+  /* yaw 90 looks along +x */
+  look(&c, 0, 0, 0, 90, 0);
+  bbc_forest_camera_matrix(&c, 1.0, 0.1, 100, vp);
+  bbc_forest_frustum(vp, p);
+  double lo5[3] = {9, -1, -1}, hi5[3] = {11, 1, 1};
+  assert_int_equal(bbc_forest_box_in_frustum(p, lo5, hi5), 2);
+}
+
+static void test_lod_weights(void **state) {
+  (void)state;
+  double ranges[6] = {0, 100, 100, 300, 300, 1000};
+  bbc_forest_lod_model m = {3, ranges, 10, 5};
+  /* far from a switch: one level, whole */
+  assert_true(bbc_forest_lod_weight(&m, 0, 50) == 1 && bbc_forest_lod_weight(&m, 1, 50) == 0);
+  /* the next level blends in before the switch while the first is whole */
+  assert_true(bbc_forest_lod_weight(&m, 0, 95) == 1);
+  assert_true(fabs(bbc_forest_lod_weight(&m, 1, 95) - 0.5) < 1e-9);
+  /* at the switch both are whole; after it the first fades out */
+  assert_true(bbc_forest_lod_weight(&m, 0, 100) == 1 && bbc_forest_lod_weight(&m, 1, 100) == 1);
+  assert_true(fabs(bbc_forest_lod_weight(&m, 0, 105) - 0.5) < 1e-9);
+  assert_true(bbc_forest_lod_weight(&m, 0, 110) == 0 && bbc_forest_lod_weight(&m, 1, 110) == 1);
+  /* the last level fades out past its max; nothing beyond */
+  assert_true(fabs(bbc_forest_lod_weight(&m, 2, 1005) - 0.5) < 1e-9);
+  assert_true(bbc_forest_lod_weight(&m, 2, 1011) == 0);
+  /* fade 0: a hard switch */
+  m.fade = 0;
+  assert_true(bbc_forest_lod_weight(&m, 0, 99.9) == 1 && bbc_forest_lod_weight(&m, 1, 99.9) == 0);
+  assert_true(bbc_forest_lod_weight(&m, 0, 100) == 0 && bbc_forest_lod_weight(&m, 1, 100) == 1);
+  /* always: weights are continuous in distance with fade > 0 */
+  m.fade = 10;
+  for (size_t l = 0; l < 3; l++)
+    for (double d = 0; d < 1100; d += 0.5)
+      assert_true(fabs(bbc_forest_lod_weight(&m, l, d + 0.5) - bbc_forest_lod_weight(&m, l, d)) <=
+                  0.05 + 1e-9);
+}
+
+static void test_cull(void **state) {
+  (void)state;
+  bbc_forest_world w;
+  make_world(&w, 64, 4, 0); /* 256 x 256 units */
+  /* a 16 x 16 grid of trees, two placements: one model; two components */
+  w.instance_count = 256;
+  w.instances = calloc(w.instance_count, sizeof *w.instances);
+  assert_non_null(w.instances);
+  for (int i = 0; i < 256; i++) {
+    w.instances[i].x = (float)(8 + 16 * (i % 16));
+    w.instances[i].z = (float)(8 + 16 * (i / 16));
+    w.instances[i].scale = 1;
+    w.instances[i].yaw_deg = (float)(i * 37 % 360);
+    w.instances[i].placement = (uint32_t)(i % 2);
+  }
+  double r0[4] = {0, 50, 50, 1000}, r1[2] = {0, 1000};
+  bbc_forest_lod_model models[2] = {{2, r0, 5, 3}, {1, r1, 0, 2}};
+  uint32_t pm[2][2] = {{0, UINT32_MAX}, {0, 1}};
+  bbc_forest_cull c;
+  bbc_error err;
+  assert_int_equal(bbc_forest_cull_init(&c, &w, models, 2, (const uint32_t(*)[2])pm, 2, &err),
+                   BBC_OK);
+  assert_int_equal(c.bucket_count, 3);
+  bbc_forest_camera cam;
+  look(&cam, 128, 10, 300, 0, 0); /* south of the map, looking north over it */
+  float vp[16];
+  bbc_forest_camera_matrix(&cam, 1.0, 0.5, 2000, vp);
+  bbc_forest_cull_run(&c, vp, cam.pos, 1);
+  /* every tree ahead within the 60 degree view; count by brute force */
+  double planes[6][4];
+  bbc_forest_frustum(vp, planes);
+  size_t expect_visible = 0, expect_b1 = 0;
+  for (size_t i = 0; i < w.instance_count; i++) {
+    const bbc_forest_instance *in = &w.instances[i];
+    int out = 0;
+    for (int k = 0; k < 6; k++)
+      out |= planes[k][0] * in->x + planes[k][1] * in->y + planes[k][2] * in->z + planes[k][3] <
+             -3;
+    if (out) continue;
+    expect_visible++;
+    double d = sqrt(pow(in->x - cam.pos[0], 2) + pow(in->y - cam.pos[1], 2) +
+                    pow(in->z - cam.pos[2], 2));
+    expect_b1 += bbc_forest_lod_weight(&models[0], 1, d) > 0;
+  }
+  assert_true(expect_visible > 50 && expect_visible < 256);
+  assert_int_equal(c.trees_visible, expect_visible);
+  assert_int_equal(c.bucket_start[2] - c.bucket_start[1], expect_b1);
+  /* placement 1's second component: model 1's only level, half the trees */
+  size_t n2 = c.bucket_start[3] - c.bucket_start[2];
+  assert_true(n2 > 0 && n2 <= expect_visible);
+  /* records carry the instance and a weight in (0, 1] */
+  for (size_t i = 0; i < c.bucket_start[3]; i++)
+    assert_true(c.draws[i].fade > 0 && c.draws[i].fade <= 1 && c.draws[i].scale == 1);
+  /* the same frame again: the same output (no state carried over) */
+  bbc_forest_draw *copy = malloc(c.bucket_start[3] * sizeof *copy);
+  assert_non_null(copy);
+  size_t n = c.bucket_start[3];
+  memcpy(copy, c.draws, n * sizeof *copy);
+  bbc_forest_cull_run(&c, vp, cam.pos, 1);
+  assert_int_equal(c.bucket_start[3], n);
+  assert_memory_equal(copy, c.draws, n * sizeof *copy);
+  free(copy);
+  /* looking away: nothing */
+  look(&cam, 128, 10, 300, 180, 0);
+  bbc_forest_camera_matrix(&cam, 1.0, 0.5, 2000, vp);
+  bbc_forest_cull_run(&c, vp, cam.pos, 1);
+  assert_int_equal(c.bucket_start[3], 0);
+  /* zooming in (distances / zoom) moves trees to finer levels */
+  look(&cam, 128, 10, 300, 0, 0);
+  bbc_forest_camera_matrix(&cam, 1.0, 0.5, 2000, vp);
+  bbc_forest_cull_run(&c, vp, cam.pos, 1);
+  size_t fine1 = c.bucket_start[1];
+  bbc_forest_cull_run(&c, vp, cam.pos, 8);
+  assert_true(c.bucket_start[1] > fine1);
+  bbc_forest_cull_free(&c);
+  bbc_forest_world_free(&w);
+}
+
+/* Every terrain square is covered by exactly one selected node, and where
+ * two nodes touch their levels differ by at most one. */
+static void check_terrain_cover(const bbc_forest_terrain *t, int squares, int check_levels) {
+  int *level = malloc((size_t)squares * squares * sizeof *level);
+  assert_non_null(level);
+  for (int i = 0; i < squares * squares; i++) level[i] = -1;
+  for (size_t i = 0; i < t->node_count; i++) {
+    const bbc_forest_terrain_node *n = &t->nodes[i];
+    for (int z = n->z; z < n->z + n->size; z++)
+      for (int x = n->x; x < n->x + n->size; x++) {
+        assert_int_equal(level[z * squares + x], -1); /* no overlap */
+        level[z * squares + x] = n->level;
+      }
+  }
+  for (int z = 0; z < squares; z++)
+    for (int x = 0; x < squares; x++) {
+      int l = level[z * squares + x];
+      if (!check_levels || l < 0) continue;
+      if (x + 1 < squares && level[z * squares + x + 1] >= 0)
+        assert_true(abs(level[z * squares + x + 1] - l) <= 1);
+      if (z + 1 < squares && level[(z + 1) * squares + x] >= 0)
+        assert_true(abs(level[(z + 1) * squares + x] - l) <= 1);
+    }
+  free(level);
+}
+
+static void test_terrain_select(void **state) {
+  (void)state;
+  bbc_forest_world w;
+  make_world(&w, 512, 2, 1);
+  bbc_forest_terrain t;
+  bbc_error err;
+  assert_int_equal(bbc_forest_terrain_init(&t, &w, &err), BBC_OK);
+  assert_int_equal(t.leaf, 32);
+  assert_int_equal(t.levels, 5); /* 32, 64, 128, 256, 512 */
+  /* from above the middle, looking straight down far up: the whole map */
+  bbc_forest_camera cam;
+  look(&cam, 512, 3000, 512, 0, -89);
+  float vp[16];
+  bbc_forest_camera_matrix(&cam, 1.0, 1, 10000, vp);
+  bbc_forest_terrain_select(&t, &w, vp, cam.pos, 10);
+  check_terrain_cover(&t, 512, 1);
+  size_t covered = 0;
+  for (size_t i = 0; i < t.node_count; i++) covered += (size_t)t.nodes[i].size * t.nodes[i].size;
+  assert_int_equal(covered, 512 * 512);
+  /* low over the ground: finest near the camera, coarse far away */
+  for (int k = 0; k < 8; k++) {
+    look(&cam, 100 + 100 * k, 60, 900 - 80 * k, 30 + 40 * k, -10);
+    bbc_forest_camera_matrix(&cam, 1.5, 1, 3000, vp);
+    bbc_forest_terrain_select(&t, &w, vp, cam.pos, 10 + 5 * k);
+    assert_true(t.node_count > 0 && t.node_count < t.capacity);
+    check_terrain_cover(&t, 512, 1);
+    int lo = 99, hi = -1;
+    for (size_t i = 0; i < t.node_count; i++) {
+      lo = t.nodes[i].level < lo ? t.nodes[i].level : lo;
+      hi = t.nodes[i].level > hi ? t.nodes[i].level : hi;
+    }
+    assert_int_equal(lo, 0);
+    assert_true(hi >= 1);
+  }
+  /* more detail, more nodes */
+  look(&cam, 100, 60, 900, 45, -10);
+  bbc_forest_camera_matrix(&cam, 1.5, 1, 3000, vp);
+  bbc_forest_terrain_select(&t, &w, vp, cam.pos, 10);
+  size_t coarse = t.node_count;
+  bbc_forest_terrain_select(&t, &w, vp, cam.pos, 60);
+  assert_true(t.node_count > coarse);
+  bbc_forest_terrain_free(&t);
+  /* not (2^n + 1)^2: refused */
+  bbc_forest_world w2;
+  make_world(&w2, 100, 1, 0);
+  assert_int_equal(bbc_forest_terrain_init(&t, &w2, &err), BBC_ERROR_INVALID_ARGUMENT);
+  bbc_forest_world_free(&w2);
+  bbc_forest_world_free(&w);
+}
+
+static void test_terrain_colour(void **state) {
+  (void)state;
+  bbc_forest_world w;
+  make_world(&w, 64, 1, 0);
+  /* a slope facing the light on one half: brighter than flat ground */
+  for (int z = 0; z <= 64; z++)
+    for (int x = 32; x <= 64; x++) w.height[(size_t)z * 65 + x] = (float)(-(x - 32) * 0.8);
+  assert_int_equal(bbc_image_alloc(&w.colour, 64, 64), BBC_OK); /* one colour everywhere */
+  for (int i = 0; i < 64 * 64; i++) {
+    uint8_t px[4] = {100, 150, 80, 255};
+    memcpy(w.colour.rgba + 4 * i, px, 4);
+  }
+  w.instance_count = 1;
+  w.instances = calloc(1, sizeof *w.instances);
+  assert_non_null(w.instances);
+  w.instances[0].x = 16;
+  w.instances[0].z = 16;
+  double light[3] = {1, 1, 0}, shadow[1][2] = {{6, 2}};
+  bbc_image im;
+  bbc_error err;
+  assert_int_equal(bbc_forest_terrain_colour(&w, light, (const double(*)[2])shadow, &im, &err),
+                   BBC_OK);
+  assert_int_equal(im.width, 64);
+  const uint8_t *flat = im.rgba + 4 * (40 * 64 + 10), *lit = im.rgba + 4 * (40 * 64 + 50);
+  const uint8_t *under = im.rgba + 4 * (16 * 64 + 16), *edge = im.rgba + 4 * (16 * 64 + 20);
+  assert_int_equal(flat[1], 150);                          /* flat ground keeps its colour */
+  assert_true(lit[1] > flat[1] + 10);                      /* faces the light */
+  assert_true(under[1] < flat[1] * 0.6);                   /* the shadow's centre */
+  assert_true(edge[1] > under[1] && edge[1] < flat[1]);    /* falling off */
+  assert_int_equal(im.rgba[4 * (16 * 64 + 30) + 1], flat[1]); /* outside the radius */
+  bbc_image_free(&im);
+  bbc_forest_world_free(&w);
+}
+
+static void test_mipmaps(void **state) {
+  (void)state;
+  /* thin vertical lines one texel wide every 4 texels: 25 % opaque. A
+   * plain box filter with an alpha test at 0.5 loses all of them at the
+   * second level; the coverage-keeping chain keeps 25 % at every level. */
+  bbc_image im;
+  assert_int_equal(bbc_image_alloc(&im, 64, 32), BBC_OK);
+  for (int y = 0; y < 32; y++)
+    for (int x = 0; x < 64; x++) {
+      uint8_t *p = im.rgba + 4 * (y * 64 + x);
+      p[0] = 40;
+      p[1] = 160;
+      p[2] = 30;
+      p[3] = x % 4 == 0 ? 255 : 0;
+    }
+  bbc_image *lv;
+  int n;
+  bbc_error err;
+  assert_int_equal(bbc_image_mipmaps(&im, &lv, &n, &err), BBC_OK);
+  assert_int_equal(n, 6); /* 32x16 16x8 8x4 4x2 2x1 1x1 */
+  assert_int_equal(lv[0].width, 32);
+  assert_int_equal(lv[5].width, 1);
+  for (int l = 0; l < 4; l++) {
+    size_t opaque = 0, total = (size_t)lv[l].width * lv[l].height;
+    for (size_t i = 0; i < total; i++) {
+      uint8_t a = lv[l].rgba[4 * i + 3];
+      assert_true(a == 0 || a == 255); /* binary */
+      opaque += a == 255;
+      /* colour stays the leaves' colour, no dark fringe */
+      assert_int_equal(lv[l].rgba[4 * i + 1], 160);
+    }
+    assert_true(fabs((double)opaque / total - 0.25) < 0.02);
+  }
+  for (int l = 0; l < n; l++) bbc_image_free(&lv[l]);
+  free(lv);
+  bbc_image_free(&im);
+}
+
+static void test_positions(void **state) {
+  (void)state;
+  char *dir = tu_make_temp_dir();
+  char path[512];
+  snprintf(path, sizeof path, "%s/save.txt", dir);
+  bbc_forest_camera *cams;
+  size_t n;
+  bbc_error err;
+  assert_int_equal(bbc_forest_positions_read(path, &cams, &n, &err), BBC_OK);
+  assert_int_equal(n, 0); /* no file yet */
+  bbc_forest_camera a, b;
+  look(&a, 1.5, 2.25, -3, 45, -10);
+  look(&b, 100, 20, 300, 270.5, 12);
+  assert_int_equal(bbc_forest_positions_append(path, &a, &err), BBC_OK);
+  assert_int_equal(bbc_forest_positions_append(path, &b, &err), BBC_OK);
+  assert_int_equal(bbc_forest_positions_read(path, &cams, &n, &err), BBC_OK);
+  assert_int_equal(n, 2);
+  assert_true(fabs(cams[1].pos[2] - 300) < 1e-3 && fabs(cams[1].yaw - 270.5) < 1e-3);
+  assert_true(fabs(cams[0].pitch + 10) < 1e-3);
+  free(cams);
+  tu_write_file(dir, "bad.txt", "1 2 3 4 5\n1 2 three 4 5\n", 24);
+  snprintf(path, sizeof path, "%s/bad.txt", dir);
+  assert_int_equal(bbc_forest_positions_read(path, &cams, &n, &err), BBC_ERROR_CORRUPT);
+  assert_non_null(strstr(err.message, "bad.txt:2"));
+  tu_remove_dir(dir);
+  free(dir);
+}
+
+static void test_demo_terrain(void **state) {
+  (void)state;
+  bbc_image h[2], c[2];
+  double water;
+  bbc_error err;
+  for (int k = 0; k < 2; k++)
+    assert_int_equal(bbc_forest_demo_terrain(128, 7, &h[k], &c[k], &water, &err), BBC_OK);
+  assert_int_equal(h[0].width, 129);
+  assert_int_equal(c[0].width, 128);
+  assert_memory_equal(h[0].rgba, h[1].rgba, (size_t)129 * 129 * 4);
+  assert_memory_equal(c[0].rgba, c[1].rgba, (size_t)128 * 128 * 4);
+  /* a lake (below the water level), green ground for trees, and meadows */
+  size_t below = 0, green = 0, other = 0;
+  for (size_t i = 0; i < (size_t)129 * 129; i++) below += h[0].rgba[4 * i] < water;
+  for (size_t i = 0; i < (size_t)128 * 128; i++) {
+    const uint8_t *p = c[0].rgba + 4 * i;
+    if (p[1] > 70 && 3 * p[0] < 2 * p[1])
+      green++;
+    else
+      other++;
+  }
+  assert_true(below > 129 * 129 / 100);
+  assert_true(green > 128 * 128 / 4 && other > 128 * 128 / 5);
+  for (int k = 0; k < 2; k++) {
+    bbc_image_free(&h[k]);
+    bbc_image_free(&c[k]);
+  }
+  assert_int_equal(bbc_forest_demo_terrain(100, 7, &h[0], &c[0], &water, &err),
+                   BBC_ERROR_INVALID_ARGUMENT);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_frustum),        cmocka_unit_test(test_lod_weights),
+      cmocka_unit_test(test_cull),           cmocka_unit_test(test_terrain_select),
+      cmocka_unit_test(test_terrain_colour), cmocka_unit_test(test_mipmaps),
+      cmocka_unit_test(test_positions),      cmocka_unit_test(test_demo_terrain),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -33,6 +33,14 @@ if [ -f "$shared" ]; then
   "$bin" info "$shared"
   "$bin" render "$shared" -o "$out/scopia_pine.png" --size 384
 fi
+echo "== 9. The forest engine's demo map: a landscape with $((3 * 2000)) trees (build/demo/forest/)"
+"$(dirname "$0")/demo_forest.sh" "$build" 2000
+if "$build/bin/forest" "$out/forest/map.txt" --size 800x500 --camera 250,95,250,135,-6 \
+     --screenshot "$out/forest/view.png" --log "$out/forest/log.txt" 2> "$out/forest/draw.txt"; then
+  echo "   a view of it drawn without a display: $out/forest/view.png"
+else
+  echo "   (no headless OpenGL 4.5 here, so no picture: $(tail -1 "$out/forest/draw.txt"))"
+fi
 echo
 echo "Results in $out/:"
 ls -1 "$out"

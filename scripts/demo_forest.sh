@@ -74,5 +74,40 @@ rndtree pine.txt 1.1 $per 1 1 0 0 0 0
 rndtree birch.txt 0.9 $per 1 1 0 0 0 0
 EOT
 "$bin/forest" --check "$out/map.txt" > "$out/check.txt"
+# a camera path across the map (x y z yaw pitch), for --path and --bench
+cat > "$out/path.txt" <<EOT
+40 0 40 135 -6
+300 0 330 120 -4
+620 110 480 150 -12
+900 0 700 170 -3
+990 125 640 -95 -10
+EOT
+
+# The Irrlicht engine's example terrain from ../shared/data (its colour map
+# has no ground green enough for rndtree, so the trees stand where object2d
+# lines put them: 3,000 positions from a fixed pseudo-random sequence).
+terrain="$(dirname "$0")/../../shared/data/terrain"
+if [ -f "$terrain/irrlicht_terrain-heightmap.bmp" ]; then
+  terrain=$(cd "$terrain" && pwd)
+  {
+    echo "' The Irrlicht engine's example terrain (../shared/data/terrain) with the demo's trees."
+    echo "' Built by scripts/demo_forest.sh (make demo)."
+    echo "hmap $terrain/irrlicht_terrain-heightmap.bmp"
+    echo "hmapfilter 1 2"
+    echo "colmap $terrain/irrlicht_terrain-texture.jpg"
+    echo "heightscale 0.5"
+    echo "stretch 4"
+    echo "light 1 1 0.5"
+    echo "farclip 400"
+    echo "fog 300 1400"
+    awk 'BEGIN { s = 12345; split("oak pine birch", sp, " ");
+      for (i = 0; i < 3000; i++) {
+        s = (s * 1103515245 + 12345) % 2147483648; x = 24 + s % 976;
+        s = (s * 1103515245 + 12345) % 2147483648; z = 24 + s % 976;
+        s = (s * 1103515245 + 12345) % 2147483648; yaw = s % 360;
+        printf "object2d %s.txt 1 1 %d %d 0 %d 0 0\n", sp[i % 3 + 1], x, z, yaw } }'
+  } > "$out/irrlicht.txt"
+  "$bin/forest" --check "$out/irrlicht.txt" > "$out/check_irrlicht.txt"
+fi
 sed -n '1,12p' "$out/check.txt"
 echo "Fly through it: $bin/forest $out/map.txt   (headless: add --size 800x600 --screenshot F.png)"

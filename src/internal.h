@@ -109,6 +109,12 @@ bbc_result bbc__load_assimp(const char *path, const bbc_load_options *options, b
 /* Reads a whole file into a NUL-terminated buffer (*size bytes without
  * the NUL); free with free() (src/io/load_points.c). */
 bbc_result bbc__read_whole_file(const char *path, char **data, size_t *size, bbc_error *err);
+
+/* Run-length encoded BMP (BI_RLE8, BI_RLE4), which stb_image does not
+ * read (src/io/bmp_rle.c): whether the bytes are one, and decoding. */
+int bbc__is_bmp_rle(const uint8_t *data, size_t size);
+bbc_result bbc__bmp_rle_decode(const uint8_t *data, size_t size, const char *name, bbc_image *image,
+                               bbc_error *err);
 /* VRML 2.0 / VRML97 meshes (src/io/load_vrml.c); the caller finalizes. */
 bbc_result bbc__load_vrml(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
                           bbc_error *err);

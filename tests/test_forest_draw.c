@@ -152,8 +152,8 @@ static void test_screenshot(void **state) {
   assert_int_equal(a.width, 160);
   assert_int_equal(a.height, 120);
   const uint8_t *sky = a.rgba + 4 * (2 * 160 + 80), *ground = a.rgba + 4 * (118 * 160 + 80);
-  assert_true(sky[2] > sky[0] + 20);        /* blue sky at the top */
-  assert_true(ground[1] > ground[2]);       /* green-ish ground at the bottom */
+  assert_true(sky[2] > sky[0] + 20);  /* blue sky at the top */
+  assert_true(ground[1] > ground[2]); /* green-ish ground at the bottom */
   /* trees (F5 switches them off): a good part of the picture changes */
   double d = pixel_difference(&a, &b);
   assert_true(d > 0.05);
@@ -183,8 +183,9 @@ static void lod_walk(const char *map, double *max_near, double *max_away) {
   fclose(f);
   char *out;
   int frames = 157; /* 0.5 units a frame */
-  int rc = sh(&out, "'%s/forest' '%s/%s' --size 256x256 --path '%s' --frames %d --coverage "
-                    "--log '%s/log.txt'",
+  int rc = sh(&out,
+              "'%s/forest' '%s/%s' --size 256x256 --path '%s' --frames %d --coverage "
+              "--log '%s/log.txt'",
               BBC_BIN_DIR, dir, map, path, frames, dir);
   if (rc) fail_msg("%s", out);
   double cov[400], dist[400];
@@ -215,8 +216,9 @@ static void test_lod_transition(void **state) {
   if (!have_gl) skip();
   double near, away;
   lod_walk("one.txt", &near, &away);
-  fprintf(stderr, "LOD blending (fade 3): largest relative step near the switches %.4f, away %.4f\n",
-          near, away);
+  fprintf(stderr,
+          "LOD blending (fade 3): largest relative step near the switches %.4f, away %.4f\n", near,
+          away);
   assert_true(near <= away);
   /* The measurement can fail: without blending (no `fade`) the switch
    * shows as a larger step. */
@@ -332,18 +334,18 @@ static void test_bad_usage(void **state) {
   assert_int_equal(sh(&out, "'%s/forest' '%s/hills.txt' --camera 1,2,3", BBC_BIN_DIR, dir), 2);
   assert_non_null(strstr(out, "X,Y,Z,YAW,PITCH"));
   free(out);
-  assert_int_equal(sh(&out, "'%s/forest' '%s/nothere.txt' --size 8x8 --log '%s/log.txt'",
-                      BBC_BIN_DIR, dir, dir),
-                   1);
+  assert_int_equal(
+      sh(&out, "'%s/forest' '%s/nothere.txt' --size 8x8 --log '%s/log.txt'", BBC_BIN_DIR, dir, dir),
+      1);
   assert_non_null(strstr(out, "nothere.txt"));
   free(out);
 }
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_bad_usage), cmocka_unit_test(test_screenshot),
+      cmocka_unit_test(test_bad_usage),      cmocka_unit_test(test_screenshot),
       cmocka_unit_test(test_lod_transition), cmocka_unit_test(test_keys),
-      cmocka_unit_test(test_bench_line), cmocka_unit_test(test_window),
+      cmocka_unit_test(test_bench_line),     cmocka_unit_test(test_window),
   };
   return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }

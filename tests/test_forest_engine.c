@@ -128,12 +128,11 @@ static void test_cull(void **state) {
     const bbc_forest_instance *in = &w.instances[i];
     int out = 0;
     for (int k = 0; k < 6; k++)
-      out |= planes[k][0] * in->x + planes[k][1] * in->y + planes[k][2] * in->z + planes[k][3] <
-             -3;
+      out |= planes[k][0] * in->x + planes[k][1] * in->y + planes[k][2] * in->z + planes[k][3] < -3;
     if (out) continue;
     expect_visible++;
-    double d = sqrt(pow(in->x - cam.pos[0], 2) + pow(in->y - cam.pos[1], 2) +
-                    pow(in->z - cam.pos[2], 2));
+    double d =
+        sqrt(pow(in->x - cam.pos[0], 2) + pow(in->y - cam.pos[1], 2) + pow(in->z - cam.pos[2], 2));
     expect_b1 += bbc_forest_lod_weight(&models[0], 1, d) > 0;
   }
   assert_true(expect_visible > 50 && expect_visible < 256);
@@ -271,10 +270,10 @@ static void test_terrain_colour(void **state) {
   assert_int_equal(im.width, 64);
   const uint8_t *flat = im.rgba + 4 * (40 * 64 + 10), *lit = im.rgba + 4 * (40 * 64 + 50);
   const uint8_t *under = im.rgba + 4 * (16 * 64 + 16), *edge = im.rgba + 4 * (16 * 64 + 20);
-  assert_int_equal(flat[1], 150);                          /* flat ground keeps its colour */
-  assert_true(lit[1] > flat[1] + 10);                      /* faces the light */
-  assert_true(under[1] < flat[1] * 0.6);                   /* the shadow's centre */
-  assert_true(edge[1] > under[1] && edge[1] < flat[1]);    /* falling off */
+  assert_int_equal(flat[1], 150);                             /* flat ground keeps its colour */
+  assert_true(lit[1] > flat[1] + 10);                         /* faces the light */
+  assert_true(under[1] < flat[1] * 0.6);                      /* the shadow's centre */
+  assert_true(edge[1] > under[1] && edge[1] < flat[1]);       /* falling off */
   assert_int_equal(im.rgba[4 * (16 * 64 + 30) + 1], flat[1]); /* outside the radius */
   bbc_image_free(&im);
   bbc_forest_world_free(&w);
@@ -377,12 +376,63 @@ static void test_demo_terrain(void **state) {
                    BBC_ERROR_INVALID_ARGUMENT);
 }
 
+/* Run-length BMP (stb does not read it; old heightmaps come that way). */
+static void test_bmp_rle(void **state) {
+  (void)state;
+  uint8_t f[1200] = {0};
+  /* header: 14 + 40 bytes, 256 grey palette entries, then RLE8 data */
+  size_t data_at = 14 + 40 + 1024;
+  f[0] = 'B';
+  f[1] = 'M';
+  f[10] = (uint8_t)(data_at & 255);
+  f[11] = (uint8_t)(data_at >> 8);
+  f[14] = 40;
+  f[18] = 5; /* width 5 */
+  f[22] = 3; /* height 3, bottom-up */
+  f[26] = 1; /* planes */
+  f[28] = 8; /* bits */
+  f[30] = 1; /* BI_RLE8 */
+  for (int i = 0; i < 256; i++) f[54 + 4 * i] = f[55 + 4 * i] = f[56 + 4 * i] = (uint8_t)i;
+  /* bottom row: 5 x 10; middle: literal 1 2 3 then 2 x 7; top: delta then 4 x 9 */
+  const uint8_t rle[] = {5, 10, 0, 0, 0, 3, 1, 2, 3, 0, 2, 7, 0, 0, 0, 2, 1, 0, 4, 9, 0, 1};
+  memcpy(f + data_at, rle, sizeof rle);
+  size_t size = data_at + sizeof rle;
+  bbc_image im;
+  bbc_error err;
+  assert_int_equal(bbc_image_load_memory(f, size, &im, &err), BBC_OK);
+  assert_int_equal(im.width, 5);
+  assert_int_equal(im.height, 3);
+  const int want[3][5] = {{0, 9, 9, 9, 9}, {1, 2, 3, 7, 7}, {10, 10, 10, 10, 10}}; /* top first */
+  for (int y = 0; y < 3; y++)
+    for (int x = 0; x < 5; x++) assert_int_equal(im.rgba[4 * (y * 5 + x)], want[y][x]);
+  bbc_image_free(&im);
+  /* cut short in a literal run: refused, no read past the end */
+  assert_int_equal(bbc_image_load_memory(f, data_at + 7, &im, &err), BBC_ERROR_CORRUPT);
+  /* a palette that does not fit: refused */
+  assert_int_equal(bbc_image_load_memory(f, 300, &im, &err), BBC_ERROR_CORRUPT);
+  /* the shared Irrlicht heightmap (RLE8) reads */
+  char path[1024];
+  tu_data_path(path, sizeof path, "terrain/irrlicht_terrain-heightmap.bmp");
+  if (tu_have_file(path)) {
+    assert_int_equal(bbc_image_load(path, &im, &err), BBC_OK);
+    assert_int_equal(im.width, 256);
+    int lo = 255, hi = 0;
+    for (int i = 0; i < 256 * 256; i++) {
+      lo = im.rgba[4 * i] < lo ? im.rgba[4 * i] : lo;
+      hi = im.rgba[4 * i] > hi ? im.rgba[4 * i] : hi;
+    }
+    assert_true(hi - lo > 100); /* hills, not a blank */
+    bbc_image_free(&im);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_frustum),        cmocka_unit_test(test_lod_weights),
       cmocka_unit_test(test_cull),           cmocka_unit_test(test_terrain_select),
       cmocka_unit_test(test_terrain_colour), cmocka_unit_test(test_mipmaps),
       cmocka_unit_test(test_positions),      cmocka_unit_test(test_demo_terrain),
+      cmocka_unit_test(test_bmp_rle),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

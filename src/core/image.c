@@ -41,9 +41,20 @@ bbc_result bbc_image_load(const char *path, bbc_image *image, bbc_error *err) {
   if (r != BBC_OK) return r;
   int w, h, n;
   unsigned char *px = stbi_load(path, &w, &h, &n, 4);
-  if (!px)
-    return bbc__fail(err, BBC_ERROR_CORRUPT, "%s: cannot decode image: %s", path,
-                     stbi_failure_reason());
+  if (!px) {
+    const char *why = stbi_failure_reason();
+    char *data = NULL;
+    size_t size = 0;
+    /* run-length encoded BMP: ours */
+    if (bbc__read_whole_file(path, &data, &size, NULL) == BBC_OK &&
+        bbc__is_bmp_rle((const uint8_t *)data, size)) {
+      r = bbc__bmp_rle_decode((const uint8_t *)data, size, path, image, err);
+      free(data);
+      return r;
+    }
+    free(data);
+    return bbc__fail(err, BBC_ERROR_CORRUPT, "%s: cannot decode image: %s", path, why);
+  }
   return take_stb_pixels(px, w, h, image);
 }
 
@@ -53,6 +64,8 @@ bbc_result bbc_image_load_memory(const void *data, size_t size, bbc_image *image
     return bbc__fail(err, BBC_ERROR_CORRUPT, "embedded image is empty or too large");
   int w, h, n;
   unsigned char *px = stbi_load_from_memory(data, (int)size, &w, &h, &n, 4);
+  if (!px && bbc__is_bmp_rle(data, size))
+    return bbc__bmp_rle_decode(data, size, "embedded image", image, err);
   if (!px)
     return bbc__fail(err, BBC_ERROR_CORRUPT, "cannot decode embedded image: %s",
                      stbi_failure_reason());

@@ -48,8 +48,8 @@ static double demo_height(double u, double v, uint32_t seed) {
   h += 0.30 * smooth(0.55, 1.0, u * 0.8 + (1 - v) * 0.5) * fbm(u * 5, v * 5, 3, seed + 99);
   double du = u - 0.60, dv = v - 0.62;
   double dist = sqrt(du * du + dv * dv) * (0.8 + 0.4 * fbm(u * 6, v * 6, 2, seed + 31));
-  double bowl = smooth(0.20, 0.07, dist);
-  return h * (1 - bowl) + 0.05 * bowl;
+  double bowl = smooth(0.26, 0.05, dist);
+  return h * (1 - bowl) + 0.10 * bowl;
 }
 
 bbc_result bbc_forest_demo_terrain(int size, uint32_t seed, bbc_image *height, bbc_image *colour,
@@ -88,7 +88,7 @@ bbc_result bbc_forest_demo_terrain(int size, uint32_t seed, bbc_image *height, b
         c[0] = 158;
         c[1] = 146;
         c[2] = 104;
-      } else if (slope > 2.6 || h > 0.80) { /* rock */
+      } else if (slope > 3.2 || h > 0.80) { /* rock */
         c[0] = 128;
         c[1] = 123;
         c[2] = 114;

@@ -56,7 +56,24 @@ static bbc_result load_heights(const char *path, float **out, int *w, int *h, in
     stbi_image_free(px);
   } else {
     stbi_uc *px = stbi_load(path, w, h, &n, 1);
-    if (!px) return bbc__fail(err, BBC_ERROR_CORRUPT, "%s: %s", path, stbi_failure_reason());
+    if (!px) { /* what stb does not read (run-length BMP): through bbc_image_load, grey */
+      bbc_image im;
+      bbc_result r2 = bbc_image_load(path, &im, err);
+      if (r2 != BBC_OK) return r2;
+      *w = im.width;
+      *h = im.height;
+      *bits = 8;
+      size_t np = (size_t)*w * *h;
+      *out = malloc(np * sizeof **out);
+      if (*out)
+        for (size_t i = 0; i < np; i++) {
+          const uint8_t *p = im.rgba + 4 * i;
+          (*out)[i] = (float)((p[0] * 299 + p[1] * 587 + p[2] * 114) / 1000.0);
+        }
+      bbc_image_free(&im);
+      if (!*out) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+      return BBC_OK;
+    }
     *bits = 8;
     size_t np = (size_t)*w * *h;
     *out = malloc(np * sizeof **out);

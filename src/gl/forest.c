@@ -63,7 +63,8 @@ static const char *const terrain_fs =
     "uniform int u_flat;\n"
     "out vec4 o_colour;\n"
     "void main() {\n"
-    "  vec3 c = u_flat != 0 ? vec3(0.9) : texture(u_colour, v_uv).rgb;\n"
+    "  if (u_flat != 0) { o_colour = vec4(0.08, 0.2, 0.08, 1.0); return; }\n"
+    "  vec3 c = texture(u_colour, v_uv).rgb;\n"
     "  o_colour = vec4(fogged(c, v_world), 1.0);\n"
     "}\n";
 

@@ -56,17 +56,17 @@ bbc_result bbc__bmp_rle_decode(const uint8_t *d, size_t n, const char *name, bbc
   }
   size_t p = data_at;
   int32_t x = 0, y = 0; /* y counts rows from the file's first row */
-#define PUT(idx)                                                                          \
-  do {                                                                                    \
-    uint32_t ix_ = (idx);                                                                 \
-    if (x < w && y < h && ix_ < colours) {                                                \
-      int32_t row_ = top_down ? y : h - 1 - y;                                            \
-      uint8_t *o_ = out->rgba + 4 * ((size_t)row_ * w + x);                               \
-      o_[0] = pal[4 * ix_ + 2];                                                           \
-      o_[1] = pal[4 * ix_ + 1];                                                           \
-      o_[2] = pal[4 * ix_];                                                               \
-    }                                                                                     \
-    x++;                                                                                  \
+#define PUT(idx)                                                                                   \
+  do {                                                                                             \
+    uint32_t ix_ = (idx);                                                                          \
+    if (x < w && y < h && ix_ < colours) {                                                         \
+      int32_t row_ = top_down ? y : h - 1 - y;                                                     \
+      uint8_t *o_ = out->rgba + 4 * ((size_t)row_ * w + x);                                        \
+      o_[0] = pal[4 * ix_ + 2];                                                                    \
+      o_[1] = pal[4 * ix_ + 1];                                                                    \
+      o_[2] = pal[4 * ix_];                                                                        \
+    }                                                                                              \
+    x++;                                                                                           \
   } while (0)
   while (p + 1 < n && y < h) {
     uint8_t count = d[p], val = d[p + 1];
@@ -91,7 +91,9 @@ bbc_result bbc__bmp_rle_decode(const uint8_t *d, size_t n, const char *name, bbc
         return bbc__fail(err, BBC_ERROR_CORRUPT, "%s: truncated RLE data", name);
       }
       for (int i = 0; i < val; i++)
-        PUT(bits == 8 ? d[p + i] : (i & 1) ? (uint32_t)(d[p + i / 2] & 15) : (uint32_t)(d[p + i / 2] >> 4));
+        PUT(bits == 8 ? d[p + i]
+            : (i & 1) ? (uint32_t)(d[p + i / 2] & 15)
+                      : (uint32_t)(d[p + i / 2] >> 4));
       p += bytes + (bytes & 1);
     }
   }

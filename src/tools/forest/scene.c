@@ -35,6 +35,11 @@ static void folder_of(const char *path, char *out, size_t n) {
     snprintf(out, n, ".");
 }
 
+static int file_exists(const char *path) {
+  struct stat st;
+  return stat(path, &st) == 0 && S_ISREG(st.st_mode);
+}
+
 static int is_model_file(const char *name) {
   const char *dot = strrchr(name, '.');
   static const char *const ext[] = {".wrl", ".vrml", ".glb", ".gltf", ".obj",
@@ -92,7 +97,8 @@ static long find_mesh(scene *s, const char *path, int lod_node, FILE *log, int p
   if (progress) fprintf(stderr, "forest: loading %s\n", path);
   bbc_result r = bbc_mesh_load(path, &lo, &m->mesh, &err);
   if (r != BBC_OK) {
-    if (lod_node > 1 && r == BBC_ERROR_NOT_FOUND) return -2; /* no such level */
+    if (lod_node > 0 && r == BBC_ERROR_NOT_FOUND && file_exists(path))
+      return -2; /* no such level */
     fprintf(stderr, "%s:%d: %s\n", where, line, err.message);
     return -1;
   }

@@ -71,11 +71,6 @@ static double clock_s(void) {
   return t.tv_sec + t.tv_nsec * 1e-9;
 }
 
-static int file_exists(const char *path) {
-  struct stat st;
-  return stat(path, &st) == 0 && S_ISREG(st.st_mode);
-}
-
 /* Models already read (each is read once however often it is placed). */
 static char **g_seen;
 static size_t g_seen_count;
@@ -84,7 +79,7 @@ static size_t g_seen_count;
 static int model_reads(const char *where, int line, const char *name, const char *path) {
   for (size_t i = 0; i < g_seen_count; i++)
     if (!strcmp(g_seen[i], path)) return 1;
-  if (!file_exists(path)) {
+  if (!scene_file_exists(path)) {
     fprintf(stderr, "%s:%d: model '%s' not found (%s)\n", where, line, name, path);
     return 0;
   }
@@ -108,37 +103,11 @@ static int model_reads(const char *where, int line, const char *name, const char
   return 1;
 }
 
-static void folder_of(const char *path, char *out, size_t n) {
-  snprintf(out, n, "%s", path);
-  char *slash = strrchr(out, '/');
-  if (slash)
-    *slash = '\0';
-  else
-    snprintf(out, n, ".");
-}
-
-static void join(const char *folder, const char *name, char *out, size_t n) {
-  if (name[0] == '/')
-    snprintf(out, n, "%s", name);
-  else
-    snprintf(out, n, "%s/%s", folder, name);
-}
-
-/* A 3D model by its extension; anything else is a model description file. */
-static int is_model_file(const char *name) {
-  const char *dot = strrchr(name, '.');
-  static const char *const ext[] = {".wrl", ".glb", ".gltf", ".obj",
-                                    ".3ds", ".ply", ".dae",  ".fbx"};
-  for (size_t i = 0; dot && i < sizeof ext / sizeof ext[0]; i++)
-    if (!strcasecmp(dot, ext[i])) return 1;
-  return 0;
-}
-
 /* Checks one placed file; prints problems, returns how many. */
 static int check_file(const char *map_path, int line, const char *folder, const char *name) {
   char path[4096];
-  join(folder, name, path, sizeof path);
-  if (is_model_file(name)) return !model_reads(map_path, line, name, path);
+  scene_join(folder, name, path, sizeof path);
+  if (scene_is_model_file(name)) return !model_reads(map_path, line, name, path);
   bbc_forest_model m;
   bbc_error err;
   if (bbc_forest_model_load(path, &m, &err) != BBC_OK) {
@@ -146,12 +115,12 @@ static int check_file(const char *map_path, int line, const char *folder, const 
     return 1;
   }
   char mfolder[4096];
-  folder_of(path, mfolder, sizeof mfolder);
+  scene_folder_of(path, mfolder, sizeof mfolder);
   int bad = 0;
   for (size_t l = 0; l < m.lod_count; l++)
     for (int k = 0; k < m.lods[l].part_count; k++) {
       char p2[8192];
-      join(mfolder, m.lods[l].part[k].file, p2, sizeof p2);
+      scene_join(mfolder, m.lods[l].part[k].file, p2, sizeof p2);
       bad += !model_reads(path, m.lods[l].line, m.lods[l].part[k].file, p2);
     }
   if (!bad)
@@ -170,7 +139,7 @@ static int parse_size(const char *v, int *w, int *h) {
 
 static int draw_map(const char *map_path, run_options *o, const char *log_path) {
   char folder[4096], lp[4200];
-  folder_of(map_path, folder, sizeof folder);
+  scene_folder_of(map_path, folder, sizeof folder);
   if (!log_path) {
     snprintf(lp, sizeof lp, "%s/log.txt", folder);
     log_path = lp;
@@ -349,7 +318,7 @@ int main(int argc, char **argv) {
     return 1;
   }
   char folder[4096];
-  folder_of(map_path, folder, sizeof folder);
+  scene_folder_of(map_path, folder, sizeof folder);
   bbc_forest_world w;
   if (bbc_forest_world_build(&map, folder, &w, &err) != BBC_OK) {
     fprintf(stderr, "forest: %s\n", err.message);
@@ -375,8 +344,8 @@ int main(int argc, char **argv) {
     for (int s = 0; s < 6; s++) {
       char name[4200], path[8400];
       snprintf(name, sizeof name, "%s_%s.tga", map.skymap, side[s]);
-      join(folder, name, path, sizeof path);
-      if (!file_exists(path)) {
+      scene_join(folder, name, path, sizeof path);
+      if (!scene_file_exists(path)) {
         fprintf(stderr, "%s: sky image '%s' not found\n", map_path, name);
         bad++;
       }

@@ -13,7 +13,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static void join(const char *folder, const char *name, char *out, size_t n) {
+void scene_join(const char *folder, const char *name, char *out, size_t n) {
   size_t lf = name[0] == '/' || !folder[0] ? 0 : strlen(folder), ln = strlen(name);
   if (lf + 1 + ln + 1 > n) { /* too long: an empty name, which then is not found */
     out[0] = '\0';
@@ -26,7 +26,7 @@ static void join(const char *folder, const char *name, char *out, size_t n) {
   memcpy(out + lf, name, ln + 1);
 }
 
-static void folder_of(const char *path, char *out, size_t n) {
+void scene_folder_of(const char *path, char *out, size_t n) {
   snprintf(out, n, "%s", path);
   char *slash = strrchr(out, '/');
   if (slash)
@@ -35,12 +35,12 @@ static void folder_of(const char *path, char *out, size_t n) {
     snprintf(out, n, ".");
 }
 
-static int file_exists(const char *path) {
+int scene_file_exists(const char *path) {
   struct stat st;
   return stat(path, &st) == 0 && S_ISREG(st.st_mode);
 }
 
-static int is_model_file(const char *name) {
+int scene_is_model_file(const char *name) {
   const char *dot = strrchr(name, '.');
   static const char *const ext[] = {".wrl", ".vrml", ".glb", ".gltf", ".obj",
                                     ".3ds", ".ply",  ".dae", ".fbx",  ".ac"};
@@ -97,7 +97,7 @@ static long find_mesh(scene *s, const char *path, int lod_node, FILE *log, int p
   if (progress) fprintf(stderr, "forest: loading %s\n", path);
   bbc_result r = bbc_mesh_load(path, &lo, &m->mesh, &err);
   if (r != BBC_OK) {
-    if (lod_node > 0 && r == BBC_ERROR_NOT_FOUND && file_exists(path))
+    if (lod_node > 0 && r == BBC_ERROR_NOT_FOUND && scene_file_exists(path))
       return -2; /* no such level */
     fprintf(stderr, "%s:%d: %s\n", where, line, err.message);
     return -1;
@@ -137,8 +137,8 @@ static long find_model(scene *s, const char *file, int mipmap, int line, const c
   scene_model *m = &s->models[s->model_count];
   memset(m, 0, sizeof *m);
   char path[4096];
-  join(s->folder, file, path, sizeof path);
-  if (is_model_file(file)) {
+  scene_join(s->folder, file, path, sizeof path);
+  if (scene_is_model_file(file)) {
     /* A 3D file placed directly: one level, or each level of a glTF chain,
      * switching at 40, 120, 360... times the model's radius. */
     size_t cap = 8;
@@ -175,7 +175,7 @@ static long find_model(scene *s, const char *file, int mipmap, int line, const c
       return -1;
     }
     char mfolder[4096];
-    folder_of(path, mfolder, sizeof mfolder);
+    scene_folder_of(path, mfolder, sizeof mfolder);
     m->lod_count = d.lod_count;
     m->fade = d.fade;
     m->shadow_radius = d.shadow_radius;
@@ -193,7 +193,7 @@ static long find_model(scene *s, const char *file, int mipmap, int line, const c
       m->part_count[l] = d.lods[l].part_count;
       for (int k = 0; k < d.lods[l].part_count; k++) {
         char p2[8300];
-        join(mfolder, d.lods[l].part[k].file, p2, sizeof p2);
+        scene_join(mfolder, d.lods[l].part[k].file, p2, sizeof p2);
         long mesh = find_mesh(s, p2, 0, log, progress, path, d.lods[l].line);
         if (mesh < 0) {
           bbc_forest_model_free(&d);
@@ -248,7 +248,7 @@ void scene_free(scene *s) {
 
 int scene_load(scene *s, const char *map_path, FILE *log, int progress) {
   memset(s, 0, sizeof *s);
-  folder_of(map_path, s->folder, sizeof s->folder);
+  scene_folder_of(map_path, s->folder, sizeof s->folder);
   const char *base = strrchr(map_path, '/');
   snprintf(s->map_name, sizeof s->map_name, "%s", base ? base + 1 : map_path);
   char *dot = strrchr(s->map_name, '.');
@@ -315,7 +315,7 @@ int scene_load(scene *s, const char *map_path, FILE *log, int progress) {
     for (int i = 0; i < 6; i++) {
       char name[4200], path[8400];
       snprintf(name, sizeof name, "%s_%s.tga", s->map.skymap, side[i]);
-      join(s->folder, name, path, sizeof path);
+      scene_join(s->folder, name, path, sizeof path);
       if (bbc_image_load(path, &s->sky[i], &err) != BBC_OK) {
         fprintf(stderr, "%s: skymap: %s\n", map_path, err.message);
         return 0;

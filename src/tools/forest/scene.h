@@ -58,4 +58,13 @@ typedef struct scene {
 int scene_load(scene *s, const char *map_path, FILE *log, int progress);
 void scene_free(scene *s);
 
+/* File names: `name` relative to `folder` (absolute names as they are;
+ * "" when too long), the folder of a path ("." when none), whether a
+ * regular file is there, whether a name is a 3D model by its extension
+ * (else a model description file). */
+void scene_join(const char *folder, const char *name, char *out, size_t n);
+void scene_folder_of(const char *path, char *out, size_t n);
+int scene_file_exists(const char *path);
+int scene_is_model_file(const char *name);
+
 #endif

@@ -337,7 +337,7 @@ static void test_positions(void **state) {
   assert_true(fabs(cams[1].pos[2] - 300) < 1e-3 && fabs(cams[1].yaw - 270.5) < 1e-3);
   assert_true(fabs(cams[0].pitch + 10) < 1e-3);
   free(cams);
-  tu_write_file(dir, "bad.txt", "1 2 3 4 5\n1 2 three 4 5\n", 24);
+  free(tu_write_file(dir, "bad.txt", "1 2 3 4 5\n1 2 three 4 5\n", 24));
   snprintf(path, sizeof path, "%s/bad.txt", dir);
   assert_int_equal(bbc_forest_positions_read(path, &cams, &n, &err), BBC_ERROR_CORRUPT);
   assert_non_null(strstr(err.message, "bad.txt:2"));

@@ -41,7 +41,7 @@ typedef struct bbcgl_forest bbcgl_forest;
 typedef struct bbcgl_scene {
   const bbc_forest_world *world;
   const bbc_image *terrain_colour; /* (width - 1) x (depth - 1), lighting baked in */
-  double light[3];                 /* for models drawn with `lighting` */
+  double light[3];                 /* towards the light, for models drawn with `lighting` */
   int has_water;
   double water_height;
   double fog_start, fog_end; /* world units; fog_end <= fog_start = no fog */
@@ -54,11 +54,13 @@ void bbcgl_forest_free(bbcgl_forest *f);
 
 /* Adds `mesh` as a component of bucket `bucket` (one level of one model):
  * its triangles by material, each textured material's image uploaded once
- * (mipmaps that keep alpha binary when `mipmap`), lit by the scene's light
- * when `lit` and the material is not unlit. `billboards` is what the
- * statistics count for it per tree (0 for polygon models). */
-int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *mesh, int lit, int mipmap,
-                          size_t billboards, char *err);
+ * (mipmaps that keep alpha binary when `mipmap`). When `lit` and a material
+ * is not unlit, it is shaded as bbcgen bakes its clouds: scene.light (the
+ * direction towards the light), 0.35 + 0.65 |n . l|, times `light_gain`
+ * (bbc_light_gain of the mesh), plus X3D viewers' ambient. `billboards` is
+ * what the statistics count for it per tree (0 for polygon models). */
+int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *mesh, int lit,
+                          float light_gain, int mipmap, size_t billboards, char *err);
 
 typedef struct bbcgl_frame {
   float viewproj[16]; /* column-major */

@@ -103,6 +103,8 @@ static const char *const model_fs =
     "uniform int u_lit;\n"
     "uniform vec3 u_light;\n"
     "uniform int u_fill;\n"
+    "uniform float u_gain;\n"
+    "uniform vec3 u_amb;\n"
     "out vec4 o_colour;\n"
     /* 8 x 8 ordered dither: the screen door of the level blending */
     "float bayer(ivec2 p) {\n"
@@ -118,10 +120,11 @@ static const char *const model_fs =
     "  vec4 c = u_base;\n"
     "  if (u_has_tex != 0) c *= texture(u_tex, v_uv);\n"
     "  if (c.a < 0.5) discard;\n"
-    "  if (u_lit != 0) {\n"
-    "    vec3 n = normalize(gl_FrontFacing ? v_normal : -v_normal);\n"
-    "    c.rgb *= 0.45 + 0.55 * max(dot(n, u_light), 0.0);\n"
-    "  }\n"
+    /* lit as bbcgen bakes its clouds (two-sided Lambert, 0.35 ambient, the
+     * model's light gain, X3D viewers' ambient), so that the polygon level
+     * and the clouds after it look alike */
+    "  if (u_lit != 0)\n"
+    "    c.rgb = c.rgb * (0.35 + 0.65 * abs(dot(normalize(v_normal), u_light))) * u_gain + u_amb;\n"
     "  o_colour = u_fill != 0 ? vec4(1.0) : vec4(fogged(c.rgb, v_world), 1.0);\n"
     "}\n";
 
@@ -297,6 +300,7 @@ typedef struct batch {
   GLuint tex; /* 0 = untextured */
   float base[4];
   int lit;
+  float gain, amb[3];
   size_t first, count; /* indices */
 } batch;
 
@@ -587,8 +591,8 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_image *im, int mipmap, char
   return tex;
 }
 
-int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *m, int lit, int mipmap,
-                          size_t billboards, char *err) {
+int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *m, int lit,
+                          float light_gain, int mipmap, size_t billboards, char *err) {
   if (m->kind != BBC_MESH_TRIANGLES || !m->triangle_count) {
     snprintf(err, BBCGL_ERR, "a model to draw needs triangles");
     return 0;
@@ -639,6 +643,13 @@ int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *m, int
     b->count = k - first;
     memcpy(b->base, ma->base_color, sizeof b->base);
     b->lit = lit && !ma->unlit;
+    b->gain = light_gain > 0 ? light_gain : 1.0f;
+    if (b->lit) { /* X3D viewers' ambient, as bbc_view.ambient bakes it */
+      double ka = (ma->ambient[0] + ma->ambient[1] + ma->ambient[2]) / 3;
+      double kd = (ma->base_color[0] + ma->base_color[1] + ma->base_color[2]) / 3;
+      if (!(ka > 0)) ka = 0.2;
+      for (int c = 0; c < 3 && kd > 0; c++) b->amb[c] = (float)(0.2 * ka / kd * ma->base_color[c]);
+    }
     if (ma->texture >= 0 && (size_t)ma->texture < m->texture_count &&
         m->textures[ma->texture].image.rgba) {
       b->tex = texture_for(f, &m->textures[ma->texture].image, mipmap, err);
@@ -808,7 +819,8 @@ static void draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_fores
   glUniform1i(glGetUniformLocation(p, "u_tex"), 0);
   glUniform1i(glGetUniformLocation(p, "u_fill"), fr->fill_colour);
   GLint u_has = glGetUniformLocation(p, "u_has_tex"), u_base = glGetUniformLocation(p, "u_base"),
-        u_lit = glGetUniformLocation(p, "u_lit");
+        u_lit = glGetUniformLocation(p, "u_lit"), u_gain = glGetUniformLocation(p, "u_gain"),
+        u_amb = glGetUniformLocation(p, "u_amb");
   GLuint bound = 0;
   for (size_t i = 0; i < f->part_count; i++) {
     const part *pt = &f->parts[i];
@@ -826,6 +838,8 @@ static void draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_fores
       glUniform1i(u_has, ba->tex != 0);
       glUniform4fv(u_base, 1, ba->base);
       glUniform1i(u_lit, ba->lit);
+      glUniform1f(u_gain, ba->gain);
+      glUniform3fv(u_amb, 1, ba->amb);
       glDrawElementsInstancedBaseInstance(GL_TRIANGLES, (GLsizei)ba->count, GL_UNSIGNED_INT,
                                           (const void *)(ba->first * sizeof(uint32_t)),
                                           (GLsizei)count, (GLuint)first);

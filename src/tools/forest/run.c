@@ -348,7 +348,7 @@ int run(scene *s, const run_options *o, FILE *log) {
   memset(&sc, 0, sizeof sc);
   sc.world = &s->world;
   sc.terrain_colour = &s->terrain_colour;
-  memcpy(sc.light, s->map.light, sizeof sc.light);
+  memcpy(sc.light, s->model_light, sizeof sc.light);
   sc.has_water = s->map.has_water;
   sc.water_height = s->map.water_height;
   if (s->map.has_fog) {
@@ -371,8 +371,8 @@ int run(scene *s, const run_options *o, FILE *log) {
       for (int k = 0; k < s->models[m].part_count[l]; k++) {
         const scene_part *p = &s->models[m].parts[l][k];
         const scene_mesh *me = &s->meshes[p->mesh];
-        if (!bbcgl_forest_add_part(r, s->cull.bucket_base[m] + l, &me->mesh, p->lit, p->mipmap,
-                                   me->billboards, err)) {
+        if (!bbcgl_forest_add_part(r, s->cull.bucket_base[m] + l, &me->mesh, p->lit, me->light_gain,
+                                   p->mipmap, me->billboards, err)) {
           fprintf(stderr, "forest: %s: %s\n", me->path, err);
           bbcgl_forest_free(r);
           bbcgl_context_free(ctx);

@@ -117,10 +117,16 @@ static long find_mesh(scene *s, const char *path, int lod_node, FILE *log, int p
     if (d > m->radius) m->radius = d;
   }
   s->triangles_loaded += m->mesh.triangle_count;
+  m->light_gain = 1;
+  int lit_material = 0;
+  for (size_t i = 0; i < m->mesh.material_count; i++) lit_material |= !m->mesh.materials[i].unlit;
+  double gain = 1;
+  if (lit_material && bbc_light_gain(&m->mesh, s->model_light, 1, &gain, &err) == BBC_OK)
+    m->light_gain = (float)gain;
   if (log)
-    fprintf(log, "model %s%s: %zu triangles, %zu materials, %zu billboards\n", path,
-            lod_node ? " (one level)" : "", m->mesh.triangle_count, m->mesh.material_count,
-            m->billboards);
+    fprintf(log, "model %s%s: %zu triangles, %zu materials, %zu billboards, light gain %.3f\n",
+            path, lod_node ? " (one level)" : "", m->mesh.triangle_count, m->mesh.material_count,
+            m->billboards, m->light_gain);
   return (long)s->mesh_count++;
 }
 
@@ -145,7 +151,7 @@ static long find_model(scene *s, const char *file, int mipmap, int line, const c
     m->ranges = malloc(cap * 2 * sizeof *m->ranges);
     m->parts = calloc(cap, sizeof *m->parts);
     m->part_count = calloc(cap, sizeof *m->part_count);
-    if (!m->ranges || !m->parts || !m->part_count) return -1;
+    if (!m->ranges || !m->parts || !m->part_count) goto fail;
     int chain = 0;
     const char *dot = strrchr(file, '.');
     if (dot && (!strcasecmp(dot, ".glb") || !strcasecmp(dot, ".gltf"))) chain = 1;
@@ -153,7 +159,7 @@ static long find_model(scene *s, const char *file, int mipmap, int line, const c
       long mesh = find_mesh(s, path, chain ? level + 1 : 0, log, progress, map_path, line);
       if (mesh == -2 && level == 0) mesh = find_mesh(s, path, 0, log, progress, map_path, line);
       if (mesh == -2) break;
-      if (mesh < 0) return -1;
+      if (mesh < 0) goto fail;
       m->parts[level][0].mesh = (size_t)mesh;
       m->parts[level][0].lit = 1;
       m->parts[level][0].mipmap = mipmap;
@@ -172,7 +178,7 @@ static long find_model(scene *s, const char *file, int mipmap, int line, const c
     bbc_error err;
     if (bbc_forest_model_load(path, &d, &err) != BBC_OK) {
       fprintf(stderr, "%s:%d: model description %s: %s\n", map_path, line, file, err.message);
-      return -1;
+      goto fail;
     }
     char mfolder[4096];
     scene_folder_of(path, mfolder, sizeof mfolder);
@@ -185,7 +191,7 @@ static long find_model(scene *s, const char *file, int mipmap, int line, const c
     m->part_count = calloc(d.lod_count, sizeof *m->part_count);
     if (!m->ranges || !m->parts || !m->part_count) {
       bbc_forest_model_free(&d);
-      return -1;
+      goto fail;
     }
     for (size_t l = 0; l < d.lod_count; l++) {
       m->ranges[2 * l] = d.lods[l].min_dist;
@@ -197,7 +203,7 @@ static long find_model(scene *s, const char *file, int mipmap, int line, const c
         long mesh = find_mesh(s, p2, 0, log, progress, path, d.lods[l].line);
         if (mesh < 0) {
           bbc_forest_model_free(&d);
-          return -1;
+          goto fail;
         }
         m->parts[l][k].mesh = (size_t)mesh;
         m->parts[l][k].lit = d.lods[l].part[k].lighting;
@@ -220,6 +226,12 @@ static long find_model(scene *s, const char *file, int mipmap, int line, const c
             m->shadow_cutoff, m->radius);
   }
   return (long)s->model_count++;
+fail: /* nothing of a model that did not load stays allocated */
+  free(m->ranges);
+  free(m->parts);
+  free(m->part_count);
+  memset(m, 0, sizeof *m);
+  return -1;
 }
 
 void scene_free(scene *s) {
@@ -254,6 +266,9 @@ int scene_load(scene *s, const char *map_path, FILE *log, int progress) {
   char *dot = strrchr(s->map_name, '.');
   if (dot && dot != s->map_name) *dot = '\0';
   bbc_error err;
+  bbc_params prm;
+  bbc_params_default(&prm);
+  bbc_params_light_direction(&prm, s->model_light);
   if (bbc_forest_map_load(map_path, &s->map, &err) != BBC_OK) {
     fprintf(stderr, "forest: %s\n", err.message);
     return 0;

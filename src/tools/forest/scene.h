@@ -15,6 +15,7 @@ typedef struct scene_mesh {
   bbc_mesh mesh;
   size_t billboards; /* planes of the mesh when it is a Billboard Cloud, else 0 */
   double radius;     /* farthest vertex from the model's origin */
+  float light_gain;  /* bbc_light_gain for the model light (lit meshes), else 1 */
 } scene_mesh;
 
 typedef struct scene_part {
@@ -51,6 +52,9 @@ typedef struct scene {
   double extent;   /* map size, world units */
   double far_clip; /* world units */
   size_t triangles_loaded;
+  double model_light[3]; /* towards the light that lit models get: bbcgen's
+                          * baking light (its defaults), so that polygon
+                          * levels and the clouds after them look alike */
 } scene;
 
 /* Loads everything; messages (progress when `progress`, details to `log`)

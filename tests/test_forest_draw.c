@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -97,6 +98,16 @@ static int group_setup(void **state) {
     snprintf(name, sizeof name, "sky_%s.tga", side[i]);
     free(tu_write_file(dir, name, tga, sizeof tga));
   }
+  /* a 513 x 513 landscape in big/: nodes of several levels near the camera */
+  if (sh(&out, "mkdir -p '%s/big' && '%s/forest' --demo-terrain '%s/big' --terrain-size 512", dir,
+         BBC_BIN_DIR, dir)) {
+    fprintf(stderr, "demo terrain: %s\n", out);
+    free(out);
+    return -1;
+  }
+  free(out);
+  put("crack.txt", "hmap big/heightmap.png\ncolmap big/colmap.png\nheightscale 0.5\nstretch 2\n"
+                   "farclip 2000\n");
   put("sky.txt", "hmap heightmap.png\nheightscale 0.3\nstretch 3\nskymap sky\n");
   /* flat ground, one tree in the middle: for the LOD transition */
   bbc_image flat;
@@ -143,6 +154,13 @@ static int group_teardown(void **state) {
   snprintf(p, sizeof p, "%s/save/hills.txt", dir);
   remove(p);
   snprintf(p, sizeof p, "%s/save", dir);
+  rmdir(p);
+  static const char *const big[2] = {"big/heightmap.png", "big/colmap.png"};
+  for (int i = 0; i < 2; i++) {
+    snprintf(p, sizeof p, "%s/%s", dir, big[i]);
+    remove(p);
+  }
+  snprintf(p, sizeof p, "%s/big", dir);
   rmdir(p);
   tu_remove_dir(dir);
   return 0;
@@ -201,6 +219,50 @@ static void test_screenshot(void **state) {
   assert_non_null(strstr(log, "object tree.txt: 3 levels"));
   assert_non_null(strstr(log, "object t8.wrl: 1 level")); /* rndtree2's second component */
   free(log);
+}
+
+/* No cracks between terrain nodes of different detail: looking up at the
+ * hills from below (stored positions, F2; objects off, F5), no pixel shows
+ * the sky through the ground (the sky is the only blue thing there). The
+ * check finds the cracks when the vertex morphing is switched off. */
+static void test_no_cracks(void **state) {
+  (void)state;
+  if (!have_gl) skip();
+  char p[700];
+  snprintf(p, sizeof p, "%s/save", dir);
+  mkdir(p, 0777);
+  snprintf(p, sizeof p, "%s/save/crack.txt", dir);
+  FILE *f = fopen(p, "w");
+  assert_non_null(f);
+  /* under the middle of a 1024-unit map, looking up at the ground from
+   * below steeply enough that every pixel sees it, turning: a crack shows
+   * the sky behind the terrain */
+  for (int i = 0; i < 6; i++) fprintf(f, "%d -120 %d %d 75\n", 420 + 25 * i, 560 - 20 * i, 60 * i);
+  fclose(f);
+  char keys[4096] = "F5";
+  for (int i = 0; i < 6; i++) {
+    size_t n = strlen(keys);
+    snprintf(keys + n, sizeof keys - n, " F2 shot:%s/c%d.png", dir, i);
+  }
+  char *out;
+  int rc = sh(&out, "'%s/forest' '%s/crack.txt' --size 240x160 --log '%s/log.txt' --keys '%s'",
+              BBC_BIN_DIR, dir, dir, keys);
+  if (rc) fail_msg("%s", out);
+  free(out);
+  for (int i = 0; i < 6; i++) {
+    char name[32];
+    snprintf(name, sizeof name, "c%d.png", i);
+    bbc_image im = load_png(name);
+    size_t blue = 0;
+    for (int y = 40; y < im.height; y++) /* not under the message in the top left */
+      for (int x = 0; x < im.width; x++) {
+        const uint8_t *c = im.rgba + 4 * ((size_t)y * im.width + x);
+        blue += c[2] > c[1] + 8;
+      }
+    bbc_image_free(&im);
+    assert_int_equal(blue, 0);
+  }
+  remove(p);
 }
 
 /* skymap: looking straight up shows the UP image. */
@@ -364,13 +426,35 @@ static void test_window(void **state) {
   int rc = sh(&out,
               "xvfb-run -a -s '-screen 0 640x480x24' '%s/forest' '%s/hills.txt' --window "
               "--size 200x150 --camera 30,50,30,135,-10 --log '%s/log.txt' "
-              "--keys 'shot:%s/w0.png s s s 20f F10 shot:%s/w1.png'",
+              "--print-camera --keys 'shot:%s/w0.png s s s 20f F10 shot:%s/w1.png F3 s s 10f F2'",
               BBC_BIN_DIR, dir, dir, dir, dir);
   if (rc) fail_msg("%s", out);
+  /* F2 brought back what F3 stored (the last line of the positions) */
+  char p[700];
+  snprintf(p, sizeof p, "%s/save/hills.txt", dir);
+  size_t n;
+  char *saved = (char *)tu_read_file(p, &n);
+  assert_non_null(saved);
+  char *last = saved, *nl;
+  while ((nl = strchr(last, '\n')) && nl[1]) last = nl + 1;
+  double sx, sz, cx, cz, dummy;
+  assert_int_equal(sscanf(last, "%lf %lf %lf", &sx, &dummy, &sz), 3);
+  const char *c = strstr(out, "camera=");
+  assert_non_null(c);
+  assert_int_equal(sscanf(c, "camera=%lf,%lf,%lf", &cx, &dummy, &cz), 3);
+  assert_true(fabs(cx - sx) < 0.01 && fabs(cz - sz) < 0.01);
+  free(saved);
   free(out);
   bbc_image a = load_png("w0.png"), b = load_png("w1.png");
   assert_int_equal(a.width, 200);
   assert_true(pixel_difference(&a, &b) > 0.05);
+  double lum0 = 0, lum1 = 0; /* F10's dark panel, top left */
+  for (int y = 2; y < 30; y++)
+    for (int x = 2; x < 60; x++) {
+      lum0 += a.rgba[4 * (y * 200 + x)] + a.rgba[4 * (y * 200 + x) + 1];
+      lum1 += b.rgba[4 * (y * 200 + x)] + b.rgba[4 * (y * 200 + x) + 1];
+    }
+  assert_true(lum1 < 0.8 * lum0);
   bbc_image_free(&a);
   bbc_image_free(&b);
 }
@@ -393,10 +477,10 @@ static void test_bad_usage(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_bad_usage), cmocka_unit_test(test_screenshot),
-      cmocka_unit_test(test_skymap),    cmocka_unit_test(test_lod_transition),
-      cmocka_unit_test(test_keys),      cmocka_unit_test(test_bench_line),
-      cmocka_unit_test(test_window),
+      cmocka_unit_test(test_bad_usage),      cmocka_unit_test(test_screenshot),
+      cmocka_unit_test(test_skymap),         cmocka_unit_test(test_no_cracks),
+      cmocka_unit_test(test_lod_transition), cmocka_unit_test(test_keys),
+      cmocka_unit_test(test_bench_line),     cmocka_unit_test(test_window),
   };
   return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }

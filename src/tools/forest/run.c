@@ -73,7 +73,9 @@ static void store_position(state *st, double t) {
   st->stored = NULL;
   st->stored_count = 0;
   bbc_forest_positions_read(st->save_path, &st->stored, &st->stored_count, &err);
-  say(st, t, "position stored in %s", st->save_path);
+  /* F2 goes to the position just stored first, then on round the file */
+  st->stored_next = st->stored_count ? st->stored_count - 1 : 0;
+  say(st, t, "position %zu stored in %s", st->stored_count, st->save_path);
 }
 
 static void load_position(state *st, double t) {

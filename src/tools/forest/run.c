@@ -390,7 +390,7 @@ int run(scene *s, const run_options *o, FILE *log) {
   st.detail = s->map.roetger > 0 ? s->map.roetger : 10;
   st.unit = s->extent / 200;
   st.stats = o->stats;
-  st.help = !o->headless && !o->keys;
+  st.help = !o->headless && !o->keys ? 2 : 0; /* 2: shown at the start for 10 s */
   snprintf(st.save_path, sizeof st.save_path, "%s/save/%s.txt", s->folder, s->map_name);
   /* Appendix B: the viewer starts in the map's top left corner. */
   st.cam.zoom = 1;
@@ -481,7 +481,7 @@ int run(scene *s, const run_options *o, FILE *log) {
       move(&st, tn - last);
       last = tn;
       draw_frame(&st, ctx, r, fps, &res, tn);
-      if (tn > 10 && st.help == 1 && !o->keys) st.help = 2; /* the start's help fades */
+      if (tn > 10 && st.help == 2) st.help = 0; /* the help shown at the start goes */
       bbcgl_context_end(ctx);
       fps_n++;
       if (tn - fps_t >= 0.5) {

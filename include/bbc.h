@@ -1053,6 +1053,11 @@ bbc_result bbc_forest_cull_init(bbc_forest_cull *cull, const bbc_forest_world *w
  * bucket b's draws are draws[bucket_start[b] .. bucket_start[b + 1]). */
 void bbc_forest_cull_run(bbc_forest_cull *cull, const float viewproj[16], const double eye[3],
                          double zoom);
+/* The same without the grid, the way the thesis did it: every tree tested
+ * against the frustum and given its level one by one (the naive mode that
+ * `forest --naive` measures against). Same output. */
+void bbc_forest_cull_run_flat(bbc_forest_cull *cull, const float viewproj[16], const double eye[3],
+                              double zoom);
 /* The weight (0..1) level `lod` of `model` gets at distance d. */
 double bbc_forest_lod_weight(const bbc_forest_lod_model *model, size_t lod, double d);
 void bbc_forest_cull_free(bbc_forest_cull *cull);

@@ -410,6 +410,23 @@ static void test_bench_line(void **state) {
   assert_true(fm > 0 && fp >= fm && cm >= 0);
   assert_true(trees > 0 && calls > 0 && calls < 40); /* instanced: a handful of draws */
   free(out);
+  /* --naive: the same trees and billboards, a draw call per billboard */
+  rc = sh(&out,
+          "'%s/forest' '%s/hills.txt' --size 96x64 --frames 4 --bench --naive --log '%s/log.txt'",
+          BBC_BIN_DIR, dir, dir);
+  if (rc) fail_msg("%s", out);
+  last = strstr(out, "frame_ms_median=");
+  assert_non_null(last);
+  size_t trees2, bills2, calls2;
+  assert_int_equal(sscanf(last,
+                          "frame_ms_median=%lf frame_ms_p95=%lf cull_ms_median=%lf "
+                          "trees_drawn=%zu billboards_drawn=%zu draw_calls=%zu",
+                          &fm, &fp, &cm, &trees2, &bills2, &calls2),
+                   6);
+  assert_int_equal(trees2, trees);
+  assert_int_equal(bills2, bills);
+  assert_true(calls2 >= bills2 && calls2 > 10 * calls);
+  free(out);
 }
 
 /* The same in a window (GLFW) under a virtual X server. */

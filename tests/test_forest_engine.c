@@ -153,6 +153,25 @@ static void test_cull(void **state) {
   assert_int_equal(c.bucket_start[3], n);
   assert_memory_equal(copy, c.draws, n * sizeof *copy);
   free(copy);
+  /* without the grid (forest --naive): the same records, bucket by bucket,
+   * in another order */
+  {
+    bbc_forest_draw *grid = malloc(n * sizeof *grid);
+    size_t starts[4];
+    assert_non_null(grid);
+    memcpy(grid, c.draws, n * sizeof *grid);
+    memcpy(starts, c.bucket_start, sizeof starts);
+    size_t vis = c.trees_visible;
+    bbc_forest_cull_run_flat(&c, vp, cam.pos, 1);
+    assert_memory_equal(starts, c.bucket_start, sizeof starts);
+    assert_int_equal(c.trees_visible, vis);
+    for (size_t i = 0; i < n; i++) {
+      int found = 0;
+      for (size_t j = 0; j < n && !found; j++) found = !memcmp(&grid[i], &c.draws[j], sizeof *grid);
+      assert_true(found);
+    }
+    free(grid);
+  }
   /* looking away: nothing */
   look(&cam, 128, 10, 300, 180, 0);
   bbc_forest_camera_matrix(&cam, 1.0, 0.5, 2000, vp);

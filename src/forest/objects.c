@@ -165,6 +165,59 @@ oom:
   return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "forest culling: out of memory");
 }
 
+/* One tree: the frustum test when `test` (a sphere of the largest model's
+ * radius), then a record per level with a weight. */
+static void emit_tree(bbc_forest_cull *c, const bbc_forest_instance *in, double planes[6][4],
+                      int test, const double eye[3], double zoom, size_t *n) {
+  const uint32_t *pm = c->placement_models[in->placement];
+  if (test) {
+    double rad = 0;
+    for (int k = 0; k < 2; k++)
+      if (pm[k] != UINT32_MAX && c->models[pm[k]].radius * in->scale > rad)
+        rad = c->models[pm[k]].radius * in->scale;
+    for (int i = 0; i < 6; i++)
+      if (planes[i][0] * in->x + planes[i][1] * in->y + planes[i][2] * in->z + planes[i][3] < -rad)
+        return;
+  }
+  double dx = in->x - eye[0], dy = in->y - eye[1], dz = in->z - eye[2];
+  double d = sqrt(dx * dx + dy * dy + dz * dz) / zoom;
+  int drawn = 0;
+  for (int k = 0; k < 2; k++) {
+    uint32_t m = pm[k];
+    if (m == UINT32_MAX) continue;
+    const bbc_forest_lod_model *mod = &c->models[m];
+    for (size_t l = 0; l < mod->lod_count; l++) {
+      double wgt = bbc_forest_lod_weight(mod, l, d);
+      if (wgt <= 0 || *n >= c->capacity) continue;
+      bbc_forest_draw *dr = &c->scratch[*n];
+      dr->x = in->x;
+      dr->y = in->y;
+      dr->z = in->z;
+      dr->yaw = in->yaw_deg * (float)(3.14159265358979323846 / 180.0);
+      dr->scale = in->scale;
+      dr->fade = (float)wgt;
+      c->scratch_bucket[(*n)++] = (uint32_t)(c->bucket_base[m] + l);
+      drawn = 1;
+    }
+  }
+  c->trees_visible += drawn;
+}
+
+/* Counting sort of the n scratch records by bucket, stable: the same
+ * order every run. */
+static void sort_by_bucket(bbc_forest_cull *c, size_t n) {
+  memset(c->bucket_start, 0, (c->bucket_count + 1) * sizeof *c->bucket_start);
+  for (size_t i = 0; i < n; i++) c->bucket_start[c->scratch_bucket[i] + 1]++;
+  for (size_t b = 0; b < c->bucket_count; b++) c->bucket_start[b + 1] += c->bucket_start[b];
+  for (size_t i = 0; i < n; i++) {
+    uint32_t b = c->scratch_bucket[i];
+    /* bucket_start[b] is advanced while filling and restored below */
+    c->draws[c->bucket_start[b]++] = c->scratch[i];
+  }
+  for (size_t b = c->bucket_count; b > 0; b--) c->bucket_start[b] = c->bucket_start[b - 1];
+  c->bucket_start[0] = 0;
+}
+
 void bbc_forest_cull_run(bbc_forest_cull *c, const float viewproj[16], const double eye[3],
                          double zoom) {
   double planes[6][4];
@@ -181,53 +234,20 @@ void bbc_forest_cull_run(bbc_forest_cull *c, const float viewproj[16], const dou
     if (!vis) continue;
     c->cells_visible++;
     if (vis == 1) c->cells_tested_per_tree++;
-    for (size_t j = s; j < e; j++) {
-      const bbc_forest_instance *in = &c->instances[c->order[j]];
-      const uint32_t *pm = c->placement_models[in->placement];
-      if (vis == 1) {
-        double rad = 0;
-        for (int k = 0; k < 2; k++)
-          if (pm[k] != UINT32_MAX && c->models[pm[k]].radius * in->scale > rad)
-            rad = c->models[pm[k]].radius * in->scale;
-        int out = 0;
-        for (int i = 0; i < 6 && !out; i++)
-          out = planes[i][0] * in->x + planes[i][1] * in->y + planes[i][2] * in->z + planes[i][3] <
-                -rad;
-        if (out) continue;
-      }
-      double dx = in->x - eye[0], dy = in->y - eye[1], dz = in->z - eye[2];
-      double d = sqrt(dx * dx + dy * dy + dz * dz) / zoom;
-      int drawn = 0;
-      for (int k = 0; k < 2; k++) {
-        uint32_t m = pm[k];
-        if (m == UINT32_MAX) continue;
-        const bbc_forest_lod_model *mod = &c->models[m];
-        for (size_t l = 0; l < mod->lod_count; l++) {
-          double wgt = bbc_forest_lod_weight(mod, l, d);
-          if (wgt <= 0 || n >= c->capacity) continue;
-          bbc_forest_draw *dr = &c->scratch[n];
-          dr->x = in->x;
-          dr->y = in->y;
-          dr->z = in->z;
-          dr->yaw = in->yaw_deg * (float)(3.14159265358979323846 / 180.0);
-          dr->scale = in->scale;
-          dr->fade = (float)wgt;
-          c->scratch_bucket[n++] = (uint32_t)(c->bucket_base[m] + l);
-          drawn = 1;
-        }
-      }
-      c->trees_visible += drawn;
-    }
+    for (size_t j = s; j < e; j++)
+      emit_tree(c, &c->instances[c->order[j]], planes, vis == 1, eye, zoom, &n);
   }
-  /* Counting sort by bucket, stable: the same order every run. */
-  memset(c->bucket_start, 0, (c->bucket_count + 1) * sizeof *c->bucket_start);
-  for (size_t i = 0; i < n; i++) c->bucket_start[c->scratch_bucket[i] + 1]++;
-  for (size_t b = 0; b < c->bucket_count; b++) c->bucket_start[b + 1] += c->bucket_start[b];
-  for (size_t i = 0; i < n; i++) {
-    uint32_t b = c->scratch_bucket[i];
-    /* bucket_start[b] is advanced while filling and restored below */
-    c->draws[c->bucket_start[b]++] = c->scratch[i];
-  }
-  for (size_t b = c->bucket_count; b > 0; b--) c->bucket_start[b] = c->bucket_start[b - 1];
-  c->bucket_start[0] = 0;
+  sort_by_bucket(c, n);
+}
+
+void bbc_forest_cull_run_flat(bbc_forest_cull *c, const float viewproj[16], const double eye[3],
+                              double zoom) {
+  double planes[6][4];
+  bbc_forest_frustum(viewproj, planes);
+  if (zoom <= 0) zoom = 1;
+  size_t n = 0;
+  c->cells_visible = c->cells_tested_per_tree = c->trees_visible = 0;
+  for (size_t i = 0; i < c->instance_count; i++)
+    emit_tree(c, &c->instances[i], planes, 1, eye, zoom, &n);
+  sort_by_bucket(c, n);
 }

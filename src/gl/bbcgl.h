@@ -70,6 +70,8 @@ typedef struct bbcgl_frame {
   int no_terrain;  /* F4 */
   int no_objects;  /* F5 */
   int fill_colour; /* 1: only the objects, white on black (coverage measurements) */
+  int naive;       /* 1: the thesis's way, per tree, level and billboard a draw call
+                    * and a texture bind (forest --naive, to measure against) */
 } bbcgl_frame;
 
 typedef struct bbcgl_stats {

@@ -302,6 +302,9 @@ typedef struct batch {
   int lit;
   float gain, amb[3];
   size_t first, count; /* indices */
+  uint32_t *runs;      /* naive mode: 2 per run of consecutive triangles in one
+                        * plane (a billboard): first index, index count */
+  size_t run_count;
 } batch;
 
 typedef struct part {
@@ -525,6 +528,7 @@ void bbcgl_forest_free(bbcgl_forest *f) {
     glDeleteVertexArrays(1, &f->parts[i].vao);
     glDeleteBuffers(1, &f->parts[i].vbo);
     glDeleteBuffers(1, &f->parts[i].ebo);
+    for (size_t b = 0; b < f->parts[i].batch_count; b++) free(f->parts[i].batches[b].runs);
     free(f->parts[i].batches);
   }
   free(f->parts);
@@ -661,6 +665,36 @@ int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *m, int
       }
     }
   }
+  /* the naive mode's draw calls: each billboard (consecutive triangles in
+   * one plane) on its own */
+  for (size_t bi = 0; bi < p->batch_count; bi++) {
+    batch *b = &p->batches[bi];
+    b->runs = malloc((b->count / 3 + 1) * 2 * sizeof *b->runs);
+    if (!b->runs) continue;
+    double prev[4] = {0, 0, 0, 0};
+    for (size_t t = 0; t < b->count / 3; t++) {
+      const uint32_t *ix = idx + b->first + 3 * t;
+      const float *a = v + 8 * ix[0], *c1 = v + 8 * ix[1], *c2 = v + 8 * ix[2];
+      double e1[3] = {c1[0] - a[0], c1[1] - a[1], c1[2] - a[2]};
+      double e2[3] = {c2[0] - a[0], c2[1] - a[1], c2[2] - a[2]};
+      double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                     e1[0] * e2[1] - e1[1] * e2[0]};
+      double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      if (l > 0)
+        for (int q = 0; q < 3; q++) n[q] /= l;
+      double d = n[0] * a[0] + n[1] * a[1] + n[2] * a[2];
+      int same = t > 0 && fabs(n[0] * prev[0] + n[1] * prev[1] + n[2] * prev[2]) > 0.9999 &&
+                 fabs(fabs(d) - fabs(prev[3])) < 1e-3 * (1 + fabs(d));
+      if (!same) {
+        b->runs[2 * b->run_count] = (uint32_t)(b->first + 3 * t);
+        b->runs[2 * b->run_count + 1] = 0;
+        b->run_count++;
+      }
+      b->runs[2 * b->run_count - 1] += 3;
+      memcpy(prev, n, sizeof n);
+      prev[3] = d;
+    }
+  }
   glCreateVertexArrays(1, &p->vao);
   glCreateBuffers(1, &p->vbo);
   glCreateBuffers(1, &p->ebo);
@@ -791,6 +825,49 @@ static void draw_terrain(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_fores
   st->terrain_nodes = t->node_count;
 }
 
+/* The thesis's way (3.3), for measuring against: per tree, level and
+ * billboard its own draw call and texture bind. */
+static void draw_objects_naive(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_cull *c,
+                               bbcgl_stats *st) {
+  GLuint p = f->p_model;
+  GLint u_has = glGetUniformLocation(p, "u_has_tex"), u_base = glGetUniformLocation(p, "u_base"),
+        u_lit = glGetUniformLocation(p, "u_lit"), u_gain = glGetUniformLocation(p, "u_gain"),
+        u_amb = glGetUniformLocation(p, "u_amb");
+  (void)fr;
+  for (size_t i = 0; i < f->part_count; i++) {
+    const part *pt = &f->parts[i];
+    if (pt->bucket >= c->bucket_count) continue;
+    size_t first = c->bucket_start[pt->bucket], count = c->bucket_start[pt->bucket + 1] - first;
+    for (size_t tree = 0; tree < count; tree++) {
+      glBindVertexArray(pt->vao);
+      for (size_t b = 0; b < pt->batch_count; b++) {
+        const batch *ba = &pt->batches[b];
+        glBindTextureUnit(0, ba->tex);
+        st->texture_binds++;
+        glUniform1i(u_has, ba->tex != 0);
+        glUniform4fv(u_base, 1, ba->base);
+        glUniform1i(u_lit, ba->lit);
+        glUniform1f(u_gain, ba->gain);
+        glUniform3fv(u_amb, 1, ba->amb);
+        if (!pt->billboards) { /* a polygon model: one call (its display list) */
+          glDrawElementsInstancedBaseInstance(GL_TRIANGLES, (GLsizei)ba->count, GL_UNSIGNED_INT,
+                                              (const void *)(ba->first * sizeof(uint32_t)), 1,
+                                              (GLuint)(first + tree));
+          st->draw_calls++;
+        }
+        for (size_t r = 0; pt->billboards && r < ba->run_count; r++) {
+          glDrawElementsInstancedBaseInstance(
+              GL_TRIANGLES, (GLsizei)ba->runs[2 * r + 1], GL_UNSIGNED_INT,
+              (const void *)(ba->runs[2 * r] * sizeof(uint32_t)), 1, (GLuint)(first + tree));
+          st->draw_calls++;
+        }
+        st->triangles += ba->count / 3;
+      }
+      st->billboards += pt->billboards;
+    }
+  }
+}
+
 static void draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_cull *c,
                          bbcgl_stats *st) {
   size_t n = c->bucket_start[c->bucket_count];
@@ -821,6 +898,10 @@ static void draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_fores
   GLint u_has = glGetUniformLocation(p, "u_has_tex"), u_base = glGetUniformLocation(p, "u_base"),
         u_lit = glGetUniformLocation(p, "u_lit"), u_gain = glGetUniformLocation(p, "u_gain"),
         u_amb = glGetUniformLocation(p, "u_amb");
+  if (fr->naive) {
+    draw_objects_naive(f, fr, c, st);
+    return;
+  }
   GLuint bound = 0;
   for (size_t i = 0; i < f->part_count; i++) {
     const part *pt = &f->parts[i];

@@ -57,6 +57,9 @@ static void usage(FILE *f) {
           "                       the program ends after the script\n"
           "  --stats              the statistics overlay (F10) from the start\n"
           "  --print-camera       print the final camera as --camera takes it\n"
+          "  --naive              draw the way the thesis did, to measure against: every tree\n"
+          "                       tested and given its level one by one (no grid), and per\n"
+          "                       tree, level and billboard its own draw call and texture bind\n"
           "  --coverage           per frame, print how many pixels the objects cover\n"
           "                       (drawn again white on black: LOD transition checks)\n"
           "  --log FILE           the log (default: log.txt beside the map)\n"
@@ -234,6 +237,8 @@ int main(int argc, char **argv) {
       o.bench = 1;
     } else if (!strcmp(a, "--stats")) {
       o.stats = 1;
+    } else if (!strcmp(a, "--naive")) {
+      o.naive = 1;
     } else if (!strcmp(a, "--coverage")) {
       o.coverage = 1;
     } else if (!strcmp(a, "--print-camera")) {

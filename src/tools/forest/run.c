@@ -256,7 +256,11 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
   double c0 = now_s();
   bbc_forest_terrain_select(&st->s->terrain, &st->s->world, st->locked_viewproj, st->locked_eye,
                             st->detail);
-  bbc_forest_cull_run(&st->s->cull, fr.viewproj, fr.eye, st->cam.zoom);
+  if (st->o->naive)
+    bbc_forest_cull_run_flat(&st->s->cull, fr.viewproj, fr.eye, st->cam.zoom);
+  else
+    bbc_forest_cull_run(&st->s->cull, fr.viewproj, fr.eye, st->cam.zoom);
+  fr.naive = st->o->naive;
   res->cull_ms = (now_s() - c0) * 1000;
   bbcgl_context_begin(ctx);
   bbcgl_forest_draw(r, &fr, &st->s->terrain, &st->s->cull, &res->stats);

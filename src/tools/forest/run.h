@@ -18,6 +18,7 @@ typedef struct run_options {
   int progress;           /* messages while loading and drawing (a terminal) */
   int print_camera;       /* --print-camera: the final camera on stdout */
   int coverage;           /* --coverage: per frame, the pixels the objects cover */
+  int naive;              /* --naive: draw the thesis's way (to measure against) */
 } run_options;
 
 /* Draws `s` as `o` says; the exit status. */

@@ -1072,8 +1072,8 @@ int bbc_forest_box_in_frustum(const double planes[6][4], const double lo[3], con
 /* Continuous level of detail on the GPU's terms (CDLOD, Strugar 2010, in
  * place of Roettger et al. 1998): a quadtree over the (2^n+1)^2 heightmap
  * whose leaves are 32 x 32 squares; each frame the nodes to draw are chosen
- * by distance ranges that double per level, the finest range `detail`
- * (the map's `roetger`) times a leaf's size / 4 (never under 3.5 leaves, so
+ * by distance ranges that double per level, the finest (3.5 + `detail` /
+ * 4) leaves (`detail` is the map's `roetger`; 3.5 leaves at the least, so
  * neighbours differ by one level at most). The vertex shader morphs each
  * node's odd vertices onto the coarser grid as they near the end of its
  * range, so there are no cracks and no pops. */

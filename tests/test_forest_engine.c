@@ -237,7 +237,7 @@ static void test_terrain_select(void **state) {
   for (int k = 0; k < 8; k++) {
     look(&cam, 100 + 100 * k, 60, 900 - 80 * k, 30 + 40 * k, -10);
     bbc_forest_camera_matrix(&cam, 1.5, 1, 3000, vp);
-    bbc_forest_terrain_select(&t, &w, vp, cam.pos, 10 + 5 * k);
+    bbc_forest_terrain_select(&t, &w, vp, cam.pos, 2 + 2 * k);
     assert_true(t.node_count > 0 && t.node_count < t.capacity);
     check_terrain_cover(&t, 512, 1);
     int lo = 99, hi = -1;

@@ -138,8 +138,9 @@ static void select_node(sel *s, int level, int nx, int nz) {
 void bbc_forest_terrain_select(bbc_forest_terrain *t, const bbc_forest_world *w,
                                const float viewproj[16], const double eye[3], double detail) {
   double leaf_world = t->leaf * w->spacing;
-  double r0 = leaf_world * detail / 4;
-  if (r0 < 3.5 * leaf_world) r0 = 3.5 * leaf_world;
+  /* 3.5 leaves at least, so neighbours differ by one level at most; every
+   * change of `detail` shows (keys 1 and 2) */
+  double r0 = leaf_world * (3.5 + (detail > 0 ? detail : 0) / 4);
   for (int l = 0; l < t->levels; l++) {
     t->range[l] = r0 * (double)(1u << l);
     double prev = l ? t->range[l - 1] : 0;

@@ -485,6 +485,19 @@ static void test_bad_usage(void **state) {
   assert_int_equal(sh(&out, "'%s/forest' '%s/hills.txt' --camera 1,2,3", BBC_BIN_DIR, dir), 2);
   assert_non_null(strstr(out, "X,Y,Z,YAW,PITCH"));
   free(out);
+  assert_int_equal(sh(&out, "'%s/forest' '%s/hills.txt' --camera nan,0,0,0,0", BBC_BIN_DIR, dir),
+                   2);
+  assert_non_null(strstr(out, "X,Y,Z,YAW,PITCH"));
+  free(out);
+  assert_int_equal(sh(&out, "'%s/forest' '%s/hills.txt' --size 32x32x3", BBC_BIN_DIR, dir), 2);
+  free(out);
+  assert_int_equal(sh(&out,
+                      "'%s/forest' '%s/hills.txt' --size 16x16 --path '%s/none.txt' --log "
+                      "'%s/log.txt'",
+                      BBC_BIN_DIR, dir, dir, dir),
+                   1);
+  assert_non_null(strstr(out, "none.txt: no such file"));
+  free(out);
   assert_int_equal(
       sh(&out, "'%s/forest' '%s/nothere.txt' --size 8x8 --log '%s/log.txt'", BBC_BIN_DIR, dir, dir),
       1);

@@ -175,6 +175,11 @@ static void test_mistakes_named(void **state) {
   expect_map_error("hmap \"h.png\n", "bad.txt:1:", "quoted");
   expect_map_error("colmap c.png\n", "no heightmap", NULL);
   expect_map_error("hmap h.png\nnumobjs 1e12\n", "bad.txt:2:", "numobjs");
+  /* too few values: the next line's word is named, and the line the command begins on */
+  expect_map_error("hmap h.png\nrndtree t.txt 1 100 1\nobject2d a.txt 1 1 5 5 0 0 0 0\n",
+                   "bad.txt:3:", "begins on line 2");
+  /* one too many: a number taken for a command */
+  expect_map_error("hmap h.png\nstretch 4 5\n", "bad.txt:2:", "one value too many");
   expect_model_error("LOD ( file1 a.wrl min 0 max 100 )\nfade fast\n", "bad.txt:2:", "fade");
   expect_model_error("LOD file1 a.wrl min 0 max 100 )\n", "bad.txt:1:", "'('");
   expect_model_error("LOD (\n file1 a.wrl\n min 0\n", "end of the file", "LOD");

@@ -87,15 +87,18 @@ bbc_result bbc_forest_positions_read(const char *path, bbc_forest_camera **cams,
     char extra;
     int n = sscanf(p, "%lf %lf %lf %lf %lf %c", &c.pos[0], &c.pos[1], &c.pos[2], &c.yaw, &c.pitch,
                    &extra);
-    if (n == 5 && isfinite(c.pos[0]) && isfinite(c.pos[1]) && isfinite(c.pos[2]) &&
-        isfinite(c.yaw) && isfinite(c.pitch)) {
+    if (n == 5 && fabs(c.pos[0]) <= 1e7 && fabs(c.pos[1]) <= 1e7 && fabs(c.pos[2]) <= 1e7 &&
+        fabs(c.yaw) <= 36000 && fabs(c.pitch) <= 89) {
       (*cams)[(*count)++] = c;
     } else if (strspn(p, " \t\r") != strlen(p)) {
       free(*cams);
       *cams = NULL;
       *count = 0;
       free(text);
-      return bbc__fail(err, BBC_ERROR_CORRUPT, "%s:%d: expected x y z yaw pitch", path, line);
+      return bbc__fail(err, BBC_ERROR_CORRUPT,
+                       "%s:%d: expected x y z yaw pitch (numbers; coordinates within +-1e7, "
+                       "pitch within +-89)",
+                       path, line);
     }
     p = nl ? nl + 1 : NULL;
   }

@@ -28,7 +28,19 @@ typedef struct lexer {
   int line;
   char word[MAX_WORD];
   int word_line;
+  int cmd_line;   /* where the command being read began */
+  char hint[128]; /* said after a message about a value on a later line */
 } lexer;
+
+/* " (the command begins on line N: too few values there?)" when the word
+ * that did not fit is on a later line than its command, else "". */
+static const char *later_line(lexer *lx) {
+  lx->hint[0] = '\0';
+  if (lx->cmd_line > 0 && lx->word_line > lx->cmd_line)
+    snprintf(lx->hint, sizeof lx->hint, " (the command begins on line %d: too few values there?)",
+             lx->cmd_line);
+  return lx->hint;
+}
 
 /* The next word into lx->word; 0 at the end of the text, -1 on an error. */
 static int next_word(lexer *lx, bbc_error *err) {
@@ -97,8 +109,8 @@ static int need_real(lexer *lx, const char *cmd, const char *what, double *v, bb
   errno = 0;
   double x = strtod(lx->word, &e);
   if (e == lx->word || *e || errno == ERANGE || !isfinite(x)) {
-    bbc__fail(err, BBC_ERROR_CORRUPT, "%s:%d: %s: expected %s (a number), found '%.64s'", lx->name,
-              lx->word_line, cmd, what, lx->word);
+    bbc__fail(err, BBC_ERROR_CORRUPT, "%s:%d: %s: expected %s (a number), found '%.64s'%s",
+              lx->name, lx->word_line, cmd, what, lx->word, later_line(lx));
     return 0;
   }
   *v = x;
@@ -113,8 +125,8 @@ static int need_long(lexer *lx, const char *cmd, const char *what, long lo, long
   long x = strtol(lx->word, &e, 10);
   if (e == lx->word || *e || errno == ERANGE || x < lo || x > hi) {
     bbc__fail(err, BBC_ERROR_CORRUPT,
-              "%s:%d: %s: expected %s (a whole number %ld..%ld), found '%.64s'", lx->name,
-              lx->word_line, cmd, what, lo, hi, lx->word);
+              "%s:%d: %s: expected %s (a whole number %ld..%ld), found '%.64s'%s", lx->name,
+              lx->word_line, cmd, what, lo, hi, lx->word, later_line(lx));
     return 0;
   }
   *v = x;
@@ -224,11 +236,12 @@ void bbc_forest_map_default(bbc_forest_map *map) {
 bbc_result bbc_forest_map_parse(const char *text, size_t size, const char *name,
                                 bbc_forest_map *map, bbc_error *err) {
   bbc_forest_map_default(map);
-  lexer lx = {text, text + size, name ? name : "map", 1, {0}, 1};
+  lexer lx = {text, text + size, name ? name : "map", 1, {0}, 1, 0, {0}};
   size_t cap = 0;
   int r;
   while ((r = next_word(&lx, err)) > 0) {
     const char *w = lx.word;
+    lx.cmd_line = lx.word_line;
     int ok = 1;
     if (!strcasecmp(w, "hmap")) {
       ok = need_string(&lx, "hmap", "the heightmap image file", &map->hmap, err);
@@ -285,8 +298,11 @@ bbc_result bbc_forest_map_parse(const char *text, size_t size, const char *name,
       bbc__fail(err, BBC_ERROR_CORRUPT,
                 "%s:%d: unknown command '%.64s' (expected hmap, hmapfilter, colmap, heightscale, "
                 "stretch, light, farclip, roetger, skymap, waterheight, fog, numobjs, object2d, "
-                "rndtree or rndtree2)",
-                lx.name, lx.word_line, w);
+                "rndtree or rndtree2)%s",
+                lx.name, lx.word_line, w,
+                strtod(w, NULL) != 0 || w[0] == '0' ? ": a number, one value too many for the "
+                                                      "command before it?"
+                                                    : "");
       ok = 0;
     }
     if (!ok) {
@@ -332,6 +348,7 @@ static int parse_lod(lexer *lx, bbc_forest_model *m, size_t *cap, bbc_error *err
   bbc_forest_lod *lod = &m->lods[m->lod_count++];
   memset(lod, 0, sizeof *lod);
   lod->line = lx->word_line;
+  lx->cmd_line = 0; /* a block spans lines: no "too few values" hint inside */
   if (!need_word(lx, cmd, "'('", err)) return 0;
   if (!check(lx, !strcmp(lx->word, "("), "expected '(' after LOD", cmd, err)) return 0;
   int has_min = 0, has_max = 0, part = -1;
@@ -380,11 +397,12 @@ static int parse_lod(lexer *lx, bbc_forest_model *m, size_t *cap, bbc_error *err
 bbc_result bbc_forest_model_parse(const char *text, size_t size, const char *name,
                                   bbc_forest_model *model, bbc_error *err) {
   memset(model, 0, sizeof *model);
-  lexer lx = {text, text + size, name ? name : "model", 1, {0}, 1};
+  lexer lx = {text, text + size, name ? name : "model", 1, {0}, 1, 0, {0}};
   size_t cap = 0;
   int r;
   while ((r = next_word(&lx, err)) > 0) {
     const char *w = lx.word;
+    lx.cmd_line = lx.word_line;
     int ok = 1;
     if (!strcasecmp(w, "fade")) {
       ok = need_real(&lx, "fade", "the fade length (units per half transition)", &model->fade,

@@ -37,7 +37,8 @@ static void usage(FILE *f) {
           "      Writes a procedural landscape (hills, a ridge, a lake, meadows, forest\n"
           "      floor, rock) as DIR/heightmap.png ((N+1)^2, default N 512) and\n"
           "      DIR/colmap.png (N^2), and prints the lake's water level in heightmap\n"
-          "      units (0..255): what `make demo` builds its forest map on.\n"
+          "      units (0..255; a map's waterheight is that times its heightscale):\n"
+          "      what `make demo` builds its forest map on.\n"
           "  forest --help | --version\n"
           "\n"
           "Options:\n"
@@ -52,9 +53,9 @@ static void usage(FILE *f) {
           "                       frame_ms_median=… frame_ms_p95=… cull_ms_median=…\n"
           "                       trees_drawn=… billboards_drawn=… draw_calls=…\n"
           "  --keys \"K K 30f shot:A.png K\"  scripted keys (names as in the list above:\n"
-          "                       s x a d y c space q e w F1 F2 F3 F4 F5 F10 1 2 3 h esc), Nf\n"
-          "                       runs N frames of 1/30 s, shot:FILE writes a screenshot;\n"
-          "                       the program ends after the script\n"
+          "                       s x a d y c space q e w F1 F2 F3 F4 F5 F10 1 2 3 h esc, any\n"
+          "                       case, z for y), Nf runs N frames of 1/30 s, shot:FILE writes\n"
+          "                       a screenshot; the program ends after the script (or at esc)\n"
           "  --stats              the statistics overlay (F10) from the start\n"
           "  --print-camera       print the final camera as --camera takes it\n"
           "  --naive              draw the way the thesis did, to measure against: every tree\n"
@@ -135,9 +136,9 @@ static int check_file(const char *map_path, int line, const char *folder, const 
 }
 
 static int parse_size(const char *v, int *w, int *h) {
-  char x;
-  return sscanf(v, "%d%c%d", w, &x, h) == 3 && (x == 'x' || x == 'X') && *w > 0 && *h > 0 &&
-         *w <= 16384 && *h <= 16384;
+  char x, extra;
+  return sscanf(v, "%d%c%d%c", w, &x, h, &extra) == 3 && (x == 'x' || x == 'X') && *w > 0 &&
+         *h > 0 && *w <= 16384 && *h <= 16384;
 }
 
 static int draw_map(const char *map_path, run_options *o, const char *log_path) {
@@ -146,6 +147,10 @@ static int draw_map(const char *map_path, run_options *o, const char *log_path) 
   if (!log_path) {
     snprintf(lp, sizeof lp, "%s/log.txt", folder);
     log_path = lp;
+  }
+  if (!scene_file_exists(map_path)) { /* before the log, which goes beside it */
+    fprintf(stderr, "forest: %s: no such map file\n", map_path);
+    return 1;
   }
   FILE *log = fopen(log_path, "w");
   if (!log) fprintf(stderr, "forest: cannot write the log %s; going on without\n", log_path);
@@ -253,10 +258,15 @@ int main(int argc, char **argv) {
     } else if (!strcmp(a, "--camera")) {
       bbc_forest_camera *c = &o.camera;
       char extra;
-      if (sscanf(v, "%lf,%lf,%lf,%lf,%lf%c", &c->pos[0], &c->pos[1], &c->pos[2], &c->yaw, &c->pitch,
-                 &extra) != 5 ||
-          fabs(c->pitch) > 89) {
-        fprintf(stderr, "forest: --camera %s: expected X,Y,Z,YAW,PITCH (pitch within +-89)\n", v);
+      int good = sscanf(v, "%lf,%lf,%lf,%lf,%lf%c", &c->pos[0], &c->pos[1], &c->pos[2], &c->yaw,
+                        &c->pitch, &extra) == 5;
+      for (int k = 0; k < 3 && good; k++) good = fabs(c->pos[k]) <= 1e7; /* false for NaN */
+      good = good && fabs(c->yaw) <= 36000 && fabs(c->pitch) <= 89;
+      if (!good) {
+        fprintf(stderr,
+                "forest: --camera %s: expected X,Y,Z,YAW,PITCH (numbers; coordinates within "
+                "+-1e7, pitch within +-89)\n",
+                v);
         return 2;
       }
       o.has_camera = 1;

@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <time.h>
 
@@ -101,7 +102,16 @@ static void load_position(state *st, double t) {
 }
 
 /* Keys by name, the same for GLFW's callback and scripts. */
-static int handle_key(state *st, const char *k, double t) {
+static int handle_key(state *st, const char *name, double t) {
+  /* names as --help lists them, in any case; z is y (German keyboards) */
+  static const char *const names[] = {"s",  "x",   "a", "d",  "y",  "c",  "space",
+                                      "q",  "e",   "w", "F1", "F2", "F3", "F4",
+                                      "F5", "F10", "1", "2",  "3",  "h",  "esc"};
+  const char *k = NULL;
+  for (size_t i = 0; i < sizeof names / sizeof names[0] && !k; i++)
+    if (!strcasecmp(name, names[i])) k = names[i];
+  if (!strcasecmp(name, "z")) k = "y";
+  if (!k) return 0;
   if (!strcmp(k, "s")) {
     st->speed += st->unit;
   } else if (!strcmp(k, "x")) {
@@ -265,7 +275,7 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
   bbcgl_context_begin(ctx);
   bbcgl_forest_draw(r, &fr, &st->s->terrain, &st->s->cull, &res->stats);
   memset(res->per_level, 0, sizeof res->per_level);
-  for (size_t m = 0; m < st->s->model_count; m++)
+  for (size_t m = 0; m < st->s->model_count && !st->no_objects; m++)
     for (size_t l = 0; l < st->s->models[m].lod_count; l++) {
       size_t b = st->s->cull.bucket_base[m] + l;
       res->per_level[l < 7 ? l : 7] +=
@@ -413,9 +423,19 @@ int run(scene *s, const run_options *o, FILE *log) {
   size_t path_count = 0;
   if (o->path) {
     bbc_error e;
-    if (bbc_forest_positions_read(o->path, &path, &path_count, &e) != BBC_OK || !path_count) {
-      fprintf(stderr, "forest: %s\n",
-              path_count ? e.message : "the camera path has no positions (x y z yaw pitch)");
+    FILE *probe = fopen(o->path, "r");
+    bbc_result pr = BBC_ERROR_NOT_FOUND;
+    if (!probe) {
+      snprintf(e.message, sizeof e.message, "--path %s: no such file", o->path);
+    } else {
+      fclose(probe);
+      pr = bbc_forest_positions_read(o->path, &path, &path_count, &e);
+      if (pr == BBC_OK && !path_count)
+        snprintf(e.message, sizeof e.message, "--path %s: no positions (lines: x y z yaw pitch)",
+                 o->path);
+    }
+    if (pr != BBC_OK || !path_count) {
+      fprintf(stderr, "forest: %s\n", e.message);
       bbcgl_forest_free(r);
       bbcgl_context_free(ctx);
       return 1;
@@ -450,7 +470,11 @@ int run(scene *s, const run_options *o, FILE *log) {
          tok = strtok_r(NULL, " ,", &save)) {
       char *end;
       long nframes = strtol(tok, &end, 10);
-      if (!strncmp(tok, "shot:", 5)) {
+      if (!strncmp(tok, "shot:", 5) && !tok[5]) {
+        fprintf(stderr, "forest: --keys: 'shot:' needs a file name (shot:FILE.png)\n");
+        status = 2;
+        break;
+      } else if (!strncmp(tok, "shot:", 5)) {
         draw_frame(&st, ctx, r, fps, &res, t);
         if (!screenshot(ctx, tok + 5)) status = 1;
         bbcgl_context_end(ctx);
@@ -466,8 +490,8 @@ int run(scene *s, const run_options *o, FILE *log) {
       } else if (!handle_key(&st, tok, t)) {
         fprintf(stderr,
                 "forest: --keys: unknown key or step '%s' (keys: s x a d y c space q e w "
-                "F1 F2 F3 F4 F5 F10 1 2 3 h esc; frames to run as Nf, e.g. 30f; "
-                "shot:FILE.png)\n",
+                "F1 F2 F3 F4 F5 F10 1 2 3 h esc, any case, z for y; frames to run "
+                "as Nf, e.g. 30f; shot:FILE.png)\n",
                 tok);
         status = 2;
         break;

@@ -275,7 +275,7 @@ int scene_load(scene *s, const char *map_path, FILE *log, int progress) {
   }
   if (progress) fprintf(stderr, "forest: building the terrain and placing objects\n");
   if (bbc_forest_world_build(&s->map, s->folder, &s->world, &err) != BBC_OK) {
-    fprintf(stderr, "forest: %s\n", err.message);
+    fprintf(stderr, "forest: %s: %s\n", map_path, err.message);
     return 0;
   }
   if (log && s->world.note[0]) fprintf(log, "note: %s\n", s->world.note);

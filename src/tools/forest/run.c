@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <time.h>
 
@@ -570,6 +571,33 @@ int run(scene *s, const run_options *o, FILE *log) {
         size_t p95 = (size_t)ceil(0.95 * frames) - 1;
         printf("frames=%zu size=%dx%d renderer=\"%s\"\n", frames, o->width, o->height,
                bbcgl_context_describe(ctx));
+        /* memory: the peak so far (ru_maxrss, kB on Linux), the instance
+         * records, and each model's textures (level 0 plus its mip levels,
+         * about a third more; each image once) */
+        struct rusage ru;
+        getrusage(RUSAGE_SELF, &ru);
+        printf("load_s=%.3f peak_rss_mb=%.1f objects=%zu instance_bytes=%zu", o->load_s,
+               ru.ru_maxrss / 1024.0, s->world.instance_count, sizeof(bbc_forest_instance));
+        for (size_t m = 0; m < s->model_count; m++) {
+          const uint8_t *seen[64];
+          size_t nseen = 0;
+          double bytes = 0;
+          for (size_t l = 0; l < s->models[m].lod_count; l++)
+            for (int k = 0; k < s->models[m].part_count[l]; k++) {
+              const bbc_mesh *me = &s->meshes[s->models[m].parts[l][k].mesh].mesh;
+              for (size_t ti = 0; ti < me->texture_count; ti++) {
+                const bbc_image *im = &me->textures[ti].image;
+                int dup = !im->rgba;
+                for (size_t q = 0; q < nseen && !dup; q++) dup = seen[q] == im->rgba;
+                if (dup) continue;
+                if (nseen < 64) seen[nseen++] = im->rgba;
+                bytes += (double)im->width * im->height * 4 *
+                         (s->models[m].parts[l][k].mipmap ? 4.0 / 3.0 : 1.0);
+              }
+            }
+          printf(" texture_mb[%s]=%.2f", s->models[m].name, bytes / (1024.0 * 1024.0));
+        }
+        printf("\n");
         printf("frame_ms_median=%.3f frame_ms_p95=%.3f cull_ms_median=%.3f trees_drawn=%zu "
                "billboards_drawn=%zu draw_calls=%zu\n",
                fm[frames / 2], fm[p95], cm[frames / 2], tsum / frames, bsum / frames,

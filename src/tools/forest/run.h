@@ -19,6 +19,7 @@ typedef struct run_options {
   int print_camera;       /* --print-camera: the final camera on stdout */
   int coverage;           /* --coverage: per frame, the pixels the objects cover */
   int naive;              /* --naive: draw the thesis's way (to measure against) */
+  double load_s;          /* how long loading took (for --bench) */
 } run_options;
 
 /* Draws `s` as `o` says; the exit status. */

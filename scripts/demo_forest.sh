@@ -74,6 +74,31 @@ rndtree pine.txt 1.1 $per 1 1 0 0 0 0
 rndtree birch.txt 0.9 $per 1 1 0 0 0 0
 EOT
 "$bin/forest" --check "$out/map.txt" > "$out/check.txt"
+# Large maps on a 1024 x 1024 landscape (issue 13): 150,000 trees (the
+# thesis's Huge Forest) and 1,000,000 trees, the same species.
+mkdir -p "$out/big"
+bigwater=$("$bin/forest" --demo-terrain "$out/big" --terrain-size 1024 --seed 2 | sed -n 's/^water_level=//p')
+for spec in "huge150k 50000 50000 50000" "million 333334 333333 333333"; do
+  read -r name n1 n2 n3 <<< "$spec"
+  cat > "$out/$name.txt" <<EOT
+' $((n1 + n2 + n3)) trees on a 2048 x 2048-unit landscape (1024 x 1024 heightmap).
+' Built by scripts/demo_forest.sh (make demo).
+hmap big/heightmap.png
+hmapfilter 1 2
+colmap big/colmap.png
+heightscale $heightscale
+stretch 2
+light 1 1 0.5
+farclip 800
+roetger 10
+waterheight $(awk -v w="$bigwater" -v h="$heightscale" 'BEGIN { printf "%.2f", w * h + 0.6 }')
+fog 250 1500
+numobjs $((n1 + n2 + n3))
+rndtree oak.txt 1.0 $n1 1 1 0 0 0 0
+rndtree pine.txt 1.1 $n2 1 1 0 0 0 0
+rndtree birch.txt 0.9 $n3 1 1 0 0 0 0
+EOT
+done
 # a camera path across the map (x y z yaw pitch), for --path and --bench
 cat > "$out/path.txt" <<EOT
 40 0 40 135 -6

@@ -391,6 +391,24 @@ static void test_keys(void **state) {
 }
 
 /* --bench: its last line has every figure the issue names. */
+/* The figures of --bench's last line. */
+typedef struct bench_line {
+  double frame_ms, frame_p95, cull_ms;
+  size_t trees, billboards, calls;
+} bench_line;
+
+static bench_line parse_bench(const char *out) {
+  bench_line b;
+  const char *last = strstr(out, "frame_ms_median=");
+  assert_non_null(last);
+  assert_int_equal(sscanf(last,
+                          "frame_ms_median=%lf frame_ms_p95=%lf cull_ms_median=%lf "
+                          "trees_drawn=%zu billboards_drawn=%zu draw_calls=%zu",
+                          &b.frame_ms, &b.frame_p95, &b.cull_ms, &b.trees, &b.billboards, &b.calls),
+                   6);
+  return b;
+}
+
 static void test_bench_line(void **state) {
   (void)state;
   if (!have_gl) skip();
@@ -398,17 +416,9 @@ static void test_bench_line(void **state) {
   int rc = sh(&out, "'%s/forest' '%s/hills.txt' --size 96x64 --frames 4 --bench --log '%s/log.txt'",
               BBC_BIN_DIR, dir, dir);
   if (rc) fail_msg("%s", out);
-  const char *last = strstr(out, "frame_ms_median=");
-  assert_non_null(last);
-  double fm, fp, cm;
-  size_t trees, bills, calls;
-  assert_int_equal(sscanf(last,
-                          "frame_ms_median=%lf frame_ms_p95=%lf cull_ms_median=%lf "
-                          "trees_drawn=%zu billboards_drawn=%zu draw_calls=%zu",
-                          &fm, &fp, &cm, &trees, &bills, &calls),
-                   6);
-  assert_true(fm > 0 && fp >= fm && cm >= 0);
-  assert_true(trees > 0 && calls > 0 && calls < 40); /* instanced: a handful of draws */
+  bench_line b = parse_bench(out);
+  assert_true(b.frame_ms > 0 && b.frame_p95 >= b.frame_ms && b.cull_ms >= 0);
+  assert_true(b.trees > 0 && b.calls > 0 && b.calls < 40); /* instanced: a handful of draws */
   /* the line before: loading time, memory, instance size, texture memory per model */
   const char *mem = strstr(out, "load_s=");
   assert_non_null(mem);
@@ -428,17 +438,10 @@ static void test_bench_line(void **state) {
           "'%s/forest' '%s/hills.txt' --size 96x64 --frames 4 --bench --naive --log '%s/log.txt'",
           BBC_BIN_DIR, dir, dir);
   if (rc) fail_msg("%s", out);
-  last = strstr(out, "frame_ms_median=");
-  assert_non_null(last);
-  size_t trees2, bills2, calls2;
-  assert_int_equal(sscanf(last,
-                          "frame_ms_median=%lf frame_ms_p95=%lf cull_ms_median=%lf "
-                          "trees_drawn=%zu billboards_drawn=%zu draw_calls=%zu",
-                          &fm, &fp, &cm, &trees2, &bills2, &calls2),
-                   6);
-  assert_int_equal(trees2, trees);
-  assert_int_equal(bills2, bills);
-  assert_true(calls2 >= bills2 && calls2 > 10 * calls);
+  bench_line n = parse_bench(out);
+  assert_int_equal(n.trees, b.trees);
+  assert_int_equal(n.billboards, b.billboards);
+  assert_true(n.calls >= n.billboards && n.calls > 10 * b.calls);
   free(out);
 }
 

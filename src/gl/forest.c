@@ -326,6 +326,7 @@ struct bbcgl_forest {
   const bbc_forest_world *world;
   float fog_colour[3];
   GLuint p_terrain, p_model, p_sky, p_water, p_text;
+  GLint u_has, u_base, u_lit, u_gain, u_amb; /* the model program's per-material uniforms */
   /* terrain */
   GLuint t_vao, t_vbo, t_ebo, t_nodes, t_height, t_colour;
   size_t t_first[5], t_count[5], t_node_capacity;
@@ -520,6 +521,11 @@ bbcgl_forest *bbcgl_forest_create(const bbcgl_scene *scene, char *err) {
     bbcgl_forest_free(f);
     return NULL;
   }
+  f->u_has = glGetUniformLocation(f->p_model, "u_has_tex");
+  f->u_base = glGetUniformLocation(f->p_model, "u_base");
+  f->u_lit = glGetUniformLocation(f->p_model, "u_lit");
+  f->u_gain = glGetUniformLocation(f->p_model, "u_gain");
+  f->u_amb = glGetUniformLocation(f->p_model, "u_amb");
   build_water(f);
   build_sky(f);
   build_text(f);
@@ -830,14 +836,19 @@ static void draw_terrain(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_fores
   st->terrain_nodes = t->node_count;
 }
 
+/* A material's uniforms of the model program. */
+static void set_batch(const bbcgl_forest *f, const batch *ba) {
+  glUniform1i(f->u_has, ba->tex != 0);
+  glUniform4fv(f->u_base, 1, ba->base);
+  glUniform1i(f->u_lit, ba->lit);
+  glUniform1f(f->u_gain, ba->gain);
+  glUniform3fv(f->u_amb, 1, ba->amb);
+}
+
 /* The thesis's way (3.3), for measuring against: per tree, level and
  * billboard its own draw call and texture bind. */
 static void draw_objects_naive(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_cull *c,
                                bbcgl_stats *st) {
-  GLuint p = f->p_model;
-  GLint u_has = glGetUniformLocation(p, "u_has_tex"), u_base = glGetUniformLocation(p, "u_base"),
-        u_lit = glGetUniformLocation(p, "u_lit"), u_gain = glGetUniformLocation(p, "u_gain"),
-        u_amb = glGetUniformLocation(p, "u_amb");
   (void)fr;
   for (size_t i = 0; i < f->part_count; i++) {
     const part *pt = &f->parts[i];
@@ -849,11 +860,7 @@ static void draw_objects_naive(bbcgl_forest *f, const bbcgl_frame *fr, const bbc
         const batch *ba = &pt->batches[b];
         glBindTextureUnit(0, ba->tex);
         st->texture_binds++;
-        glUniform1i(u_has, ba->tex != 0);
-        glUniform4fv(u_base, 1, ba->base);
-        glUniform1i(u_lit, ba->lit);
-        glUniform1f(u_gain, ba->gain);
-        glUniform3fv(u_amb, 1, ba->amb);
+        set_batch(f, ba);
         if (!pt->billboards) { /* a polygon model: one call (its display list) */
           glDrawElementsInstancedBaseInstance(GL_TRIANGLES, (GLsizei)ba->count, GL_UNSIGNED_INT,
                                               (const void *)(ba->first * sizeof(uint32_t)), 1,
@@ -900,9 +907,6 @@ static void draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_fores
               (float)(L[2] / ln));
   glUniform1i(glGetUniformLocation(p, "u_tex"), 0);
   glUniform1i(glGetUniformLocation(p, "u_fill"), fr->fill_colour);
-  GLint u_has = glGetUniformLocation(p, "u_has_tex"), u_base = glGetUniformLocation(p, "u_base"),
-        u_lit = glGetUniformLocation(p, "u_lit"), u_gain = glGetUniformLocation(p, "u_gain"),
-        u_amb = glGetUniformLocation(p, "u_amb");
   if (fr->naive) {
     draw_objects_naive(f, fr, c, st);
     return;
@@ -921,11 +925,7 @@ static void draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_fores
         bound = ba->tex;
         st->texture_binds++;
       }
-      glUniform1i(u_has, ba->tex != 0);
-      glUniform4fv(u_base, 1, ba->base);
-      glUniform1i(u_lit, ba->lit);
-      glUniform1f(u_gain, ba->gain);
-      glUniform3fv(u_amb, 1, ba->amb);
+      set_batch(f, ba);
       glDrawElementsInstancedBaseInstance(GL_TRIANGLES, (GLsizei)ba->count, GL_UNSIGNED_INT,
                                           (const void *)(ba->first * sizeof(uint32_t)),
                                           (GLsizei)count, (GLuint)first);

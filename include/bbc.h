@@ -992,15 +992,18 @@ int bbc_forest_world_green(const bbc_forest_world *world, double x, double z);
 void bbc_forest_world_free(bbc_forest_world *world);
 
 /* ---- forest: culling and levels of detail (thesis 3.2.3), GL-free ------- */
-/* The world's instances bucketed in a grid of cells; each frame whole cells
- * are tested against the view frustum (only cells that cross its boundary
- * test their trees one by one) and every visible tree gets the level(s) of
- * detail its distance asks for, with the thesis's blending: across a switch
- * at distance D the next level blends in over [D - fade, D] while the
- * previous is still whole, then the previous fades out over [D, D + fade]
- * (Wimmer et al. 2002). The result is one list of draw records per
- * (model, level), ready for one instanced draw each. No allocation per
- * frame. */
+/* Every tree is stored once per model it uses as a static draw record
+ * (weight 1), ordered by model and then by cell of a grid over the map
+ * (cells numbered in blocks of 8 x 8), so that the drawing layer uploads
+ * them once. Each frame blocks and then cells are tested against the view
+ * frustum and classified by their nearest and farthest tree: a cell wholly
+ * inside the frustum whose trees all get one level of a model, whole, is
+ * drawn straight from the static records as a range (neighbouring ranges
+ * merged); only cells on the frustum's boundary or across an LOD switch are
+ * handled tree by tree, into per-frame records with the thesis's blending:
+ * across a switch at distance D the next level blends in over [D - fade, D]
+ * while the previous is still whole, then the previous fades out over
+ * [D, D + fade] (Wimmer et al. 2002). No allocation per frame. */
 
 typedef struct bbc_forest_lod_model {
   size_t lod_count;
@@ -1024,18 +1027,34 @@ typedef struct bbc_forest_cull {
   size_t bucket_count;             /* sum of lod_count */
   uint32_t (*placement_models)[2]; /* per placement: model ids (UINT32_MAX = none) */
   size_t placement_count;
-  /* grid */
-  int cells_x, cells_z;
-  double cell_size;
-  size_t *cell_start;   /* cells_x * cells_z + 1 offsets into `order` */
-  uint32_t *order;      /* instance indices sorted by cell */
-  float (*cell_box)[6]; /* min xyz, max xyz of the trees in the cell (with radius) */
-  const bbc_forest_instance *instances;
   size_t instance_count;
-  /* per-frame output (capacity: every tree in two levels of each model) */
+  /* grid: cells_x x cells_z cells (multiples of 8), in blocks of 8 x 8 */
+  int cells_x, cells_z, blocks_x, blocks_z;
+  double cell_size;
+  size_t cell_count;
+  float (*cell_box)[6];   /* min xyz, max xyz of the trees with their radius (empty: min > max) */
+  float (*cell_reach)[6]; /* min xyz, max xyz of the trees' origins (for distances) */
+  float (*block_box)[6];  /* the union of a block's cell boxes */
+  /* static records: every tree once per model it uses, fade 1 */
+  size_t static_count;
+  bbc_forest_draw *statics;
+  uint8_t *static_first;       /* 1 where the model is the tree's first component */
+  uint32_t *model_cell_start;  /* model m, cell k: statics[start[m * (cell_count + 1) + k]
+                                * .. start[m * (cell_count + 1) + k + 1]) */
+  uint32_t *model_cell_firsts; /* model m, cell k: how many of them have static_first */
+  /* per frame, whole ranges of statics: bucket b draws
+   * ranges[range_start[b] .. range_start[b + 1]), each (first, count) */
+  size_t range_capacity;
+  uint32_t (*ranges)[2];
+  size_t *range_start;
+  uint32_t (*range_scratch)[2];
+  uint32_t *range_bucket;
+  size_t *range_last;
+  /* per frame, trees handled one by one: bucket b draws
+   * draws[bucket_start[b] .. bucket_start[b + 1]) */
   size_t capacity;
-  bbc_forest_draw *draws; /* grouped by bucket */
-  size_t *bucket_start;   /* bucket_count + 1 offsets into draws */
+  bbc_forest_draw *draws;
+  size_t *bucket_start;
   uint32_t *scratch_bucket;
   bbc_forest_draw *scratch;
   /* statistics of the last frame */
@@ -1049,15 +1068,23 @@ bbc_result bbc_forest_cull_init(bbc_forest_cull *cull, const bbc_forest_world *w
                                 const uint32_t (*placement_models)[2], size_t placement_count,
                                 bbc_error *err);
 /* One frame: `viewproj` column-major (OpenGL), `eye` the camera position;
- * distances are divided by `zoom` (zooming in shows finer levels). After it,
- * bucket b's draws are draws[bucket_start[b] .. bucket_start[b + 1]). */
+ * distances are divided by `zoom` (zooming in shows finer levels). After
+ * it, bucket b draws its static ranges and its per-frame records (above);
+ * trees_visible counts the trees whose first component is drawn. */
 void bbc_forest_cull_run(bbc_forest_cull *cull, const float viewproj[16], const double eye[3],
                          double zoom);
 /* The same without the grid, the way the thesis did it: every tree tested
- * against the frustum and given its level one by one (the naive mode that
- * `forest --naive` measures against). Same output. */
+ * against the frustum and given its level one by one, all into per-frame
+ * records, no static ranges (the naive mode that `forest --naive` measures
+ * against). The same trees, levels and weights. */
 void bbc_forest_cull_run_flat(bbc_forest_cull *cull, const float viewproj[16], const double eye[3],
                               double zoom);
+/* How many records bucket b draws this frame (static ranges and per-frame). */
+size_t bbc_forest_cull_bucket_size(const bbc_forest_cull *cull, size_t bucket);
+/* Writes bucket b's records of this frame into out (bbc_forest_cull_bucket_size
+ * of them): its static ranges, then its per-frame records. */
+void bbc_forest_cull_bucket_records(const bbc_forest_cull *cull, size_t bucket,
+                                    bbc_forest_draw *out);
 /* The weight (0..1) level `lod` of `model` gets at distance d. */
 double bbc_forest_lod_weight(const bbc_forest_lod_model *model, size_t lod, double d);
 void bbc_forest_cull_free(bbc_forest_cull *cull);

@@ -92,6 +92,76 @@ static void test_lod_weights(void **state) {
                   0.05 + 1e-9);
 }
 
+static int cmp_draw(const void *a, const void *b) {
+  return memcmp(a, b, sizeof(bbc_forest_draw));
+}
+
+/* The grid's frame (whole cells from static ranges, the rest tree by tree)
+ * against the flat one, tree by tree: the same records in every bucket,
+ * from many viewpoints, with blending, a hard switch and two components. */
+static void test_cull_matches_flat(void **state) {
+  (void)state;
+  bbc_forest_world w;
+  make_world(&w, 256, 4, 1); /* 1024 x 1024 units, hills */
+  w.instance_count = 20000;
+  w.instances = calloc(w.instance_count, sizeof *w.instances);
+  assert_non_null(w.instances);
+  uint32_t s = 7;
+  for (size_t i = 0; i < w.instance_count; i++) {
+    s = s * 1664525u + 1013904223u;
+    w.instances[i].x = (float)(s >> 8) / (float)(1u << 24) * 1024;
+    s = s * 1664525u + 1013904223u;
+    w.instances[i].z = (float)(s >> 8) / (float)(1u << 24) * 1024;
+    w.instances[i].y = (float)bbc_forest_world_height(&w, w.instances[i].x, w.instances[i].z);
+    w.instances[i].scale = 0.8f + (float)(i % 5) * 0.1f;
+    w.instances[i].yaw_deg = (float)(i * 53 % 360);
+    w.instances[i].placement = (uint32_t)(i % 3);
+  }
+  double r0[6] = {0, 40, 40, 150, 150, 600}, r1[4] = {0, 90, 90, 2000}, r2[2] = {10, 300};
+  bbc_forest_lod_model models[3] = {{3, r0, 6, 4}, {2, r1, 0, 3}, {1, r2, 10, 2}};
+  uint32_t pm[3][2] = {{0, UINT32_MAX}, {1, 2}, {2, UINT32_MAX}};
+  bbc_forest_cull c;
+  bbc_error err;
+  assert_int_equal(bbc_forest_cull_init(&c, &w, models, 3, (const uint32_t(*)[2])pm, 3, &err),
+                   BBC_OK);
+  size_t nb = c.bucket_count, ranged = 0;
+  bbc_forest_draw *a = malloc(c.static_count * 3 * sizeof *a),
+                  *b = malloc(c.static_count * 3 * sizeof *b);
+  assert_non_null(a);
+  assert_non_null(b);
+  for (int v = 0; v < 12; v++) {
+    bbc_forest_camera cam;
+    look(&cam, 80 + 70 * v, 30 + 5 * (v % 4), 900 - 60 * v, v * 31.0, -(v % 5) * 8.0);
+    float vp[16];
+    bbc_forest_camera_matrix(&cam, 1.3, 0.5, 1500, vp);
+    double zoom = v % 4 == 3 ? 2.5 : 1;
+    bbc_forest_cull_run(&c, vp, cam.pos, zoom);
+    ranged += c.range_start[nb];
+    size_t vis = c.trees_visible, at = 0, sizes[8];
+    for (size_t k = 0; k < nb; k++) {
+      sizes[k] = bbc_forest_cull_bucket_size(&c, k);
+      bbc_forest_cull_bucket_records(&c, k, a + at);
+      qsort(a + at, sizes[k], sizeof *a, cmp_draw);
+      at += sizes[k];
+    }
+    bbc_forest_cull_run_flat(&c, vp, cam.pos, zoom);
+    assert_int_equal(c.trees_visible, vis);
+    at = 0;
+    for (size_t k = 0; k < nb; k++) {
+      assert_int_equal(bbc_forest_cull_bucket_size(&c, k), sizes[k]);
+      bbc_forest_cull_bucket_records(&c, k, b + at);
+      qsort(b + at, sizes[k], sizeof *b, cmp_draw);
+      at += sizes[k];
+    }
+    assert_memory_equal(a, b, at * sizeof *a);
+  }
+  assert_true(ranged > 0);
+  free(a);
+  free(b);
+  bbc_forest_cull_free(&c);
+  bbc_forest_world_free(&w);
+}
+
 static void test_cull(void **state) {
   (void)state;
   bbc_forest_world w;
@@ -137,53 +207,69 @@ static void test_cull(void **state) {
   }
   assert_true(expect_visible > 50 && expect_visible < 256);
   assert_int_equal(c.trees_visible, expect_visible);
-  assert_int_equal(c.bucket_start[2] - c.bucket_start[1], expect_b1);
+  assert_int_equal(bbc_forest_cull_bucket_size(&c, 1), expect_b1);
   /* placement 1's second component: model 1's only level, half the trees */
-  size_t n2 = c.bucket_start[3] - c.bucket_start[2];
+  size_t n2 = bbc_forest_cull_bucket_size(&c, 2);
   assert_true(n2 > 0 && n2 <= expect_visible);
+  /* whole cells drawn from the static records, and some trees one by one */
+  assert_true(c.range_start[3] > 0 && c.bucket_start[3] > 0);
+  size_t total = 0;
+  for (size_t b = 0; b < 3; b++) total += bbc_forest_cull_bucket_size(&c, b);
+  bbc_forest_draw *grid = malloc(total * sizeof *grid);
+  assert_non_null(grid);
+  for (size_t b = 0, at = 0; b < 3; b++) {
+    bbc_forest_cull_bucket_records(&c, b, grid + at);
+    at += bbc_forest_cull_bucket_size(&c, b);
+  }
   /* records carry the instance and a weight in (0, 1] */
-  for (size_t i = 0; i < c.bucket_start[3]; i++)
-    assert_true(c.draws[i].fade > 0 && c.draws[i].fade <= 1 && c.draws[i].scale == 1);
+  for (size_t i = 0; i < total; i++)
+    assert_true(grid[i].fade > 0 && grid[i].fade <= 1 && grid[i].scale == 1);
   /* the same frame again: the same output (no state carried over) */
-  bbc_forest_draw *copy = malloc(c.bucket_start[3] * sizeof *copy);
-  assert_non_null(copy);
-  size_t n = c.bucket_start[3];
-  memcpy(copy, c.draws, n * sizeof *copy);
-  bbc_forest_cull_run(&c, vp, cam.pos, 1);
-  assert_int_equal(c.bucket_start[3], n);
-  assert_memory_equal(copy, c.draws, n * sizeof *copy);
-  free(copy);
-  /* without the grid (forest --naive): the same records, bucket by bucket,
-   * in another order */
   {
-    bbc_forest_draw *grid = malloc(n * sizeof *grid);
-    size_t starts[4];
-    assert_non_null(grid);
-    memcpy(grid, c.draws, n * sizeof *grid);
-    memcpy(starts, c.bucket_start, sizeof starts);
+    bbc_forest_draw *again = malloc(total * sizeof *again);
+    assert_non_null(again);
+    bbc_forest_cull_run(&c, vp, cam.pos, 1);
+    for (size_t b = 0, at = 0; b < 3; b++) {
+      bbc_forest_cull_bucket_records(&c, b, again + at);
+      at += bbc_forest_cull_bucket_size(&c, b);
+    }
+    assert_memory_equal(grid, again, total * sizeof *grid);
+    free(again);
+  }
+  /* without the grid (forest --naive): the same records, bucket by bucket,
+   * in another order, none from static ranges */
+  {
+    size_t sizes[3];
+    for (size_t b = 0; b < 3; b++) sizes[b] = bbc_forest_cull_bucket_size(&c, b);
     size_t vis = c.trees_visible;
     bbc_forest_cull_run_flat(&c, vp, cam.pos, 1);
-    assert_memory_equal(starts, c.bucket_start, sizeof starts);
+    assert_int_equal(c.range_start[3], 0);
+    for (size_t b = 0; b < 3; b++) assert_int_equal(bbc_forest_cull_bucket_size(&c, b), sizes[b]);
     assert_int_equal(c.trees_visible, vis);
-    for (size_t i = 0; i < n; i++) {
-      int found = 0;
-      for (size_t j = 0; j < n && !found; j++) found = !memcmp(&grid[i], &c.draws[j], sizeof *grid);
-      assert_true(found);
+    for (size_t b = 0, at = 0; b < 3; b++) {
+      for (size_t i = at; i < at + sizes[b]; i++) {
+        int found = 0;
+        for (size_t j = c.bucket_start[b]; j < c.bucket_start[b + 1] && !found; j++)
+          found = !memcmp(&grid[i], &c.draws[j], sizeof *grid);
+        assert_true(found);
+      }
+      at += sizes[b];
     }
-    free(grid);
   }
+  free(grid);
   /* looking away: nothing */
   look(&cam, 128, 10, 300, 180, 0);
   bbc_forest_camera_matrix(&cam, 1.0, 0.5, 2000, vp);
   bbc_forest_cull_run(&c, vp, cam.pos, 1);
-  assert_int_equal(c.bucket_start[3], 0);
+  assert_int_equal(c.bucket_start[3] + c.range_start[3], 0);
+  assert_int_equal(c.trees_visible, 0);
   /* zooming in (distances / zoom) moves trees to finer levels */
   look(&cam, 128, 10, 300, 0, 0);
   bbc_forest_camera_matrix(&cam, 1.0, 0.5, 2000, vp);
   bbc_forest_cull_run(&c, vp, cam.pos, 1);
-  size_t fine1 = c.bucket_start[1];
+  size_t fine0 = bbc_forest_cull_bucket_size(&c, 0);
   bbc_forest_cull_run(&c, vp, cam.pos, 8);
-  assert_true(c.bucket_start[1] > fine1);
+  assert_true(bbc_forest_cull_bucket_size(&c, 0) > fine0);
   bbc_forest_cull_free(&c);
   bbc_forest_world_free(&w);
 }
@@ -448,10 +534,10 @@ static void test_bmp_rle(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_frustum),        cmocka_unit_test(test_lod_weights),
-      cmocka_unit_test(test_cull),           cmocka_unit_test(test_terrain_select),
-      cmocka_unit_test(test_terrain_colour), cmocka_unit_test(test_mipmaps),
-      cmocka_unit_test(test_positions),      cmocka_unit_test(test_demo_terrain),
-      cmocka_unit_test(test_bmp_rle),
+      cmocka_unit_test(test_cull),           cmocka_unit_test(test_cull_matches_flat),
+      cmocka_unit_test(test_terrain_select), cmocka_unit_test(test_terrain_colour),
+      cmocka_unit_test(test_mipmaps),        cmocka_unit_test(test_positions),
+      cmocka_unit_test(test_demo_terrain),   cmocka_unit_test(test_bmp_rle),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -75,12 +75,15 @@ typedef struct bbcgl_frame {
 } bbcgl_frame;
 
 typedef struct bbcgl_stats {
-  size_t draw_calls, texture_binds;
+  size_t draw_calls;    /* calls into GL that draw (a multi-draw counts once) */
+  size_t draw_commands; /* the multi-draws' commands (each an instanced draw) */
+  size_t texture_binds;
   size_t trees, billboards, triangles, terrain_nodes;
 } bbcgl_stats;
 
 /* Draws one frame: sky, terrain nodes, water, every bucket's instances
- * (one instanced draw per bucket, component and material). */
+ * (one multi-draw per bucket, component and material: a command per static
+ * range of the culling and one for its per-frame records). */
 void bbcgl_forest_draw(bbcgl_forest *f, const bbcgl_frame *frame, const bbc_forest_terrain *terrain,
                        const bbc_forest_cull *cull, bbcgl_stats *stats);
 

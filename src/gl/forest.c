@@ -339,8 +339,13 @@ struct bbcgl_forest {
   size_t part_count;
   texture_entry *textures;
   size_t texture_count;
-  GLuint instances;
-  size_t instance_capacity; /* records */
+  GLuint instances;             /* the culling's static records, then this frame's */
+  size_t instance_capacity;     /* records */
+  const void *statics_uploaded; /* the static records in `instances` (NULL = none yet) */
+  size_t statics_count;
+  GLuint indirect; /* this frame's multi-draw commands */
+  uint32_t (*cmds)[5];
+  size_t cmd_capacity;
   /* text */
   GLuint x_vao, x_vbo, font;
   size_t x_capacity; /* vertices */
@@ -530,6 +535,7 @@ bbcgl_forest *bbcgl_forest_create(const bbcgl_scene *scene, char *err) {
   build_sky(f);
   build_text(f);
   glCreateBuffers(1, &f->instances);
+  glCreateBuffers(1, &f->indirect);
   return f;
 }
 
@@ -548,14 +554,15 @@ void bbcgl_forest_free(bbcgl_forest *f) {
   GLuint progs[5] = {f->p_terrain, f->p_model, f->p_sky, f->p_water, f->p_text};
   for (int i = 0; i < 5; i++)
     if (progs[i]) glDeleteProgram(progs[i]);
-  GLuint bufs[7] = {f->t_vbo, f->t_ebo, f->t_nodes, f->w_vbo, f->instances, f->x_vbo, 0};
-  glDeleteBuffers(6, bufs);
+  GLuint bufs[7] = {f->t_vbo, f->t_ebo, f->t_nodes, f->w_vbo, f->instances, f->x_vbo, f->indirect};
+  glDeleteBuffers(7, bufs);
   GLuint vaos[4] = {f->t_vao, f->sky_vao, f->w_vao, f->x_vao};
   glDeleteVertexArrays(4, vaos);
   GLuint texs[4] = {f->t_height, f->t_colour, f->cube, f->font};
   glDeleteTextures(4, texs);
   free(f->t_node_data);
   free(f->x_data);
+  free(f->cmds);
   free(f);
 }
 
@@ -846,14 +853,14 @@ static void set_batch(const bbcgl_forest *f, const batch *ba) {
 }
 
 /* The thesis's way (3.3), for measuring against: per tree, level and
- * billboard its own draw call and texture bind. */
-static void draw_objects_naive(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_cull *c,
-                               bbcgl_stats *st) {
-  (void)fr;
+ * billboard its own draw call and texture bind (the culling's per-frame
+ * records, after the static ones in the buffer). */
+static void draw_objects_naive(bbcgl_forest *f, const bbc_forest_cull *c, bbcgl_stats *st) {
   for (size_t i = 0; i < f->part_count; i++) {
     const part *pt = &f->parts[i];
     if (pt->bucket >= c->bucket_count) continue;
-    size_t first = c->bucket_start[pt->bucket], count = c->bucket_start[pt->bucket + 1] - first;
+    size_t first = c->static_count + c->bucket_start[pt->bucket],
+           count = c->bucket_start[pt->bucket + 1] - c->bucket_start[pt->bucket];
     for (size_t tree = 0; tree < count; tree++) {
       glBindVertexArray(pt->vao);
       for (size_t b = 0; b < pt->batch_count; b++) {
@@ -880,22 +887,38 @@ static void draw_objects_naive(bbcgl_forest *f, const bbcgl_frame *fr, const bbc
   }
 }
 
-static void draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_cull *c,
-                         bbcgl_stats *st) {
-  size_t n = c->bucket_start[c->bucket_count];
-  st->trees = c->trees_visible;
-  if (!n) return;
-  if (n > f->instance_capacity) {
-    size_t cap = n + n / 2 + 64;
+/* The instance buffer holds the static records (uploaded once) and this
+ * frame's records after them. */
+static int upload_instances(bbcgl_forest *f, const bbc_forest_cull *c) {
+  size_t s = c->static_count, n = c->bucket_start[c->bucket_count];
+  if (s + n > f->instance_capacity) {
+    size_t cap = s + n + n / 2 + 1024;
     glNamedBufferData(f->instances, (GLsizeiptr)(cap * sizeof(bbc_forest_draw)), NULL,
-                      GL_STREAM_DRAW);
+                      GL_DYNAMIC_DRAW);
     f->instance_capacity = cap;
+    f->statics_uploaded = NULL;
     for (size_t i = 0; i < f->part_count; i++)
       glVertexArrayVertexBuffer(f->parts[i].vao, 1, f->instances, 0, sizeof(bbc_forest_draw));
-  } else {
-    glInvalidateBufferData(f->instances);
   }
-  glNamedBufferSubData(f->instances, 0, (GLsizeiptr)(n * sizeof(bbc_forest_draw)), c->draws);
+  if (f->statics_uploaded != (const void *)c->statics || f->statics_count != s) {
+    if (s)
+      glNamedBufferSubData(f->instances, 0, (GLsizeiptr)(s * sizeof(bbc_forest_draw)), c->statics);
+    f->statics_uploaded = c->statics;
+    f->statics_count = s;
+  }
+  if (n) {
+    glInvalidateBufferSubData(f->instances, (GLintptr)(s * sizeof(bbc_forest_draw)),
+                              (GLsizeiptr)(n * sizeof(bbc_forest_draw)));
+    glNamedBufferSubData(f->instances, (GLintptr)(s * sizeof(bbc_forest_draw)),
+                         (GLsizeiptr)(n * sizeof(bbc_forest_draw)), c->draws);
+  }
+  return 1;
+}
+
+static void draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_cull *c,
+                         bbcgl_stats *st) {
+  st->trees = c->trees_visible;
+  if (!c->bucket_count || !upload_instances(f, c)) return;
   GLuint p = f->p_model;
   glUseProgram(p);
   glUniformMatrix4fv(glGetUniformLocation(p, "u_viewproj"), 1, GL_FALSE, fr->viewproj);
@@ -908,32 +931,84 @@ static void draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_fores
   glUniform1i(glGetUniformLocation(p, "u_tex"), 0);
   glUniform1i(glGetUniformLocation(p, "u_fill"), fr->fill_colour);
   if (fr->naive) {
-    draw_objects_naive(f, fr, c, st);
+    draw_objects_naive(f, c, st);
     return;
   }
-  GLuint bound = 0;
+  /* One multi-draw per part and material: a command per static range and
+   * one for the per-frame records. */
+  size_t ncmd = 0;
   for (size_t i = 0; i < f->part_count; i++) {
     const part *pt = &f->parts[i];
     if (pt->bucket >= c->bucket_count) continue;
-    size_t first = c->bucket_start[pt->bucket], count = c->bucket_start[pt->bucket + 1] - first;
-    if (!count) continue;
+    size_t b = pt->bucket;
+    size_t per =
+        c->range_start[b + 1] - c->range_start[b] + (c->bucket_start[b + 1] > c->bucket_start[b]);
+    ncmd += per * pt->batch_count;
+  }
+  if (!ncmd) return;
+  if (ncmd > f->cmd_capacity) {
+    size_t cap = ncmd + ncmd / 2 + 64;
+    uint32_t(*d)[5] = realloc(f->cmds, cap * sizeof *d);
+    if (!d) return;
+    f->cmds = d;
+    f->cmd_capacity = cap;
+    glNamedBufferData(f->indirect, (GLsizeiptr)(cap * sizeof *d), NULL, GL_DYNAMIC_DRAW);
+  }
+  size_t k = 0;
+  for (size_t i = 0; i < f->part_count; i++) {
+    const part *pt = &f->parts[i];
+    if (pt->bucket >= c->bucket_count) continue;
+    size_t b = pt->bucket, dyn = c->bucket_start[b + 1] - c->bucket_start[b];
+    for (size_t ba = 0; ba < pt->batch_count; ba++) {
+      for (size_t r = c->range_start[b]; r < c->range_start[b + 1]; r++) {
+        uint32_t *cmd = f->cmds[k++];
+        cmd[0] = (uint32_t)pt->batches[ba].count;
+        cmd[1] = c->ranges[r][1];
+        cmd[2] = (uint32_t)pt->batches[ba].first;
+        cmd[3] = 0;
+        cmd[4] = c->ranges[r][0];
+      }
+      if (dyn) {
+        uint32_t *cmd = f->cmds[k++];
+        cmd[0] = (uint32_t)pt->batches[ba].count;
+        cmd[1] = (uint32_t)dyn;
+        cmd[2] = (uint32_t)pt->batches[ba].first;
+        cmd[3] = 0;
+        cmd[4] = (uint32_t)(c->static_count + c->bucket_start[b]);
+      }
+    }
+  }
+  glInvalidateBufferData(f->indirect);
+  glNamedBufferSubData(f->indirect, 0, (GLsizeiptr)(ncmd * sizeof *f->cmds), f->cmds);
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, f->indirect);
+  GLuint bound = 0;
+  k = 0;
+  for (size_t i = 0; i < f->part_count; i++) {
+    const part *pt = &f->parts[i];
+    if (pt->bucket >= c->bucket_count) continue;
+    size_t b = pt->bucket, count = bbc_forest_cull_bucket_size(c, b);
+    size_t per =
+        c->range_start[b + 1] - c->range_start[b] + (c->bucket_start[b + 1] > c->bucket_start[b]);
+    if (!per) continue;
     glBindVertexArray(pt->vao);
-    for (size_t b = 0; b < pt->batch_count; b++) {
-      const batch *ba = &pt->batches[b];
+    for (size_t bi = 0; bi < pt->batch_count; bi++) {
+      const batch *ba = &pt->batches[bi];
       if (ba->tex && ba->tex != bound) {
         glBindTextureUnit(0, ba->tex);
         bound = ba->tex;
         st->texture_binds++;
       }
       set_batch(f, ba);
-      glDrawElementsInstancedBaseInstance(GL_TRIANGLES, (GLsizei)ba->count, GL_UNSIGNED_INT,
-                                          (const void *)(ba->first * sizeof(uint32_t)),
-                                          (GLsizei)count, (GLuint)first);
+      glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
+                                  (const void *)(k * sizeof *f->cmds), (GLsizei)per, 0);
+      k += per;
       st->draw_calls++;
+      st->draw_commands += per;
       st->triangles += count * ba->count / 3;
     }
     st->billboards += count * pt->billboards;
   }
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
 }
 
 void bbcgl_forest_draw(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_terrain *t,

@@ -273,14 +273,18 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
     bbc_forest_cull_run(&st->s->cull, fr.viewproj, fr.eye, st->cam.zoom);
   fr.naive = st->o->naive;
   res->cull_ms = (now_s() - c0) * 1000;
+  if (getenv("BBC_DEBUG_CULL"))
+    fprintf(stderr, "cull %.3f ms cells %zu tested %zu dyn %zu ranges %zu\n", res->cull_ms,
+            st->s->cull.cells_visible, st->s->cull.cells_tested_per_tree,
+            st->s->cull.bucket_start[st->s->cull.bucket_count],
+            st->s->cull.range_start[st->s->cull.bucket_count]);
   bbcgl_context_begin(ctx);
   bbcgl_forest_draw(r, &fr, &st->s->terrain, &st->s->cull, &res->stats);
   memset(res->per_level, 0, sizeof res->per_level);
   for (size_t m = 0; m < st->s->model_count && !st->no_objects; m++)
     for (size_t l = 0; l < st->s->models[m].lod_count; l++) {
       size_t b = st->s->cull.bucket_base[m] + l;
-      res->per_level[l < 7 ? l : 7] +=
-          st->s->cull.bucket_start[b + 1] - st->s->cull.bucket_start[b];
+      res->per_level[l < 7 ? l : 7] += bbc_forest_cull_bucket_size(&st->s->cull, b);
     }
   const char *lines[24];
   char buf[8][160];

@@ -846,6 +846,7 @@ typedef enum bbc_tree_species {
   BBC_TREE_LARCH,   /* conifer: needle tufts on long thin twigs */
   BBC_TREE_WEEPING, /* weeping birch: thin twigs hanging in curtains */
   BBC_TREE_WINTER,  /* leafless oak: branches and twigs only */
+  BBC_TREE_PALM,    /* palm: a bare leaning stem and a crown of arching pinnate fronds */
   BBC_TREE_SPECIES_COUNT
 } bbc_tree_species;
 

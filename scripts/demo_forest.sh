@@ -15,8 +15,10 @@ mkdir -p "$out"
 echo "== forest: the landscape"
 water=$("$bin/forest" --demo-terrain "$out" --terrain-size 512 --seed 1 | sed -n 's/^water_level=//p')
 heightscale=0.5
-species=(oak pine birch)
-for s in "${species[@]}"; do
+# One species: its polygon tree and three Billboard Clouds, and its model
+# file (thesis Appendix B) with the LOD ranges.
+make_species() {
+  local s=$1
   if [ ! -f "$out/$s.obj" ] || [ ! -f "$out/${s}_6.glb" ]; then
     echo "== forest: $s and its Billboard Clouds (22, 8 and 6 billboards)"
     "$bin/bbcgen" tree --species "$s" --seed 1 -o "$out/$s.obj" > /dev/null
@@ -54,7 +56,8 @@ LOD
     max 1600
 )
 EOT
-done
+}
+for s in oak pine birch larch weeping; do make_species "$s"; done
 cat > "$out/map.txt" <<EOT
 ' The demo map: 1024 x 1024 units of hills, meadows and a lake, $((per * 3)) trees.
 ' Built by scripts/demo_forest.sh (make demo).
@@ -74,31 +77,106 @@ rndtree pine.txt 1.1 $per 1 1 0 0 0 0
 rndtree birch.txt 0.9 $per 1 1 0 0 0 0
 EOT
 "$bin/forest" --check "$out/map.txt" > "$out/check.txt"
-# Large maps on a 1024 x 1024 landscape (issue 13): 150,000 trees (the
-# thesis's Huge Forest) and 1,000,000 trees, the same species.
-mkdir -p "$out/big"
+# The thesis's maps (3.3) on 1024 x 1024 landscapes (2048 x 2048 units),
+# and a million trees (issue 13).
+mkdir -p "$out/big" "$out/flat"
 bigwater=$("$bin/forest" --demo-terrain "$out/big" --terrain-size 1024 --seed 2 | sed -n 's/^water_level=//p')
-for spec in "huge150k 50000 50000 50000" "million 333334 333333 333333"; do
-  read -r name n1 n2 n3 <<< "$spec"
+flatwater=$("$bin/forest" --demo-terrain "$out/flat" --terrain-size 1024 --seed 4 | sed -n 's/^water_level=//p')
+# big_map NAME DIR WATER HEIGHTSCALE TITLE, then "rndtree" lines on stdin
+big_map() {
+  local name=$1 dir=$2 wat=$3 hs=$4 title=$5 lines total
+  lines=$(cat)
+  total=$(echo "$lines" | awk '{ n += $4 } END { print n }')
   cat > "$out/$name.txt" <<EOT
-' $((n1 + n2 + n3)) trees on a 2048 x 2048-unit landscape (1024 x 1024 heightmap).
+' $title: $total objects on a 2048 x 2048-unit landscape (1024 x 1024 heightmap).
 ' Built by scripts/demo_forest.sh (make demo).
-hmap big/heightmap.png
+hmap $dir/heightmap.png
 hmapfilter 1 2
-colmap big/colmap.png
-heightscale $heightscale
+colmap $dir/colmap.png
+heightscale $hs
 stretch 2
 light 1 1 0.5
 farclip 800
 roetger 10
-waterheight $(awk -v w="$bigwater" -v h="$heightscale" 'BEGIN { printf "%.2f", w * h + 0.6 }')
+waterheight $(awk -v w="$wat" -v h="$hs" 'BEGIN { printf "%.2f", w * h + 0.6 }')
 fog 250 1500
-numobjs $((n1 + n2 + n3))
-rndtree oak.txt 1.0 $n1 1 1 0 0 0 0
-rndtree pine.txt 1.1 $n2 1 1 0 0 0 0
-rndtree birch.txt 0.9 $n3 1 1 0 0 0 0
+numobjs $total
+$lines
 EOT
-done
+}
+big_map mixed big "$bigwater" 0.5 "Mixed Forest (thesis 3.3, map a): five species" <<EOT
+rndtree oak.txt 1.0 8000 1 1 0 0 0 0
+rndtree pine.txt 1.1 8000 1 1 0 0 0 0
+rndtree birch.txt 0.9 8000 1 1 0 0 0 0
+rndtree larch.txt 1.0 7000 1 1 0 0 0 0
+rndtree weeping.txt 1.0 7000 1 1 0 0 0 0
+EOT
+big_map huge150k big "$bigwater" 0.5 "Huge Forest (thesis 3.3, map d)" <<EOT
+rndtree oak.txt 1.0 50000 1 1 0 0 0 0
+rndtree pine.txt 1.1 50000 1 1 0 0 0 0
+rndtree birch.txt 0.9 50000 1 1 0 0 0 0
+EOT
+big_map million big "$bigwater" 0.5 "A million trees" <<EOT
+rndtree oak.txt 1.0 333334 1 1 0 0 0 0
+rndtree pine.txt 1.1 333333 1 1 0 0 0 0
+rndtree birch.txt 0.9 333333 1 1 0 0 0 0
+EOT
+# Finland (thesis 3.3, map c): groups of 8 spruces, each group one model
+# simplified by bbcgen as a whole (the polygon group near, then clouds of 25,
+# 11 and 11 billboards at 256, 128 and 32 texels like the thesis's), on
+# flat land (3.3: groups belong on flat ground).
+if [ ! -f "$out/spruces.obj" ] || [ ! -f "$out/spruces_11s.glb" ]; then
+  echo "== forest: a group of 8 spruces and its Billboard Clouds (25, 11 and 11 billboards)"
+  awk -f "$(dirname "$0")/obj_group.awk" "$out/pine.obj" > "$out/spruces.obj.tmp"
+  mv "$out/spruces.obj.tmp" "$out/spruces.obj"
+  "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_25.glb" --maxplanes 25 --texres 256 -q
+  "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_11.glb" --maxplanes 11 --minplanes 0 --texres 128 -q
+  "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_11s.glb" --maxplanes 11 --minplanes 0 --texres 32 -q
+fi
+cat > "$out/spruces.txt" <<EOT
+' 8 spruces as one model (thesis 3.3, Finland): the polygon group near, clouds farther
+fade 8
+shadowrad 14
+shadowcutoff 6
+LOD
+(
+    file1 spruces.obj lighting mipmap
+    min 0
+    max 50
+)
+LOD
+(
+    file1 spruces_25.glb mipmap
+    min 50
+    max 200
+)
+LOD
+(
+    file1 spruces_11.glb mipmap
+    min 200
+    max 450
+)
+LOD
+(
+    file1 spruces_11s.glb mipmap
+    min 450
+    max 1600
+)
+EOT
+big_map finland flat "$flatwater" 0.2 "Finland (thesis 3.3, map c): groups of 8 spruces" <<EOT
+rndtree spruces.txt 1.0 20000 1 1 0 0 0 0
+EOT
+for m in mixed finland huge150k; do "$bin/forest" --check "$out/$m.txt" > "$out/check_$m.txt"; done
+# A camera path across the large maps (corner to corner, low and high).
+cat > "$out/path_big.txt" <<EOT
+60 0 60 135 -5
+520 0 600 140 -3
+1000 60 980 120 -10
+1450 0 1400 160 -2
+1900 140 1950 -135 -14
+1500 0 1750 -100 -4
+EOT
+
 # a camera path across the map (x y z yaw pitch), for --path and --bench
 cat > "$out/path.txt" <<EOT
 40 0 40 135 -6

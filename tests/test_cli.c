@@ -283,7 +283,7 @@ static void test_tree_command(void **state) {
   assert_int_equal(run(args, &out, &err), 5);
   free(out);
   free(err);
-  assert_int_equal(run("tree --species palm -o x.obj", &out, &err), 1);
+  assert_int_equal(run("tree --species cactus -o x.obj", &out, &err), 1);
   free(out);
   free(err);
 }

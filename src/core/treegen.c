@@ -234,6 +234,17 @@ static const tg_species tg_species_table[BBC_TREE_SPECIES_COUNT] = {
      .bark = {0.42f, 0.36f, 0.30f},
      .leaf = {0.22f, 0.40f, 0.12f},
      TG_OAK_BRANCHING},
+    {.name = "palm", /* a coconut-like palm: leaning stem, fronds of leaflet cards */
+     .shape = BBC_TREE_PALM,
+     .height = 11.0,
+     .default_leaves = 1400,
+     .leaf_size = 0.8,
+     .bark = {0.55f, 0.47f, 0.38f},
+     .leaf = {0.26f, 0.43f, 0.12f},
+     .levels = 2,
+     .leaf_exponent = 1.0,
+     .rules = {[1] = {{0, 0.965, 1.0, 1}}},
+     .leaf_rules = {{1, 0.1, 0.98, 1}}},
 };
 
 const char *bbc_tree_species_name(bbc_tree_species species) {
@@ -511,6 +522,16 @@ static void tg_child_shape(tg_ctx *c, int level, const tg_attach *a, vec3 radial
       g = (tg_growth){4.0, 0.0, 0.6, 0.5, 0};
     }
     break;
+  case BBC_TREE_PALM:
+    /* Fronds from the crown: the young ones upright, the old ones spread
+     * and arching down under their weight. */
+    angle = rnd(rng, 35, 100) * TG_DEG;
+    len = 0.38 * h * rnd(rng, 0.85, 1.12);
+    rratio = 0.25;
+    rmin = 0.02;
+    rmax = 0.05;
+    g = (tg_growth){0.5, 0.0, 0.12, 0.25, 0};
+    break;
   case BBC_TREE_BUSH:
   default:
     if (level == 1) {
@@ -652,6 +673,10 @@ static void tg_place_trunks(tg_ctx *c, bbc__rng *rng) {
   } else if (c->shape == BBC_TREE_BIRCH) {
     len = 0.96 * h, r0 = 0.012 * h, lean = 0.05;
     g = (tg_growth){0, 0.02, 0.05, 0.06, 0.3};
+  } else if (c->shape == BBC_TREE_PALM) {
+    /* A slender stem leaning out and curving back up toward the light. */
+    len = 1.02 * h, r0 = 0.02 * h, lean = rnd(rng, 0.15, 0.35);
+    g = (tg_growth){0, 0.035, 0.04, 0.7, 0.7};
   }
   double az = rnd(rng, 0, 2 * TG_PI);
   vec3 dir = vnorm(v3(lean * cos(az), 1, lean * sin(az)));
@@ -753,6 +778,9 @@ static void tg_plan(tg_ctx *c) {
     c->count[2] = twigs;
     break;
   }
+  case BBC_TREE_PALM:
+    c->count[1] = 14 + (size_t)(bbc__rng_next(rng) % 5);
+    break;
   case BBC_TREE_BIRCH:
     c->count[1] = (size_t)clampd(floor(10 + 0.9 * pow(n, 0.3) + 0.5), 12, 40);
     c->count[2] = branches;
@@ -846,6 +874,9 @@ static double tg_blade_half_width(bbc_tree_species sp, double s) {
     double tooth = s * 15 - floor(s * 15);
     return w * (1 - 0.07 * tooth);
   }
+  case BBC_TREE_PALM:
+    /* A palm leaflet: long, narrow, tapering to a point. */
+    return 0.10 * pow(sin(TG_PI * pow(s, 0.7)), 0.6);
   default:
     /* Elliptic with a short point. */
     return 0.27 * pow(sin(TG_PI * pow(s, 0.85)), 0.8);
@@ -1144,6 +1175,16 @@ static void tg_emit_leaf(const tg_ctx *c, const tg_attach *a, vec3 radial, bbc__
     pref = vadd(vadd(vscale(radial, 0.8), vscale(up, 0.4)), vscale(rnd_vec(rng), 0.6));
     break;
   }
+  case BBC_TREE_PALM: {
+    /* Leaflets in two rows, one each side of the frond's midrib, pointing
+     * forward a little and drooping, faces to the sky. */
+    vec3 sidev = vnorm_or(vcross(t, up), vperp(t));
+    double sgn = vdot(radial, sidev) >= 0 ? 1 : -1, droop = rnd(rng, 5, 40) * TG_DEG;
+    axis = vnorm(vadd(vadd(vscale(sidev, sgn * cos(droop)), vscale(t, 0.5)),
+                      v3(0, -sin(droop), 0)));
+    pref = vadd(up, vscale(rnd_vec(rng), 0.3));
+    break;
+  }
   default: {
     /* Broad leaves spread out from the twig and turn their face to the sky. */
     double ang = rnd(rng, 40, 75) * TG_DEG;
@@ -1153,7 +1194,9 @@ static void tg_emit_leaf(const tg_ctx *c, const tg_attach *a, vec3 radial, bbc__
     break;
   }
   }
-  vec3 base = c->shape == BBC_TREE_PINE ? a->pos : vmadd(a->pos, radial, a->radius);
+  vec3 base = c->shape == BBC_TREE_PINE || c->shape == BBC_TREE_PALM
+                  ? a->pos
+                  : vmadd(a->pos, radial, a->radius);
   /* Leaves near the ground turn upward rather than into the soil. */
   if (base.y + axis.y * size < 0.02 && axis.y < 0) {
     axis.y = -axis.y;
@@ -1250,7 +1293,7 @@ bbc_result bbc_tree_generate(const bbc_tree_options *options, bbc_mesh *mesh, bb
   if ((int)options->species < 0 || (int)options->species >= BBC_TREE_SPECIES_COUNT)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "tree generator: species %d is not one of oak (0), pine (1), birch (2), "
-                     "bush (3), larch (4), weeping (5), winter (6)",
+                     "bush (3), larch (4), weeping (5), winter (6), palm (7)",
                      (int)options->species);
   if (!tg_is_pow2(options->texture_size) || options->texture_size < TG_MIN_TEXTURE ||
       options->texture_size > TG_MAX_TEXTURE)

@@ -1166,14 +1166,22 @@ bbc_result bbc_forest_positions_read(const char *path, bbc_forest_camera **cams,
                                      bbc_error *err);
 
 /* ---- forest: a procedural landscape for the demo map ------------------- */
+typedef enum bbc_forest_demo_kind {
+  BBC_FOREST_DEMO_HILLS = 0, /* hills, a ridge, a lake */
+  BBC_FOREST_DEMO_ISLANDS    /* islands in a sea (the thesis's Tropic Islands) */
+} bbc_forest_demo_kind;
+
 /* A (size + 1)^2 8-bit heightmap (grey in `height`'s RGB) and a size^2
- * colour map: rolling hills from value noise, a ridge along one side, a
- * lake basin (its floor below `*water_level`, in heightmap units 0..255),
- * meadows (yellow-green: no trees by the Appendix B rule), forest floor
- * (green: trees), rock where steep or high, sand on the shore. `size` a
- * power of two, 16..4096. Deterministic from `seed`. */
-bbc_result bbc_forest_demo_terrain(int size, uint32_t seed, bbc_image *height, bbc_image *colour,
-                                   double *water_level, bbc_error *err);
+ * colour map. Hills: rolling hills from value noise, a ridge along one
+ * side, a lake basin (its floor below `*water_level`, in heightmap units
+ * 0..255), meadows (yellow-green: no trees by the Appendix B rule), forest
+ * floor (green: trees), rock where steep or high, sand on the shore.
+ * Islands: a sea (below `*water_level`) with islands of green ground, sandy
+ * beaches and rock, none touching the map's edge. `size` a power of two,
+ * 16..4096. Deterministic from `seed`. */
+bbc_result bbc_forest_demo_terrain(int size, uint32_t seed, bbc_forest_demo_kind kind,
+                                   bbc_image *height, bbc_image *colour, double *water_level,
+                                   bbc_error *err);
 
 #ifdef __cplusplus
 }

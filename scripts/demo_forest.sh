@@ -166,7 +166,52 @@ EOT
 big_map finland flat "$flatwater" 0.2 "Finland (thesis 3.3, map c): groups of 8 spruces" <<EOT
 rndtree spruces.txt 1.0 20000 1 1 0 0 0 0
 EOT
-for m in mixed finland huge150k; do "$bin/forest" --check "$out/$m.txt" > "$out/check_$m.txt"; done
+# Tropic Islands (thesis 3.3, map b): palms on islands in a sea, with the
+# thesis's palm levels (8 billboards at 512 and 128 texels, 5 at 32).
+mkdir -p "$out/islands"
+islandwater=$("$bin/forest" --demo-terrain "$out/islands" --terrain-size 1024 --seed 6 \
+  --terrain-kind islands | sed -n 's/^water_level=//p')
+if [ ! -f "$out/palm.obj" ] || [ ! -f "$out/palm_5.glb" ]; then
+  echo "== forest: palm and its Billboard Clouds (8, 8 and 5 billboards)"
+  "$bin/bbcgen" tree --species palm --seed 1 -o "$out/palm.obj" > /dev/null
+  "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_8.glb" --maxplanes 8 --minplanes 0 --texres 512 -q
+  "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_8s.glb" --maxplanes 8 --minplanes 0 --texres 128 -q
+  "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_5.glb" --maxplanes 5 --minplanes 0 --texres 32 -q
+fi
+cat > "$out/palm.txt" <<EOT
+' palm: the polygon tree near, Billboard Clouds farther (thesis 3.3, Tropic Islands)
+fade 6
+shadowrad 5
+shadowcutoff 2
+LOD
+(
+    file1 palm.obj lighting mipmap
+    min 0
+    max 45
+)
+LOD
+(
+    file1 palm_8.glb mipmap
+    min 45
+    max 160
+)
+LOD
+(
+    file1 palm_8s.glb mipmap
+    min 160
+    max 420
+)
+LOD
+(
+    file1 palm_5.glb mipmap
+    min 420
+    max 1600
+)
+EOT
+big_map islands islands "$islandwater" 0.5 "Tropic Islands (thesis 3.3, map b): palms" <<EOT
+rndtree palm.txt 1.0 25000 1 1 0 0 0 0
+EOT
+for m in mixed islands finland huge150k; do "$bin/forest" --check "$out/$m.txt" > "$out/check_$m.txt"; done
 # A camera path across the large maps (corner to corner, low and high).
 cat > "$out/path_big.txt" <<EOT
 60 0 60 135 -5

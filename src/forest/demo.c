@@ -52,13 +52,30 @@ static double demo_height(double u, double v, uint32_t seed) {
   return h * (1 - bowl) + 0.10 * bowl;
 }
 
-bbc_result bbc_forest_demo_terrain(int size, uint32_t seed, bbc_image *height, bbc_image *colour,
-                                   double *water_level, bbc_error *err) {
+/* Islands: the same noise, most of it under the sea, and the map's border
+ * sinking so no island touches the edge. */
+static double islands_height(double u, double v, uint32_t seed) {
+  double base = fbm(u * 5.0, v * 5.0, 5, seed);
+  double edge = fabs(u - 0.5) > fabs(v - 0.5) ? fabs(u - 0.5) : fabs(v - 0.5);
+  base -= 0.3 * smooth(0.3, 0.48, edge);
+  double h = 0.15 + (base - 0.54) * 1.1;
+  return h < 0.02 ? 0.02 + 0.01 * fbm(u * 20, v * 20, 2, seed + 5) : h;
+}
+
+static double terrain_height(double u, double v, uint32_t seed, bbc_forest_demo_kind kind) {
+  return kind == BBC_FOREST_DEMO_ISLANDS ? islands_height(u, v, seed) : demo_height(u, v, seed);
+}
+
+bbc_result bbc_forest_demo_terrain(int size, uint32_t seed, bbc_forest_demo_kind kind,
+                                   bbc_image *height, bbc_image *colour, double *water_level,
+                                   bbc_error *err) {
   memset(height, 0, sizeof *height);
   memset(colour, 0, sizeof *colour);
   if (size < 16 || size > 4096 || (size & (size - 1)))
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "demo terrain: size %d is not a power of two from 16 to 4096", size);
+  if (kind != BBC_FOREST_DEMO_HILLS && kind != BBC_FOREST_DEMO_ISLANDS)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "demo terrain: unknown kind %d", (int)kind);
   if (bbc_image_alloc(height, size + 1, size + 1) != BBC_OK ||
       bbc_image_alloc(colour, size, size) != BBC_OK) {
     bbc_image_free(height);
@@ -68,7 +85,7 @@ bbc_result bbc_forest_demo_terrain(int size, uint32_t seed, bbc_image *height, b
   *water_level = water * 255;
   for (int z = 0; z <= size; z++)
     for (int x = 0; x <= size; x++) {
-      double h = demo_height((double)x / size, (double)z / size, seed);
+      double h = terrain_height((double)x / size, (double)z / size, seed, kind);
       uint8_t g = (uint8_t)(h < 0 ? 0 : h > 1 ? 255 : h * 255 + 0.5);
       uint8_t *p = height->rgba + 4 * ((size_t)z * (size + 1) + x);
       p[0] = p[1] = p[2] = g;
@@ -77,22 +94,25 @@ bbc_result bbc_forest_demo_terrain(int size, uint32_t seed, bbc_image *height, b
   for (int z = 0; z < size; z++)
     for (int x = 0; x < size; x++) {
       double u = (x + 0.5) / size, v = (z + 0.5) / size, e = 1.0 / size;
-      double h = demo_height(u, v, seed);
-      double gx = (demo_height(u + e, v, seed) - demo_height(u - e, v, seed)) / (2 * e);
-      double gz = (demo_height(u, v + e, seed) - demo_height(u, v - e, seed)) / (2 * e);
+      double h = terrain_height(u, v, seed, kind);
+      double gx =
+          (terrain_height(u + e, v, seed, kind) - terrain_height(u - e, v, seed, kind)) / (2 * e);
+      double gz =
+          (terrain_height(u, v + e, seed, kind) - terrain_height(u, v - e, seed, kind)) / (2 * e);
       double slope = sqrt(gx * gx + gz * gz);
       double meadow = fbm(u * 4.5, v * 4.5, 4, seed + 555);
       double grain = fbm(u * 60, v * 60, 2, seed + 777) - 0.5;
       double c[3];
-      if (h < water + 0.012) { /* lake floor and shore */
+      double shore = kind == BBC_FOREST_DEMO_ISLANDS ? 0.018 : 0.012;
+      if (h < water + shore) { /* lake floor and shore */
         c[0] = 158;
         c[1] = 146;
         c[2] = 104;
-      } else if (slope > 3.2 || h > 0.80) { /* rock */
+      } else if (slope > (kind == BBC_FOREST_DEMO_ISLANDS ? 5.0 : 3.2) || h > 0.80) { /* rock */
         c[0] = 128;
         c[1] = 123;
         c[2] = 114;
-      } else if (meadow > 0.57) { /* meadow: too yellow for trees */
+      } else if (meadow > 0.57 && kind == BBC_FOREST_DEMO_HILLS) { /* meadow: too yellow for trees */
         c[0] = 150;
         c[1] = 172;
         c[2] = 82;

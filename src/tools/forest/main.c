@@ -34,11 +34,13 @@ static void usage(FILE *f) {
           "      model once). Prints a summary; every problem as FILE:LINE: what is wrong.\n"
           "      Exit status 0 when the map is whole, 1 when something is wrong.\n"
           "  forest --demo-terrain DIR [--terrain-size N] [--seed S]\n"
-          "      Writes a procedural landscape (hills, a ridge, a lake, meadows, forest\n"
-          "      floor, rock) as DIR/heightmap.png ((N+1)^2, default N 512) and\n"
-          "      DIR/colmap.png (N^2), and prints the lake's water level in heightmap\n"
-          "      units (0..255; a map's waterheight is that times its heightscale):\n"
-          "      what `make demo` builds its forest map on.\n"
+          "                       [--terrain-kind hills|islands]\n"
+          "      Writes a procedural landscape (hills: hills, a ridge, a lake, meadows,\n"
+          "      forest floor, rock; islands: green islands with beaches in a sea) as\n"
+          "      DIR/heightmap.png ((N+1)^2, default N 512) and DIR/colmap.png (N^2),\n"
+          "      and prints the water level in heightmap units (0..255; a map's\n"
+          "      waterheight is that times its heightscale): what `make demo` builds\n"
+          "      its forest maps on.\n"
           "  forest --help | --version\n"
           "\n"
           "Options:\n"
@@ -187,11 +189,11 @@ static int draw_map(const char *map_path, run_options *o, const char *log_path) 
   return status;
 }
 
-static int demo_terrain(const char *dir, int size, uint32_t seed) {
+static int demo_terrain(const char *dir, int size, uint32_t seed, bbc_forest_demo_kind kind) {
   bbc_image h, c;
   double water;
   bbc_error err;
-  if (bbc_forest_demo_terrain(size, seed, &h, &c, &water, &err) != BBC_OK) {
+  if (bbc_forest_demo_terrain(size, seed, kind, &h, &c, &water, &err) != BBC_OK) {
     fprintf(stderr, "forest: %s\n", err.message);
     return 1;
   }
@@ -212,6 +214,7 @@ static int demo_terrain(const char *dir, int size, uint32_t seed) {
 int main(int argc, char **argv) {
   const char *map_path = NULL, *log_path = NULL, *demo_dir = NULL;
   int check = 0, window = 0, size_given = 0, terrain_size = 512;
+  bbc_forest_demo_kind terrain_kind = BBC_FOREST_DEMO_HILLS;
   unsigned long seed = 1;
   run_options o;
   memset(&o, 0, sizeof o);
@@ -224,7 +227,8 @@ int main(int argc, char **argv) {
     int takes = !strcmp(a, "--size") || !strcmp(a, "--camera") || !strcmp(a, "--path") ||
                 !strcmp(a, "--frames") || !strcmp(a, "--screenshot") || !strcmp(a, "--keys") ||
                 !strcmp(a, "--log") || !strcmp(a, "--demo-terrain") ||
-                !strcmp(a, "--terrain-size") || !strcmp(a, "--seed");
+                !strcmp(a, "--terrain-size") || !strcmp(a, "--seed") ||
+                !strcmp(a, "--terrain-kind");
     if (takes && !v) {
       fprintf(stderr, "forest: %s needs a value (try forest --help)\n", a);
       return 2;
@@ -293,6 +297,16 @@ int main(int argc, char **argv) {
     } else if (!strcmp(a, "--demo-terrain")) {
       demo_dir = v;
       i++;
+    } else if (!strcmp(a, "--terrain-kind")) {
+      if (!strcmp(v, "hills"))
+        terrain_kind = BBC_FOREST_DEMO_HILLS;
+      else if (!strcmp(v, "islands"))
+        terrain_kind = BBC_FOREST_DEMO_ISLANDS;
+      else {
+        fprintf(stderr, "forest: --terrain-kind %s: expected hills or islands\n", v);
+        return 2;
+      }
+      i++;
     } else if (!strcmp(a, "--terrain-size") || !strcmp(a, "--seed")) {
       char *end;
       unsigned long n = strtoul(v, &end, 10);
@@ -318,7 +332,7 @@ int main(int argc, char **argv) {
       return 2;
     }
   }
-  if (demo_dir) return demo_terrain(demo_dir, terrain_size, (uint32_t)seed);
+  if (demo_dir) return demo_terrain(demo_dir, terrain_size, (uint32_t)seed, terrain_kind);
   if (!map_path) {
     usage(stderr);
     return 2;

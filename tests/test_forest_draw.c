@@ -393,8 +393,8 @@ static void test_keys(void **state) {
 /* --bench: its last line has every figure the issue names. */
 /* The figures of --bench's last line. */
 typedef struct bench_line {
-  double frame_ms, frame_p95, cull_ms;
-  size_t trees, billboards, calls;
+  double frame_ms, frame_p95, cpu_ms, cull_ms, cull_p95, terrain_ms;
+  size_t trees, billboards, calls, commands;
 } bench_line;
 
 static bench_line parse_bench(const char *out) {
@@ -402,10 +402,12 @@ static bench_line parse_bench(const char *out) {
   const char *last = strstr(out, "frame_ms_median=");
   assert_non_null(last);
   assert_int_equal(sscanf(last,
-                          "frame_ms_median=%lf frame_ms_p95=%lf cull_ms_median=%lf "
-                          "trees_drawn=%zu billboards_drawn=%zu draw_calls=%zu",
-                          &b.frame_ms, &b.frame_p95, &b.cull_ms, &b.trees, &b.billboards, &b.calls),
-                   6);
+                          "frame_ms_median=%lf frame_ms_p95=%lf cpu_ms_median=%lf "
+                          "cull_ms_median=%lf cull_ms_p95=%lf terrain_ms_median=%lf "
+                          "trees_drawn=%zu billboards_drawn=%zu draw_calls=%zu draw_commands=%zu",
+                          &b.frame_ms, &b.frame_p95, &b.cpu_ms, &b.cull_ms, &b.cull_p95,
+                          &b.terrain_ms, &b.trees, &b.billboards, &b.calls, &b.commands),
+                   10);
   return b;
 }
 
@@ -418,6 +420,9 @@ static void test_bench_line(void **state) {
   if (rc) fail_msg("%s", out);
   bench_line b = parse_bench(out);
   assert_true(b.frame_ms > 0 && b.frame_p95 >= b.frame_ms && b.cull_ms >= 0);
+  assert_true(b.cpu_ms > 0 && b.cull_p95 >= b.cull_ms && b.terrain_ms >= 0);
+  /* every multi-draw has a command or more; sky, terrain (5 at most) and water have none */
+  assert_true(b.commands > 0 && b.commands + 7 >= b.calls);
   assert_true(b.trees > 0 && b.calls > 0 && b.calls < 40); /* instanced: a handful of draws */
   /* the line before: loading time, memory, instance size, texture memory per model */
   const char *mem = strstr(out, "load_s=");

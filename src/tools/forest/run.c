@@ -239,7 +239,9 @@ static void move(state *st, double dt) {
 /* ---- one frame --------------------------------------------------------------- */
 
 typedef struct frame_result {
-  double frame_ms, cull_ms;
+  double frame_ms;   /* CPU time of the frame up to its last GL call (no waiting for the GPU) */
+  double cull_ms;    /* object culling and levels of detail */
+  double terrain_ms; /* the terrain's node selection */
   bbcgl_stats stats;
   size_t per_level[8];
 } frame_result;
@@ -267,17 +269,14 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
   double c0 = now_s();
   bbc_forest_terrain_select(&st->s->terrain, &st->s->world, st->locked_viewproj, st->locked_eye,
                             st->detail);
+  res->terrain_ms = (now_s() - c0) * 1000;
+  c0 = now_s();
   if (st->o->naive)
     bbc_forest_cull_run_flat(&st->s->cull, fr.viewproj, fr.eye, st->cam.zoom);
   else
     bbc_forest_cull_run(&st->s->cull, fr.viewproj, fr.eye, st->cam.zoom);
   fr.naive = st->o->naive;
   res->cull_ms = (now_s() - c0) * 1000;
-  if (getenv("BBC_DEBUG_CULL"))
-    fprintf(stderr, "cull %.3f ms cells %zu tested %zu dyn %zu ranges %zu\n", res->cull_ms,
-            st->s->cull.cells_visible, st->s->cull.cells_tested_per_tree,
-            st->s->cull.bucket_start[st->s->cull.bucket_count],
-            st->s->cull.range_start[st->s->cull.bucket_count]);
   bbcgl_context_begin(ctx);
   bbcgl_forest_draw(r, &fr, &st->s->terrain, &st->s->cull, &res->stats);
   memset(res->per_level, 0, sizeof res->per_level);
@@ -455,11 +454,13 @@ int run(scene *s, const run_options *o, FILE *log) {
     if (!o->keys) glfwSetInputMode(win, GLFW_CURSOR, GLFW_CURSOR_DISABLED);
   }
   size_t frames = o->frames > 0 ? (size_t)o->frames : (path_count > 1 ? path_count * 30 : 1);
-  double *frame_ms = calloc(frames + 1, sizeof *frame_ms),
-         *cull_ms = calloc(frames + 1, sizeof *cull_ms);
+  /* per frame: the whole frame (waiting for the GPU), its CPU part up to
+   * the last GL call, object culling, terrain selection */
+  double(*ms)[4] = calloc(frames + 1, sizeof *ms);
   size_t *trees = calloc(frames + 1, sizeof *trees), *bills = calloc(frames + 1, sizeof *bills),
          *calls = calloc(frames + 1, sizeof *calls);
-  if (!frame_ms || !cull_ms || !trees || !bills || !calls) {
+  size_t *cmds = calloc(frames + 1, sizeof *cmds);
+  if (!ms || !trees || !bills || !calls || !cmds) {
     fprintf(stderr, "forest: out of memory\n");
     status = 1;
     goto done;
@@ -547,32 +548,39 @@ int run(scene *s, const run_options *o, FILE *log) {
         move(&st, script_dt);
       }
       t += script_dt;
+      double f0 = now_s();
       draw_frame(&st, ctx, r, fps, &res, t);
       if (i + 1 == frames && o->screenshot && !screenshot(ctx, o->screenshot)) status = 1;
       bbcgl_context_end(ctx);
-      frame_ms[i] = res.frame_ms;
-      cull_ms[i] = res.cull_ms;
+      ms[i][0] = (now_s() - f0) * 1000;
+      ms[i][1] = res.frame_ms;
+      ms[i][2] = res.cull_ms;
+      ms[i][3] = res.terrain_ms;
       trees[i] = res.stats.trees;
       bills[i] = res.stats.billboards;
       calls[i] = res.stats.draw_calls;
+      cmds[i] = res.stats.draw_commands;
       fps = res.frame_ms > 0 ? 1000 / res.frame_ms : 0;
       if (o->progress && frames > 1) fprintf(stderr, "\rforest: frame %zu of %zu", i + 1, frames);
     }
     if (o->progress && frames > 1) fprintf(stderr, "\n");
     if (o->bench) {
-      double *fm = malloc(frames * sizeof *fm), *cm = malloc(frames * sizeof *cm);
-      if (fm && cm) {
-        memcpy(fm, frame_ms, frames * sizeof *fm);
-        memcpy(cm, cull_ms, frames * sizeof *cm);
-        qsort(fm, frames, sizeof *fm, cmp_double);
-        qsort(cm, frames, sizeof *cm, cmp_double);
-        size_t tsum = 0, bsum = 0, csum = 0;
+      double *sorted = malloc(frames * sizeof *sorted), med[4], p95[4];
+      size_t k95 = (size_t)ceil(0.95 * frames) - 1;
+      for (int q = 0; q < 4 && sorted; q++) {
+        for (size_t i = 0; i < frames; i++) sorted[i] = ms[i][q];
+        qsort(sorted, frames, sizeof *sorted, cmp_double);
+        med[q] = sorted[frames / 2];
+        p95[q] = sorted[k95];
+      }
+      if (sorted) {
+        size_t tsum = 0, bsum = 0, csum = 0, dsum = 0;
         for (size_t i = 0; i < frames; i++) {
           tsum += trees[i];
           bsum += bills[i];
           csum += calls[i];
+          dsum += cmds[i];
         }
-        size_t p95 = (size_t)ceil(0.95 * frames) - 1;
         printf("frames=%zu size=%dx%d renderer=\"%s\"\n", frames, o->width, o->height,
                bbcgl_context_describe(ctx));
         /* memory: the peak so far (ru_maxrss, kB on Linux), the instance
@@ -602,13 +610,13 @@ int run(scene *s, const run_options *o, FILE *log) {
           printf(" texture_mb[%s]=%.2f", s->models[m].name, bytes / (1024.0 * 1024.0));
         }
         printf("\n");
-        printf("frame_ms_median=%.3f frame_ms_p95=%.3f cull_ms_median=%.3f trees_drawn=%zu "
-               "billboards_drawn=%zu draw_calls=%zu\n",
-               fm[frames / 2], fm[p95], cm[frames / 2], tsum / frames, bsum / frames,
-               csum / frames);
+        printf("frame_ms_median=%.3f frame_ms_p95=%.3f cpu_ms_median=%.3f cull_ms_median=%.3f "
+               "cull_ms_p95=%.3f terrain_ms_median=%.3f trees_drawn=%zu billboards_drawn=%zu "
+               "draw_calls=%zu draw_commands=%zu\n",
+               med[0], p95[0], med[1], med[2], p95[2], med[3], tsum / frames, bsum / frames,
+               csum / frames, dsum / frames);
       }
-      free(fm);
-      free(cm);
+      free(sorted);
     }
   }
   if (o->keys && o->screenshot) {
@@ -620,8 +628,8 @@ int run(scene *s, const run_options *o, FILE *log) {
     printf("camera=%.3f,%.3f,%.3f,%.2f,%.2f\n", st.cam.pos[0], st.cam.pos[1], st.cam.pos[2],
            st.cam.yaw, st.cam.pitch);
 done:
-  free(frame_ms);
-  free(cull_ms);
+  free(ms);
+  free(cmds);
   free(trees);
   free(bills);
   free(calls);

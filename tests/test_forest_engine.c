@@ -456,7 +456,8 @@ static void test_demo_terrain(void **state) {
   double water;
   bbc_error err;
   for (int k = 0; k < 2; k++)
-    assert_int_equal(bbc_forest_demo_terrain(128, 7, BBC_FOREST_DEMO_HILLS, &h[k], &c[k], &water, &err), BBC_OK);
+    assert_int_equal(
+        bbc_forest_demo_terrain(128, 7, BBC_FOREST_DEMO_HILLS, &h[k], &c[k], &water, &err), BBC_OK);
   assert_int_equal(h[0].width, 129);
   assert_int_equal(c[0].width, 128);
   assert_memory_equal(h[0].rgba, h[1].rgba, (size_t)129 * 129 * 4);
@@ -477,8 +478,9 @@ static void test_demo_terrain(void **state) {
     bbc_image_free(&h[k]);
     bbc_image_free(&c[k]);
   }
-  assert_int_equal(bbc_forest_demo_terrain(100, 7, BBC_FOREST_DEMO_HILLS, &h[0], &c[0], &water, &err),
-                   BBC_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(
+      bbc_forest_demo_terrain(100, 7, BBC_FOREST_DEMO_HILLS, &h[0], &c[0], &water, &err),
+      BBC_ERROR_INVALID_ARGUMENT);
 }
 
 /* Run-length BMP (stb does not read it; old heightmaps come that way). */

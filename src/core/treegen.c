@@ -1180,8 +1180,8 @@ static void tg_emit_leaf(const tg_ctx *c, const tg_attach *a, vec3 radial, bbc__
      * forward a little and drooping, faces to the sky. */
     vec3 sidev = vnorm_or(vcross(t, up), vperp(t));
     double sgn = vdot(radial, sidev) >= 0 ? 1 : -1, droop = rnd(rng, 5, 40) * TG_DEG;
-    axis = vnorm(vadd(vadd(vscale(sidev, sgn * cos(droop)), vscale(t, 0.5)),
-                      v3(0, -sin(droop), 0)));
+    axis =
+        vnorm(vadd(vadd(vscale(sidev, sgn * cos(droop)), vscale(t, 0.5)), v3(0, -sin(droop), 0)));
     pref = vadd(up, vscale(rnd_vec(rng), 0.3));
     break;
   }

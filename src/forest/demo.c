@@ -112,7 +112,8 @@ bbc_result bbc_forest_demo_terrain(int size, uint32_t seed, bbc_forest_demo_kind
         c[0] = 128;
         c[1] = 123;
         c[2] = 114;
-      } else if (meadow > 0.57 && kind == BBC_FOREST_DEMO_HILLS) { /* meadow: too yellow for trees */
+      } else if (meadow > 0.57 &&
+                 kind == BBC_FOREST_DEMO_HILLS) { /* meadow: too yellow for trees */
         c[0] = 150;
         c[1] = 172;
         c[2] = 82;

@@ -39,7 +39,8 @@ int cmd_tree(cli *c, int argc, char **argv) {
       if (!v) return EXIT_USAGE;
       int s = bbc_tree_species_from_name(v);
       if (s < 0) {
-        cli_error("tree: unknown species '%s' (oak, pine, birch, bush, larch, weeping, winter, palm)", v);
+        cli_error(
+            "tree: unknown species '%s' (oak, pine, birch, bush, larch, weeping, winter, palm)", v);
         return EXIT_USAGE;
       }
       opt.species = (bbc_tree_species)s;

@@ -174,6 +174,7 @@ static int draw_map(const char *map_path, run_options *o, const char *log_path) 
   }
   double load_s = clock_s() - t0;
   o->load_s = load_s;
+  o->start_s = t0;
   if (log) {
     fprintf(log,
             "terrain %d x %d, %g units apart; %zu objects of %zu models; %zu triangles in %zu "

@@ -467,6 +467,7 @@ int run(scene *s, const run_options *o, FILE *log) {
   }
   frame_result res;
   memset(&res, 0, sizeof res);
+  double ready_s = 0;
   const double script_dt = 1.0 / 30;
   double t = 0, fps = 0;
   /* Scripted keys: names, numbers of frames to run, shot:FILE. */
@@ -528,6 +529,7 @@ int run(scene *s, const run_options *o, FILE *log) {
     if (o->bench) { /* one frame not counted: shaders are compiled at their first use */
       draw_frame(&st, ctx, r, fps, &res, t);
       bbcgl_context_end(ctx);
+      ready_s = now_s() - o->start_s;
     }
     for (size_t i = 0; i < frames; i++) {
       if (path_count) {
@@ -588,8 +590,9 @@ int run(scene *s, const run_options *o, FILE *log) {
          * about a third more; each image once) */
         struct rusage ru;
         getrusage(RUSAGE_SELF, &ru);
-        printf("load_s=%.3f peak_rss_mb=%.1f objects=%zu instance_bytes=%zu", o->load_s,
-               ru.ru_maxrss / 1024.0, s->world.instance_count, sizeof(bbc_forest_instance));
+        printf("load_s=%.3f ready_s=%.3f peak_rss_mb=%.1f objects=%zu instance_bytes=%zu",
+               o->load_s, ready_s, ru.ru_maxrss / 1024.0, s->world.instance_count,
+               sizeof(bbc_forest_instance));
         for (size_t m = 0; m < s->model_count; m++) {
           const uint8_t *seen[64];
           size_t nseen = 0;

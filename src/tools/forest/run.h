@@ -20,6 +20,7 @@ typedef struct run_options {
   int coverage;           /* --coverage: per frame, the pixels the objects cover */
   int naive;              /* --naive: draw the thesis's way (to measure against) */
   double load_s;          /* how long loading took (for --bench) */
+  double start_s;         /* CLOCK_MONOTONIC when loading began (for --bench's ready_s) */
 } run_options;
 
 /* Draws `s` as `o` says; the exit status. */

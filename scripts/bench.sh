@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # bench.sh — benchmarks: tree generator and model loading, medians of runs,
-# peak memory. Writes bench/results/latest.md and latest.json.
+# peak memory. Writes bench/results/latest.md and latest.json; then the
+# forest engine's (scripts/bench_forest.sh: bench/results/forest.md, .json).
 set -euo pipefail
 build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -201,3 +202,5 @@ PY
 mv "$json" "$res/latest.json"
 mv "$res/latest.md.tmp.$$" "$res/latest.md"
 cat "$res/latest.md"
+# The forest engine at scale: its own files (bench/results/forest.md, .json).
+"$root/scripts/bench_forest.sh" "$build"

@@ -449,6 +449,24 @@ static void test_bench_line(void **state) {
   assert_int_equal(n.billboards, b.billboards);
   assert_true(n.calls >= n.billboards && n.calls > 10 * b.calls);
   free(out);
+  /* --gpu-cull: the compute shader picks the same trees and levels, and the
+   * picture is the same, pixel for pixel */
+  rc = sh(&out,
+          "'%s/forest' '%s/hills.txt' --size 96x64 --frames 4 --bench --gpu-cull --log "
+          "'%s/log.txt' --screenshot '%s/gpu.png' && '%s/forest' '%s/hills.txt' --size 96x64 "
+          "--frames 4 --log '%s/log.txt' --screenshot '%s/cpu.png'",
+          BBC_BIN_DIR, dir, dir, dir, BBC_BIN_DIR, dir, dir, dir);
+  if (rc) fail_msg("%s", out);
+  bench_line g = parse_bench(out);
+  assert_int_equal(g.trees, b.trees);
+  assert_int_equal(g.billboards, b.billboards);
+  assert_true(g.cull_ms == 0 && g.calls < 40);
+  free(out);
+  bbc_image gi = load_png("gpu.png"), ci = load_png("cpu.png");
+  assert_int_equal(gi.width, ci.width);
+  assert_memory_equal(gi.rgba, ci.rgba, (size_t)gi.width * gi.height * 4);
+  bbc_image_free(&gi);
+  bbc_image_free(&ci);
 }
 
 /* The same in a window (GLFW) under a virtual X server. */

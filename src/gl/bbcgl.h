@@ -72,6 +72,10 @@ typedef struct bbcgl_frame {
   int fill_colour; /* 1: only the objects, white on black (coverage measurements) */
   int naive;       /* 1: the thesis's way, per tree, level and billboard a draw call
                     * and a texture bind (forest --naive, to measure against) */
+  int gpu_cull;    /* 1: culling and levels of detail in a compute shader over every
+                    * static record, drawn by indirect draws the shader fills in (the
+                    * CPU's bbc_forest_cull_run is then not needed) */
+  double zoom;     /* with gpu_cull: distances are divided by it (0 = 1) */
 } bbcgl_frame;
 
 typedef struct bbcgl_stats {
@@ -86,6 +90,10 @@ typedef struct bbcgl_stats {
  * range of the culling and one for its per-frame records). */
 void bbcgl_forest_draw(bbcgl_forest *f, const bbcgl_frame *frame, const bbc_forest_terrain *terrain,
                        const bbc_forest_cull *cull, bbcgl_stats *stats);
+
+/* After a frame drawn with gpu_cull: NULL when it works, else why not
+ * (its shaders did not build; the objects were then not drawn). */
+const char *bbcgl_forest_gpu_cull_error(const bbcgl_forest *f);
 
 /* Lines of text over the frame (statistics, key help), top left, in a
  * built-in 5 x 7 pixel font scaled by `scale`. */

@@ -128,6 +128,64 @@ static const char *const model_fs =
     "  o_colour = u_fill != 0 ? vec4(1.0) : vec4(fogged(c.rgb, v_world), 1.0);\n"
     "}\n";
 
+/* GPU culling: one invocation per static record of one model: the frustum
+ * test, then a record per level with a weight, appended to the level's
+ * region of the output (atomic counters per bucket; the last counter
+ * counts trees whose first component is drawn). */
+static const char *const cull_cs =
+    "#version 450 core\n"
+    "layout(local_size_x = 256) in;\n"
+    "struct rec { float x, y, z, yaw, scale, fade; };\n"
+    "layout(std430, binding = 0) readonly buffer statics_b { rec statics[]; };\n"
+    "layout(std430, binding = 1) writeonly buffer out_b { rec outr[]; };\n"
+    "layout(std430, binding = 2) buffer counter_b { uint counter[]; };\n"
+    "layout(std430, binding = 3) readonly buffer first_b { uint first_bits[]; };\n"
+    "uniform uint u_first, u_count, u_bucket0, u_trees;\n"
+    "uniform vec4 u_planes[6];\n"
+    "uniform vec3 u_eye;\n"
+    "uniform float u_zoom, u_radius, u_fade;\n"
+    "uniform int u_lods;\n"
+    "uniform vec2 u_range[8];\n"
+    "uniform uint u_base[8];\n"
+    "void main() {\n"
+    "  uint i = gl_GlobalInvocationID.x;\n"
+    "  if (i >= u_count) return;\n"
+    "  uint k = u_first + i;\n"
+    "  rec r = statics[k];\n"
+    "  vec3 p = vec3(r.x, r.y, r.z);\n"
+    "  float rad = u_radius * r.scale;\n"
+    "  for (int j = 0; j < 6; j++)\n"
+    "    if (dot(u_planes[j].xyz, p) + u_planes[j].w < -rad) return;\n"
+    "  float d = distance(p, u_eye) / u_zoom;\n"
+    "  bool drawn = false;\n"
+    "  for (int l = 0; l < u_lods; l++) {\n"
+    "    float lo = u_range[l].x, hi = u_range[l].y, w;\n"
+    "    if (u_fade <= 0.0) w = (d >= lo && d < hi) ? 1.0 : 0.0;\n"
+    "    else w = clamp(min(lo <= 0.0 ? 1.0 : (d - (lo - u_fade)) / u_fade,\n"
+    "                       (hi + u_fade - d) / u_fade), 0.0, 1.0);\n"
+    "    if (w <= 0.0) continue;\n"
+    "    uint slot = atomicAdd(counter[u_bucket0 + uint(l)], 1u);\n"
+    "    r.fade = w;\n"
+    "    outr[u_base[l] + slot] = r;\n"
+    "    drawn = true;\n"
+    "  }\n"
+    "  if (drawn && ((first_bits[k >> 5] >> (k & 31u)) & 1u) != 0u)\n"
+    "    atomicAdd(counter[u_trees], 1u);\n"
+    "}\n";
+
+/* Then each draw command takes its bucket's count as its instance count. */
+static const char *const cmdfill_cs =
+    "#version 450 core\n"
+    "layout(local_size_x = 64) in;\n"
+    "layout(std430, binding = 2) readonly buffer counter_b { uint counter[]; };\n"
+    "layout(std430, binding = 4) buffer cmd_b { uint cmd[]; };\n"
+    "layout(std430, binding = 5) readonly buffer cmdb_b { uint cmd_bucket[]; };\n"
+    "uniform uint u_ncmd;\n"
+    "void main() {\n"
+    "  uint i = gl_GlobalInvocationID.x;\n"
+    "  if (i < u_ncmd) cmd[5u * i + 1u] = counter[cmd_bucket[i]];\n"
+    "}\n";
+
 static const char *const sky_vs =
     "#version 450 core\n"
     "out vec2 v_ndc;\n"
@@ -206,6 +264,25 @@ static GLuint compile(GLenum type, const char *src, const char *name, char *err)
     return 0;
   }
   return s;
+}
+
+static GLuint compute_program(const char *cs, const char *name, char *err) {
+  GLuint c = compile(GL_COMPUTE_SHADER, cs, name, err);
+  if (!c) return 0;
+  GLuint p = glCreateProgram();
+  glAttachShader(p, c);
+  glLinkProgram(p);
+  glDeleteShader(c);
+  GLint ok = 0;
+  glGetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[400];
+    glGetProgramInfoLog(p, sizeof log, NULL, log);
+    snprintf(err, BBCGL_ERR, "shader %s does not link: %s", name, log);
+    glDeleteProgram(p);
+    return 0;
+  }
+  return p;
 }
 
 static GLuint program(const char *vs, const char *fs, const char *name, char *err) {
@@ -346,6 +423,14 @@ struct bbcgl_forest {
   GLuint indirect; /* this frame's multi-draw commands */
   uint32_t (*cmds)[5];
   size_t cmd_capacity;
+  /* GPU culling (bbcgl_frame.gpu_cull), built at its first use */
+  int gpu_state; /* 0 not built, 1 ready, -1 failed */
+  char gpu_err[BBCGL_ERR];
+  GLuint p_cull, p_cmdfill;
+  GLuint g_out, g_counters, g_first, g_cmds, g_cmd_bucket;
+  size_t *g_base;    /* per bucket: the first record of its region in g_out */
+  size_t g_ncmd;     /* one command per part and material */
+  GLuint vao_source; /* the buffer the parts' VAOs take their instances from */
   /* text */
   GLuint x_vao, x_vbo, font;
   size_t x_capacity; /* vertices */
@@ -563,6 +648,12 @@ void bbcgl_forest_free(bbcgl_forest *f) {
   free(f->t_node_data);
   free(f->x_data);
   free(f->cmds);
+  if (f->p_cull) glDeleteProgram(f->p_cull);
+  if (f->p_cmdfill) glDeleteProgram(f->p_cmdfill);
+  GLuint gbufs[5] = {f->g_out, f->g_counters, f->g_first, f->g_cmds, f->g_cmd_bucket};
+  for (int i = 0; i < 5; i++)
+    if (gbufs[i]) glDeleteBuffers(1, &gbufs[i]);
+  free(f->g_base);
   free(f);
 }
 
@@ -899,6 +990,7 @@ static int upload_instances(bbcgl_forest *f, const bbc_forest_cull *c) {
     f->statics_uploaded = NULL;
     for (size_t i = 0; i < f->part_count; i++)
       glVertexArrayVertexBuffer(f->parts[i].vao, 1, f->instances, 0, sizeof(bbc_forest_draw));
+    f->vao_source = f->instances;
   }
   if (f->statics_uploaded != (const void *)c->statics || f->statics_count != s) {
     if (s)
@@ -915,10 +1007,189 @@ static int upload_instances(bbcgl_forest *f, const bbc_forest_cull *c) {
   return 1;
 }
 
+/* The parts' VAOs take their instance records from `buf`. */
+static void vao_source(bbcgl_forest *f, GLuint buf) {
+  if (f->vao_source == buf) return;
+  for (size_t i = 0; i < f->part_count; i++)
+    glVertexArrayVertexBuffer(f->parts[i].vao, 1, buf, 0, sizeof(bbc_forest_draw));
+  f->vao_source = buf;
+}
+
+/* GPU culling's programs and buffers: per bucket a region of the output as
+ * large as its model's records, the first-component bits, and one indirect
+ * command per part and material (its instance count filled in each frame). */
+static void gpu_build(bbcgl_forest *f, const bbc_forest_cull *c) {
+  f->gpu_state = -1;
+  snprintf(f->gpu_err, sizeof f->gpu_err, "GPU culling: out of memory");
+  if (!(f->p_cull = compute_program(cull_cs, "cull", f->gpu_err)) ||
+      !(f->p_cmdfill = compute_program(cmdfill_cs, "cmdfill", f->gpu_err)))
+    return;
+  size_t nb = c->bucket_count, ncell = c->cell_count, total = 0;
+  f->g_base = calloc(nb + 1, sizeof *f->g_base);
+  size_t words = (c->static_count + 31) / 32 + 1;
+  uint32_t *bits = calloc(words, sizeof *bits);
+  size_t ncmd = 0;
+  for (size_t i = 0; i < f->part_count; i++)
+    if (f->parts[i].bucket < nb) ncmd += f->parts[i].batch_count;
+  uint32_t(*cmd)[5] = calloc(ncmd + 1, sizeof *cmd);
+  uint32_t *cmd_bucket = calloc(ncmd + 1, sizeof *cmd_bucket);
+  if (!f->g_base || !bits || !cmd || !cmd_bucket) {
+    free(bits);
+    free(cmd);
+    free(cmd_bucket);
+    return;
+  }
+  for (size_t m = 0; m < c->model_count; m++) {
+    const uint32_t *st = c->model_cell_start + m * (ncell + 1);
+    for (size_t l = 0; l < c->models[m].lod_count; l++) {
+      f->g_base[c->bucket_base[m] + l] = total;
+      total += st[ncell] - st[0];
+    }
+  }
+  for (size_t i = 0; i < c->static_count; i++)
+    if (c->static_first[i]) bits[i >> 5] |= 1u << (i & 31);
+  size_t k = 0;
+  for (size_t i = 0; i < f->part_count; i++) {
+    const part *pt = &f->parts[i];
+    if (pt->bucket >= nb) continue;
+    for (size_t b = 0; b < pt->batch_count; b++, k++) {
+      cmd[k][0] = (uint32_t)pt->batches[b].count;
+      cmd[k][2] = (uint32_t)pt->batches[b].first;
+      cmd[k][4] = (uint32_t)f->g_base[pt->bucket];
+      cmd_bucket[k] = (uint32_t)pt->bucket;
+    }
+  }
+  f->g_ncmd = ncmd;
+  glCreateBuffers(1, &f->g_out);
+  glCreateBuffers(1, &f->g_counters);
+  glCreateBuffers(1, &f->g_first);
+  glCreateBuffers(1, &f->g_cmds);
+  glCreateBuffers(1, &f->g_cmd_bucket);
+  glNamedBufferStorage(f->g_out, (GLsizeiptr)((total ? total : 1) * sizeof(bbc_forest_draw)), NULL,
+                       0);
+  glNamedBufferStorage(f->g_counters, (GLsizeiptr)((nb + 1) * sizeof(uint32_t)), NULL,
+                       GL_DYNAMIC_STORAGE_BIT);
+  glNamedBufferStorage(f->g_first, (GLsizeiptr)(words * sizeof *bits), bits, 0);
+  glNamedBufferStorage(f->g_cmds, (GLsizeiptr)((ncmd + 1) * sizeof *cmd), cmd, 0);
+  glNamedBufferStorage(f->g_cmd_bucket, (GLsizeiptr)((ncmd + 1) * sizeof *cmd_bucket), cmd_bucket,
+                       0);
+  free(bits);
+  free(cmd);
+  free(cmd_bucket);
+  f->gpu_state = 1;
+}
+
+/* GPU culling, before the drawing: every static record of every model
+ * through the cull shader, then the commands' instance counts. */
+static int gpu_cull(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_cull *c) {
+  if (!f->gpu_state) gpu_build(f, c);
+  if (f->gpu_state < 0 || !c->static_count) return 0;
+  upload_instances(f, c);
+  glClearNamedBufferData(f->g_counters, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
+  GLuint p = f->p_cull;
+  glUseProgram(p);
+  double pl[6][4];
+  bbc_forest_frustum(fr->viewproj, pl);
+  float plf[24];
+  for (int i = 0; i < 24; i++) plf[i] = (float)pl[i / 4][i % 4];
+  glUniform4fv(glGetUniformLocation(p, "u_planes"), 6, plf);
+  glUniform3f(glGetUniformLocation(p, "u_eye"), (float)fr->eye[0], (float)fr->eye[1],
+              (float)fr->eye[2]);
+  glUniform1f(glGetUniformLocation(p, "u_zoom"), (float)(fr->zoom > 0 ? fr->zoom : 1));
+  glUniform1ui(glGetUniformLocation(p, "u_trees"), (GLuint)c->bucket_count);
+  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, f->instances, 0,
+                    (GLsizeiptr)(c->static_count * sizeof(bbc_forest_draw)));
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, f->g_out);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, f->g_counters);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, f->g_first);
+  GLint u_first = glGetUniformLocation(p, "u_first"), u_count = glGetUniformLocation(p, "u_count"),
+        u_bucket0 = glGetUniformLocation(p, "u_bucket0"),
+        u_radius = glGetUniformLocation(p, "u_radius"), u_fade = glGetUniformLocation(p, "u_fade"),
+        u_lods = glGetUniformLocation(p, "u_lods"), u_range = glGetUniformLocation(p, "u_range"),
+        u_base = glGetUniformLocation(p, "u_base");
+  size_t ncell = c->cell_count;
+  for (size_t m = 0; m < c->model_count; m++) {
+    const uint32_t *st = c->model_cell_start + m * (ncell + 1);
+    uint32_t first = st[0], count = st[ncell] - st[0];
+    const bbc_forest_lod_model *mod = &c->models[m];
+    if (!count || !mod->lod_count) continue;
+    int lods = mod->lod_count > 8 ? 8 : (int)mod->lod_count;
+    float range[16];
+    GLuint base[8];
+    for (int l = 0; l < lods; l++) {
+      range[2 * l] = (float)mod->ranges[2 * l];
+      range[2 * l + 1] = (float)mod->ranges[2 * l + 1];
+      base[l] = (GLuint)f->g_base[c->bucket_base[m] + (size_t)l];
+    }
+    glUniform1ui(u_first, first);
+    glUniform1ui(u_count, count);
+    glUniform1ui(u_bucket0, (GLuint)c->bucket_base[m]);
+    glUniform1f(u_radius, (float)mod->radius);
+    glUniform1f(u_fade, (float)(mod->fade > 0 ? mod->fade : 0));
+    glUniform1i(u_lods, lods);
+    glUniform2fv(u_range, lods, range);
+    glUniform1uiv(u_base, lods, base);
+    glDispatchCompute((count + 255) / 256, 1, 1);
+  }
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  glUseProgram(f->p_cmdfill);
+  glUniform1ui(glGetUniformLocation(f->p_cmdfill, "u_ncmd"), (GLuint)f->g_ncmd);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, f->g_cmds);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, f->g_cmd_bucket);
+  glDispatchCompute((GLuint)((f->g_ncmd + 63) / 64), 1, 1);
+  glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
+  return 1;
+}
+
+static void draw_objects_gpu(bbcgl_forest *f, const bbc_forest_cull *c, bbcgl_stats *st) {
+  vao_source(f, f->g_out);
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, f->g_cmds);
+  GLuint bound = 0;
+  size_t k = 0;
+  for (size_t i = 0; i < f->part_count; i++) {
+    const part *pt = &f->parts[i];
+    if (pt->bucket >= c->bucket_count) continue;
+    glBindVertexArray(pt->vao);
+    for (size_t bi = 0; bi < pt->batch_count; bi++, k++) {
+      const batch *ba = &pt->batches[bi];
+      if (ba->tex && ba->tex != bound) {
+        glBindTextureUnit(0, ba->tex);
+        bound = ba->tex;
+        st->texture_binds++;
+      }
+      set_batch(f, ba);
+      glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
+                                  (const void *)(k * 5 * sizeof(uint32_t)), 1, 0);
+      st->draw_calls++;
+      st->draw_commands++;
+    }
+  }
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+  /* the statistics: the counters read back (waits for the culling) */
+  uint32_t *n = calloc(c->bucket_count + 1, sizeof *n);
+  if (!n) return;
+  glGetNamedBufferSubData(f->g_counters, 0, (GLsizeiptr)((c->bucket_count + 1) * sizeof *n), n);
+  for (size_t i = 0; i < f->part_count; i++) {
+    const part *pt = &f->parts[i];
+    if (pt->bucket >= c->bucket_count) continue;
+    st->billboards += n[pt->bucket] * pt->billboards;
+    for (size_t bi = 0; bi < pt->batch_count; bi++)
+      st->triangles += n[pt->bucket] * pt->batches[bi].count / 3;
+  }
+  st->trees = n[c->bucket_count];
+  free(n);
+}
+
 static void draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_cull *c,
                          bbcgl_stats *st) {
   st->trees = c->trees_visible;
-  if (!c->bucket_count || !upload_instances(f, c)) return;
+  int gpu = 0;
+  if (fr->gpu_cull && !fr->naive && c->bucket_count) {
+    if (!gpu_cull(f, fr, c)) return;
+    gpu = 1;
+  } else if (!c->bucket_count || !upload_instances(f, c)) {
+    return;
+  }
   GLuint p = f->p_model;
   glUseProgram(p);
   glUniformMatrix4fv(glGetUniformLocation(p, "u_viewproj"), 1, GL_FALSE, fr->viewproj);
@@ -930,6 +1201,11 @@ static void draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_fores
               (float)(L[2] / ln));
   glUniform1i(glGetUniformLocation(p, "u_tex"), 0);
   glUniform1i(glGetUniformLocation(p, "u_fill"), fr->fill_colour);
+  if (gpu) {
+    draw_objects_gpu(f, c, st);
+    return;
+  }
+  vao_source(f, f->instances);
   if (fr->naive) {
     draw_objects_naive(f, c, st);
     return;
@@ -1009,6 +1285,10 @@ static void draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_fores
     st->billboards += count * pt->billboards;
   }
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+}
+
+const char *bbcgl_forest_gpu_cull_error(const bbcgl_forest *f) {
+  return f->gpu_state < 0 ? f->gpu_err : NULL;
 }
 
 void bbcgl_forest_draw(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_terrain *t,

@@ -68,6 +68,9 @@ static void usage(FILE *f) {
           "  --naive              draw the way the thesis did, to measure against: every tree\n"
           "                       tested and given its level one by one (no grid), and per\n"
           "                       tree, level and billboard its own draw call and texture bind\n"
+          "  --gpu-cull           culling and levels of detail in a compute shader over every\n"
+          "                       tree, drawn by indirect draws it fills in (off by default:\n"
+          "                       on llvmpipe the CPU's cell culling is faster; see the README)\n"
           "  --coverage           per frame, print how many pixels the objects cover\n"
           "                       (drawn again white on black: LOD transition checks)\n"
           "  --log FILE           the log (default: log.txt beside the map)\n"
@@ -255,6 +258,8 @@ int main(int argc, char **argv) {
       o.stats = 1;
     } else if (!strcmp(a, "--naive")) {
       o.naive = 1;
+    } else if (!strcmp(a, "--gpu-cull")) {
+      o.gpu_cull = 1;
     } else if (!strcmp(a, "--coverage")) {
       o.coverage = 1;
     } else if (!strcmp(a, "--print-camera")) {

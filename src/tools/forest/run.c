@@ -29,6 +29,7 @@ typedef struct state {
   scene *s;
   const run_options *o;
   FILE *log;
+  int gpu_failed; /* --gpu-cull could not run (said once) */
   bbc_forest_camera cam;
   double speed, strafe, lift; /* units per second */
   double unit;                /* speed step per key press */
@@ -273,12 +274,19 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
   c0 = now_s();
   if (st->o->naive)
     bbc_forest_cull_run_flat(&st->s->cull, fr.viewproj, fr.eye, st->cam.zoom);
-  else
+  else if (!st->o->gpu_cull)
     bbc_forest_cull_run(&st->s->cull, fr.viewproj, fr.eye, st->cam.zoom);
   fr.naive = st->o->naive;
+  fr.gpu_cull = st->o->gpu_cull && !st->o->naive;
+  fr.zoom = st->cam.zoom;
   res->cull_ms = (now_s() - c0) * 1000;
   bbcgl_context_begin(ctx);
   bbcgl_forest_draw(r, &fr, &st->s->terrain, &st->s->cull, &res->stats);
+  if (fr.gpu_cull && !st->gpu_failed && bbcgl_forest_gpu_cull_error(r)) {
+    fprintf(stderr, "forest: --gpu-cull: %s\n", bbcgl_forest_gpu_cull_error(r));
+    st->gpu_failed = 1;
+    st->quit = 1;
+  }
   memset(res->per_level, 0, sizeof res->per_level);
   for (size_t m = 0; m < st->s->model_count && !st->no_objects; m++)
     for (size_t l = 0; l < st->s->models[m].lod_count; l++) {
@@ -630,6 +638,7 @@ int run(scene *s, const run_options *o, FILE *log) {
   if (o->print_camera)
     printf("camera=%.3f,%.3f,%.3f,%.2f,%.2f\n", st.cam.pos[0], st.cam.pos[1], st.cam.pos[2],
            st.cam.yaw, st.cam.pitch);
+  if (st.gpu_failed) status = 1;
 done:
   free(ms);
   free(cmds);

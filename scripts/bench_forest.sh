@@ -2,8 +2,8 @@
 # bench_forest.sh — the forest engine at scale (issue 13): the thesis's four
 # maps and a million trees (built by scripts/demo_forest.sh, `make demo`),
 # each flown along the same camera path across the map by `forest --bench`
-# in the default renderer and in --naive (the thesis's way of drawing), in
-# the same run. Writes bench/results/forest.md and forest.json.
+# in the default renderer, with --gpu-cull (culling in a compute shader) and
+# in --naive (the thesis's way of drawing), in the same run. Writes bench/results/forest.md and forest.json.
 #
 #   scripts/bench_forest.sh [BUILD] [FRAMES] [SIZE]
 #
@@ -27,9 +27,10 @@ machine="$(uname -m), $(nproc) cores, $(awk -F: '/model name/{print $2; exit}' /
 for map in mixed islands finland huge150k million; do
   n=$frames
   [ "$map" = million ] && n=$(( frames / 2 > 4 ? frames / 2 : 4 ))
-  for mode in default naive; do
+  for mode in default gpu-cull naive; do
     flag=""
     [ "$mode" = naive ] && flag=--naive
+    [ "$mode" = gpu-cull ] && flag=--gpu-cull
     echo "forest bench: $map $mode ($n frames at $size)" >&2
     # shellcheck disable=SC2086
     text=$("$build/bin/forest" "$out/$map.txt" --bench --path "$out/path_big.txt" --frames "$n" \
@@ -62,21 +63,23 @@ print(f"{r0['machine']}; renderer: {r0.get('renderer', '?')}; viewport {r0.get('
       f"{r0.get('frames', '?')} frames per run (the million map half as many), medians and 95th "
       "percentiles over the frames. Frame: until the GPU is done; CPU: until the last GL call "
       "returns (llvmpipe shades vertices there); cull: CPU culling and levels of detail of the "
-      "objects; draw calls: a multi-draw counts once (its commands in brackets).\n")
+      "objects (0 with --gpu-cull, whose culling is in the frame's GPU time); draw calls: a "
+      "multi-draw counts once (its commands in brackets); ready: from the start of loading "
+      "to the first frame drawn.\n")
 print("| map | objects | mode | frame ms median | frame ms p95 | CPU ms | cull ms median | cull ms p95 "
-      "| trees drawn | billboards drawn | draw calls | load s | peak MiB | default faster by |")
-print("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+      "| trees drawn | billboards drawn | draw calls | load s | ready s | peak MiB | default faster by |")
+print("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
 by = {(r["map"], r["mode"]): r for r in rows}
 for r in rows:
     d = by.get((r["map"], "default"))
     ratio = ""
-    if r["mode"] == "naive" and d:
+    if r["mode"] != "default" and d:
         ratio = f"{r['frame_ms_median'] / d['frame_ms_median']:.2f}x"
     calls = f"{r['draw_calls']:,}" + (f" ({r['draw_commands']:,})" if r.get("draw_commands") else "")
     print(f"| {r['map']} | {r['objects']:,} | {r['mode']} | {r['frame_ms_median']:.1f} | "
           f"{r['frame_ms_p95']:.1f} | {r['cpu_ms_median']:.1f} | {r['cull_ms_median']:.3f} | "
           f"{r['cull_ms_p95']:.3f} | {r['trees_drawn']:,} | {r['billboards_drawn']:,} | {calls} | "
-          f"{r['load_s']:.2f} | {r['peak_rss_mb']:.0f} | {ratio} |")
+          f"{r['load_s']:.2f} | {r['ready_s']:.2f} | {r['peak_rss_mb']:.0f} | {ratio} |")
 print("\nTexture memory per model (MiB, with mip levels):\n")
 seen = set()
 for r in rows:

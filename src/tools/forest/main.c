@@ -189,6 +189,12 @@ static int draw_map(const char *map_path, run_options *o, const char *log_path) 
   if (o->progress)
     fprintf(stderr, "forest: %zu objects, %zu models, loaded in %.2f s\n", s.world.instance_count,
             s.model_count, load_s);
+  for (size_t m = 0; o->gpu_cull && m < s.model_count; m++)
+    if (s.models[m].lod_count > 8)
+      fprintf(stderr,
+              "forest: --gpu-cull: %s has %zu levels of detail; levels after the 8th are "
+              "not drawn\n",
+              s.models[m].name, s.models[m].lod_count);
   int status = run(&s, o, log);
   if (log) {
     fprintf(log, "done (exit status %d)\n", status);
@@ -344,6 +350,11 @@ int main(int argc, char **argv) {
     }
   }
   if (demo_dir) return demo_terrain(demo_dir, terrain_size, (uint32_t)seed, terrain_kind);
+  if (o.naive && o.gpu_cull) {
+    fprintf(stderr, "forest: --naive and --gpu-cull do not go together (--naive draws the "
+                    "thesis's way, culling on the CPU tree by tree)\n");
+    return 2;
+  }
   if (!map_path) {
     usage(stderr);
     return 2;

@@ -427,6 +427,13 @@ bbc_result bbc_params_set(bbc_params *params, const char *name, const char *text
 bbc_result bbc_params_set_assignment(bbc_params *params, const char *assignment, bbc_error *err);
 /* Current value of a parameter as a double. */
 double bbc_params_get(const bbc_params *params, const bbc_param_info *info);
+/* The parameter classes of Appendix A, for a session that keeps its steps:
+ * the first step that must run again when the parameters change from
+ * `before` to `after` — 3 when only texturing ('*') parameters changed, 2
+ * when step-2 ('+') ones did too, 1 for anything else, 0 when nothing that
+ * changes a result changed (threads, debug and the VRML format never do).
+ * `which` (may be NULL) gets the name of a parameter that forces that step. */
+int bbc_params_first_step(const bbc_params *before, const bbc_params *after, const char **which);
 
 /* ------------------------------------------------------------------------ */
 /* Plane selection: steps 1 and 2 of the Billboard Cloud algorithm          */

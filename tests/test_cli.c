@@ -392,6 +392,78 @@ static void test_exec_batch(void **state) {
   free(bf);
 }
 
+/* Batch state (Appendix A's parameter classes): bbc3 after a texturing
+ * change keeps steps 1 and 2 and gives the very cloud a full run gives;
+ * any other change asks for the steps it needs, naming the parameter. */
+static void test_exec_state(void **state) {
+  (void)state;
+  char path[1024], args[4096], text[4096], cmd[8192];
+  tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
+  if (!tu_have_file(path)) skip();
+  char *out, *err;
+  snprintf(text, sizeof text, "load %s\nbbc\nset texres 32\nset quality 0\nbbc3\nsave a\n", path);
+  char *bf = tu_write_file(tu_dir, "keep.bbc", text, strlen(text));
+  snprintf(cmd, sizeof cmd, "cd '%s' && '%s/bbcgen' exec '%s' 2>&1", tu_dir, BBC_BIN_DIR, bf);
+  FILE *pp = popen(cmd, "r");
+  assert_non_null(pp);
+  char buf[8192];
+  size_t got = fread(buf, 1, sizeof buf - 1, pp);
+  buf[got] = 0;
+  int st = pclose(pp);
+  if (!(WIFEXITED(st) && WEXITSTATUS(st) == 0)) fail_msg("%s", buf);
+  assert_non_null(strstr(buf, "steps 1+2 kept"));
+  free(bf);
+  snprintf(text, sizeof text, "load %s\nset texres 32\nset quality 0\nbbc\nsave b\n", path);
+  bf = tu_write_file(tu_dir, "full.bbc", text, strlen(text));
+  snprintf(cmd, sizeof cmd, "cd '%s' && '%s/bbcgen' exec '%s' -q > /dev/null 2>&1", tu_dir,
+           BBC_BIN_DIR, bf);
+  st = system(cmd);
+  assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+  free(bf);
+  const char *files[] = {"Tree_1.wrl", "Tree_1_billboards.png"};
+  for (int i = 0; i < 2; i++) {
+    char fa[2048], fb[2048];
+    snprintf(fa, sizeof fa, "%s/vrml97models/a/Tree_1/Tree_1_e6.00_tex32_pl/%s", tu_dir, files[i]);
+    snprintf(fb, sizeof fb, "%s/vrml97models/b/Tree_1/Tree_1_e6.00_tex32_pl/%s", tu_dir, files[i]);
+    size_t na, nb;
+    unsigned char *ta = tu_read_file(fa, &na), *tb = tu_read_file(fb, &nb);
+    if (!ta || !tb) fail_msg("missing %s or %s", fa, fb);
+    assert_int_equal(na, nb);
+    assert_memory_equal(ta, tb, na);
+    free(ta);
+    free(tb);
+  }
+  /* what a change needs, and commands out of order */
+  const char *cases[][3] = {
+      {"bbc\nset epsilon 8\nbbc3\n", "epsilon", "run bbc1 and bbc2"},
+      {"bbc\nset punishval 0.5\nbbc3\n", "punishval", "run bbc2"},
+      {"bbc\nset upaxis z\nbbc3\n", "upaxis", "step 1"},
+      {"bbc\nsplit none\nbbc3\n", "split", "bbc1"},
+      {"bbc1\nbbc2\nsave x\n", "save needs a Billboard Cloud", ":4:"},
+      {"bbc3\n", "bbc3 needs the planes", ":2:"},
+      {"bbc2\n", "bbc2 needs bbc1", ":2:"},
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+    snprintf(text, sizeof text, "load %s\n%s", path, cases[i][0]);
+    bf = tu_write_file(tu_dir, "state.bbc", text, strlen(text));
+    snprintf(args, sizeof args, "exec '%s' -q", bf);
+    assert_int_equal(run(args, &out, &err), 1);
+    if (!strstr(err, cases[i][1]) || !strstr(err, cases[i][2])) fail_msg("case %zu: %s", i, err);
+    free(out);
+    free(err);
+    free(bf);
+  }
+  /* threads and the VRML format change no result: bbc3 goes on */
+  snprintf(text, sizeof text, "load %s\nset texres 16\nbbc\nset threads 1\nset format 1\nbbc3\n",
+           path);
+  bf = tu_write_file(tu_dir, "free.bbc", text, strlen(text));
+  snprintf(args, sizeof args, "exec '%s' -q", bf);
+  assert_int_equal(run(args, &out, &err), 0);
+  free(out);
+  free(err);
+  free(bf);
+}
+
 /* bbcgen MODEL -o OUT: option errors before any work; batch bbc/shade/save
  * write the thesis's VRML folder. */
 static void test_cloud_command(void **state) {
@@ -473,7 +545,7 @@ static void test_cloud_command(void **state) {
   char *bf = tu_write_file(tu_dir, "c3.bbc", "load x.obj\nbbc3\n", 16);
   snprintf(args, sizeof args, "exec '%s'", bf);
   assert_int_equal(run(args, &out, &err), 1);
-  assert_non_null(strstr(err, "bbc3 needs bbc2"));
+  assert_non_null(strstr(err, "bbc3 needs the planes of bbc2"));
   free(out);
   free(err);
   free(bf);
@@ -764,6 +836,7 @@ int main(void) {
       cmocka_unit_test(test_tree_command),
       cmocka_unit_test(test_planes_json_identical),
       cmocka_unit_test(test_exec_batch),
+      cmocka_unit_test(test_exec_state),
       cmocka_unit_test(test_cloud_command),
       cmocka_unit_test(test_hand_epsilon_kept),
       cmocka_unit_test(test_suggestions),

@@ -5,6 +5,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <stdio.h>
 #include <string.h>
 
 #include "bbc.h"
@@ -127,10 +128,69 @@ static void test_set_and_ranges(void **state) {
   assert_int_equal(bbc_params_set_assignment(&p, "=5", &err), BBC_ERROR_INVALID_ARGUMENT);
 }
 
+/* Which step a change forces (Appendix A's classes): '*' parameters only
+ * step 3, '+' step 2, others step 1; upaxis changes step 1's grid; threads,
+ * debug and format change no result. */
+static void test_first_step(void **state) {
+  (void)state;
+  bbc_params a, b;
+  bbc_error err;
+  const char *which;
+  bbc_params_default(&a);
+  b = a;
+  assert_int_equal(bbc_params_first_step(&a, &b, &which), 0);
+  assert_null(which);
+  struct {
+    const char *name, *value;
+    int step;
+  } cases[] = {{"texres", "64", 3},     {"quality", "0", 3},       {"nm", "1", 3},
+               {"prelight", "0", 3},    {"pure", "1", 3},          {"polyskip", "5", 3},
+               {"cbcoverage", "30", 3}, {"shade", "40", 3},        {"posttweak", "0", 2},
+               {"punishval", "0.7", 2}, {"punishcutoff", "55", 2}, {"supergreedy", "1", 2},
+               {"epsilon", "8", 1},     {"res", "10", 1},          {"clustering", "2", 1},
+               {"upaxis", "z", 1},      {"maxplanes", "0", 1},     {"threads", "1", 0},
+               {"debug", "1", 0},       {"format", "1", 0}};
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+    b = a;
+    assert_int_equal(bbc_params_set(&b, cases[i].name, cases[i].value, &err), BBC_OK);
+    int step = bbc_params_first_step(&a, &b, &which);
+    if (step != cases[i].step)
+      fail_msg("%s: step %d, expected %d", cases[i].name, step, cases[i].step);
+    if (step) assert_string_equal(which, cases[i].name);
+  }
+  /* the earliest step wins, and names its parameter */
+  b = a;
+  assert_int_equal(bbc_params_set(&b, "texres", "64", &err), BBC_OK);
+  assert_int_equal(bbc_params_set(&b, "punishval", "0.5", &err), BBC_OK);
+  assert_int_equal(bbc_params_first_step(&a, &b, &which), 2);
+  assert_string_equal(which, "punishval");
+  assert_int_equal(bbc_params_set(&b, "epsilon", "3", &err), BBC_OK);
+  assert_int_equal(bbc_params_first_step(&a, &b, &which), 1);
+  assert_string_equal(which, "epsilon");
+  /* every parameter is in one class */
+  for (size_t i = 0; i < bbc_param_count(); i++) {
+    const bbc_param_info *info = bbc_param_at(i);
+    b = a;
+    double v = bbc_params_get(&a, info), nv = v + 1 <= info->max ? v + 1 : v - 1;
+    if (info->type == BBC_PARAM_POW2) nv = v * 2 <= info->max ? v * 2 : v / 2;
+    char text[64];
+    snprintf(text, sizeof text, "%.17g", nv);
+    if (bbc_params_set(&b, info->name, text, &err) != BBC_OK) {
+      /* a value the parameter does not take (res: 180 must divide): its minimum */
+      snprintf(text, sizeof text, "%.17g", info->min);
+      if (bbc_params_set(&b, info->name, text, &err) != BBC_OK) fail_msg("%s", err.message);
+    }
+    int step = bbc_params_first_step(&a, &b, NULL);
+    assert_true(step >= 0 && step <= 3);
+    if (info->flags & BBC_PARAM_STEP3_ONLY) assert_int_equal(step, 3);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_defaults_match_appendix_a),
       cmocka_unit_test(test_set_and_ranges),
+      cmocka_unit_test(test_first_step),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

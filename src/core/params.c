@@ -93,7 +93,7 @@ static const param_row k_rows[] = {
     {{"format", BBC_PARAM_INT, 0, 1, 0, 0, "output", "",
       "VRML output: 0 VRML2.0/Open Inventor mix, 1 pure VRML97"},
      INT_FIELD(format)},
-    {{"upaxis", BBC_PARAM_INT, 0, 2, 1, F1, "extension", "",
+    {{"upaxis", BBC_PARAM_INT, 0, 2, 1, 0, "extension", "",
       "the model's up axis: 0 = x, 1 = y, 2 = z (also x, y, z)"},
      INT_FIELD(up_axis)},
     {{"threads", BBC_PARAM_INT, 0, 1024, 0, F1, "extension", "",
@@ -168,6 +168,28 @@ void bbc_params_thesis(bbc_params *p) {
   p->dither = 0; /* quality 2 grows (2.3.9) */
   p->refine = 0;
   p->stem = 0;
+}
+
+int bbc_params_first_step(const bbc_params *a, const bbc_params *b, const char **which) {
+  int first = 0;
+  if (which) *which = NULL;
+  for (size_t i = 0; i < ROW_COUNT; i++) {
+    const param_row *r = &k_rows[i];
+    const char *pa = (const char *)a + r->offset, *pb = (const char *)b + r->offset;
+    if (!memcmp(pa, pb, r->is_double ? sizeof(double) : sizeof(int))) continue;
+    /* results never depend on these: worker threads, the debug views, the
+     * VRML dialect the cloud is written in */
+    const char *name = r->info.name;
+    if (!strcmp(name, "threads") || !strcmp(name, "debug") || !strcmp(name, "format")) continue;
+    int step = r->info.flags & BBC_PARAM_STEP3_ONLY    ? 3
+               : r->info.flags & BBC_PARAM_KEEPS_STEP1 ? 2
+                                                       : 1;
+    if (!first || step < first) {
+      first = step;
+      if (which) *which = name;
+    }
+  }
+  return first;
 }
 
 size_t bbc_param_count(void) {

@@ -8,7 +8,10 @@
  *   split trunk=PATTERNS   or  split foliage=PATTERNS   (group/material globs)
  *   bbc1, bbc2           steps 1 and 2 (they run together at bbc2)
  *   planes [OUT.json]    steps 1 and 2, the planes as JSON
- *   bbc3                 step 3 (after bbc2; steps 1 and 2 run again with it)
+ *   bbc3                 step 3 on the planes of the last bbc2 or bbc, which are
+ *                        kept: after a change of texturing parameters only
+ *                        (Appendix A's '*': texres, quality, nm, prelight, ...);
+ *                        any other change asks for bbc1/bbc2 again, saying which
  *   bbc                  steps 1 to 3
  *   shade N [AMBIENT]    voxel shadowing for the next step 3 (N = 0: off;
  *                        AMBIENT 0 or omitted = 0.4, as in the thesis)
@@ -60,9 +63,12 @@ int cmd_exec(cli *c, int argc, char **argv) {
     return EXIT_INPUT;
   }
   char line[4096], model[4096] = "", pattern[2][4096];
-  int lineno = 0, rc = EXIT_OK, want_steps = 0, planned = 0, have_job = 0;
+  int lineno = 0, rc = EXIT_OK, want_steps = 0, have_job = 0, have_cloud = 0;
+  int split_gen = 0, planned_split = 0; /* split commands so far, and at the planes */
+  bbc_params planned;                   /* the parameters the planes were found with */
   job jb;
   memset(&jb, 0, sizeof jb);
+  memset(&planned, 0, sizeof planned);
   while (rc == EXIT_OK && fgets(line, sizeof line, f)) {
     lineno++;
     char *s = trim(line);
@@ -75,9 +81,9 @@ int cmd_exec(cli *c, int argc, char **argv) {
     if (!strcmp(cmd, "load")) {
       if (!a1) goto missing;
       snprintf(model, sizeof model, "%s", a1);
-      want_steps = planned = 0;
+      want_steps = 0;
       if (have_job) job_free(&jb);
-      have_job = 0;
+      have_job = have_cloud = 0;
     } else if (!strcmp(cmd, "set")) {
       if (!a1 || !a2) goto missing;
       char assignment[512];
@@ -90,6 +96,7 @@ int cmd_exec(cli *c, int argc, char **argv) {
       }
     } else if (!strcmp(cmd, "split")) {
       if (!a1) goto missing;
+      split_gen++;
       if (!strncmp(a1, "trunk=", 6) || !strncmp(a1, "foliage=", 8)) {
         int t = a1[0] == 't';
         snprintf(pattern[t], sizeof pattern[t], "%s", strchr(a1, '=') + 1);
@@ -118,28 +125,51 @@ int cmd_exec(cli *c, int argc, char **argv) {
     } else if (!strcmp(cmd, "bbc1")) {
       if (!model[0]) goto noload;
       want_steps = 1;
-    } else if (!strcmp(cmd, "bbc2") || !strcmp(cmd, "planes")) {
+    } else if (!strcmp(cmd, "planes")) {
       if (!model[0]) goto noload;
-      if (!strcmp(cmd, "bbc2") && !want_steps) {
+      rc = run_planes(c, model, a1);
+    } else if (!strcmp(cmd, "bbc2")) {
+      if (!model[0]) goto noload;
+      if (!want_steps) {
         cli_error("%s:%d: bbc2 needs bbc1 first", file, lineno);
         rc = EXIT_USAGE;
         break;
       }
-      rc = run_planes(c, model, !strcmp(cmd, "planes") ? a1 : NULL);
+      if (have_job) job_free(&jb);
+      have_job = have_cloud = 0;
+      rc = job_plan(c, model, &jb);
+      have_job = rc == EXIT_OK;
+      planned = c->params;
+      planned_split = split_gen;
       want_steps = 0;
-      planned = 1;
-    } else if (!strcmp(cmd, "bbc3") || !strcmp(cmd, "bbc")) {
+    } else if (!strcmp(cmd, "bbc3")) {
       if (!model[0]) goto noload;
-      if (!strcmp(cmd, "bbc3") && !planned) {
-        cli_error("%s:%d: bbc3 needs bbc2 first", file, lineno);
+      if (!have_job) {
+        cli_error("%s:%d: bbc3 needs the planes of bbc2 (after bbc1) or bbc first", file, lineno);
         rc = EXIT_USAGE;
         break;
       }
+      const char *which = NULL;
+      int step = bbc_params_first_step(&planned, &c->params, &which);
+      if (split_gen != planned_split) step = 1, which = "split";
+      if (step == 1 || step == 2) {
+        cli_error("%s:%d: bbc3: %s changed since the planes were found, and it needs step %d "
+                  "again: run %s",
+                  file, lineno, which, step,
+                  step == 1 ? "bbc1 and bbc2 (or bbc)" : "bbc2 (or bbc)");
+        rc = EXIT_USAGE;
+        break;
+      }
+      rc = job_texture(c, &jb);
+      have_cloud = rc == EXIT_OK;
+    } else if (!strcmp(cmd, "bbc")) {
+      if (!model[0]) goto noload;
       if (have_job) job_free(&jb);
-      have_job = 0;
+      have_job = have_cloud = 0;
       rc = job_run(c, model, NULL, 0, &jb);
-      have_job = rc == EXIT_OK;
-      planned = 1;
+      have_job = have_cloud = rc == EXIT_OK;
+      planned = c->params;
+      planned_split = split_gen;
     } else if (!strcmp(cmd, "shade")) {
       if (!a1) goto missing;
       char *e1, *e2 = NULL;
@@ -153,7 +183,7 @@ int cmd_exec(cli *c, int argc, char **argv) {
       c->params.shade_voxels = (int)n;
       c->params.shade_ambient = amb > 0 ? amb : 0.4;
     } else if (!strcmp(cmd, "save")) {
-      if (!have_job) {
+      if (!have_cloud) {
         cli_error("%s:%d: save needs a Billboard Cloud: run bbc or bbc3 first", file, lineno);
         rc = EXIT_USAGE;
         break;

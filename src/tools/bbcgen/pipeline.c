@@ -39,20 +39,67 @@ static void epsilon_adjustment(const job_lod *L, char *buf, size_t n) {
            raised ? L->params.max_planes : L->params.min_planes);
 }
 
-int job_run(const cli *c, const char *model, const double *epsilons, size_t count, job *j) {
+/* Steps 1 and 2 of one level with ck's parameters. */
+static int lod_planes(const cli *ck, job *j, job_lod *L) {
+  bbc_planes_options po;
+  if (cli_planes_options(ck, &po) != EXIT_OK) return EXIT_USAGE;
+  bbc_error err;
+  if (bbc_planes_find(&j->mesh, &po, &L->set, &err) != BBC_OK)
+    return cli_fail_in(j->model_path, &err, 0); /* the message names the model */
+  L->step1_s = L->step2_s = 0;
+  for (size_t p = 0; p < L->set.part_count; p++) {
+    L->step1_s += L->set.parts[p].step1_s;
+    L->step2_s += L->set.parts[p].step2_s;
+  }
+  return EXIT_OK;
+}
+
+/* Step 3 of one level on its planes. */
+static int lod_cloud(const cli *ck, job *j, job_lod *L) {
+  bbc_error err;
+  if (bbc_cloud_build(&j->mesh, &L->set, &ck->params, &ck->callbacks, &L->cloud, &err) != BBC_OK)
+    return cli_fail_in(j->model_path, &err, 0);
+  return EXIT_OK;
+}
+
+static void lod_info(const cli *c, const job_lod *L, int step3_only) {
+  const bbc_image *a = &L->cloud.mesh.textures[0].image;
+  char why[160] = "", steps[96];
+  epsilon_adjustment(L, why, sizeof why);
+  if (step3_only)
+    snprintf(steps, sizeof steps, "steps 1+2 kept");
+  else
+    snprintf(steps, sizeof steps, "steps 1+2 %.2f s%s", L->step1_s + L->step2_s + L->set.retry_s,
+             L->set.attempts > 1 ? " in several runs" : "");
+  cli_info(c,
+           "epsilon %.3g %%%s: %zu planes, %zu billboards, texres %d, atlas %dx%d (%.0f %% "
+           "filled); %s, step 3 %.2f s",
+           L->epsilon_pct * L->set.epsilon_scale, why, L->set.plane_count, L->cloud.billboard_count,
+           L->cloud.texres, a->width, a->height, 100 * L->cloud.atlas_fill, steps,
+           L->cloud.bake_s + L->cloud.atlas_s);
+}
+
+static int job_load(const cli *c, const char *model, job *j) {
   memset(j, 0, sizeof *j);
   snprintf(j->model_path, sizeof j->model_path, "%s", model);
-  if (count == 0 || !epsilons) count = 1;
-  if (count > JOB_MAX_LODS) {
-    cli_error("at most %d levels of detail", JOB_MAX_LODS);
-    return EXIT_USAGE;
-  }
   bbc_load_options lo;
   cli_load_options(c, &lo);
   bbc_error err;
   double t0 = cli_now();
   if (bbc_mesh_load(model, &lo, &j->mesh, &err) != BBC_OK) return cli_fail(&err, 0);
   j->load_s = cli_now() - t0;
+  return EXIT_OK;
+}
+
+int job_run(const cli *c, const char *model, const double *epsilons, size_t count, job *j) {
+  if (count == 0 || !epsilons) count = 1;
+  if (count > JOB_MAX_LODS) {
+    memset(j, 0, sizeof *j);
+    cli_error("at most %d levels of detail", JOB_MAX_LODS);
+    return EXIT_USAGE;
+  }
+  int rc = job_load(c, model, j);
+  if (rc != EXIT_OK) return rc;
   for (size_t k = 0; k < count; k++) {
     cli ck = *c;
     ck.callbacks.user = &ck;
@@ -66,32 +113,52 @@ int job_run(const cli *c, const char *model, const double *epsilons, size_t coun
     L->epsilon_pct = ck.params.epsilon_pct;
     L->params = ck.params;
     j->lod_count = k + 1;
-    bbc_planes_options po;
-    if (cli_planes_options(&ck, &po) != EXIT_OK) {
-      job_free(j);
-      return EXIT_USAGE;
-    }
-    if (bbc_planes_find(&j->mesh, &po, &L->set, &err) != BBC_OK ||
-        bbc_cloud_build(&j->mesh, &L->set, &ck.params, &ck.callbacks, &L->cloud, &err) != BBC_OK) {
-      int rc = cli_fail_in(model, &err, 0); /* the message names the model */
+    if ((rc = lod_planes(&ck, j, L)) != EXIT_OK || (rc = lod_cloud(&ck, j, L)) != EXIT_OK) {
       job_free(j);
       return rc;
     }
-    for (size_t p = 0; p < L->set.part_count; p++) {
-      L->step1_s += L->set.parts[p].step1_s;
-      L->step2_s += L->set.parts[p].step2_s;
-    }
-    const bbc_image *a = &L->cloud.mesh.textures[0].image;
-    char why[160] = "";
-    epsilon_adjustment(L, why, sizeof why);
-    cli_info(c,
-             "epsilon %.3g %%%s: %zu planes, %zu billboards, texres %d, atlas %dx%d (%.0f %% "
-             "filled); steps 1+2 %.2f s%s, step 3 %.2f s",
-             L->epsilon_pct * L->set.epsilon_scale, why, L->set.plane_count,
-             L->cloud.billboard_count, L->cloud.texres, a->width, a->height,
-             100 * L->cloud.atlas_fill, L->step1_s + L->step2_s + L->set.retry_s,
-             L->set.attempts > 1 ? " in several runs" : "", L->cloud.bake_s + L->cloud.atlas_s);
+    lod_info(c, L, 0);
   }
+  return EXIT_OK;
+}
+
+int job_plan(const cli *c, const char *model, job *j) {
+  int rc = job_load(c, model, j);
+  if (rc != EXIT_OK) return rc;
+  cli ck = *c;
+  ck.callbacks.user = &ck;
+  job_lod *L = &j->lods[0];
+  L->epsilon_pct = ck.params.epsilon_pct;
+  L->params = ck.params;
+  j->lod_count = 1;
+  if ((rc = lod_planes(&ck, j, L)) != EXIT_OK) {
+    job_free(j);
+    return rc;
+  }
+  char why[160] = "";
+  epsilon_adjustment(L, why, sizeof why);
+  cli_info(c, "epsilon %.3g %%%s: %zu planes; steps 1+2 %.2f s%s",
+           L->epsilon_pct * L->set.epsilon_scale, why, L->set.plane_count,
+           L->step1_s + L->step2_s + L->set.retry_s, L->set.attempts > 1 ? " in several runs" : "");
+  return EXIT_OK;
+}
+
+int job_texture(const cli *c, job *j) {
+  if (!j->lod_count) return EXIT_USAGE;
+  cli ck = *c;
+  ck.callbacks.user = &ck;
+  job_lod *L = &j->lods[0];
+  bbc_cloud_free(&L->cloud);
+  /* the texturing parameters are the new ones; the planes stay as found */
+  double eps = L->params.epsilon_pct;
+  L->params = ck.params;
+  L->params.epsilon_pct = eps;
+  int rc = lod_cloud(&ck, j, L);
+  if (rc != EXIT_OK) {
+    memset(&L->cloud, 0, sizeof L->cloud);
+    return rc;
+  }
+  lod_info(c, L, 1);
   return EXIT_OK;
 }
 

@@ -29,6 +29,12 @@ typedef struct job {
  * 0 = the parameters' epsilon). Prints info lines; returns an exit code. On
  * failure the job is freed. */
 int job_run(const cli *c, const char *model, const double *epsilons, size_t count, job *j);
+/* Loads the model and runs steps 1 and 2 only (one level, the parameters'
+ * epsilon): the planes, no cloud yet. */
+int job_plan(const cli *c, const char *model, job *j);
+/* Step 3 (again) on level 0's planes with c's parameters: the cloud of a
+ * job that has planes, replacing any cloud it had. */
+int job_texture(const cli *c, job *j);
 void job_free(job *j);
 
 /* Writes the clouds: .glb/.gltf (every LOD a node, MSFT_lod chain), or

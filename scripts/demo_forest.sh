@@ -15,6 +15,24 @@ mkdir -p "$out"
 echo "== forest: the landscape"
 water=$("$bin/forest" --demo-terrain "$out" --terrain-size 512 --seed 1 | sed -n 's/^water_level=//p')
 heightscale=0.5
+# model_file NAME COMMENT FADE SHADOWRAD SHADOWCUTOFF FILE:MAX... — a model
+# description file (Appendix B): one LOD per FILE up to MAX units, each from
+# where the previous ends, the first (the polygon model) lit.
+model_file() {
+  local name=$1 comment=$2 fade=$3 rad=$4 cut=$5 min=0 flags="lighting mipmap"
+  shift 5
+  {
+    echo "' $comment"
+    printf 'fade %s\nshadowrad %s\nshadowcutoff %s\n' "$fade" "$rad" "$cut"
+    for lod in "$@"; do
+      printf 'LOD\n(\n    file1 %s %s\n    min %s\n    max %s\n)\n' "${lod%%:*}" "$flags" "$min" \
+        "${lod##*:}"
+      min=${lod##*:}
+      flags=mipmap
+    done
+  } > "$out/$name.txt"
+}
+
 # One species: its polygon tree and three Billboard Clouds, and its model
 # file (thesis Appendix B) with the LOD ranges.
 make_species() {
@@ -26,36 +44,8 @@ make_species() {
     "$bin/bbcgen" "$out/$s.obj" -o "$out/${s}_8.glb" --maxplanes 8 --minplanes 0 --texres 64 -q
     "$bin/bbcgen" "$out/$s.obj" -o "$out/${s}_6.glb" --maxplanes 6 --minplanes 0 --texres 64 -q
   fi
-  cat > "$out/$s.txt" <<EOT
-' $s: the polygon tree near, Billboard Clouds farther (thesis Appendix B)
-fade 6
-shadowrad 6.5
-shadowcutoff 2.5
-LOD
-(
-    file1 $s.obj lighting mipmap
-    min 0
-    max 45
-)
-LOD
-(
-    file1 ${s}_22.glb mipmap
-    min 45
-    max 160
-)
-LOD
-(
-    file1 ${s}_8.glb mipmap
-    min 160
-    max 420
-)
-LOD
-(
-    file1 ${s}_6.glb mipmap
-    min 420
-    max 1600
-)
-EOT
+  model_file "$s" "$s: the polygon tree near, Billboard Clouds farther (thesis Appendix B)" 6 6.5 2.5 \
+    "$s.obj:45" "${s}_22.glb:160" "${s}_8.glb:420" "${s}_6.glb:1600"
 }
 for s in oak pine birch larch weeping; do make_species "$s"; done
 cat > "$out/map.txt" <<EOT
@@ -133,36 +123,9 @@ if [ ! -f "$out/spruces.obj" ] || [ ! -f "$out/spruces_11s.glb" ]; then
   "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_11.glb" --maxplanes 11 --minplanes 0 --texres 128 -q
   "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_11s.glb" --maxplanes 11 --minplanes 0 --texres 32 -q
 fi
-cat > "$out/spruces.txt" <<EOT
-' 8 spruces as one model (thesis 3.3, Finland): the polygon group near, clouds farther
-fade 8
-shadowrad 14
-shadowcutoff 6
-LOD
-(
-    file1 spruces.obj lighting mipmap
-    min 0
-    max 50
-)
-LOD
-(
-    file1 spruces_25.glb mipmap
-    min 50
-    max 200
-)
-LOD
-(
-    file1 spruces_11.glb mipmap
-    min 200
-    max 450
-)
-LOD
-(
-    file1 spruces_11s.glb mipmap
-    min 450
-    max 1600
-)
-EOT
+model_file spruces \
+  "8 spruces as one model (thesis 3.3, Finland): the polygon group near, clouds farther" 8 14 6 \
+  spruces.obj:50 spruces_25.glb:200 spruces_11.glb:450 spruces_11s.glb:1600
 big_map finland flat "$flatwater" 0.2 "Finland (thesis 3.3, map c): groups of 8 spruces" <<EOT
 rndtree spruces.txt 1.0 20000 1 1 0 0 0 0
 EOT
@@ -178,36 +141,8 @@ if [ ! -f "$out/palm.obj" ] || [ ! -f "$out/palm_5.glb" ]; then
   "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_8s.glb" --maxplanes 8 --minplanes 0 --texres 128 -q
   "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_5.glb" --maxplanes 5 --minplanes 0 --texres 32 -q
 fi
-cat > "$out/palm.txt" <<EOT
-' palm: the polygon tree near, Billboard Clouds farther (thesis 3.3, Tropic Islands)
-fade 6
-shadowrad 5
-shadowcutoff 2
-LOD
-(
-    file1 palm.obj lighting mipmap
-    min 0
-    max 45
-)
-LOD
-(
-    file1 palm_8.glb mipmap
-    min 45
-    max 160
-)
-LOD
-(
-    file1 palm_8s.glb mipmap
-    min 160
-    max 420
-)
-LOD
-(
-    file1 palm_5.glb mipmap
-    min 420
-    max 1600
-)
-EOT
+model_file palm "palm: the polygon tree near, Billboard Clouds farther (thesis 3.3, Tropic Islands)" \
+  6 5 2 palm.obj:45 palm_8.glb:160 palm_8s.glb:420 palm_5.glb:1600
 big_map islands islands "$islandwater" 0.5 "Tropic Islands (thesis 3.3, map b): palms" <<EOT
 rndtree palm.txt 1.0 25000 1 1 0 0 0 0
 EOT

@@ -266,13 +266,12 @@ static GLuint compile(GLenum type, const char *src, const char *name, char *err)
   return s;
 }
 
-static GLuint compute_program(const char *cs, const char *name, char *err) {
-  GLuint c = compile(GL_COMPUTE_SHADER, cs, name, err);
-  if (!c) return 0;
+/* Links the shaders (0 ends the list; each deleted after) into a program. */
+static GLuint link(const GLuint *shaders, const char *name, char *err) {
   GLuint p = glCreateProgram();
-  glAttachShader(p, c);
+  for (const GLuint *s = shaders; *s; s++) glAttachShader(p, *s);
   glLinkProgram(p);
-  glDeleteShader(c);
+  for (const GLuint *s = shaders; *s; s++) glDeleteShader(*s);
   GLint ok = 0;
   glGetProgramiv(p, GL_LINK_STATUS, &ok);
   if (!ok) {
@@ -285,6 +284,11 @@ static GLuint compute_program(const char *cs, const char *name, char *err) {
   return p;
 }
 
+static GLuint compute_program(const char *cs, const char *name, char *err) {
+  GLuint c[2] = {compile(GL_COMPUTE_SHADER, cs, name, err), 0};
+  return c[0] ? link(c, name, err) : 0;
+}
+
 static GLuint program(const char *vs, const char *fs, const char *name, char *err) {
   GLuint v = compile(GL_VERTEX_SHADER, vs, name, err);
   if (!v) return 0;
@@ -293,22 +297,8 @@ static GLuint program(const char *vs, const char *fs, const char *name, char *er
     glDeleteShader(v);
     return 0;
   }
-  GLuint p = glCreateProgram();
-  glAttachShader(p, v);
-  glAttachShader(p, f);
-  glLinkProgram(p);
-  glDeleteShader(v);
-  glDeleteShader(f);
-  GLint ok = 0;
-  glGetProgramiv(p, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[400];
-    glGetProgramInfoLog(p, sizeof log, NULL, log);
-    snprintf(err, BBCGL_ERR, "shader %s does not link: %s", name, log);
-    glDeleteProgram(p);
-    return 0;
-  }
-  return p;
+  GLuint sh[3] = {v, f, 0};
+  return link(sh, name, err);
 }
 
 /* ---- the built-in 5 x 7 font ------------------------------------------- */

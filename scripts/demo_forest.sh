@@ -194,3 +194,5 @@ if [ -f "$terrain/irrlicht_terrain-heightmap.bmp" ]; then
 fi
 sed -n '1,12p' "$out/check.txt"
 echo "Fly through it: $bin/forest $out/map.txt   (headless: add --size 800x600 --screenshot F.png)"
+echo "The thesis's maps (3.3): $out/mixed.txt, islands.txt, finland.txt, huge150k.txt; a million"
+echo "trees: $out/million.txt; their benchmark: scripts/bench_forest.sh $build"

@@ -279,7 +279,8 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
   fr.naive = st->o->naive;
   fr.gpu_cull = st->o->gpu_cull && !st->o->naive;
   fr.zoom = st->cam.zoom;
-  res->cull_ms = (now_s() - c0) * 1000;
+  /* with --gpu-cull the CPU culls nothing: the work is in the frame's GPU time */
+  res->cull_ms = fr.gpu_cull ? 0 : (now_s() - c0) * 1000;
   bbcgl_context_begin(ctx);
   bbcgl_forest_draw(r, &fr, &st->s->terrain, &st->s->cull, &res->stats);
   if (fr.gpu_cull && !st->gpu_failed && bbcgl_forest_gpu_cull_error(r)) {

@@ -31,6 +31,21 @@ static int run(const char *args, char **out, char **errout) {
   return WIFEXITED(st) ? WEXITSTATUS(st) : 128;
 }
 
+/* The same with `input` on standard input. */
+static int run_in(const char *args, const char *input, char **out, char **errout) {
+  char cmd[4096], o[1024], e[1024];
+  char *in = tu_write_file(tu_dir, "stdin.txt", input, strlen(input));
+  snprintf(o, sizeof o, "%s/stdout.txt", tu_dir);
+  snprintf(e, sizeof e, "%s/stderr.txt", tu_dir);
+  snprintf(cmd, sizeof cmd, "cd '%s' && %s/bbcgen %s > '%s' 2> '%s' < '%s'", tu_dir, BBC_BIN_DIR,
+           args, o, e, in);
+  free(in);
+  int st = system(cmd);
+  if (out) *out = (char *)tu_read_file(o, NULL);
+  if (errout) *errout = (char *)tu_read_file(e, NULL);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : 128;
+}
+
 static cJSON *info_json(const char *rel) {
   char path[1024], args[2048];
   tu_data_path(path, sizeof path, rel);
@@ -464,6 +479,69 @@ static void test_exec_state(void **state) {
   free(bf);
 }
 
+/* The prompt: commands line by line, errors reported and the session goes
+ * on; -x runs a batch first; on a terminal, completion. */
+static void test_prompt(void **state) {
+  (void)state;
+  char path[1024], text[4096], args[4096];
+  tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
+  if (!tu_have_file(path)) skip();
+  char *out, *err;
+  snprintf(text, sizeof text,
+           "help bbc3\nload %s\nbogus\nbbc3\nset texres 16\nbbc\nset quality 0\nbbc3\nsave p\n"
+           "show model\nquit\nsetup\n",
+           path);
+  assert_int_equal(run_in("-i", text, &out, &err), 0);
+  assert_non_null(strstr(out, "step 3 on the kept planes"));
+  assert_non_null(strstr(err, "'bogus' is not a command"));
+  assert_non_null(strstr(err, "bbc3 needs the planes"));
+  assert_non_null(strstr(err, "steps 1+2 kept"));
+  assert_non_null(strstr(err, "show: the viewer is not built yet"));
+  assert_null(strstr(out, "texres")); /* nothing after quit */
+  free(out);
+  free(err);
+  char wrl[2048];
+  snprintf(wrl, sizeof wrl, "%s/vrml97models/p/Tree_1/Tree_1_e6.00_tex16_pl/Tree_1.wrl", tu_dir);
+  assert_true(tu_have_file(wrl));
+  /* -x: the batch, then the prompt (unless the batch quits) */
+  snprintf(text, sizeof text, "load %s\nset texres 16\n", path);
+  char *bf = tu_write_file(tu_dir, "x.bbc", text, strlen(text));
+  snprintf(args, sizeof args, "-x '%s'", bf);
+  assert_int_equal(run_in(args, "setup\n", &out, &err), 0);
+  assert_non_null(strstr(out, "texres         16"));
+  free(out);
+  free(err);
+  free(bf);
+  bf = tu_write_file(tu_dir, "xq.bbc", "set texres 16\nquit\n", 19);
+  snprintf(args, sizeof args, "-x '%s'", bf);
+  assert_int_equal(run_in(args, "setup\n", &out, &err), 0);
+  assert_null(strstr(out, "texres"));
+  free(out);
+  free(err);
+  free(bf);
+  assert_int_equal(run_in("-x", "", &out, &err), 1);
+  assert_non_null(strstr(err, "-x needs a batch file"));
+  free(out);
+  free(err);
+  /* on a terminal (script(1) gives a pseudo-terminal): Tab completes a
+   * command and a parameter name */
+  char cmd[4096], o[1024];
+  snprintf(o, sizeof o, "%s/pty.txt", tu_dir);
+  snprintf(cmd, sizeof cmd,
+           "(sleep 1; printf 'hel\\t\\n'; sleep 0.5; printf 'set texr\\t 64\\n'; sleep 0.5; "
+           "printf 'setup\\n'; sleep 0.5; printf 'quit\\n') | timeout 30 script -qec '%s/bbcgen' "
+           "/dev/null > '%s' 2>&1",
+           BBC_BIN_DIR, o);
+  int st = system(cmd);
+  assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+  char *pty = (char *)tu_read_file(o, NULL);
+  assert_non_null(pty);
+  assert_non_null(strstr(pty, "bbcgen> "));
+  assert_non_null(strstr(pty, "step 3 on the kept planes")); /* help ran */
+  assert_non_null(strstr(pty, "texres         64"));         /* set texr<Tab> 64 */
+  free(pty);
+}
+
 /* bbcgen MODEL -o OUT: option errors before any work; batch bbc/shade/save
  * write the thesis's VRML folder. */
 static void test_cloud_command(void **state) {
@@ -837,6 +915,7 @@ int main(void) {
       cmocka_unit_test(test_planes_json_identical),
       cmocka_unit_test(test_exec_batch),
       cmocka_unit_test(test_exec_state),
+      cmocka_unit_test(test_prompt),
       cmocka_unit_test(test_cloud_command),
       cmocka_unit_test(test_hand_epsilon_kept),
       cmocka_unit_test(test_suggestions),

@@ -99,6 +99,9 @@ int cmd_render(cli *c, int argc, char **argv);
 int cmd_setup(cli *c, int argc, char **argv);
 int cmd_planes(cli *c, int argc, char **argv);
 int cmd_exec(cli *c, int argc, char **argv);
+/* The prompt: the batch commands line by line (libedit on a terminal);
+ * batch_file (may be NULL) runs first, and a `quit` in it ends there. */
+int cmd_prompt(cli *c, const char *batch_file);
 int cmd_cloud(cli *c, int argc, char **argv);
 int cmd_eval(cli *c, int argc, char **argv);
 int cmd_baseline(cli *c, int argc, char **argv);

@@ -18,21 +18,255 @@
  *   save [DIR]           the last cloud as VRML into
  *                        vrml97models/[DIR/]<model>/<model>_eX.XX_texN[_nm][_pl]/
  *   setup                print the parameters
+ *   exec FILE            run another batch file (nested, 8 deep at most)
+ *   help [COMMAND]       the commands, or one
+ *   cls                  clear the screen (at the prompt)
  *   q, quit              stop
- * Not implemented: show, bbcload (interactive viewing). */
+ * Not implemented: show, bbcload (interactive viewing).
+ *
+ * The prompt (`bbcgen -i`, `bbcgen -x FILE`, `bbcgen` on a terminal) runs
+ * the same commands line by line; an error is reported and the session
+ * goes on. Line editing, history and completion come from libedit. */
 #include "pipeline.h"
 
 #include <ctype.h>
+#include <dirent.h>
+#include <editline/readline.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 static char *trim(char *s) {
   while (isspace((unsigned char)*s)) s++;
   size_t n = strlen(s);
   while (n && isspace((unsigned char)s[n - 1])) s[--n] = 0;
   return s;
+}
+
+/* What a session of commands keeps between them. */
+typedef struct batch {
+  char model[4096];
+  char pattern[2][4096];
+  int want_steps, have_job, have_cloud;
+  int split_gen, planned_split; /* split commands so far, and at the planes */
+  bbc_params planned;           /* the parameters the planes were found with */
+  job jb;
+  int depth; /* nested exec */
+  int quit;
+} batch;
+
+static const struct {
+  const char *name, *args, *what;
+} k_commands[] = {
+    {"load", "FILE", "the model for the following commands"},
+    {"set", "NAME VALUE", "a parameter (PART.NAME for one part: trunk, foliage)"},
+    {"split", "MODE",
+     "trunk and foliage: auto, none, names, geometry, trunk=PATTERNS, foliage=..."},
+    {"bbc1", "", "step 1 (runs with step 2 at bbc2)"},
+    {"bbc2", "", "steps 1 and 2: the planes (kept for bbc3)"},
+    {"bbc3", "", "step 3 on the kept planes (after texturing changes only)"},
+    {"bbc", "", "steps 1 to 3"},
+    {"planes", "[OUT.json]", "steps 1 and 2, the planes as JSON"},
+    {"shade", "N [AMBIENT]", "voxel shadowing for the next step 3 (0 = off)"},
+    {"save", "[DIR]", "the cloud as VRML into vrml97models/[DIR/]MODEL/MODEL_eX.XX_texN.../"},
+    {"setup", "", "print every parameter"},
+    {"exec", "FILE", "run a batch file"},
+    {"help", "[COMMAND]", "the commands, or one"},
+    {"cls", "", "clear the screen"},
+    {"quit", "", "stop (also q)"},
+};
+#define COMMAND_COUNT (sizeof k_commands / sizeof k_commands[0])
+
+static int exec_file(cli *c, batch *b, const char *file);
+
+static void help(const char *which) {
+  for (size_t i = 0; i < COMMAND_COUNT; i++)
+    if (!which || !strcmp(which, k_commands[i].name))
+      printf("  %-6s %-12s %s\n", k_commands[i].name, k_commands[i].args, k_commands[i].what);
+}
+
+/* One command line (already trimmed, not empty). Errors name file:line
+ * when there is a file. */
+static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno) {
+  char where[4200];
+  if (file)
+    snprintf(where, sizeof where, "%s:%d: ", file, lineno);
+  else
+    where[0] = 0;
+  char *cmd = strtok(s, " \t");
+  char *a1 = strtok(NULL, " \t");
+  char *a2 = strtok(NULL, "");
+  if (a2) a2 = trim(a2);
+  int rc = EXIT_OK;
+  if (!strcmp(cmd, "q") || !strcmp(cmd, "quit")) {
+    b->quit = 1;
+  } else if (!strcmp(cmd, "load")) {
+    if (!a1) goto missing;
+    snprintf(b->model, sizeof b->model, "%s", a1);
+    b->want_steps = 0;
+    if (b->have_job) job_free(&b->jb);
+    b->have_job = b->have_cloud = 0;
+  } else if (!strcmp(cmd, "set")) {
+    if (!a1 || !a2) goto missing;
+    char assignment[512];
+    snprintf(assignment, sizeof assignment, "%s=%s", a1, a2);
+    char *fake[2] = {"--set", assignment};
+    int i = 0;
+    if (cli_common_option(c, 2, fake, &i) != 1) {
+      cli_error("%sbad set command", where);
+      rc = EXIT_USAGE;
+    }
+  } else if (!strcmp(cmd, "split")) {
+    if (!a1) goto missing;
+    b->split_gen++;
+    if (!strncmp(a1, "trunk=", 6) || !strncmp(a1, "foliage=", 8)) {
+      int t = a1[0] == 't';
+      snprintf(b->pattern[t], sizeof b->pattern[t], "%s", strchr(a1, '=') + 1);
+      char opt[16];
+      snprintf(opt, sizeof opt, "--%s", t ? "trunk" : "foliage");
+      char *fake[2] = {opt, b->pattern[t]};
+      int i = 0;
+      if (!b->pattern[t][0]) {
+        cli_error("%ssplit %s= needs patterns", where, t ? "trunk" : "foliage");
+        rc = EXIT_USAGE;
+      } else if (cli_common_option(c, 2, fake, &i) != 1) {
+        cli_error("%sbad split command", where);
+        rc = EXIT_USAGE;
+      }
+    } else {
+      char *fake[2] = {"--split", a1};
+      int i = 0;
+      if (cli_common_option(c, 2, fake, &i) != 1) {
+        cli_error("%sbad split command", where);
+        rc = EXIT_USAGE;
+      }
+    }
+  } else if (!strcmp(cmd, "setup")) {
+    char *fake[1] = {"setup"};
+    rc = cmd_setup(c, 1, fake);
+  } else if (!strcmp(cmd, "help")) {
+    if (a1 && !strcmp(a1, "q")) a1 = "quit";
+    int known = !a1;
+    for (size_t i = 0; a1 && i < COMMAND_COUNT; i++) known |= !strcmp(a1, k_commands[i].name);
+    if (!known) {
+      cli_error("%shelp: no command '%s' (help lists them)", where, a1);
+      rc = EXIT_USAGE;
+    } else {
+      help(a1);
+    }
+  } else if (!strcmp(cmd, "cls")) {
+    if (isatty(1)) fputs("\033[H\033[2J", stdout);
+  } else if (!strcmp(cmd, "exec")) {
+    if (!a1) goto missing;
+    if (b->depth >= 8) {
+      cli_error("%sexec %s: batch files nested more than 8 deep", where, a1);
+      rc = EXIT_USAGE;
+    } else {
+      b->depth++;
+      rc = exec_file(c, b, a1);
+      b->depth--;
+    }
+  } else if (!strcmp(cmd, "bbc1")) {
+    if (!b->model[0]) goto noload;
+    b->want_steps = 1;
+  } else if (!strcmp(cmd, "planes")) {
+    if (!b->model[0]) goto noload;
+    rc = run_planes(c, b->model, a1);
+  } else if (!strcmp(cmd, "bbc2")) {
+    if (!b->model[0]) goto noload;
+    if (!b->want_steps) {
+      cli_error("%sbbc2 needs bbc1 first", where);
+      return EXIT_USAGE;
+    }
+    if (b->have_job) job_free(&b->jb);
+    b->have_job = b->have_cloud = 0;
+    rc = job_plan(c, b->model, &b->jb);
+    b->have_job = rc == EXIT_OK;
+    b->planned = c->params;
+    b->planned_split = b->split_gen;
+    b->want_steps = 0;
+  } else if (!strcmp(cmd, "bbc3")) {
+    if (!b->model[0]) goto noload;
+    if (!b->have_job) {
+      cli_error("%sbbc3 needs the planes of bbc2 (after bbc1) or bbc first", where);
+      return EXIT_USAGE;
+    }
+    const char *which = NULL;
+    int step = bbc_params_first_step(&b->planned, &c->params, &which);
+    if (b->split_gen != b->planned_split) step = 1, which = "split";
+    if (step == 1 || step == 2) {
+      cli_error("%sbbc3: %s changed since the planes were found, and it needs step %d again: "
+                "run %s",
+                where, which, step, step == 1 ? "bbc1 and bbc2 (or bbc)" : "bbc2 (or bbc)");
+      return EXIT_USAGE;
+    }
+    rc = job_texture(c, &b->jb);
+    b->have_cloud = rc == EXIT_OK;
+  } else if (!strcmp(cmd, "bbc")) {
+    if (!b->model[0]) goto noload;
+    if (b->have_job) job_free(&b->jb);
+    b->have_job = b->have_cloud = 0;
+    rc = job_run(c, b->model, NULL, 0, &b->jb);
+    b->have_job = b->have_cloud = rc == EXIT_OK;
+    b->planned = c->params;
+    b->planned_split = b->split_gen;
+  } else if (!strcmp(cmd, "shade")) {
+    if (!a1) goto missing;
+    char *e1, *e2 = NULL;
+    long n = strtol(a1, &e1, 10);
+    double amb = a2 ? strtod(a2, &e2) : 0;
+    if (*e1 || n < 0 || n > 512 || (a2 && (*e2 || !(amb >= 0 && amb <= 1)))) {
+      cli_error("%sshade NUMVOXELS [AMBIENT]: voxels 0..512, ambient 0..1", where);
+      return EXIT_USAGE;
+    }
+    c->params.shade_voxels = (int)n;
+    c->params.shade_ambient = amb > 0 ? amb : 0.4;
+  } else if (!strcmp(cmd, "save")) {
+    if (!b->have_cloud) {
+      cli_error("%ssave needs a Billboard Cloud: run bbc or bbc3 first", where);
+      return EXIT_USAGE;
+    }
+    rc = job_save_vrml(c, &b->jb, a1);
+  } else if (!strcmp(cmd, "show") || !strcmp(cmd, "bbcload")) {
+    cli_error("%s%s: the viewer is not built yet", where, cmd);
+    rc = EXIT_USAGE;
+  } else {
+    cli_error("%s'%s' is not a command (help lists them)", where, cmd);
+    rc = EXIT_USAGE;
+  }
+  return rc;
+missing:
+  cli_error("%s%s needs %s", where, cmd, !strcmp(cmd, "set") ? "NAME VALUE" : "an argument");
+  return EXIT_USAGE;
+noload:
+  cli_error("%s%s before load", where, cmd);
+  return EXIT_USAGE;
+}
+
+/* A batch file: stops at its first error (or quit). */
+static int exec_file(cli *c, batch *b, const char *file) {
+  struct stat st;
+  if (stat(file, &st) == 0 && S_ISDIR(st.st_mode)) {
+    cli_error("%s: is a folder, not a batch file", file);
+    return EXIT_INPUT;
+  }
+  FILE *f = fopen(file, "r");
+  if (!f) {
+    cli_error("%s: cannot open batch file", file);
+    return EXIT_INPUT;
+  }
+  char line[4096];
+  int lineno = 0, rc = EXIT_OK;
+  while (rc == EXIT_OK && !b->quit && fgets(line, sizeof line, f)) {
+    lineno++;
+    char *s = trim(line);
+    if (!*s || *s == '#') continue;
+    rc = exec_command(c, b, s, file, lineno);
+  }
+  fclose(f);
+  return rc;
 }
 
 int cmd_exec(cli *c, int argc, char **argv) {
@@ -52,158 +286,100 @@ int cmd_exec(cli *c, int argc, char **argv) {
     cli_error("exec: usage: bbcgen exec BATCHFILE");
     return EXIT_USAGE;
   }
-  struct stat st;
-  if (stat(file, &st) == 0 && S_ISDIR(st.st_mode)) {
-    cli_error("%s: is a folder, not a batch file", file);
-    return EXIT_INPUT;
+  batch *b = calloc(1, sizeof *b);
+  if (!b) {
+    cli_error("out of memory");
+    return EXIT_RESOURCES;
   }
-  FILE *f = fopen(file, "r");
-  if (!f) {
-    cli_error("%s: cannot open batch file", file);
-    return EXIT_INPUT;
-  }
-  char line[4096], model[4096] = "", pattern[2][4096];
-  int lineno = 0, rc = EXIT_OK, want_steps = 0, have_job = 0, have_cloud = 0;
-  int split_gen = 0, planned_split = 0; /* split commands so far, and at the planes */
-  bbc_params planned;                   /* the parameters the planes were found with */
-  job jb;
-  memset(&jb, 0, sizeof jb);
-  memset(&planned, 0, sizeof planned);
-  while (rc == EXIT_OK && fgets(line, sizeof line, f)) {
-    lineno++;
-    char *s = trim(line);
-    if (!*s || *s == '#') continue;
-    char *cmd = strtok(s, " \t");
-    char *a1 = strtok(NULL, " \t");
-    char *a2 = strtok(NULL, "");
-    if (a2) a2 = trim(a2);
-    if (!strcmp(cmd, "q") || !strcmp(cmd, "quit")) break;
-    if (!strcmp(cmd, "load")) {
-      if (!a1) goto missing;
-      snprintf(model, sizeof model, "%s", a1);
-      want_steps = 0;
-      if (have_job) job_free(&jb);
-      have_job = have_cloud = 0;
-    } else if (!strcmp(cmd, "set")) {
-      if (!a1 || !a2) goto missing;
-      char assignment[512];
-      snprintf(assignment, sizeof assignment, "%s=%s", a1, a2);
-      char *fake[2] = {"--set", assignment};
-      int i = 0;
-      if (cli_common_option(c, 2, fake, &i) != 1) {
-        cli_error("%s:%d: bad set command", file, lineno);
-        rc = EXIT_USAGE;
-      }
-    } else if (!strcmp(cmd, "split")) {
-      if (!a1) goto missing;
-      split_gen++;
-      if (!strncmp(a1, "trunk=", 6) || !strncmp(a1, "foliage=", 8)) {
-        int t = a1[0] == 't';
-        snprintf(pattern[t], sizeof pattern[t], "%s", strchr(a1, '=') + 1);
-        char opt[16];
-        snprintf(opt, sizeof opt, "--%s", t ? "trunk" : "foliage");
-        char *fake[2] = {opt, pattern[t]};
-        int i = 0;
-        if (!pattern[t][0]) {
-          cli_error("%s:%d: split %s= needs patterns", file, lineno, t ? "trunk" : "foliage");
-          rc = EXIT_USAGE;
-        } else if (cli_common_option(c, 2, fake, &i) != 1) {
-          cli_error("%s:%d: bad split command", file, lineno);
-          rc = EXIT_USAGE;
-        }
-      } else {
-        char *fake[2] = {"--split", a1};
-        int i = 0;
-        if (cli_common_option(c, 2, fake, &i) != 1) {
-          cli_error("%s:%d: bad split command", file, lineno);
-          rc = EXIT_USAGE;
-        }
-      }
-    } else if (!strcmp(cmd, "setup")) {
-      char *fake[1] = {"setup"};
-      rc = cmd_setup(c, 1, fake);
-    } else if (!strcmp(cmd, "bbc1")) {
-      if (!model[0]) goto noload;
-      want_steps = 1;
-    } else if (!strcmp(cmd, "planes")) {
-      if (!model[0]) goto noload;
-      rc = run_planes(c, model, a1);
-    } else if (!strcmp(cmd, "bbc2")) {
-      if (!model[0]) goto noload;
-      if (!want_steps) {
-        cli_error("%s:%d: bbc2 needs bbc1 first", file, lineno);
-        rc = EXIT_USAGE;
-        break;
-      }
-      if (have_job) job_free(&jb);
-      have_job = have_cloud = 0;
-      rc = job_plan(c, model, &jb);
-      have_job = rc == EXIT_OK;
-      planned = c->params;
-      planned_split = split_gen;
-      want_steps = 0;
-    } else if (!strcmp(cmd, "bbc3")) {
-      if (!model[0]) goto noload;
-      if (!have_job) {
-        cli_error("%s:%d: bbc3 needs the planes of bbc2 (after bbc1) or bbc first", file, lineno);
-        rc = EXIT_USAGE;
-        break;
-      }
-      const char *which = NULL;
-      int step = bbc_params_first_step(&planned, &c->params, &which);
-      if (split_gen != planned_split) step = 1, which = "split";
-      if (step == 1 || step == 2) {
-        cli_error("%s:%d: bbc3: %s changed since the planes were found, and it needs step %d "
-                  "again: run %s",
-                  file, lineno, which, step,
-                  step == 1 ? "bbc1 and bbc2 (or bbc)" : "bbc2 (or bbc)");
-        rc = EXIT_USAGE;
-        break;
-      }
-      rc = job_texture(c, &jb);
-      have_cloud = rc == EXIT_OK;
-    } else if (!strcmp(cmd, "bbc")) {
-      if (!model[0]) goto noload;
-      if (have_job) job_free(&jb);
-      have_job = have_cloud = 0;
-      rc = job_run(c, model, NULL, 0, &jb);
-      have_job = have_cloud = rc == EXIT_OK;
-      planned = c->params;
-      planned_split = split_gen;
-    } else if (!strcmp(cmd, "shade")) {
-      if (!a1) goto missing;
-      char *e1, *e2 = NULL;
-      long n = strtol(a1, &e1, 10);
-      double amb = a2 ? strtod(a2, &e2) : 0;
-      if (*e1 || n < 0 || n > 512 || (a2 && (*e2 || !(amb >= 0 && amb <= 1)))) {
-        cli_error("%s:%d: shade NUMVOXELS [AMBIENT]: voxels 0..512, ambient 0..1", file, lineno);
-        rc = EXIT_USAGE;
-        break;
-      }
-      c->params.shade_voxels = (int)n;
-      c->params.shade_ambient = amb > 0 ? amb : 0.4;
-    } else if (!strcmp(cmd, "save")) {
-      if (!have_cloud) {
-        cli_error("%s:%d: save needs a Billboard Cloud: run bbc or bbc3 first", file, lineno);
-        rc = EXIT_USAGE;
-        break;
-      }
-      rc = job_save_vrml(c, &jb, a1);
-    } else {
-      cli_error("%s:%d: '%s' is not a batch command (or not implemented yet)", file, lineno, cmd);
-      rc = EXIT_USAGE;
+  int rc = exec_file(c, b, file);
+  if (b->have_job) job_free(&b->jb);
+  free(b);
+  return rc;
+}
+
+/* ---- the prompt ---------------------------------------------------------------- */
+
+/* Completion: command names first on the line, parameter names after
+ * `set`, command names after `help`, file names elsewhere. */
+static char *complete_word(const char *text, int state, int params) {
+  static size_t i;
+  if (!state) i = 0;
+  size_t n = strlen(text);
+  if (params) {
+    while (i < bbc_param_count()) {
+      const char *name = bbc_param_at(i++)->name;
+      if (!strncmp(name, text, n)) return strdup(name);
     }
-    continue;
-  missing:
-    cli_error("%s:%d: %s needs %s", file, lineno, cmd,
-              !strcmp(cmd, "set") ? "NAME VALUE" : "an argument");
-    rc = EXIT_USAGE;
-    continue;
-  noload:
-    cli_error("%s:%d: %s before load", file, lineno, cmd);
-    rc = EXIT_USAGE;
+  } else {
+    while (i < COMMAND_COUNT) {
+      const char *name = k_commands[i++].name;
+      if (!strncmp(name, text, n)) return strdup(name);
+    }
   }
-  fclose(f);
-  if (have_job) job_free(&jb);
+  return NULL;
+}
+static char *complete_command(const char *text, int state) {
+  return complete_word(text, state, 0);
+}
+static char *complete_param(const char *text, int state) {
+  return complete_word(text, state, 1);
+}
+
+static char **complete(const char *text, int start, int end) {
+  (void)end;
+  int first = 1;
+  for (int i = 0; i < start; i++) first &= isspace((unsigned char)rl_line_buffer[i]) != 0;
+  if (first) return rl_completion_matches(text, complete_command);
+  if (!strncmp(rl_line_buffer, "set ", 4) && start == 4)
+    return rl_completion_matches(text, complete_param);
+  if (!strncmp(rl_line_buffer, "help ", 5)) return rl_completion_matches(text, complete_command);
+  return NULL; /* file names */
+}
+
+int cmd_prompt(cli *c, const char *batch_file) {
+  batch *b = calloc(1, sizeof *b);
+  if (!b) {
+    cli_error("out of memory");
+    return EXIT_RESOURCES;
+  }
+  int rc = EXIT_OK;
+  if (batch_file) {
+    rc = exec_file(c, b, batch_file);
+    if (b->quit) {
+      if (b->have_job) job_free(&b->jb);
+      free(b);
+      return rc;
+    }
+  }
+  int tty = isatty(0) && isatty(1);
+  if (tty) {
+    rl_readline_name = "bbcgen";
+    rl_attempted_completion_function = complete;
+    using_history();
+    printf("bbcgen %s: the thesis's commands (help lists them; quit ends)\n", BBC_VERSION_STRING);
+  }
+  char buf[4096];
+  while (!b->quit) {
+    char *line = NULL;
+    if (tty) {
+      line = readline("bbcgen> ");
+      if (!line) break;
+    } else {
+      if (!fgets(buf, sizeof buf, stdin)) break;
+      line = strdup(buf);
+      if (!line) break;
+    }
+    char *s = trim(line);
+    if (*s && *s != '#') {
+      if (tty) add_history(s);
+      /* at the prompt an error is reported and the session goes on */
+      rc = exec_command(c, b, s, NULL, 0);
+    }
+    free(line);
+    fflush(stdout);
+  }
+  if (tty && !b->quit) putchar('\n');
+  if (b->have_job) job_free(&b->jb);
+  free(b);
   return rc;
 }

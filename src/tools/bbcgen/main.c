@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 static void print_help(FILE *out) {
   fprintf(out,
@@ -55,6 +56,11 @@ static void print_help(FILE *out) {
           "  bbcgen baseline MODEL -o OUT.glb --method simplify|sloppy --triangles N\n"
           "      Far-LOD alternatives to compare with `eval`: K crossed billboards (3)\n"
           "      baked by our baker at about N texels, or meshoptimizer's simplification.\n"
+          "  bbcgen -i [OPTIONS]   or   bbcgen -x BATCHFILE [OPTIONS]   or   bbcgen\n"
+          "      The prompt (bbcgen alone on a terminal): the batch commands one line at\n"
+          "      a time, with line editing, history and completion (Tab); an error is\n"
+          "      reported and the session goes on. -x runs BATCHFILE first and stays at\n"
+          "      the prompt unless the file ends with quit. `help` lists the commands.\n"
           "  bbcgen exec BATCHFILE\n"
           "      Run a batch file of commands (load, set, split, bbc1, bbc2, bbc3, bbc,\n"
           "      planes, shade, save, setup); see README. The planes are kept: after\n"
@@ -99,11 +105,36 @@ int main(int argc, char **argv) {
   setlocale(LC_ALL, "C");
   cli c;
   cli_init(&c);
+  /* The prompt: `bbcgen` alone on a terminal, `bbcgen -i`, `bbcgen -x FILE`. */
+  if (argc < 2 && isatty(0) && isatty(1)) return cmd_prompt(&c, NULL);
   if (argc < 2) {
     print_help(stderr);
     return EXIT_USAGE;
   }
   const char *cmd = argv[1];
+  if (!strcmp(cmd, "-i") || !strcmp(cmd, "-x")) {
+    int i = 2;
+    const char *file = NULL;
+    if (cmd[1] == 'x') {
+      if (argc < 3) {
+        cli_error("-x needs a batch file: bbcgen -x FILE");
+        return EXIT_USAGE;
+      }
+      file = argv[2];
+      i = 3;
+    }
+    for (; i < argc; i++) {
+      int k = cli_common_option(&c, argc, argv, &i);
+      if (k < 0) return EXIT_USAGE;
+      if (!k) {
+        cli_error("%s: '%s' is not an option here (bbcgen -i [OPTIONS], bbcgen -x FILE "
+                  "[OPTIONS])",
+                  cmd, argv[i]);
+        return EXIT_USAGE;
+      }
+    }
+    return cmd_prompt(&c, file);
+  }
   if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) {
     print_help(stdout);
     return EXIT_OK;

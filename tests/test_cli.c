@@ -16,6 +16,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "bbc.h"
 #include "test_util.h"
 
 /* Runs `bbcgen ARGS`, stdout and stderr to files; returns the exit code and
@@ -489,14 +490,14 @@ static void test_prompt(void **state) {
   char *out, *err;
   snprintf(text, sizeof text,
            "help bbc3\nload %s\nbogus\nbbc3\nset texres 16\nbbc\nset quality 0\nbbc3\nsave p\n"
-           "show model\nquit\nsetup\n",
+           "bbcload x.wrl\nquit\nsetup\n",
            path);
   assert_int_equal(run_in("-i", text, &out, &err), 0);
   assert_non_null(strstr(out, "step 3 on the kept planes"));
   assert_non_null(strstr(err, "'bogus' is not a command"));
   assert_non_null(strstr(err, "bbc3 needs the planes"));
   assert_non_null(strstr(err, "steps 1+2 kept"));
-  assert_non_null(strstr(err, "show: the viewer is not built yet"));
+  assert_non_null(strstr(err, "bbcload: not built yet"));
   assert_null(strstr(out, "texres")); /* nothing after quit */
   free(out);
   free(err);
@@ -540,6 +541,103 @@ static void test_prompt(void **state) {
   assert_non_null(strstr(pty, "step 3 on the kept planes")); /* help ran */
   assert_non_null(strstr(pty, "texres         64"));         /* set texr<Tab> 64 */
   free(pty);
+}
+
+/* The share of pixels of a PNG that differ from its top-left pixel. */
+static double covered(const char *png) {
+  bbc_image im;
+  bbc_error e;
+  if (bbc_image_load(png, &im, &e) != BBC_OK) fail_msg("%s: %s", png, e.message);
+  size_t n = (size_t)im.width * im.height, diff = 0;
+  for (size_t i = 0; i < n; i++) diff += memcmp(im.rgba + 4 * i, im.rgba, 3) != 0;
+  bbc_image_free(&im);
+  return (double)diff / n;
+}
+
+/* The viewer: bbcgen view draws each view headless; the prompt's show
+ * model opens a window (under xvfb-run) whose scripted arrow keys cycle the
+ * views and Esc returns to the prompt. Every view differs and none is blank. */
+static void test_viewer(void **state) {
+  (void)state;
+  char path[1024], args[4096], text[4096];
+  tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
+  if (!tu_have_file(path)) skip();
+  char *out, *err;
+  const char *modes[] = {"input", "rects", "cloud-rects", "cloud"};
+  unsigned char *img[4];
+  size_t len[4];
+  for (int m = 0; m < 4; m++) {
+    snprintf(args, sizeof args, "view '%s' --mode %s --size 96 --texres 32 -q --screenshot v%d.png",
+             path, modes[m], m);
+    int rc = run_in(args, "", &out, &err);
+    if (rc == 6 && !getenv("CI")) { /* no OpenGL here (never under CI) */
+      fprintf(stderr, "no OpenGL: viewer test skipped: %s\n", err);
+      free(out);
+      free(err);
+      skip();
+    }
+    if (rc) fail_msg("view %s: %s", modes[m], err);
+    free(out);
+    free(err);
+    char p[1200];
+    snprintf(p, sizeof p, "%s/v%d.png", tu_dir, m);
+    double c = covered(p);
+    if (c < 0.02 || c > 0.9) fail_msg("view %s: %.3f of the pixels covered", modes[m], c);
+    img[m] = tu_read_file(p, &len[m]);
+    assert_non_null(img[m]);
+  }
+  for (int a = 0; a < 4; a++)
+    for (int b = a + 1; b < 4; b++)
+      assert_false(len[a] == len[b] && !memcmp(img[a], img[b], len[a]));
+  for (int m = 0; m < 4; m++) free(img[m]);
+  assert_int_equal(run_in("view x.obj --mode sideways --screenshot a.png", "", &out, &err), 1);
+  assert_non_null(strstr(err, "unknown mode"));
+  free(out);
+  free(err);
+  snprintf(args, sizeof args, "view '%s' --screenshot a.jpg", path);
+  assert_int_equal(run_in(args, "", &out, &err), 1);
+  assert_non_null(strstr(err, ".png"));
+  free(out);
+  free(err);
+  /* show model in a window, driven from the prompt */
+  if (system("command -v xvfb-run > /dev/null 2>&1") != 0) {
+    if (getenv("CI")) fail_msg("xvfb-run is missing (scripts/setup.sh test installs it)");
+    fprintf(stderr, "xvfb-run is not installed: window test skipped\n");
+    skip();
+  }
+  snprintf(text, sizeof text,
+           "load %s\nset texres 32\nbbc\nshow model shot:s0.png,left,shot:s1.png,right,right,"
+           "shot:s2.png,right,shot:s3.png,esc\nset texres 16\nsetup\nquit\n",
+           path);
+  assert_int_equal(run_in("-i", text, NULL, NULL), 0);
+  char o[1024], e[1024], cmd[4096];
+  snprintf(o, sizeof o, "%s/win_out.txt", tu_dir);
+  snprintf(e, sizeof e, "%s/win_err.txt", tu_dir);
+  char *in = tu_write_file(tu_dir, "win.txt", text, strlen(text));
+  snprintf(cmd, sizeof cmd,
+           "cd '%s' && timeout 120 xvfb-run -a -s '-screen 0 1024x768x24' '%s/bbcgen' -i < '%s' "
+           "> '%s' 2> '%s'",
+           tu_dir, BBC_BIN_DIR, in, o, e);
+  free(in);
+  int st = system(cmd);
+  char *eo = (char *)tu_read_file(e, NULL);
+  if (!(WIFEXITED(st) && WEXITSTATUS(st) == 0)) fail_msg("show model: %s", eo ? eo : "");
+  free(eo);
+  char *so = (char *)tu_read_file(o, NULL);
+  assert_non_null(so);
+  assert_non_null(strstr(so, "texres         16")); /* back at the prompt after Esc */
+  free(so);
+  for (int m = 0; m < 4; m++) {
+    char p[1200];
+    snprintf(p, sizeof p, "%s/s%d.png", tu_dir, m);
+    double c = covered(p);
+    if (c < 0.01) fail_msg("show model view %d is blank", m);
+    img[m] = tu_read_file(p, &len[m]);
+  }
+  for (int a = 0; a < 4; a++)
+    for (int b = a + 1; b < 4; b++)
+      assert_false(len[a] == len[b] && !memcmp(img[a], img[b], len[a]));
+  for (int m = 0; m < 4; m++) free(img[m]);
 }
 
 /* bbcgen MODEL -o OUT: option errors before any work; batch bbc/shade/save
@@ -916,6 +1014,7 @@ int main(void) {
       cmocka_unit_test(test_exec_batch),
       cmocka_unit_test(test_exec_state),
       cmocka_unit_test(test_prompt),
+      cmocka_unit_test(test_viewer),
       cmocka_unit_test(test_cloud_command),
       cmocka_unit_test(test_hand_epsilon_kept),
       cmocka_unit_test(test_suggestions),

@@ -100,4 +100,45 @@ const char *bbcgl_forest_gpu_cull_error(const bbcgl_forest *f);
 void bbcgl_forest_text(bbcgl_forest *f, int width, int height, const char *const *lines,
                        size_t line_count, int scale);
 
+/* ---- BBCgen's viewer (viewer.c) ------------------------------------------ */
+typedef struct bbcgl_viewer bbcgl_viewer;
+
+/* Appendix A's `show model` views: the input; the input with the
+ * billboards' rectangles; the cloud with them; the cloud alone. Rectangles
+ * are coloured by plane kind: light blue standard, orange coplanar, pink
+ * post-tweaked, green cardboard, cyan parachute, yellow stem. */
+typedef enum bbcgl_view_mode {
+  BBCGL_VIEW_INPUT = 0,
+  BBCGL_VIEW_RECTS,
+  BBCGL_VIEW_CLOUD_RECTS,
+  BBCGL_VIEW_CLOUD,
+  BBCGL_VIEW_COUNT
+} bbcgl_view_mode;
+
+typedef struct bbcgl_view {
+  double yaw, pitch; /* degrees: the orbit around the model's centre */
+  double zoom;       /* 1: the whole model fills the view */
+  int wireframe;     /* F1 */
+  int lighting;      /* F5: polygon models lit by a headlight (prelit clouds never) */
+  int up_axis;       /* the model's up axis: 0 x, 1 y, 2 z */
+  float background[3];
+} bbcgl_view;
+
+void bbcgl_view_default(bbcgl_view *view);
+/* "input", "rects", "cloud-rects", "cloud"; from_name: -1 when unknown. */
+const char *bbcgl_view_mode_name(bbcgl_view_mode mode);
+int bbcgl_view_mode_from_name(const char *name);
+
+/* Needs a current context (bbcgl_context_*). */
+bbcgl_viewer *bbcgl_viewer_new(char *err);
+void bbcgl_viewer_free(bbcgl_viewer *viewer);
+/* The input model (its centre and radius frame the views). */
+int bbcgl_viewer_set_model(bbcgl_viewer *viewer, const bbc_mesh *model, char *err);
+/* The cloud and its rectangles (NULL: none). */
+int bbcgl_viewer_set_cloud(bbcgl_viewer *viewer, const bbc_cloud *cloud, char *err);
+/* Draws into the framebuffer's rectangle from (x, y) (bottom left) of
+ * width x height, cleared to the view's background first. */
+void bbcgl_viewer_draw(bbcgl_viewer *viewer, bbcgl_view_mode mode, const bbcgl_view *view, int x,
+                       int y, int width, int height);
+
 #endif /* BBCGL_H */

@@ -8,6 +8,7 @@
  * depth stays right). Textures with alpha keep it binary in every mip level
  * (bbc_image_mipmaps). No allocation per frame once buffers have grown. */
 #include "bbcgl.h"
+#include "shader.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -249,57 +250,6 @@ static const char *const text_fs =
     "  if (texelFetch(u_font, ivec2(v_uv), 0).r < 0.5) discard;\n"
     "  o_colour = u_colour;\n"
     "}\n";
-
-static GLuint compile(GLenum type, const char *src, const char *name, char *err) {
-  GLuint s = glCreateShader(type);
-  glShaderSource(s, 1, &src, NULL);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[400];
-    glGetShaderInfoLog(s, sizeof log, NULL, log);
-    snprintf(err, BBCGL_ERR, "shader %s does not compile: %s", name, log);
-    glDeleteShader(s);
-    return 0;
-  }
-  return s;
-}
-
-/* Links the shaders (0 ends the list; each deleted after) into a program. */
-static GLuint link(const GLuint *shaders, const char *name, char *err) {
-  GLuint p = glCreateProgram();
-  for (const GLuint *s = shaders; *s; s++) glAttachShader(p, *s);
-  glLinkProgram(p);
-  for (const GLuint *s = shaders; *s; s++) glDeleteShader(*s);
-  GLint ok = 0;
-  glGetProgramiv(p, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[400];
-    glGetProgramInfoLog(p, sizeof log, NULL, log);
-    snprintf(err, BBCGL_ERR, "shader %s does not link: %s", name, log);
-    glDeleteProgram(p);
-    return 0;
-  }
-  return p;
-}
-
-static GLuint compute_program(const char *cs, const char *name, char *err) {
-  GLuint c[2] = {compile(GL_COMPUTE_SHADER, cs, name, err), 0};
-  return c[0] ? link(c, name, err) : 0;
-}
-
-static GLuint program(const char *vs, const char *fs, const char *name, char *err) {
-  GLuint v = compile(GL_VERTEX_SHADER, vs, name, err);
-  if (!v) return 0;
-  GLuint f = compile(GL_FRAGMENT_SHADER, fs, name, err);
-  if (!f) {
-    glDeleteShader(v);
-    return 0;
-  }
-  GLuint sh[3] = {v, f, 0};
-  return link(sh, name, err);
-}
 
 /* ---- the built-in 5 x 7 font ------------------------------------------- */
 
@@ -593,11 +543,11 @@ bbcgl_forest *bbcgl_forest_create(const bbcgl_scene *scene, char *err) {
   f->fog_colour[0] = 0.74f;
   f->fog_colour[1] = 0.81f;
   f->fog_colour[2] = 0.88f;
-  if (!(f->p_terrain = program(terrain_vs, terrain_fs, "terrain", err)) ||
-      !(f->p_model = program(model_vs, model_fs, "model", err)) ||
-      !(f->p_sky = program(sky_vs, sky_fs, "sky", err)) ||
-      !(f->p_water = program(water_vs, water_fs, "water", err)) ||
-      !(f->p_text = program(text_vs, text_fs, "text", err)) || !build_terrain(f, err)) {
+  if (!(f->p_terrain = bbcgl__program(terrain_vs, terrain_fs, "terrain", err)) ||
+      !(f->p_model = bbcgl__program(model_vs, model_fs, "model", err)) ||
+      !(f->p_sky = bbcgl__program(sky_vs, sky_fs, "sky", err)) ||
+      !(f->p_water = bbcgl__program(water_vs, water_fs, "water", err)) ||
+      !(f->p_text = bbcgl__program(text_vs, text_fs, "text", err)) || !build_terrain(f, err)) {
     bbcgl_forest_free(f);
     return NULL;
   }
@@ -1011,8 +961,8 @@ static void vao_source(bbcgl_forest *f, GLuint buf) {
 static void gpu_build(bbcgl_forest *f, const bbc_forest_cull *c) {
   f->gpu_state = -1;
   snprintf(f->gpu_err, sizeof f->gpu_err, "GPU culling: out of memory");
-  if (!(f->p_cull = compute_program(cull_cs, "cull", f->gpu_err)) ||
-      !(f->p_cmdfill = compute_program(cmdfill_cs, "cmdfill", f->gpu_err)))
+  if (!(f->p_cull = bbcgl__compute_program(cull_cs, "cull", f->gpu_err)) ||
+      !(f->p_cmdfill = bbcgl__compute_program(cmdfill_cs, "cmdfill", f->gpu_err)))
     return;
   size_t nb = c->bucket_count, ncell = c->cell_count, total = 0;
   f->g_base = calloc(nb + 1, sizeof *f->g_base);

@@ -102,6 +102,7 @@ int cmd_exec(cli *c, int argc, char **argv);
 /* The prompt: the batch commands line by line (libedit on a terminal);
  * batch_file (may be NULL) runs first, and a `quit` in it ends there. */
 int cmd_prompt(cli *c, const char *batch_file);
+int cmd_view(cli *c, int argc, char **argv);
 int cmd_cloud(cli *c, int argc, char **argv);
 int cmd_eval(cli *c, int argc, char **argv);
 int cmd_baseline(cli *c, int argc, char **argv);

@@ -73,6 +73,7 @@ static const struct {
     {"save", "[DIR]", "the cloud as VRML into vrml97models/[DIR/]MODEL/MODEL_eX.XX_texN.../"},
     {"setup", "", "print every parameter"},
     {"exec", "FILE", "run a batch file"},
+    {"show", "model [KEYS]", "a window: the model, rectangles, cloud (arrow keys; Esc returns)"},
     {"help", "[COMMAND]", "the commands, or one"},
     {"cls", "", "clear the screen"},
     {"quit", "", "stop (also q)"},
@@ -189,7 +190,7 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
     b->want_steps = 0;
   } else if (!strcmp(cmd, "bbc3")) {
     if (!b->model[0]) goto noload;
-    if (!b->have_job) {
+    if (!b->have_job || !b->jb.lod_count) {
       cli_error("%sbbc3 needs the planes of bbc2 (after bbc1) or bbc first", where);
       return EXIT_USAGE;
     }
@@ -229,8 +230,27 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
       return EXIT_USAGE;
     }
     rc = job_save_vrml(c, &b->jb, a1);
-  } else if (!strcmp(cmd, "show") || !strcmp(cmd, "bbcload")) {
-    cli_error("%s%s: the viewer is not built yet", where, cmd);
+  } else if (!strcmp(cmd, "show")) {
+    /* show model [KEYS...]: the window; keys script it (tests) */
+    if (!a1 || strcmp(a1, "model")) {
+      cli_error("%sshow %s: only `show model` is built yet (show bbc is not)", where,
+                a1 ? a1 : "needs model or bbc:");
+      return EXIT_USAGE;
+    }
+    if (!b->model[0]) goto noload;
+    if (!b->have_job) { /* the model alone: load it */
+      rc = job_load(c, b->model, &b->jb);
+      if (rc != EXIT_OK) return rc;
+      b->have_job = 1;
+      b->want_steps = 0;
+      b->planned = c->params;
+      b->planned_split = b->split_gen;
+      b->have_cloud = 0;
+      b->jb.lod_count = 0; /* no planes: bbc3 still needs bbc2 */
+    }
+    rc = show_model(c, &b->jb, b->have_cloud, a2);
+  } else if (!strcmp(cmd, "bbcload")) {
+    cli_error("%sbbcload: not built yet", where);
     rc = EXIT_USAGE;
   } else {
     cli_error("%s'%s' is not a command (help lists them)", where, cmd);

@@ -66,6 +66,13 @@ static void print_help(FILE *out) {
           "      planes, shade, save, setup); see README. The planes are kept: after\n"
           "      texturing parameters only (texres, quality, nm, prelight, ...) bbc3\n"
           "      runs step 3 alone; other changes ask for bbc2 or bbc1 again.\n"
+          "  bbcgen view MODEL --mode input|rects|cloud-rects|cloud|all --screenshot OUT.png\n"
+          "              [--size PX] [--yaw DEG] [--pitch DEG] [PARAMETER OPTIONS]\n"
+          "      The viewer's views without a window (the prompt's `show model` opens\n"
+          "      one): the model; with the billboards' rectangles coloured by plane kind\n"
+          "      (light blue standard, orange coplanar, pink post-tweaked, green\n"
+          "      cardboard, cyan parachute, yellow stem); the cloud with them; the cloud\n"
+          "      alone; all four as a 2 x 2 sheet. The cloud is made with the parameters.\n"
           "  bbcgen setup [PARAMETER OPTIONS]\n"
           "      Print every parameter's current value (the thesis's `setup`).\n"
           "  bbcgen --help | --version\n"
@@ -157,8 +164,9 @@ int main(int argc, char **argv) {
   if (!strcmp(cmd, "eval")) return cmd_eval(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "baseline")) return cmd_baseline(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "exec")) return cmd_exec(&c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "view")) return cmd_view(&c, argc - 1, argv + 1);
   static const char *const commands[] = {"info", "tree",     "render", "setup", "planes",
-                                         "eval", "baseline", "exec",   NULL};
+                                         "eval", "baseline", "exec",   "view",  NULL};
   if (cmd[0] == '-') {
     static const char *const own[] = {"--help", "--version", NULL};
     return cli_unknown_option(NULL, cmd, own);
@@ -172,7 +180,7 @@ int main(int argc, char **argv) {
       cli_error("unknown command '%s' (did you mean bbcgen %s?)", cmd, near);
     else
       cli_error("unknown command '%s', and no model file of that name (commands: info, tree, "
-                "render, planes, eval, baseline, exec, setup; try bbcgen --help)",
+                "render, planes, eval, baseline, exec, view, setup; try bbcgen --help)",
                 cmd);
     return EXIT_USAGE;
   }

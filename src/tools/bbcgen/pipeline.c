@@ -79,7 +79,7 @@ static void lod_info(const cli *c, const job_lod *L, int step3_only) {
            L->cloud.bake_s + L->cloud.atlas_s);
 }
 
-static int job_load(const cli *c, const char *model, job *j) {
+int job_load(const cli *c, const char *model, job *j) {
   memset(j, 0, sizeof *j);
   snprintf(j->model_path, sizeof j->model_path, "%s", model);
   bbc_load_options lo;

@@ -32,6 +32,8 @@ int job_run(const cli *c, const char *model, const double *epsilons, size_t coun
 /* Loads the model and runs steps 1 and 2 only (one level, the parameters'
  * epsilon): the planes, no cloud yet. */
 int job_plan(const cli *c, const char *model, job *j);
+/* Loads the model only (no steps). */
+int job_load(const cli *c, const char *model, job *j);
 /* Step 3 (again) on level 0's planes with c's parameters: the cloud of a
  * job that has planes, replacing any cloud it had. */
 int job_texture(const cli *c, job *j);
@@ -49,5 +51,10 @@ int job_preview(const cli *c, const job *j, const char *out, int cell);
  * vrml97models/<dir>/<model>/<model>_eX.XX_texN[_nm][_pl]/<model>.wrl
  * (created as needed) under the current folder. */
 int job_save_vrml(const cli *c, job *j, const char *user_dir);
+
+/* `show model` (cmd_view.c): a window with the viewer over the job's model
+ * and, when have_cloud, its cloud (level 0); returns when it is closed
+ * (Esc). keys (may be NULL): scripted keys, then the window closes. */
+int show_model(const cli *c, const job *j, int have_cloud, const char *keys);
 
 #endif

@@ -52,6 +52,7 @@ typedef enum bbc_result {
   BBC_ERROR_INVALID_GEOMETRY,   /* NaN/Inf coordinates, index out of range */
   BBC_ERROR_EMPTY,              /* no usable triangles or points */
   BBC_ERROR_OUT_OF_MEMORY,
+  BBC_ERROR_CANCELLED, /* the caller's cancel callback asked to stop */
   BBC_RESULT_COUNT
 } bbc_result;
 
@@ -74,6 +75,10 @@ typedef struct bbc_callbacks {
    * [0, 1], non-decreasing within a stage, 1 exactly once at its end. */
   void (*progress)(void *user, const char *stage, double fraction);
   void *user;
+  /* Asked now and then during steps 1 to 3 (bbc_planes_find,
+   * bbc_cloud_build): non-zero stops the step, which frees what it made and
+   * returns BBC_ERROR_CANCELLED. NULL: never. */
+  int (*cancel)(void *user);
 } bbc_callbacks;
 
 /* ------------------------------------------------------------------------ */

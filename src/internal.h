@@ -25,6 +25,8 @@ void bbc__log(const bbc_callbacks *cb, bbc_log_level level, const char *fmt, ...
 
 /* Calls the progress callback, if any. */
 void bbc__progress(const bbc_callbacks *cb, const char *stage, double fraction);
+/* Whether the caller's cancel callback asks to stop (see bbc_callbacks). */
+int bbc__cancelled(const bbc_callbacks *cb);
 
 /* Callbacks that name what they report on: progress stages come out as
  * "<label>: <stage>" and log messages as "<label>: <message>", through the

@@ -395,6 +395,53 @@ static void test_voxel_shading(void **state) {
  * coverage comes closer to the original's, within 0.85-1.15 and its block
  * IoU (the tree seen 8x farther away) rises; the views the refinement used
  * are not eval's; the result is the same with one thread or two. */
+/* A cancel callback: answers yes from its n-th question on. */
+static int cancel_after(void *user) {
+  int *n = user;
+  return --*n <= 0;
+}
+
+/* Steps 1 to 3 stop when the caller's cancel callback asks, free what they
+ * made (ASan checks) and say BBC_ERROR_CANCELLED; without it, the same run
+ * finishes. */
+static void test_cancel(void **state) {
+  (void)state;
+  bbc_tree_options to;
+  bbc_tree_options_default(&to);
+  to.leaves = 3000;
+  bbc_mesh m;
+  bbc_error err;
+  if (bbc_tree_generate(&to, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  bbc_planes_options o;
+  bbc_planes_options_default(&o);
+  bbc_planeset s;
+  for (int after = 1; after <= 3; after++) { /* at the grid, then during selection */
+    int n = after;
+    o.callbacks.cancel = cancel_after;
+    o.callbacks.user = &n;
+    assert_int_equal(bbc_planes_find(&m, &o, &s, &err), BBC_ERROR_CANCELLED);
+    assert_int_equal(err.code, BBC_ERROR_CANCELLED);
+    assert_null(s.planes);
+  }
+  o.callbacks.cancel = NULL;
+  if (bbc_planes_find(&m, &o, &s, &err) != BBC_OK) fail_msg("%s", err.message);
+  bbc_cloud c;
+  for (int after = 1; after <= 4; after += 3) {
+    int n = after;
+    bbc_callbacks cb = {0};
+    cb.cancel = cancel_after;
+    cb.user = &n;
+    o.params.threads = after == 1 ? 1 : 2;
+    assert_int_equal(bbc_cloud_build(&m, &s, &o.params, &cb, &c, &err), BBC_ERROR_CANCELLED);
+    assert_int_equal(err.code, BBC_ERROR_CANCELLED);
+  }
+  if (bbc_cloud_build(&m, &s, &o.params, NULL, &c, &err) != BBC_OK) fail_msg("%s", err.message);
+  assert_true(c.billboard_count > 0);
+  bbc_cloud_free(&c);
+  bbc_planeset_free(&s);
+  bbc_mesh_free(&m);
+}
+
 static void test_refine_keeps_density(void **state) {
   (void)state;
   bbc_tree_options to;
@@ -813,6 +860,7 @@ int main(void) {
       cmocka_unit_test(test_small_leaf_survives_quality2),
       cmocka_unit_test(test_dither_keeps_density),
       cmocka_unit_test(test_refine_keeps_density),
+      cmocka_unit_test(test_cancel),
       cmocka_unit_test(test_stem_holds_from_every_side),
       cmocka_unit_test(test_front_and_back),
       cmocka_unit_test(test_tilted_normal_map),

@@ -601,6 +601,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
     nt = 1;
 #endif
     size_t done = 0;
+    int stop = 0; /* the cancel callback asked: the remaining billboards are skipped */
     const bbc_callbacks *cbp = cbk;
 #pragma omp parallel num_threads(nt)
     if (r == BBC_OK) {
@@ -609,6 +610,13 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
       for (size_t k = 0; k < nk; k++) {
         if (!faces) {
           bk[k].r = bbc__fail(&bk[k].err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
+          continue;
+        }
+        int stopped;
+#pragma omp atomic read
+        stopped = stop;
+        if (stopped) {
+          bk[k].r = bbc__fail(&bk[k].err, BBC_ERROR_CANCELLED, "step 3: cancelled");
           continue;
         }
         if (k < np_kept) {
@@ -626,6 +634,10 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
         {
           done++;
           if (cbp) bbc__progress(cbp, "baking", (double)done / (double)nk);
+          if (bbc__cancelled(cbp)) {
+#pragma omp atomic write
+            stop = 1;
+          }
         }
       }
       free(faces);

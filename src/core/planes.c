@@ -142,6 +142,12 @@ static bbc_result find_once(const bbc_mesh *mesh, const bbc_planes_options *o, d
     pr->grid_cells = (size_t)g.n_theta * g.n_phi * g.n_rho;
     dual_grid_accumulate(&g, faces, NULL, n, +1, &cb);
     bbc__progress(&cb, "grid", 1.0);
+    if (bbc__cancelled(&cb)) {
+      dual_grid_free(&g);
+      free(faces);
+      r = bbc__fail(err, BBC_ERROR_CANCELLED, "plane selection: cancelled");
+      break;
+    }
     double t1 = bbc__now_s();
     select_result sr;
     r = select_planes(faces, n, &g, p, pr->epsilon_abs, pr->radius, &cb, &sr);
@@ -150,6 +156,10 @@ static bbc_result find_once(const bbc_mesh *mesh, const bbc_planes_options *o, d
     pr->step2_s = t2 - t1;
     dual_grid_free(&g);
     free(faces);
+    if (r == BBC_ERROR_CANCELLED) {
+      bbc__fail(err, r, "plane selection: cancelled");
+      break;
+    }
     if (r != BBC_OK) {
       bbc__fail(err, r, "plane selection failed: %s", bbc_result_string(r));
       break;

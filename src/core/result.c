@@ -32,6 +32,8 @@ const char *bbc_result_string(bbc_result result) {
     return "no usable geometry";
   case BBC_ERROR_OUT_OF_MEMORY:
     return "out of memory";
+  case BBC_ERROR_CANCELLED:
+    return "cancelled";
   case BBC_RESULT_COUNT:
     break;
   }
@@ -63,6 +65,15 @@ void bbc__progress(const bbc_callbacks *cb, const char *stage, double fraction) 
   if (cb && cb->progress) cb->progress(cb->user, stage, fraction);
 }
 
+int bbc__cancelled(const bbc_callbacks *cb) {
+  return cb && cb->cancel && cb->cancel(cb->user);
+}
+
+static int label_cancel(void *user) {
+  bbc__label *l = user;
+  return l->outer.cancel && l->outer.cancel(l->outer.user);
+}
+
 static void label_progress(void *user, const char *stage, double fraction) {
   bbc__label *l = user;
   snprintf(l->text, sizeof l->text, "%s: %s", l->label, stage);
@@ -85,6 +96,7 @@ void bbc__label_callbacks(const bbc_callbacks *in, bbc__label *l, bbc_callbacks 
   va_end(ap);
   out->progress = l->outer.progress ? label_progress : NULL;
   out->log = l->outer.log ? label_log : NULL;
+  out->cancel = l->outer.cancel ? label_cancel : NULL;
   out->user = l;
 }
 

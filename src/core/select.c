@@ -688,6 +688,10 @@ bbc_result select_planes(const dual_face *faces, size_t nf, dual_grid *g, const 
     /* Grid update: exactly reverse the simplified faces' density (2.1.8). */
     dual_grid_accumulate(g, faces, set, n, -1, NULL);
     bbc__progress(cb, "select", 1.0 - (double)c.remaining / (double)nf);
+    if (bbc__cancelled(cb)) {
+      r = BBC_ERROR_CANCELLED;
+      break;
+    }
   }
   if (r == BBC_OK && p->merge) r = merge_planes(faces, nf, eps, out);
   free(c.assigned);

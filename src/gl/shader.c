@@ -53,4 +53,3 @@ GLuint bbcgl__program(const char *vs, const char *fs, const char *name, char *er
   GLuint sh[3] = {v, f, 0};
   return link(sh, name, err);
 }
-

@@ -311,11 +311,25 @@ static void orbit(const bbcgl_viewer *v, const bbcgl_view *view, int w, int h, f
   double near = dist - 2 * v->radius > dist * 0.01 ? dist - 2 * v->radius : dist * 0.01;
   double far = dist + 2 * v->radius;
   double f = 1 / tan(fov / 2), aspect = h > 0 ? (double)w / h : 1;
-  double proj[16] = {f / aspect, 0, 0, 0, 0, f, 0, 0, 0, 0, (far + near) / (near - far), -1,
-                     0,          0, 2 * far * near / (near - far), 0};
+  double proj[16] = {f / aspect,
+                     0,
+                     0,
+                     0,
+                     0,
+                     f,
+                     0,
+                     0,
+                     0,
+                     0,
+                     (far + near) / (near - far),
+                     -1,
+                     0,
+                     0,
+                     2 * far * near / (near - far),
+                     0};
   /* model: centre to the origin; a z-up model turned so that z is up on screen */
-  double model[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -v->center[0], -v->center[1],
-                      -v->center[2], 1};
+  double model[16] = {
+      1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -v->center[0], -v->center[1], -v->center[2], 1};
   if (view->up_axis == 2) {
     double zup[16] = {1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1};
     mul4(zup, model, model);
@@ -358,8 +372,8 @@ static void draw_mesh(const bbcgl_viewer *v, const vmesh *g, const bbcgl_view *v
   }
 }
 
-void bbcgl_viewer_draw(bbcgl_viewer *v, bbcgl_view_mode mode, const bbcgl_view *view, int x,
-                       int y, int width, int height) {
+void bbcgl_viewer_draw(bbcgl_viewer *v, bbcgl_view_mode mode, const bbcgl_view *view, int x, int y,
+                       int width, int height) {
   glViewport(x, y, width, height);
   glEnable(GL_SCISSOR_TEST);
   glScissor(x, y, width, height);

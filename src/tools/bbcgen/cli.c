@@ -13,11 +13,19 @@
 #include <strings.h>
 #include <time.h>
 
+volatile int cli_interrupted;
+
+static int cli_cancel(void *user) {
+  (void)user;
+  return cli_interrupted != 0;
+}
+
 void cli_init(cli *c) {
   memset(c, 0, sizeof *c);
   bbc_params_default(&c->params);
   c->callbacks.progress = cli_progress;
   c->callbacks.log = cli_log;
+  c->callbacks.cancel = cli_cancel;
   c->callbacks.user = c;
 }
 
@@ -57,6 +65,8 @@ int cli_exit_code(bbc_result r, int output) {
   case BBC_ERROR_INVALID_GEOMETRY:
   case BBC_ERROR_EMPTY:
     return EXIT_DAMAGED;
+  case BBC_ERROR_CANCELLED:
+    return EXIT_INTERRUPTED;
   case BBC_ERROR_OUT_OF_MEMORY:
   case BBC_RESULT_COUNT:
     break;

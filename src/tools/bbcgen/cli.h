@@ -10,13 +10,17 @@
 /* Exit codes (documented in --help and README). */
 enum {
   EXIT_OK = 0,
-  EXIT_USAGE = 1,    /* bad command line, unknown or out-of-range parameter */
-  EXIT_INPUT = 2,    /* input missing, a folder, or unreadable */
-  EXIT_FORMAT = 3,   /* input in a format no reader knows */
-  EXIT_DAMAGED = 4,  /* input damaged, truncated, invalid or empty */
-  EXIT_OUTPUT = 5,   /* an output could not be written */
-  EXIT_RESOURCES = 6 /* out of memory */
+  EXIT_USAGE = 1,      /* bad command line, unknown or out-of-range parameter */
+  EXIT_INPUT = 2,      /* input missing, a folder, or unreadable */
+  EXIT_FORMAT = 3,     /* input in a format no reader knows */
+  EXIT_DAMAGED = 4,    /* input damaged, truncated, invalid or empty */
+  EXIT_OUTPUT = 5,     /* an output could not be written */
+  EXIT_RESOURCES = 6,  /* out of memory */
+  EXIT_INTERRUPTED = 7 /* interrupted (Ctrl-C at the prompt) */
 };
+
+/* Set by the prompt's Ctrl-C handler; the library's cancel callback reads it. */
+extern volatile int cli_interrupted;
 
 /* Shared state of one bbcgen run. */
 /* A parameter for one part only: `--set trunk.cardboard=1`. Applied on

@@ -31,6 +31,7 @@
 
 #include <ctype.h>
 #include <dirent.h>
+#include <signal.h>
 #include <editline/readline.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -181,10 +182,13 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
       cli_error("%sbbc2 needs bbc1 first", where);
       return EXIT_USAGE;
     }
+    job nj; /* the session keeps what it had until the new planes are whole */
+    rc = job_plan(c, b->model, &nj);
+    if (rc != EXIT_OK) return rc;
     if (b->have_job) job_free(&b->jb);
-    b->have_job = b->have_cloud = 0;
-    rc = job_plan(c, b->model, &b->jb);
-    b->have_job = rc == EXIT_OK;
+    b->jb = nj;
+    b->have_job = 1;
+    b->have_cloud = 0;
     b->planned = c->params;
     b->planned_split = b->split_gen;
     b->want_steps = 0;
@@ -207,10 +211,12 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
     b->have_cloud = rc == EXIT_OK;
   } else if (!strcmp(cmd, "bbc")) {
     if (!b->model[0]) goto noload;
+    job nj;
+    rc = job_run(c, b->model, NULL, 0, &nj);
+    if (rc != EXIT_OK) return rc;
     if (b->have_job) job_free(&b->jb);
-    b->have_job = b->have_cloud = 0;
-    rc = job_run(c, b->model, NULL, 0, &b->jb);
-    b->have_job = b->have_cloud = rc == EXIT_OK;
+    b->jb = nj;
+    b->have_job = b->have_cloud = 1;
     b->planned = c->params;
     b->planned_split = b->split_gen;
   } else if (!strcmp(cmd, "shade")) {
@@ -356,6 +362,11 @@ static char **complete(const char *text, int start, int end) {
   return NULL; /* file names */
 }
 
+static void on_interrupt(int sig) {
+  (void)sig;
+  cli_interrupted = 1;
+}
+
 int cmd_prompt(cli *c, const char *batch_file) {
   batch *b = calloc(1, sizeof *b);
   if (!b) {
@@ -392,8 +403,19 @@ int cmd_prompt(cli *c, const char *batch_file) {
     char *s = trim(line);
     if (*s && *s != '#') {
       if (tty) add_history(s);
-      /* at the prompt an error is reported and the session goes on */
+      /* at the prompt an error is reported and the session goes on; Ctrl-C
+       * stops a long step and leaves the session as it was before it */
+      struct sigaction sa, old;
+      memset(&sa, 0, sizeof sa);
+      sa.sa_handler = on_interrupt;
+      sigemptyset(&sa.sa_mask);
+      cli_interrupted = 0;
+      sigaction(SIGINT, &sa, &old);
       rc = exec_command(c, b, s, NULL, 0);
+      sigaction(SIGINT, &old, NULL);
+      if (cli_interrupted)
+        cli_error("interrupted: the session is as it was before '%s'", strtok(s, " \t"));
+      cli_interrupted = 0;
     }
     free(line);
     fflush(stdout);

@@ -257,8 +257,7 @@ int show_model(const cli *c, const job *j, int have_cloud, const char *keys) {
       } else if (key_from_name(tok) >= 0) {
         show_key(&s, key_from_name(tok));
       } else {
-        cli_error("show: unknown key '%s' (right left up down tab f1 f5 f12 esc, shot:FILE)",
-                  tok);
+        cli_error("show: unknown key '%s' (right left up down tab f1 f5 f12 esc, shot:FILE)", tok);
         rc = EXIT_USAGE;
         break;
       }

@@ -147,17 +147,16 @@ int job_texture(const cli *c, job *j) {
   if (!j->lod_count) return EXIT_USAGE;
   cli ck = *c;
   ck.callbacks.user = &ck;
-  job_lod *L = &j->lods[0];
+  job_lod *L = &j->lods[0], t = *L;
+  /* the texturing parameters are the new ones, the planes stay as found;
+   * the old cloud stays until the new one is whole */
+  memset(&t.cloud, 0, sizeof t.cloud);
+  t.params = ck.params;
+  t.params.epsilon_pct = L->params.epsilon_pct;
+  int rc = lod_cloud(&ck, j, &t);
+  if (rc != EXIT_OK) return rc;
   bbc_cloud_free(&L->cloud);
-  /* the texturing parameters are the new ones; the planes stay as found */
-  double eps = L->params.epsilon_pct;
-  L->params = ck.params;
-  L->params.epsilon_pct = eps;
-  int rc = lod_cloud(&ck, j, L);
-  if (rc != EXIT_OK) {
-    memset(&L->cloud, 0, sizeof L->cloud);
-    return rc;
-  }
+  *L = t;
   lod_info(c, L, 1);
   return EXIT_OK;
 }

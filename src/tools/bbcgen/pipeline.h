@@ -35,7 +35,7 @@ int job_plan(const cli *c, const char *model, job *j);
 /* Loads the model only (no steps). */
 int job_load(const cli *c, const char *model, job *j);
 /* Step 3 (again) on level 0's planes with c's parameters: the cloud of a
- * job that has planes, replacing any cloud it had. */
+ * job that has planes, replacing any cloud it had (kept when this fails). */
 int job_texture(const cli *c, job *j);
 void job_free(job *j);
 

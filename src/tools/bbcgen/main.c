@@ -104,7 +104,8 @@ static void print_help(FILE *out) {
                "  0 success                      1 bad command line or parameter value\n"
                "  2 input missing or unreadable  3 input format not supported\n"
                "  4 input damaged, invalid or empty (NaN coordinates, bad indices, truncated)\n"
-               "  5 output could not be written  6 out of memory\n");
+               "  5 output could not be written  6 out of memory\n"
+               "  7 interrupted (Ctrl-C during a step at the prompt)\n");
 }
 
 int main(int argc, char **argv) {

@@ -497,8 +497,8 @@ static void test_prompt(void **state) {
   assert_non_null(strstr(err, "'bogus' is not a command"));
   assert_non_null(strstr(err, "bbc3 needs the planes"));
   assert_non_null(strstr(err, "steps 1+2 kept"));
-  assert_non_null(strstr(err, "bbcload: not built yet"));
-  assert_null(strstr(out, "texres")); /* nothing after quit */
+  assert_non_null(strstr(err, "x.wrl")); /* bbcload of a missing file: reported */
+  assert_null(strstr(out, "texres"));    /* nothing after quit */
   free(out);
   free(err);
   char wrl[2048];
@@ -606,8 +606,11 @@ static void test_viewer(void **state) {
     skip();
   }
   snprintf(text, sizeof text,
-           "load %s\nset texres 32\nbbc\nshow model shot:s0.png,left,shot:s1.png,right,right,"
-           "shot:s2.png,right,shot:s3.png,esc\nset texres 16\nsetup\nquit\n",
+           "load %s\nset texres 32\nbbc\nsave s\nshow model shot:s0.png,left,shot:s1.png,right,"
+           "right,shot:s2.png,right,shot:s3.png,esc\n"
+           "bbcload vrml97models/s/Tree_1/Tree_1_e6.00_tex32_pl/Tree_1.wrl\n"
+           "show model right,right,shot:l3.png,esc\nbbcload nosuch.wrl\n"
+           "set texres 16\nsetup\nquit\n",
            path);
   assert_int_equal(run_in("-i", text, NULL, NULL), 0);
   char o[1024], e[1024], cmd[4096];
@@ -627,6 +630,15 @@ static void test_viewer(void **state) {
   assert_non_null(so);
   assert_non_null(strstr(so, "texres         16")); /* back at the prompt after Esc */
   free(so);
+  /* bbcload: the saved cloud shown in place of the cloud; a missing file is
+   * reported and the session goes on */
+  char lp[1200];
+  snprintf(lp, sizeof lp, "%s/l3.png", tu_dir);
+  assert_true(covered(lp) > 0.01);
+  char *se = (char *)tu_read_file(e, NULL);
+  assert_non_null(se);
+  assert_non_null(strstr(se, "nosuch.wrl"));
+  free(se);
   for (int m = 0; m < 4; m++) {
     char p[1200];
     snprintf(p, sizeof p, "%s/s%d.png", tu_dir, m);

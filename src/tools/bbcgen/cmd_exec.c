@@ -22,7 +22,10 @@
  *   help [COMMAND]       the commands, or one
  *   cls                  clear the screen (at the prompt)
  *   q, quit              stop
- * Not implemented: show, bbcload (interactive viewing).
+ *   show model [KEYS]    the viewer in a window (keys script it)
+ *   bbcload FILE         a saved cloud, shown by show model in place of the cloud
+ *                        (until the next bbc or bbc3), to compare with the model
+ * Not implemented: show bbc.
  *
  * The prompt (`bbcgen -i`, `bbcgen -x FILE`, `bbcgen` on a terminal) runs
  * the same commands line by line; an error is reported and the session
@@ -54,7 +57,9 @@ typedef struct batch {
   int split_gen, planned_split; /* split commands so far, and at the planes */
   bbc_params planned;           /* the parameters the planes were found with */
   job jb;
-  int depth; /* nested exec */
+  bbc_mesh loaded; /* bbcload's cloud */
+  int show_loaded; /* 1: show model shows `loaded` (bbcload came after bbc/bbc3) */
+  int depth;       /* nested exec */
   int quit;
 } batch;
 
@@ -74,6 +79,7 @@ static const struct {
     {"save", "[DIR]", "the cloud as VRML into vrml97models/[DIR/]MODEL/MODEL_eX.XX_texN.../"},
     {"setup", "", "print every parameter"},
     {"exec", "FILE", "run a batch file"},
+    {"bbcload", "FILE", "a saved cloud, shown by show model to compare with the model"},
     {"show", "model [KEYS]", "a window: the model, rectangles, cloud (arrow keys; Esc returns)"},
     {"help", "[COMMAND]", "the commands, or one"},
     {"cls", "", "clear the screen"},
@@ -209,6 +215,7 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
     }
     rc = job_texture(c, &b->jb);
     b->have_cloud = rc == EXIT_OK;
+    if (rc == EXIT_OK) b->show_loaded = 0;
   } else if (!strcmp(cmd, "bbc")) {
     if (!b->model[0]) goto noload;
     job nj;
@@ -217,6 +224,7 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
     if (b->have_job) job_free(&b->jb);
     b->jb = nj;
     b->have_job = b->have_cloud = 1;
+    b->show_loaded = 0;
     b->planned = c->params;
     b->planned_split = b->split_gen;
   } else if (!strcmp(cmd, "shade")) {
@@ -254,10 +262,23 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
       b->have_cloud = 0;
       b->jb.lod_count = 0; /* no planes: bbc3 still needs bbc2 */
     }
-    rc = show_model(c, &b->jb, b->have_cloud, a2);
+    bbc_cloud wrap; /* a loaded cloud: its mesh, no rectangles */
+    memset(&wrap, 0, sizeof wrap);
+    wrap.mesh = b->loaded;
+    const bbc_cloud *cl = b->show_loaded ? &wrap : b->have_cloud ? &b->jb.lods[0].cloud : NULL;
+    rc = show_model(c, &b->jb.mesh, cl, a2);
   } else if (!strcmp(cmd, "bbcload")) {
-    cli_error("%sbbcload: not built yet", where);
-    rc = EXIT_USAGE;
+    if (!a1) goto missing;
+    bbc_load_options lo;
+    cli_load_options(c, &lo);
+    bbc_mesh m;
+    bbc_error e;
+    if (bbc_mesh_load(a1, &lo, &m, &e) != BBC_OK) return cli_fail(&e, 0);
+    bbc_mesh_free(&b->loaded);
+    b->loaded = m;
+    b->show_loaded = 1;
+    cli_info(c, "bbcload %s: %zu triangles; show model shows it as the cloud", a1,
+             m.triangle_count);
   } else {
     cli_error("%s'%s' is not a command (help lists them)", where, cmd);
     rc = EXIT_USAGE;
@@ -319,6 +340,7 @@ int cmd_exec(cli *c, int argc, char **argv) {
   }
   int rc = exec_file(c, b, file);
   if (b->have_job) job_free(&b->jb);
+  bbc_mesh_free(&b->loaded);
   free(b);
   return rc;
 }
@@ -378,6 +400,7 @@ int cmd_prompt(cli *c, const char *batch_file) {
     rc = exec_file(c, b, batch_file);
     if (b->quit) {
       if (b->have_job) job_free(&b->jb);
+      bbc_mesh_free(&b->loaded);
       free(b);
       return rc;
     }
@@ -422,6 +445,7 @@ int cmd_prompt(cli *c, const char *batch_file) {
   }
   if (tty && !b->quit) putchar('\n');
   if (b->have_job) job_free(&b->jb);
+  bbc_mesh_free(&b->loaded);
   free(b);
   return rc;
 }

@@ -26,12 +26,12 @@ static int write_png(bbcgl_context *ctx, const char *path) {
   return ok ? EXIT_OK : EXIT_OUTPUT;
 }
 
-/* The viewer over a job's model and (when it has one) cloud. */
-static bbcgl_viewer *viewer_for(const job *j, int with_cloud) {
+/* The viewer over a model and (may be NULL) a cloud. */
+static bbcgl_viewer *viewer_for(const bbc_mesh *model, const bbc_cloud *cloud) {
   char err[BBCGL_ERR];
   bbcgl_viewer *v = bbcgl_viewer_new(err);
-  if (!v || !bbcgl_viewer_set_model(v, &j->mesh, err) ||
-      (with_cloud && !bbcgl_viewer_set_cloud(v, &j->lods[0].cloud, err))) {
+  if (!v || !bbcgl_viewer_set_model(v, model, err) ||
+      (cloud && !bbcgl_viewer_set_cloud(v, cloud, err))) {
     cli_error("viewer: %s", err);
     bbcgl_viewer_free(v);
     return NULL;
@@ -96,7 +96,7 @@ int cmd_view(cli *c, int argc, char **argv) {
     job_free(&j);
     return EXIT_RESOURCES;
   }
-  bbcgl_viewer *v = viewer_for(&j, need_cloud);
+  bbcgl_viewer *v = viewer_for(&j.mesh, need_cloud ? &j.lods[0].cloud : NULL);
   if (!v) {
     bbcgl_context_free(ctx);
     job_free(&j);
@@ -214,14 +214,15 @@ static int key_from_name(const char *n) {
   return -1;
 }
 
-int show_model(const cli *c, const job *j, int have_cloud, const char *keys) {
+int show_model(const cli *c, const bbc_mesh *model, const bbc_cloud *cloud, const char *keys) {
+  int have_cloud = cloud != NULL;
   char err[BBCGL_ERR];
   bbcgl_context *ctx = bbcgl_context_window(800, 600, "bbcgen: show model", err);
   if (!ctx) {
     cli_error("show: %s (for pictures without a display: bbcgen view)", err);
     return EXIT_RESOURCES;
   }
-  bbcgl_viewer *v = viewer_for(j, have_cloud);
+  bbcgl_viewer *v = viewer_for(model, cloud);
   if (!v) {
     bbcgl_context_free(ctx);
     return EXIT_RESOURCES;

@@ -52,9 +52,9 @@ int job_preview(const cli *c, const job *j, const char *out, int cell);
  * (created as needed) under the current folder. */
 int job_save_vrml(const cli *c, job *j, const char *user_dir);
 
-/* `show model` (cmd_view.c): a window with the viewer over the job's model
- * and, when have_cloud, its cloud (level 0); returns when it is closed
- * (Esc). keys (may be NULL): scripted keys, then the window closes. */
-int show_model(const cli *c, const job *j, int have_cloud, const char *keys);
+/* `show model` (cmd_view.c): a window with the viewer over a model and (may
+ * be NULL) a cloud; returns when it is closed (Esc). keys (may be NULL):
+ * scripted keys, then the window closes. */
+int show_model(const cli *c, const bbc_mesh *model, const bbc_cloud *cloud, const char *keys);
 
 #endif

@@ -66,7 +66,7 @@ typedef struct batch {
 static const struct {
   const char *name, *args, *what;
 } k_commands[] = {
-    {"load", "FILE", "the model for the following commands"},
+    {"load", "FILE [nocg]", "the model for the following commands (it stays where it is)"},
     {"set", "NAME VALUE", "a parameter (PART.NAME for one part: trunk, foliage)"},
     {"split", "MODE",
      "trunk and foliage: auto, none, names, geometry, trunk=PATTERNS, foliage=..."},
@@ -112,6 +112,14 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
     b->quit = 1;
   } else if (!strcmp(cmd, "load")) {
     if (!a1) goto missing;
+    /* Appendix A: load FILE [nocg] [nomip]. nocg (the model stays where it
+     * is, not moved to its centre of gravity) is how models always load
+     * here; nomip is not supported. */
+    for (char *w = a2 ? strtok(a2, " \t") : NULL; w; w = strtok(NULL, " \t"))
+      if (strcmp(w, "nocg")) {
+        cli_error("%sload: '%s' is not supported (load FILE [nocg])", where, w);
+        return EXIT_USAGE;
+      }
     snprintf(b->model, sizeof b->model, "%s", a1);
     b->want_steps = 0;
     if (b->have_job) job_free(&b->jb);

@@ -550,6 +550,11 @@ typedef struct bbc_planes_options {
 } bbc_planes_options;
 
 void bbc_planes_options_default(bbc_planes_options *options);
+/* bbc_params_first_step over whole plane-selection options: the parameters,
+ * the per-part overrides (which then names e.g. "trunk.epsilon", in a
+ * static buffer) and the split (which = "split": step 1). */
+int bbc_planes_options_first_step(const bbc_planes_options *before, const bbc_planes_options *after,
+                                  const char **which);
 
 /* Steps 1 and 2 of the thesis (2.1.3-2.1.8 with the extensions of 2.3):
  * finds planes such that every triangle of `mesh` is simplified by exactly

@@ -455,6 +455,8 @@ static void test_exec_state(void **state) {
       {"bbc\nset punishval 0.5\nbbc3\n", "punishval", "run bbc2"},
       {"bbc\nset upaxis z\nbbc3\n", "upaxis", "step 1"},
       {"bbc\nsplit none\nbbc3\n", "split", "bbc1"},
+      {"bbc\nset trunk.epsilon 9\nbbc3\n", "trunk.epsilon", "bbc1"},
+      {"bbc\nset foliage.punishval 0.3\nbbc3\n", "foliage.punishval", "run bbc2"},
       {"bbc1\nbbc2\nsave x\n", "save needs a Billboard Cloud", ":4:"},
       {"bbc3\n", "bbc3 needs the planes", ":2:"},
       {"bbc2\n", "bbc2 needs bbc1", ":2:"},
@@ -469,8 +471,11 @@ static void test_exec_state(void **state) {
     free(err);
     free(bf);
   }
-  /* threads and the VRML format change no result: bbc3 goes on */
-  snprintf(text, sizeof text, "load %s\nset texres 16\nbbc\nset threads 1\nset format 1\nbbc3\n",
+  /* threads and the VRML format change no result, a split as it was changes
+   * nothing, a part's texturing parameter needs step 3 only: bbc3 goes on */
+  snprintf(text, sizeof text,
+           "load %s\nset texres 16\nbbc\nset threads 1\nset format 1\nsplit auto\n"
+           "set trunk.quality 0\nbbc3\n",
            path);
   bf = tu_write_file(tu_dir, "free.bbc", text, strlen(text));
   snprintf(args, sizeof args, "exec '%s' -q", bf);

@@ -30,6 +30,44 @@ void bbc_planes_options_default(bbc_planes_options *o) {
   o->split.stem_only = 1;
 }
 
+static int same_text(const char *a, const char *b) {
+  return (!a && !b) || (a && b && !strcmp(a, b));
+}
+
+/* The parameters part `name` is found with. */
+static const bbc_params *part_params(const bbc_planes_options *o, const char *name);
+
+int bbc_planes_options_first_step(const bbc_planes_options *a, const bbc_planes_options *b,
+                                  const char **which) {
+  static _Thread_local char name[64];
+  const bbc_split_options *sa = &a->split, *sb = &b->split;
+  if (which) *which = NULL;
+  if (sa->mode != sb->mode || sa->stem_only != sb->stem_only || sa->up_axis != sb->up_axis ||
+      !same_text(sa->trunk_patterns, sb->trunk_patterns) ||
+      !same_text(sa->foliage_patterns, sb->foliage_patterns) || !same_text(sa->rest, sb->rest)) {
+    if (which) *which = "split";
+    return 1;
+  }
+  const char *w = NULL;
+  int first = bbc_params_first_step(&a->params, &b->params, &w);
+  if (which) *which = w;
+  /* each part as it will be found: its override, else the common parameters */
+  static const char *const parts[3] = {"trunk", "foliage", "all"};
+  for (int k = 0; k < 3; k++) {
+    const bbc_params *pa = part_params(a, parts[k]), *pb = part_params(b, parts[k]);
+    if (pa == &a->params && pb == &b->params) continue; /* no override: compared above */
+    const char *pw = NULL;
+    int step = bbc_params_first_step(pa, pb, &pw);
+    /* a part's own setting is named before what it changed in common */
+    if (step && (!first || step <= first)) {
+      first = step;
+      snprintf(name, sizeof name, "%s.%s", parts[k], pw);
+      if (which) *which = name;
+    }
+  }
+  return first;
+}
+
 void bbc_planeset_free(bbc_planeset *s) {
   if (!s) return;
   free(s->planes);

@@ -54,8 +54,8 @@ typedef struct batch {
   char model[4096];
   char pattern[2][4096];
   int want_steps, have_job, have_cloud;
-  int split_gen, planned_split; /* split commands so far, and at the planes */
-  bbc_params planned;           /* the parameters the planes were found with */
+  bbc_planes_options planned; /* the options the planes were found with ... */
+  char planned_text[3][4096]; /* ... and copies of its split patterns */
   job jb;
   bbc_mesh loaded; /* bbcload's cloud */
   int show_loaded; /* 1: show model shows `loaded` (bbcload came after bbc/bbc3) */
@@ -88,6 +88,19 @@ static const struct {
 #define COMMAND_COUNT (sizeof k_commands / sizeof k_commands[0])
 
 static int exec_file(cli *c, batch *b, const char *file);
+
+/* The options the planes are found with now (split patterns copied: the
+ * cli's point into buffers that later split commands overwrite). */
+static void remember_plan(const cli *c, batch *b) {
+  if (cli_planes_options(c, &b->planned) != EXIT_OK) return;
+  const char **t[3] = {&b->planned.split.trunk_patterns, &b->planned.split.foliage_patterns,
+                       &b->planned.split.rest};
+  for (int k = 0; k < 3; k++)
+    if (*t[k]) {
+      snprintf(b->planned_text[k], sizeof b->planned_text[k], "%s", *t[k]);
+      *t[k] = b->planned_text[k];
+    }
+}
 
 static void help(const char *which) {
   for (size_t i = 0; i < COMMAND_COUNT; i++)
@@ -136,7 +149,6 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
     }
   } else if (!strcmp(cmd, "split")) {
     if (!a1) goto missing;
-    b->split_gen++;
     if (!strncmp(a1, "trunk=", 6) || !strncmp(a1, "foliage=", 8)) {
       int t = a1[0] == 't';
       snprintf(b->pattern[t], sizeof b->pattern[t], "%s", strchr(a1, '=') + 1);
@@ -203,8 +215,7 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
     b->jb = nj;
     b->have_job = 1;
     b->have_cloud = 0;
-    b->planned = c->params;
-    b->planned_split = b->split_gen;
+    remember_plan(c, b);
     b->want_steps = 0;
   } else if (!strcmp(cmd, "bbc3")) {
     if (!b->model[0]) goto noload;
@@ -213,8 +224,9 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
       return EXIT_USAGE;
     }
     const char *which = NULL;
-    int step = bbc_params_first_step(&b->planned, &c->params, &which);
-    if (b->split_gen != b->planned_split) step = 1, which = "split";
+    bbc_planes_options now;
+    if (cli_planes_options(c, &now) != EXIT_OK) return EXIT_USAGE;
+    int step = bbc_planes_options_first_step(&b->planned, &now, &which);
     if (step == 1 || step == 2) {
       cli_error("%sbbc3: %s changed since the planes were found, and it needs step %d again: "
                 "run %s",
@@ -233,8 +245,7 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
     b->jb = nj;
     b->have_job = b->have_cloud = 1;
     b->show_loaded = 0;
-    b->planned = c->params;
-    b->planned_split = b->split_gen;
+    remember_plan(c, b);
   } else if (!strcmp(cmd, "shade")) {
     if (!a1) goto missing;
     char *e1, *e2 = NULL;
@@ -265,8 +276,7 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
       if (rc != EXIT_OK) return rc;
       b->have_job = 1;
       b->want_steps = 0;
-      b->planned = c->params;
-      b->planned_split = b->split_gen;
+      remember_plan(c, b);
       b->have_cloud = 0;
       b->jb.lod_count = 0; /* no planes: bbc3 still needs bbc2 */
     }

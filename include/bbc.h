@@ -887,6 +887,40 @@ void bbc_tree_options_default(bbc_tree_options *options);
  * quads with a generated RGBA leaf texture whose alpha is 0 or 255). */
 bbc_result bbc_tree_generate(const bbc_tree_options *options, bbc_mesh *mesh, bbc_error *err);
 
+/* ---- session: BBCgen's workflow (thesis Appendix A), GL-free ----------- */
+/* A model, its planes (steps 1 and 2) and its cloud (step 3) kept between
+ * steps, as BBCgen's prompt keeps them: after a change of texturing
+ * parameters only ('*' in Appendix A) step 3 runs again on the kept planes;
+ * any other change needs the planes again (bbc_session_stale says which
+ * parameter and step). Every step builds into new state and replaces the
+ * old only when it is whole: a failed or cancelled step (bbc_callbacks
+ * cancel) leaves the session as it was. Options are the caller's and are
+ * read by each call; the session copies what it must remember. */
+typedef struct bbc_session bbc_session;
+
+bbc_session *bbc_session_new(void); /* NULL: out of memory */
+void bbc_session_free(bbc_session *session);
+/* Loads a model in place of the current one (planes and cloud dropped). */
+bbc_result bbc_session_load(bbc_session *session, const char *path, const bbc_load_options *options,
+                            bbc_error *err);
+/* Steps 1 and 2 (the cloud is dropped). */
+bbc_result bbc_session_planes(bbc_session *session, const bbc_planes_options *options,
+                              bbc_error *err);
+/* Step 3 on the kept planes; refused (BBC_ERROR_INVALID_ARGUMENT, naming
+ * the parameter) when `options` changed something steps 1 or 2 use. */
+bbc_result bbc_session_cloud(bbc_session *session, const bbc_planes_options *options,
+                             bbc_error *err);
+/* Steps 1 to 3. */
+bbc_result bbc_session_run(bbc_session *session, const bbc_planes_options *options, bbc_error *err);
+/* The first step `options` would need again (bbc_planes_options_first_step
+ * against the planes' options; 0: none), -1 without planes. */
+int bbc_session_stale(const bbc_session *session, const bbc_planes_options *options,
+                      const char **which);
+/* What the session holds now, or NULL. */
+const bbc_mesh *bbc_session_model(const bbc_session *session);
+const bbc_planeset *bbc_session_planeset(const bbc_session *session);
+const bbc_cloud *bbc_session_result(const bbc_session *session);
+
 /* ---- forest: map and model description files (thesis Appendix B) ------ */
 /* The forest engine's text files, as the thesis's "Perfect Motion manual"
  * defines them: whitespace-separated words, a command's arguments wherever

@@ -735,10 +735,19 @@ static void test_cloud_command(void **state) {
   cJSON_Delete(e);
   free(etext);
   /* Batch: bbc3 needs bbc2; bbc then save writes the Appendix A folder. */
-  char *bf = tu_write_file(tu_dir, "c3.bbc", "load x.obj\nbbc3\n", 16);
+  snprintf(text, sizeof text, "load %s\nbbc3\n", path);
+  char *bf = tu_write_file(tu_dir, "c3.bbc", text, strlen(text));
   snprintf(args, sizeof args, "exec '%s'", bf);
   assert_int_equal(run(args, &out, &err), 1);
   assert_non_null(strstr(err, "bbc3 needs the planes of bbc2"));
+  free(out);
+  free(err);
+  free(bf);
+  /* load reads the model at once: a missing one is named at its line */
+  bf = tu_write_file(tu_dir, "nomodel.bbc", "load /no/such/x.obj\nbbc\n", 25);
+  snprintf(args, sizeof args, "exec '%s'", bf);
+  assert_int_equal(run(args, &out, &err), 2);
+  assert_non_null(strstr(err, "x.obj"));
   free(out);
   free(err);
   free(bf);

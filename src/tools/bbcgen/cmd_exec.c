@@ -53,13 +53,12 @@ static char *trim(char *s) {
 typedef struct batch {
   char model[4096];
   char pattern[2][4096];
-  int want_steps, have_job, have_cloud;
-  bbc_planes_options planned; /* the options the planes were found with ... */
-  char planned_text[3][4096]; /* ... and copies of its split patterns */
-  job jb;
-  bbc_mesh loaded; /* bbcload's cloud */
-  int show_loaded; /* 1: show model shows `loaded` (bbcload came after bbc/bbc3) */
-  int depth;       /* nested exec */
+  int want_steps;
+  bbc_session *sess;       /* the model, planes and cloud (the library's session) */
+  bbc_params cloud_params; /* the parameters the cloud was made with (save's folder) */
+  bbc_mesh loaded;         /* bbcload's cloud */
+  int show_loaded;         /* 1: show model shows `loaded` (bbcload came after bbc/bbc3) */
+  int depth;               /* nested exec */
   int quit;
 } batch;
 
@@ -88,19 +87,6 @@ static const struct {
 #define COMMAND_COUNT (sizeof k_commands / sizeof k_commands[0])
 
 static int exec_file(cli *c, batch *b, const char *file);
-
-/* The options the planes are found with now (split patterns copied: the
- * cli's point into buffers that later split commands overwrite). */
-static void remember_plan(const cli *c, batch *b) {
-  if (cli_planes_options(c, &b->planned) != EXIT_OK) return;
-  const char **t[3] = {&b->planned.split.trunk_patterns, &b->planned.split.foliage_patterns,
-                       &b->planned.split.rest};
-  for (int k = 0; k < 3; k++)
-    if (*t[k]) {
-      snprintf(b->planned_text[k], sizeof b->planned_text[k], "%s", *t[k]);
-      *t[k] = b->planned_text[k];
-    }
-}
 
 static void help(const char *which) {
   for (size_t i = 0; i < COMMAND_COUNT; i++)
@@ -133,10 +119,12 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
         cli_error("%sload: '%s' is not supported (load FILE [nocg])", where, w);
         return EXIT_USAGE;
       }
+    bbc_load_options lo;
+    cli_load_options(c, &lo);
+    bbc_error e;
+    if (bbc_session_load(b->sess, a1, &lo, &e) != BBC_OK) return cli_fail(&e, 0);
     snprintf(b->model, sizeof b->model, "%s", a1);
     b->want_steps = 0;
-    if (b->have_job) job_free(&b->jb);
-    b->have_job = b->have_cloud = 0;
   } else if (!strcmp(cmd, "set")) {
     if (!a1 || !a2) goto missing;
     char assignment[512];
@@ -208,44 +196,42 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
       cli_error("%sbbc2 needs bbc1 first", where);
       return EXIT_USAGE;
     }
-    job nj; /* the session keeps what it had until the new planes are whole */
-    rc = job_plan(c, b->model, &nj);
-    if (rc != EXIT_OK) return rc;
-    if (b->have_job) job_free(&b->jb);
-    b->jb = nj;
-    b->have_job = 1;
-    b->have_cloud = 0;
-    remember_plan(c, b);
+    bbc_planes_options po;
+    if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
+    bbc_error e;
+    if (bbc_session_planes(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
+    job_info(c, bbc_session_planeset(b->sess), NULL, &c->params, 0);
     b->want_steps = 0;
   } else if (!strcmp(cmd, "bbc3")) {
     if (!b->model[0]) goto noload;
-    if (!b->have_job || !b->jb.lod_count) {
+    bbc_planes_options po;
+    if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
+    const char *which = NULL;
+    int step = bbc_session_stale(b->sess, &po, &which);
+    if (step < 0) {
       cli_error("%sbbc3 needs the planes of bbc2 (after bbc1) or bbc first", where);
       return EXIT_USAGE;
     }
-    const char *which = NULL;
-    bbc_planes_options now;
-    if (cli_planes_options(c, &now) != EXIT_OK) return EXIT_USAGE;
-    int step = bbc_planes_options_first_step(&b->planned, &now, &which);
     if (step == 1 || step == 2) {
       cli_error("%sbbc3: %s changed since the planes were found, and it needs step %d again: "
                 "run %s",
                 where, which, step, step == 1 ? "bbc1 and bbc2 (or bbc)" : "bbc2 (or bbc)");
       return EXIT_USAGE;
     }
-    rc = job_texture(c, &b->jb);
-    b->have_cloud = rc == EXIT_OK;
-    if (rc == EXIT_OK) b->show_loaded = 0;
+    bbc_error e;
+    if (bbc_session_cloud(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
+    b->cloud_params = c->params;
+    b->show_loaded = 0;
+    job_info(c, bbc_session_planeset(b->sess), bbc_session_result(b->sess), &c->params, 1);
   } else if (!strcmp(cmd, "bbc")) {
     if (!b->model[0]) goto noload;
-    job nj;
-    rc = job_run(c, b->model, NULL, 0, &nj);
-    if (rc != EXIT_OK) return rc;
-    if (b->have_job) job_free(&b->jb);
-    b->jb = nj;
-    b->have_job = b->have_cloud = 1;
+    bbc_planes_options po;
+    if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
+    bbc_error e;
+    if (bbc_session_run(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
+    b->cloud_params = c->params;
     b->show_loaded = 0;
-    remember_plan(c, b);
+    job_info(c, bbc_session_planeset(b->sess), bbc_session_result(b->sess), &c->params, 0);
   } else if (!strcmp(cmd, "shade")) {
     if (!a1) goto missing;
     char *e1, *e2 = NULL;
@@ -258,11 +244,22 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
     c->params.shade_voxels = (int)n;
     c->params.shade_ambient = amb > 0 ? amb : 0.4;
   } else if (!strcmp(cmd, "save")) {
-    if (!b->have_cloud) {
+    const bbc_cloud *cloud = bbc_session_result(b->sess);
+    if (!cloud) {
       cli_error("%ssave needs a Billboard Cloud: run bbc or bbc3 first", where);
       return EXIT_USAGE;
     }
-    rc = job_save_vrml(c, &b->jb, a1);
+    /* the writers take a job: a view of the session's model, planes and cloud */
+    job v;
+    memset(&v, 0, sizeof v);
+    snprintf(v.model_path, sizeof v.model_path, "%s", b->model);
+    v.mesh = *bbc_session_model(b->sess);
+    v.lod_count = 1;
+    v.lods[0].epsilon_pct = b->cloud_params.epsilon_pct;
+    v.lods[0].params = b->cloud_params;
+    v.lods[0].set = *bbc_session_planeset(b->sess);
+    v.lods[0].cloud = *cloud;
+    rc = job_save_vrml(c, &v, a1);
   } else if (!strcmp(cmd, "show")) {
     /* show model [KEYS...]: the window; keys script it (tests) */
     if (!a1 || strcmp(a1, "model")) {
@@ -271,20 +268,11 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
       return EXIT_USAGE;
     }
     if (!b->model[0]) goto noload;
-    if (!b->have_job) { /* the model alone: load it */
-      rc = job_load(c, b->model, &b->jb);
-      if (rc != EXIT_OK) return rc;
-      b->have_job = 1;
-      b->want_steps = 0;
-      remember_plan(c, b);
-      b->have_cloud = 0;
-      b->jb.lod_count = 0; /* no planes: bbc3 still needs bbc2 */
-    }
     bbc_cloud wrap; /* a loaded cloud: its mesh, no rectangles */
     memset(&wrap, 0, sizeof wrap);
     wrap.mesh = b->loaded;
-    const bbc_cloud *cl = b->show_loaded ? &wrap : b->have_cloud ? &b->jb.lods[0].cloud : NULL;
-    rc = show_model(c, &b->jb.mesh, cl, a2);
+    const bbc_cloud *cl = b->show_loaded ? &wrap : bbc_session_result(b->sess);
+    rc = show_model(c, bbc_session_model(b->sess), cl, a2);
   } else if (!strcmp(cmd, "bbcload")) {
     if (!a1) goto missing;
     bbc_load_options lo;
@@ -352,12 +340,14 @@ int cmd_exec(cli *c, int argc, char **argv) {
     return EXIT_USAGE;
   }
   batch *b = calloc(1, sizeof *b);
-  if (!b) {
+  if (b) b->sess = bbc_session_new();
+  if (!b || !b->sess) {
+    free(b);
     cli_error("out of memory");
     return EXIT_RESOURCES;
   }
   int rc = exec_file(c, b, file);
-  if (b->have_job) job_free(&b->jb);
+  bbc_session_free(b->sess);
   bbc_mesh_free(&b->loaded);
   free(b);
   return rc;
@@ -409,7 +399,9 @@ static void on_interrupt(int sig) {
 
 int cmd_prompt(cli *c, const char *batch_file) {
   batch *b = calloc(1, sizeof *b);
-  if (!b) {
+  if (b) b->sess = bbc_session_new();
+  if (!b || !b->sess) {
+    free(b);
     cli_error("out of memory");
     return EXIT_RESOURCES;
   }
@@ -417,7 +409,7 @@ int cmd_prompt(cli *c, const char *batch_file) {
   if (batch_file) {
     rc = exec_file(c, b, batch_file);
     if (b->quit) {
-      if (b->have_job) job_free(&b->jb);
+      bbc_session_free(b->sess);
       bbc_mesh_free(&b->loaded);
       free(b);
       return rc;
@@ -462,7 +454,7 @@ int cmd_prompt(cli *c, const char *batch_file) {
     fflush(stdout);
   }
   if (tty && !b->quit) putchar('\n');
-  if (b->have_job) job_free(&b->jb);
+  bbc_session_free(b->sess);
   bbc_mesh_free(&b->loaded);
   free(b);
   return rc;

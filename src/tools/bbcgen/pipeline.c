@@ -122,43 +122,27 @@ int job_run(const cli *c, const char *model, const double *epsilons, size_t coun
   return EXIT_OK;
 }
 
-int job_plan(const cli *c, const char *model, job *j) {
-  int rc = job_load(c, model, j);
-  if (rc != EXIT_OK) return rc;
-  cli ck = *c;
-  ck.callbacks.user = &ck;
-  job_lod *L = &j->lods[0];
-  L->epsilon_pct = ck.params.epsilon_pct;
-  L->params = ck.params;
-  j->lod_count = 1;
-  if ((rc = lod_planes(&ck, j, L)) != EXIT_OK) {
-    job_free(j);
-    return rc;
+void job_info(const cli *c, const bbc_planeset *set, const bbc_cloud *cloud,
+              const bbc_params *params, int step3_only) {
+  job_lod L;
+  memset(&L, 0, sizeof L);
+  L.epsilon_pct = params->epsilon_pct;
+  L.params = *params;
+  L.set = *set;
+  if (cloud) L.cloud = *cloud;
+  for (size_t p = 0; p < set->part_count; p++) {
+    L.step1_s += set->parts[p].step1_s;
+    L.step2_s += set->parts[p].step2_s;
+  }
+  if (cloud) {
+    lod_info(c, &L, step3_only);
+    return;
   }
   char why[160] = "";
-  epsilon_adjustment(L, why, sizeof why);
+  epsilon_adjustment(&L, why, sizeof why);
   cli_info(c, "epsilon %.3g %%%s: %zu planes; steps 1+2 %.2f s%s",
-           L->epsilon_pct * L->set.epsilon_scale, why, L->set.plane_count,
-           L->step1_s + L->step2_s + L->set.retry_s, L->set.attempts > 1 ? " in several runs" : "");
-  return EXIT_OK;
-}
-
-int job_texture(const cli *c, job *j) {
-  if (!j->lod_count) return EXIT_USAGE;
-  cli ck = *c;
-  ck.callbacks.user = &ck;
-  job_lod *L = &j->lods[0], t = *L;
-  /* the texturing parameters are the new ones, the planes stay as found;
-   * the old cloud stays until the new one is whole */
-  memset(&t.cloud, 0, sizeof t.cloud);
-  t.params = ck.params;
-  t.params.epsilon_pct = L->params.epsilon_pct;
-  int rc = lod_cloud(&ck, j, &t);
-  if (rc != EXIT_OK) return rc;
-  bbc_cloud_free(&L->cloud);
-  *L = t;
-  lod_info(c, L, 1);
-  return EXIT_OK;
+           L.epsilon_pct * set->epsilon_scale, why, set->plane_count,
+           L.step1_s + L.step2_s + set->retry_s, set->attempts > 1 ? " in several runs" : "");
 }
 
 /* ---- cloud files ------------------------------------------------------------- */

@@ -29,14 +29,13 @@ typedef struct job {
  * 0 = the parameters' epsilon). Prints info lines; returns an exit code. On
  * failure the job is freed. */
 int job_run(const cli *c, const char *model, const double *epsilons, size_t count, job *j);
-/* Loads the model and runs steps 1 and 2 only (one level, the parameters'
- * epsilon): the planes, no cloud yet. */
-int job_plan(const cli *c, const char *model, job *j);
+/* The info line of steps 1 and 2 (cloud NULL) or of a cloud made with
+ * `params` (step3_only: "steps 1+2 kept"). */
+void job_info(const cli *c, const bbc_planeset *set, const bbc_cloud *cloud,
+              const bbc_params *params, int step3_only);
 /* Loads the model only (no steps). */
 int job_load(const cli *c, const char *model, job *j);
-/* Step 3 (again) on level 0's planes with c's parameters: the cloud of a
- * job that has planes, replacing any cloud it had (kept when this fails). */
-int job_texture(const cli *c, job *j);
+
 void job_free(job *j);
 
 /* Writes the clouds: .glb/.gltf (every LOD a node, MSFT_lod chain), or

@@ -125,8 +125,7 @@ bbcgl_context *bbcgl_context_window(int width, int height, const char *title, ch
   if (!glfwInit()) {
     const char *why = NULL;
     glfwGetError(&why);
-    snprintf(err, BBCGL_ERR, "no window system (%s); headless drawing needs --size WxH",
-             why ? why : "GLFW cannot start");
+    snprintf(err, BBCGL_ERR, "no window system (%s)", why ? why : "GLFW cannot start");
     return NULL;
   }
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);

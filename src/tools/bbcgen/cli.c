@@ -29,13 +29,20 @@ void cli_init(cli *c) {
   c->callbacks.user = c;
 }
 
+const char *cli_location;
+
 void cli_error(const char *fmt, ...) {
+  char buf[8192];
   va_list ap;
   va_start(ap, fmt);
-  fputs("bbcgen: ", stderr);
-  vfprintf(stderr, fmt, ap);
-  fputc('\n', stderr);
+  vsnprintf(buf, sizeof buf, fmt, ap);
   va_end(ap);
+  /* in a batch file every message names file:line (once) */
+  size_t n = cli_location ? strlen(cli_location) : 0;
+  if (n && strncmp(buf, cli_location, n))
+    fprintf(stderr, "bbcgen: %s%s\n", cli_location, buf);
+  else
+    fprintf(stderr, "bbcgen: %s\n", buf);
 }
 
 void cli_info(const cli *c, const char *fmt, ...) {

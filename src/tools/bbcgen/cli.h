@@ -19,6 +19,9 @@ enum {
   EXIT_INTERRUPTED = 7 /* interrupted (Ctrl-C at the prompt) */
 };
 
+/* "FILE:LINE: " while a batch command runs (cli_error then names it), else NULL. */
+extern const char *cli_location;
+
 /* Set by the prompt's Ctrl-C handler; the library's cancel callback reads it. */
 extern volatile int cli_interrupted;
 

@@ -91,7 +91,7 @@ static int exec_file(cli *c, batch *b, const char *file);
 static void help(const char *which) {
   for (size_t i = 0; i < COMMAND_COUNT; i++)
     if (!which || !strcmp(which, k_commands[i].name))
-      printf("  %-6s %-12s %s\n", k_commands[i].name, k_commands[i].args, k_commands[i].what);
+      printf("  %-7s %-12s %s\n", k_commands[i].name, k_commands[i].args, k_commands[i].what);
 }
 
 /* One command line (already trimmed, not empty). Errors name file:line
@@ -127,14 +127,24 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
     b->want_steps = 0;
   } else if (!strcmp(cmd, "set")) {
     if (!a1 || !a2) goto missing;
+    const char *dot = strchr(a1, '.'), *name = dot ? dot + 1 : a1;
+    if (!bbc_param_find(name)) {
+      const char *list[128];
+      size_t n = 0;
+      for (size_t i = 0; i < bbc_param_count() && n < 127; i++) list[n++] = bbc_param_at(i)->name;
+      list[n] = NULL;
+      const char *near = cli_closest(name, list);
+      cli_error("%sset: no parameter '%s'%s%s%s (setup lists them)", where, name,
+                near ? " (did you mean " : "", near ? near : "", near ? "?)" : "");
+      return EXIT_USAGE;
+    }
     char assignment[512];
     snprintf(assignment, sizeof assignment, "%s=%s", a1, a2);
     char *fake[2] = {"--set", assignment};
     int i = 0;
-    if (cli_common_option(c, 2, fake, &i) != 1) {
-      cli_error("%sbad set command", where);
-      rc = EXIT_USAGE;
-    }
+    int k = cli_common_option(c, 2, fake, &i);
+    if (k == 0) cli_error("%sbad set command", where);
+    if (k != 1) rc = EXIT_USAGE;
   } else if (!strcmp(cmd, "split")) {
     if (!a1) goto missing;
     if (!strncmp(a1, "trunk=", 6) || !strncmp(a1, "foliage=", 8)) {
@@ -316,7 +326,12 @@ static int exec_file(cli *c, batch *b, const char *file) {
     lineno++;
     char *s = trim(line);
     if (!*s || *s == '#') continue;
+    char loc[4200];
+    snprintf(loc, sizeof loc, "%s:%d: ", file, lineno);
+    const char *outer = cli_location;
+    cli_location = loc;
     rc = exec_command(c, b, s, file, lineno);
+    cli_location = outer;
   }
   fclose(f);
   return rc;
@@ -444,7 +459,8 @@ int cmd_prompt(cli *c, const char *batch_file) {
       sigemptyset(&sa.sa_mask);
       cli_interrupted = 0;
       sigaction(SIGINT, &sa, &old);
-      rc = exec_command(c, b, s, NULL, 0);
+      int r = exec_command(c, b, s, NULL, 0);
+      if (r != EXIT_OK) rc = r; /* the status: the last command that failed (0: none) */
       sigaction(SIGINT, &old, NULL);
       if (cli_interrupted)
         cli_error("interrupted: the session is as it was before '%s'", strtok(s, " \t"));

@@ -65,18 +65,25 @@ int cmd_view(cli *c, int argc, char **argv) {
       if (k) continue;
       if (a[0] != '-' && !model) {
         model = a;
+      } else if (a[0] == '-') {
+        static const char *const own[] = {"--mode", "--screenshot", "--size",
+                                          "--yaw",  "--pitch",      NULL};
+        return cli_unknown_option("view", a, own);
       } else {
-        cli_error("view: '%s' is not an option here (bbcgen --help)", a);
+        cli_error("view: one model at a time ('%s' is a second one)", a);
         return EXIT_USAGE;
       }
     }
   }
   int all = !strcmp(mode_name, "all");
   int mode = all ? 0 : bbcgl_view_mode_from_name(mode_name);
-  if (!model || !shot || mode < 0) {
-    cli_error("view: usage: bbcgen view MODEL --mode input|rects|cloud-rects|cloud|all "
-              "--screenshot OUT.png [--size PX] [--yaw DEG] [--pitch DEG]%s",
-              mode < 0 ? " (unknown mode)" : "");
+  if (mode < 0) {
+    cli_error("view: --mode %s: expected input, rects, cloud-rects, cloud or all", mode_name);
+    return EXIT_USAGE;
+  }
+  if (!model || !shot) {
+    cli_error("view: usage: bbcgen view MODEL --screenshot OUT.png [--mode "
+              "input|rects|cloud-rects|cloud|all] [--size PX] [--yaw DEG] [--pitch DEG]");
     return EXIT_USAGE;
   }
   size_t sl = strlen(shot);
@@ -217,6 +224,11 @@ static int key_from_name(const char *n) {
 int show_model(const cli *c, const bbc_mesh *model, const bbc_cloud *cloud, const char *keys) {
   int have_cloud = cloud != NULL;
   char err[BBCGL_ERR];
+  if (!getenv("DISPLAY") && !getenv("WAYLAND_DISPLAY")) {
+    cli_error("show: no display to open a window on (for pictures without one: bbcgen view "
+              "MODEL --mode ... --screenshot OUT.png)");
+    return EXIT_USAGE;
+  }
   bbcgl_context *ctx = bbcgl_context_window(800, 600, "bbcgen: show model", err);
   if (!ctx) {
     cli_error("show: %s (for pictures without a display: bbcgen view)", err);

@@ -56,9 +56,10 @@ static void usage(FILE *f) {
           "                       cull_ms_median=… cull_ms_p95=… terrain_ms_median=…\n"
           "                       trees_drawn=… billboards_drawn=… draw_calls=…\n"
           "                       draw_commands=… (frame: until the GPU is done; cpu:\n"
-          "                       until the last GL call returns; cull: objects' culling\n"
-          "                       and levels; draw calls: a multi-draw counts once, its\n"
-          "                       commands in draw_commands)\n"
+          "                       until the last GL call returns; cull: the CPU's culling\n"
+          "                       and levels of the objects, 0 with --gpu-cull; draw calls:\n"
+          "                       every draw, a multi-draw counting once; draw_commands:\n"
+          "                       the commands of the objects' multi-draws)\n"
           "  --keys \"K K 30f shot:A.png K\"  scripted keys (names as in the list above:\n"
           "                       s x a d y c space q e w F1 F2 F3 F4 F5 F10 1 2 3 h esc, any\n"
           "                       case, z for y), Nf runs N frames of 1/30 s, shot:FILE writes\n"
@@ -306,6 +307,11 @@ int main(int argc, char **argv) {
       o.path = v;
       i++;
     } else if (!strcmp(a, "--screenshot")) {
+      size_t vl = strlen(v);
+      if (vl < 4 || strcmp(v + vl - 4, ".png")) {
+        fprintf(stderr, "forest: --screenshot %s: screenshots are written as .png\n", v);
+        return 2;
+      }
       o.screenshot = v;
       i++;
     } else if (!strcmp(a, "--keys")) {

@@ -368,7 +368,8 @@ int run(scene *s, const run_options *o, FILE *log) {
   bbcgl_context *ctx = o->headless ? bbcgl_context_headless(o->width, o->height, err)
                                    : bbcgl_context_window(o->width, o->height, "forest", err);
   if (!ctx) {
-    fprintf(stderr, "forest: %s\n", err);
+    fprintf(stderr, "forest: %s%s\n", err,
+            o->headless ? "" : "; headless drawing needs --size WxH");
     if (log) fprintf(log, "error: %s\n", err);
     return 1;
   }

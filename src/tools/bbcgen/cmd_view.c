@@ -247,9 +247,11 @@ int show_model(const cli *c, const bbc_mesh *model, const bbc_cloud *cloud, cons
   GLFWwindow *win = bbcgl_context_window_handle(ctx);
   glfwSetWindowUserPointer(win, &s);
   glfwSetKeyCallback(win, on_key);
-  glfwSetMouseButtonCallback(win, on_button);
-  glfwSetCursorPosCallback(win, on_cursor);
-  glfwSetScrollCallback(win, on_scroll);
+  if (!keys) { /* scripted keys are the only input of a scripted run */
+    glfwSetMouseButtonCallback(win, on_button);
+    glfwSetCursorPosCallback(win, on_cursor);
+    glfwSetScrollCallback(win, on_scroll);
+  }
   cli_info(c, "show: arrow keys change the view (input, rectangles, cloud with rectangles, "
               "cloud), mouse drag turns, wheel zooms, Tab resets, F1 wireframe, F5 lighting, "
               "F12 background, Esc back to the prompt");

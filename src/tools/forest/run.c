@@ -460,7 +460,10 @@ int run(scene *s, const run_options *o, FILE *log) {
   if (win) {
     glfwSetWindowUserPointer(win, &st);
     glfwSetKeyCallback(win, on_key);
-    glfwSetCursorPosCallback(win, on_mouse);
+    /* scripted keys are the only input: the pointer's events (one arrives
+     * when the window appears under it, at a moment that varies) would turn
+     * the camera and make the run differ from one time to the next */
+    if (!o->keys) glfwSetCursorPosCallback(win, on_mouse);
     if (!o->keys) glfwSetInputMode(win, GLFW_CURSOR, GLFW_CURSOR_DISABLED);
   }
   size_t frames = o->frames > 0 ? (size_t)o->frames : (path_count > 1 ? path_count * 30 : 1);

@@ -389,7 +389,7 @@ int main(int argc, char **argv) {
     if (w.height[i] > hi) hi = w.height[i];
   }
   printf("map: %s\n", map_path);
-  printf("terrain: %d x %d vertices (%d-bit heightmap), %g units apart, heights %g to %g\n",
+  printf("terrain: %d x %d vertices (%d-bit heightmap), %g units apart, heights %.2f to %.2f\n",
          w.width, w.depth, w.heightmap_bits, w.spacing, lo, hi);
   if (w.note[0]) printf("note: %s\n", w.note);
   if (w.colour.rgba) printf("colour map: %d x %d\n", w.colour.width, w.colour.height);

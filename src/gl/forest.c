@@ -661,39 +661,25 @@ int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *m, int
   p->bucket = bucket;
   p->triangles = m->triangle_count;
   p->billboards = billboards;
-  /* vertices: position, normal, uv (8 floats) */
-  size_t nv = m->vertex_count;
-  float *v = malloc(nv * 8 * sizeof *v);
-  uint32_t *idx = malloc(m->triangle_count * 3 * sizeof *idx);
-  p->batches = calloc(m->material_count ? m->material_count : 1, sizeof *p->batches);
-  if (!v || !idx || !p->batches) {
-    free(v);
-    free(idx);
+  size_t groups = m->material_count ? m->material_count : 1;
+  size_t *first = malloc(groups * sizeof *first), *count = malloc(groups * sizeof *count);
+  p->batches = calloc(groups, sizeof *p->batches);
+  float *v = NULL;
+  uint32_t *idx = NULL;
+  if (!first || !count || !p->batches ||
+      !bbcgl__mesh_upload(m, &p->vao, &p->vbo, &p->ebo, first, count, &v, &idx, err)) {
+    if (!first || !count || !p->batches) snprintf(err, BBCGL_ERR, "out of memory");
+    free(first);
+    free(count);
     free(p->batches);
-    snprintf(err, BBCGL_ERR, "out of memory");
     return 0;
   }
-  for (size_t i = 0; i < nv; i++) {
-    float *o = v + 8 * i;
-    for (int k = 0; k < 3; k++) o[k] = (float)m->positions[3 * i + k];
-    for (int k = 0; k < 3; k++) o[3 + k] = m->normals ? m->normals[3 * i + k] : (k == 1);
-    o[6] = m->uvs ? m->uvs[2 * i] : 0;
-    o[7] = m->uvs ? m->uvs[2 * i + 1] : 0;
-  }
-  /* triangles grouped by material, materials in order */
-  size_t k = 0;
   for (size_t mat = 0; mat < m->material_count; mat++) {
-    size_t first = k;
-    for (size_t t = 0; t < m->triangle_count; t++)
-      if (m->face_material[t] == mat) {
-        memcpy(idx + k, m->indices + 3 * t, 3 * sizeof *idx);
-        k += 3;
-      }
-    if (k == first) continue;
+    if (!count[mat]) continue;
     const bbc_material *ma = &m->materials[mat];
     batch *b = &p->batches[p->batch_count++];
-    b->first = first;
-    b->count = k - first;
+    b->first = first[mat];
+    b->count = count[mat];
     memcpy(b->base, ma->base_color, sizeof b->base);
     b->lit = lit && !ma->unlit;
     b->gain = light_gain > 0 ? light_gain : 1.0f;
@@ -709,11 +695,18 @@ int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *m, int
       if (!b->tex) {
         free(v);
         free(idx);
+        free(first);
+        free(count);
         free(p->batches);
+        GLuint bufs[2] = {p->vbo, p->ebo};
+        glDeleteBuffers(2, bufs);
+        glDeleteVertexArrays(1, &p->vao);
         return 0;
       }
     }
   }
+  free(first);
+  free(count);
   /* the naive mode's draw calls: each billboard (consecutive triangles in
    * one plane) on its own */
   for (size_t bi = 0; bi < p->batch_count; bi++) {
@@ -744,23 +737,10 @@ int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *m, int
       prev[3] = d;
     }
   }
-  glCreateVertexArrays(1, &p->vao);
-  glCreateBuffers(1, &p->vbo);
-  glCreateBuffers(1, &p->ebo);
-  glNamedBufferStorage(p->vbo, (GLsizeiptr)(nv * 8 * sizeof *v), v, 0);
-  glNamedBufferStorage(p->ebo, (GLsizeiptr)(k * sizeof *idx), idx, 0);
   free(v);
   free(idx);
+  /* the instance records: attributes 3 (x, y, z, yaw) and 4 (scale, fade) */
   GLuint a = p->vao;
-  glVertexArrayVertexBuffer(a, 0, p->vbo, 0, 8 * sizeof(float));
-  glVertexArrayElementBuffer(a, p->ebo);
-  static const int size[3] = {3, 3, 2}, off[3] = {0, 3, 6};
-  for (int i = 0; i < 3; i++) {
-    glEnableVertexArrayAttrib(a, (GLuint)i);
-    glVertexArrayAttribFormat(a, (GLuint)i, size[i], GL_FLOAT, GL_FALSE,
-                              (GLuint)(off[i] * sizeof(float)));
-    glVertexArrayAttribBinding(a, (GLuint)i, 0);
-  }
   glEnableVertexArrayAttrib(a, 3);
   glVertexArrayAttribFormat(a, 3, 4, GL_FLOAT, GL_FALSE, 0);
   glVertexArrayAttribBinding(a, 3, 1);
@@ -947,6 +927,22 @@ static int upload_instances(bbcgl_forest *f, const bbc_forest_cull *c) {
   return 1;
 }
 
+/* One material of a part: its texture (when not bound already), its
+ * uniforms, and `n` commands of the bound indirect buffer from `first`. */
+static void multi_draw(bbcgl_forest *f, const batch *ba, size_t first, size_t n, GLuint *bound,
+                       bbcgl_stats *st) {
+  if (ba->tex && ba->tex != *bound) {
+    glBindTextureUnit(0, ba->tex);
+    *bound = ba->tex;
+    st->texture_binds++;
+  }
+  set_batch(f, ba);
+  glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
+                              (const void *)(first * 5 * sizeof(uint32_t)), (GLsizei)n, 0);
+  st->draw_calls++;
+  st->draw_commands += n;
+}
+
 /* The parts' VAOs take their instance records from `buf`. */
 static void vao_source(bbcgl_forest *f, GLuint buf) {
   if (f->vao_source == buf) return;
@@ -1090,19 +1086,8 @@ static void draw_objects_gpu(bbcgl_forest *f, const bbc_forest_cull *c, bbcgl_st
     const part *pt = &f->parts[i];
     if (pt->bucket >= c->bucket_count) continue;
     glBindVertexArray(pt->vao);
-    for (size_t bi = 0; bi < pt->batch_count; bi++, k++) {
-      const batch *ba = &pt->batches[bi];
-      if (ba->tex && ba->tex != bound) {
-        glBindTextureUnit(0, ba->tex);
-        bound = ba->tex;
-        st->texture_binds++;
-      }
-      set_batch(f, ba);
-      glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
-                                  (const void *)(k * 5 * sizeof(uint32_t)), 1, 0);
-      st->draw_calls++;
-      st->draw_commands++;
-    }
+    for (size_t bi = 0; bi < pt->batch_count; bi++, k++)
+      multi_draw(f, &pt->batches[bi], k, 1, &bound, st);
   }
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
   /* the statistics: the counters read back (waits for the culling) */
@@ -1209,17 +1194,8 @@ static void draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_fores
     glBindVertexArray(pt->vao);
     for (size_t bi = 0; bi < pt->batch_count; bi++) {
       const batch *ba = &pt->batches[bi];
-      if (ba->tex && ba->tex != bound) {
-        glBindTextureUnit(0, ba->tex);
-        bound = ba->tex;
-        st->texture_binds++;
-      }
-      set_batch(f, ba);
-      glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
-                                  (const void *)(k * sizeof *f->cmds), (GLsizei)per, 0);
+      multi_draw(f, ba, k, per, &bound, st);
       k += per;
-      st->draw_calls++;
-      st->draw_commands += per;
       st->triangles += count * ba->count / 3;
     }
     st->billboards += count * pt->billboards;

@@ -2,6 +2,8 @@
 #include "shader.h"
 
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 static GLuint compile(GLenum type, const char *src, const char *name, char *err) {
   GLuint s = glCreateShader(type);
@@ -52,4 +54,57 @@ GLuint bbcgl__program(const char *vs, const char *fs, const char *name, char *er
   }
   GLuint sh[3] = {v, f, 0};
   return link(sh, name, err);
+}
+
+int bbcgl__mesh_upload(const bbc_mesh *m, GLuint *vao, GLuint *vbo, GLuint *ebo, size_t *first,
+                       size_t *count, float **keep_vertices, uint32_t **keep_indices, char *err) {
+  size_t nv = m->vertex_count, groups = m->material_count ? m->material_count : 1;
+  float *v = malloc((nv ? nv : 1) * 8 * sizeof *v);
+  uint32_t *idx = malloc((m->triangle_count ? m->triangle_count * 3 : 1) * sizeof *idx);
+  if (!v || !idx) {
+    free(v);
+    free(idx);
+    snprintf(err, BBCGL_ERR, "out of memory");
+    return 0;
+  }
+  for (size_t i = 0; i < nv; i++) {
+    float *o = v + 8 * i;
+    for (int k = 0; k < 3; k++) o[k] = (float)m->positions[3 * i + k];
+    for (int k = 0; k < 3; k++) o[3 + k] = m->normals ? m->normals[3 * i + k] : (k == 1);
+    o[6] = m->uvs ? m->uvs[2 * i] : 0;
+    o[7] = m->uvs ? m->uvs[2 * i + 1] : 0;
+  }
+  size_t k = 0;
+  for (size_t mat = 0; mat < groups; mat++) {
+    first[mat] = k;
+    for (size_t t = 0; t < m->triangle_count; t++)
+      if ((m->face_material ? m->face_material[t] : 0) == mat) {
+        memcpy(idx + k, m->indices + 3 * t, 3 * sizeof *idx);
+        k += 3;
+      }
+    count[mat] = k - first[mat];
+  }
+  glCreateVertexArrays(1, vao);
+  glCreateBuffers(1, vbo);
+  glCreateBuffers(1, ebo);
+  glNamedBufferStorage(*vbo, (GLsizeiptr)((nv ? nv : 1) * 8 * sizeof *v), v, 0);
+  glNamedBufferStorage(*ebo, (GLsizeiptr)((k ? k : 1) * sizeof *idx), idx, 0);
+  glVertexArrayVertexBuffer(*vao, 0, *vbo, 0, 8 * sizeof(float));
+  glVertexArrayElementBuffer(*vao, *ebo);
+  static const int size[3] = {3, 3, 2}, off[3] = {0, 3, 6};
+  for (int i = 0; i < 3; i++) {
+    glEnableVertexArrayAttrib(*vao, (GLuint)i);
+    glVertexArrayAttribFormat(*vao, (GLuint)i, size[i], GL_FLOAT, GL_FALSE,
+                              (GLuint)(off[i] * sizeof(float)));
+    glVertexArrayAttribBinding(*vao, (GLuint)i, 0);
+  }
+  if (keep_vertices)
+    *keep_vertices = v;
+  else
+    free(v);
+  if (keep_indices)
+    *keep_indices = idx;
+  else
+    free(idx);
+  return 1;
 }

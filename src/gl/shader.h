@@ -1,5 +1,6 @@
-/* shader.h — the drawing layer's GLSL programs (src/gl only). Failures
- * return 0 with the compiler's or linker's message in err (BBCGL_ERR). */
+/* shader.h — what the drawing layer's renderers share (src/gl only): GLSL
+ * programs and mesh upload. Failures return 0 with a message in err
+ * (BBCGL_ERR). */
 #ifndef BBCGL_SHADER_H
 #define BBCGL_SHADER_H
 
@@ -11,5 +12,14 @@
 GLuint bbcgl__program(const char *vs, const char *fs, const char *name, char *err);
 /* A program of one compute shader. */
 GLuint bbcgl__compute_program(const char *cs, const char *name, char *err);
+
+/* A mesh on the GPU: its vertices (position, normal, uv: 8 floats) and its
+ * triangles grouped by material, materials in order, in new buffers vbo
+ * and ebo with a VAO whose attributes 0, 1, 2 read them from binding 0.
+ * first[g], count[g]: each material's indices (one group when the mesh has
+ * no materials; arrays of that many). keep_vertices / keep_indices (may be
+ * NULL) get the packed arrays, the caller's to free. */
+int bbcgl__mesh_upload(const bbc_mesh *mesh, GLuint *vao, GLuint *vbo, GLuint *ebo, size_t *first,
+                       size_t *count, float **keep_vertices, uint32_t **keep_indices, char *err);
 
 #endif

@@ -121,24 +121,17 @@ static int vmesh_build(vmesh *g, const bbc_mesh *m, char *err) {
     snprintf(err, BBCGL_ERR, "the viewer draws triangle meshes (point clouds are not supported)");
     return 0;
   }
-  size_t nv = m->vertex_count;
-  float *v = malloc(nv * 8 * sizeof *v);
-  uint32_t *idx = malloc(m->triangle_count * 3 * sizeof *idx);
-  g->batches = calloc(m->material_count ? m->material_count : 1, sizeof *g->batches);
+  size_t groups = m->material_count ? m->material_count : 1;
+  size_t *first = malloc(groups * sizeof *first), *count = malloc(groups * sizeof *count);
+  g->batches = calloc(groups, sizeof *g->batches);
   g->textures = calloc(m->texture_count ? m->texture_count : 1, sizeof *g->textures);
-  if (!v || !idx || !g->batches || !g->textures) {
-    free(v);
-    free(idx);
+  if (!first || !count || !g->batches || !g->textures ||
+      !bbcgl__mesh_upload(m, &g->vao, &g->vbo, &g->ebo, first, count, NULL, NULL, err)) {
+    if (!first || !count || !g->batches || !g->textures) snprintf(err, BBCGL_ERR, "out of memory");
+    free(first);
+    free(count);
     vmesh_free(g);
-    snprintf(err, BBCGL_ERR, "out of memory");
     return 0;
-  }
-  for (size_t i = 0; i < nv; i++) {
-    float *o = v + 8 * i;
-    for (int k = 0; k < 3; k++) o[k] = (float)m->positions[3 * i + k];
-    for (int k = 0; k < 3; k++) o[3 + k] = m->normals ? m->normals[3 * i + k] : (k == 1);
-    o[6] = m->uvs ? m->uvs[2 * i] : 0;
-    o[7] = m->uvs ? m->uvs[2 * i + 1] : 0;
   }
   g->texture_count = m->texture_count;
   if (m->texture_count) glCreateTextures(GL_TEXTURE_2D, (GLsizei)m->texture_count, g->textures);
@@ -154,18 +147,11 @@ static int vmesh_build(vmesh *g, const bbc_mesh *m, char *err) {
     glTextureParameteri(g->textures[t], GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTextureParameteri(g->textures[t], GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   }
-  size_t k = 0;
-  for (size_t mat = 0; mat < (m->material_count ? m->material_count : 1); mat++) {
-    size_t first = k;
-    for (size_t t = 0; t < m->triangle_count; t++)
-      if ((m->face_material ? m->face_material[t] : 0) == mat) {
-        memcpy(idx + k, m->indices + 3 * t, 3 * sizeof *idx);
-        k += 3;
-      }
-    if (k == first) continue;
+  for (size_t mat = 0; mat < groups; mat++) {
+    if (!count[mat]) continue;
     vbatch *b = &g->batches[g->batch_count++];
-    b->first = first;
-    b->count = k - first;
+    b->first = first[mat];
+    b->count = count[mat];
     b->base[0] = b->base[1] = b->base[2] = b->base[3] = 1;
     if (m->material_count) {
       const bbc_material *ma = &m->materials[mat];
@@ -176,22 +162,8 @@ static int vmesh_build(vmesh *g, const bbc_mesh *m, char *err) {
         b->tex = g->textures[ma->texture];
     }
   }
-  glCreateVertexArrays(1, &g->vao);
-  glCreateBuffers(1, &g->vbo);
-  glCreateBuffers(1, &g->ebo);
-  glNamedBufferStorage(g->vbo, (GLsizeiptr)(nv * 8 * sizeof *v), v, 0);
-  glNamedBufferStorage(g->ebo, (GLsizeiptr)(k * sizeof *idx), idx, 0);
-  free(v);
-  free(idx);
-  glVertexArrayVertexBuffer(g->vao, 0, g->vbo, 0, 8 * sizeof(float));
-  glVertexArrayElementBuffer(g->vao, g->ebo);
-  static const int size[3] = {3, 3, 2}, off[3] = {0, 3, 6};
-  for (int i = 0; i < 3; i++) {
-    glEnableVertexArrayAttrib(g->vao, (GLuint)i);
-    glVertexArrayAttribFormat(g->vao, (GLuint)i, size[i], GL_FLOAT, GL_FALSE,
-                              (GLuint)(off[i] * sizeof(float)));
-    glVertexArrayAttribBinding(g->vao, (GLuint)i, 0);
-  }
+  free(first);
+  free(count);
   return 1;
 }
 

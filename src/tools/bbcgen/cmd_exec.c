@@ -88,20 +88,23 @@ static const struct {
 
 static int exec_file(cli *c, batch *b, const char *file);
 
+/* After bbc or bbc3: what save names the folder by, the computed cloud
+ * shown again (not bbcload's), the info line. */
+static void made_cloud(const cli *c, batch *b, int step3_only) {
+  b->cloud_params = c->params;
+  b->show_loaded = 0;
+  job_info(c, bbc_session_planeset(b->sess), bbc_session_result(b->sess), &c->params, step3_only);
+}
+
 static void help(const char *which) {
   for (size_t i = 0; i < COMMAND_COUNT; i++)
     if (!which || !strcmp(which, k_commands[i].name))
       printf("  %-7s %-12s %s\n", k_commands[i].name, k_commands[i].args, k_commands[i].what);
 }
 
-/* One command line (already trimmed, not empty). Errors name file:line
- * when there is a file. */
-static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno) {
-  char where[4200];
-  if (file)
-    snprintf(where, sizeof where, "%s:%d: ", file, lineno);
-  else
-    where[0] = 0;
+/* One command line (already trimmed, not empty). In a batch file every
+ * error names file:line (cli_location, set by exec_file). */
+static int exec_command(cli *c, batch *b, char *s) {
   char *cmd = strtok(s, " \t");
   char *a1 = strtok(NULL, " \t");
   char *a2 = strtok(NULL, "");
@@ -116,7 +119,7 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
      * here; nomip is not supported. */
     for (char *w = a2 ? strtok(a2, " \t") : NULL; w; w = strtok(NULL, " \t"))
       if (strcmp(w, "nocg")) {
-        cli_error("%sload: '%s' is not supported (load FILE [nocg])", where, w);
+        cli_error("load: '%s' is not supported (load FILE [nocg])", w);
         return EXIT_USAGE;
       }
     bbc_load_options lo;
@@ -134,7 +137,7 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
       for (size_t i = 0; i < bbc_param_count() && n < 127; i++) list[n++] = bbc_param_at(i)->name;
       list[n] = NULL;
       const char *near = cli_closest(name, list);
-      cli_error("%sset: no parameter '%s'%s%s%s (setup lists them)", where, name,
+      cli_error("set: no parameter '%s'%s%s%s (setup lists them)", name,
                 near ? " (did you mean " : "", near ? near : "", near ? "?)" : "");
       return EXIT_USAGE;
     }
@@ -143,7 +146,7 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
     char *fake[2] = {"--set", assignment};
     int i = 0;
     int k = cli_common_option(c, 2, fake, &i);
-    if (k == 0) cli_error("%sbad set command", where);
+    if (k == 0) cli_error("bad set command");
     if (k != 1) rc = EXIT_USAGE;
   } else if (!strcmp(cmd, "split")) {
     if (!a1) goto missing;
@@ -155,17 +158,17 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
       char *fake[2] = {opt, b->pattern[t]};
       int i = 0;
       if (!b->pattern[t][0]) {
-        cli_error("%ssplit %s= needs patterns", where, t ? "trunk" : "foliage");
+        cli_error("split %s= needs patterns", t ? "trunk" : "foliage");
         rc = EXIT_USAGE;
       } else if (cli_common_option(c, 2, fake, &i) != 1) {
-        cli_error("%sbad split command", where);
+        cli_error("bad split command");
         rc = EXIT_USAGE;
       }
     } else {
       char *fake[2] = {"--split", a1};
       int i = 0;
       if (cli_common_option(c, 2, fake, &i) != 1) {
-        cli_error("%sbad split command", where);
+        cli_error("bad split command");
         rc = EXIT_USAGE;
       }
     }
@@ -177,7 +180,7 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
     int known = !a1;
     for (size_t i = 0; a1 && i < COMMAND_COUNT; i++) known |= !strcmp(a1, k_commands[i].name);
     if (!known) {
-      cli_error("%shelp: no command '%s' (help lists them)", where, a1);
+      cli_error("help: no command '%s' (help lists them)", a1);
       rc = EXIT_USAGE;
     } else {
       help(a1);
@@ -187,7 +190,7 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
   } else if (!strcmp(cmd, "exec")) {
     if (!a1) goto missing;
     if (b->depth >= 8) {
-      cli_error("%sexec %s: batch files nested more than 8 deep", where, a1);
+      cli_error("exec %s: batch files nested more than 8 deep", a1);
       rc = EXIT_USAGE;
     } else {
       b->depth++;
@@ -203,7 +206,7 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
   } else if (!strcmp(cmd, "bbc2")) {
     if (!b->model[0]) goto noload;
     if (!b->want_steps) {
-      cli_error("%sbbc2 needs bbc1 first", where);
+      cli_error("bbc2 needs bbc1 first");
       return EXIT_USAGE;
     }
     bbc_planes_options po;
@@ -219,36 +222,32 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
     const char *which = NULL;
     int step = bbc_session_stale(b->sess, &po, &which);
     if (step < 0) {
-      cli_error("%sbbc3 needs the planes of bbc2 (after bbc1) or bbc first", where);
+      cli_error("bbc3 needs the planes of bbc2 (after bbc1) or bbc first");
       return EXIT_USAGE;
     }
     if (step == 1 || step == 2) {
-      cli_error("%sbbc3: %s changed since the planes were found, and it needs step %d again: "
+      cli_error("bbc3: %s changed since the planes were found, and it needs step %d again: "
                 "run %s",
-                where, which, step, step == 1 ? "bbc1 and bbc2 (or bbc)" : "bbc2 (or bbc)");
+                which, step, step == 1 ? "bbc1 and bbc2 (or bbc)" : "bbc2 (or bbc)");
       return EXIT_USAGE;
     }
     bbc_error e;
     if (bbc_session_cloud(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
-    b->cloud_params = c->params;
-    b->show_loaded = 0;
-    job_info(c, bbc_session_planeset(b->sess), bbc_session_result(b->sess), &c->params, 1);
+    made_cloud(c, b, 1);
   } else if (!strcmp(cmd, "bbc")) {
     if (!b->model[0]) goto noload;
     bbc_planes_options po;
     if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
     bbc_error e;
     if (bbc_session_run(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
-    b->cloud_params = c->params;
-    b->show_loaded = 0;
-    job_info(c, bbc_session_planeset(b->sess), bbc_session_result(b->sess), &c->params, 0);
+    made_cloud(c, b, 0);
   } else if (!strcmp(cmd, "shade")) {
     if (!a1) goto missing;
     char *e1, *e2 = NULL;
     long n = strtol(a1, &e1, 10);
     double amb = a2 ? strtod(a2, &e2) : 0;
     if (*e1 || n < 0 || n > 512 || (a2 && (*e2 || !(amb >= 0 && amb <= 1)))) {
-      cli_error("%sshade NUMVOXELS [AMBIENT]: voxels 0..512, ambient 0..1", where);
+      cli_error("shade NUMVOXELS [AMBIENT]: voxels 0..512, ambient 0..1");
       return EXIT_USAGE;
     }
     c->params.shade_voxels = (int)n;
@@ -256,7 +255,7 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
   } else if (!strcmp(cmd, "save")) {
     const bbc_cloud *cloud = bbc_session_result(b->sess);
     if (!cloud) {
-      cli_error("%ssave needs a Billboard Cloud: run bbc or bbc3 first", where);
+      cli_error("save needs a Billboard Cloud: run bbc or bbc3 first");
       return EXIT_USAGE;
     }
     /* the writers take a job: a view of the session's model, planes and cloud */
@@ -273,7 +272,7 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
   } else if (!strcmp(cmd, "show")) {
     /* show model [KEYS...]: the window; keys script it (tests) */
     if (!a1 || strcmp(a1, "model")) {
-      cli_error("%sshow %s: only `show model` is built yet (show bbc is not)", where,
+      cli_error("show %s: only `show model` is built yet (show bbc is not)",
                 a1 ? a1 : "needs model or bbc:");
       return EXIT_USAGE;
     }
@@ -296,15 +295,15 @@ static int exec_command(cli *c, batch *b, char *s, const char *file, int lineno)
     cli_info(c, "bbcload %s: %zu triangles; show model shows it as the cloud", a1,
              m.triangle_count);
   } else {
-    cli_error("%s'%s' is not a command (help lists them)", where, cmd);
+    cli_error("'%s' is not a command (help lists them)", cmd);
     rc = EXIT_USAGE;
   }
   return rc;
 missing:
-  cli_error("%s%s needs %s", where, cmd, !strcmp(cmd, "set") ? "NAME VALUE" : "an argument");
+  cli_error("%s needs %s", cmd, !strcmp(cmd, "set") ? "NAME VALUE" : "an argument");
   return EXIT_USAGE;
 noload:
-  cli_error("%s%s before load", where, cmd);
+  cli_error("%s before load", cmd);
   return EXIT_USAGE;
 }
 
@@ -330,7 +329,7 @@ static int exec_file(cli *c, batch *b, const char *file) {
     snprintf(loc, sizeof loc, "%s:%d: ", file, lineno);
     const char *outer = cli_location;
     cli_location = loc;
-    rc = exec_command(c, b, s, file, lineno);
+    rc = exec_command(c, b, s);
     cli_location = outer;
   }
   fclose(f);
@@ -459,7 +458,7 @@ int cmd_prompt(cli *c, const char *batch_file) {
       sigemptyset(&sa.sa_mask);
       cli_interrupted = 0;
       sigaction(SIGINT, &sa, &old);
-      int r = exec_command(c, b, s, NULL, 0);
+      int r = exec_command(c, b, s);
       if (r != EXIT_OK) rc = r; /* the status: the last command that failed (0: none) */
       sigaction(SIGINT, &old, NULL);
       if (cli_interrupted)

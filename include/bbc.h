@@ -565,6 +565,86 @@ int bbc_planes_options_first_step(const bbc_planes_options *before, const bbc_pl
 bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *options,
                            bbc_planeset *set, bbc_error *err);
 
+/* The same as two calls, so that step 2 can run again on the same step 1
+ * (Appendix A's bbc1 and bbc2): bbc_planes_find is bbc_grid_build then
+ * bbc_planes_select, with identical results. */
+typedef struct bbc_grid bbc_grid;
+/* Step 1: the model split into parts, each part's faces in dual form and its
+ * dual grid of plane space with the faces' density (2.1.4-2.1.7), at the
+ * asked epsilon. The grid keeps a copy of the options (split texts too). */
+bbc_result bbc_grid_build(const bbc_mesh *mesh, const bbc_planes_options *options, bbc_grid **grid,
+                          bbc_error *err);
+void bbc_grid_free(bbc_grid *grid);
+/* Step 2 on a grid of step 1 (the greedy select and what follows it, on a
+ * copy of the density: the grid stays whole for the next call). `options`
+ * may differ from the grid's only in step-2 and step-3 parameters
+ * (bbc_planes_options_first_step != 1), else BBC_ERROR_INVALID_ARGUMENT
+ * naming the parameter. When maxplanes/minplanes move epsilon, the grids at
+ * the other epsilons are built into `grid` and kept too. */
+bbc_result bbc_planes_select(bbc_grid *grid, const bbc_planes_options *options, bbc_planeset *set,
+                             bbc_error *err);
+
+/* ---- the algorithm's internals as pictures (Appendix A `show bbc`) ----- */
+/* Coloured geometry for a viewer to draw as it is (src/gl/viewer.c):
+ * triangles and line segments, 6 floats a vertex (x y z r g b). */
+typedef struct bbc_geometry {
+  float *tris; /* 3 vertices a triangle */
+  size_t tri_count;
+  float *lines; /* 2 vertices a segment */
+  size_t line_count;
+  double center[3], radius; /* what frames it */
+} bbc_geometry;
+void bbc_geometry_free(bbc_geometry *geometry);
+
+/* The four grid views. They are drawn in a box: theta (-180..180 deg) along
+ * x in [-2, 2], rho (the grid's range, from just below 0 to the part's
+ * radius + epsilon) along y in [0, 2], phi (-90..90 deg) along z in
+ * [1, -1]; the box's edges grey, its theta edge red, rho green, phi blue. */
+typedef enum bbc_grid_view_kind {
+  BBC_GRID_VIEW_DOMAIN = 0, /* the face's discretised validity domain: the cells
+                             * step 1 counts it in (simple validity), light blue */
+  BBC_GRID_VIEW_CONTINUOUS, /* its continuous validity domain: the exact range
+                             * of rho per direction, lower sheet orange, upper
+                             * sheet yellow */
+  BBC_GRID_VIEW_BOTH,       /* the cells as blue edges with the sheets */
+  BBC_GRID_VIEW_DENSITY     /* the grid's density (contribution minus penalty)
+                             * as cubes sized and coloured by it, blue to red */
+} bbc_grid_view_kind;
+
+typedef struct bbc_grid_view_options {
+  bbc_grid_view_kind kind;
+  size_t part; /* index of the part (bbc_grid_part_count) */
+  size_t face; /* the selected face: an index within the part */
+  int vertex;  /* continuous views: -1 the face's domain, 0-2 one vertex's (F6) */
+  int volume;  /* continuous views: lines across the domain between its sheets (F7) */
+} bbc_grid_view_options;
+/* The grid at the epsilon of the planes step 2 returned last (else as
+ * asked). */
+bbc_result bbc_grid_view(const bbc_grid *grid, const bbc_grid_view_options *options,
+                         bbc_geometry *out, bbc_error *err);
+size_t bbc_grid_part_count(const bbc_grid *grid);
+const char *bbc_grid_part_name(const bbc_grid *grid, size_t part); /* NULL: no such part */
+size_t bbc_grid_part_faces(const bbc_grid *grid, size_t part);
+/* The mesh triangle of a part's face, -1 when there is none. */
+int64_t bbc_grid_face_triangle(const bbc_grid *grid, size_t part, size_t face);
+/* The part's face of the largest area (the views' first selection). */
+size_t bbc_grid_largest_face(const bbc_grid *grid, size_t part);
+/* The part's epsilon in model units in the views' grid. */
+double bbc_grid_epsilon(const bbc_grid *grid, size_t part);
+
+/* The faces view: per triangle of the mesh one state, */
+enum {
+  BBC_FACE_DONE = 0,      /* simplified already: not drawn */
+  BBC_FACE_REMAINING = 1, /* wireframe, grey */
+  BBC_FACE_VALID = 2      /* valid for the current plane: solid blue */
+};
+/* and the selected triangle solid yellow (state NULL: all remaining). */
+bbc_result bbc_faces_view(const bbc_mesh *mesh, const uint8_t *state, size_t selected,
+                          bbc_geometry *out, bbc_error *err);
+/* States after step 2: the faces of the selected triangle's plane valid,
+ * the others remaining (set NULL: all remaining). */
+void bbc_faces_state(const bbc_planeset *set, size_t selected, uint8_t *state, size_t count);
+
 /* The billboard of a plane (thesis 2.1.9): the minimum-area rectangle, on
  * the plane, around its faces' projected vertices (convex hull and rotating
  * calipers). A cardboard plane's rectangle surrounds its mother's faces that
@@ -903,21 +983,31 @@ void bbc_session_free(bbc_session *session);
 /* Loads a model in place of the current one (planes and cloud dropped). */
 bbc_result bbc_session_load(bbc_session *session, const char *path, const bbc_load_options *options,
                             bbc_error *err);
-/* Steps 1 and 2 (the cloud is dropped). */
+/* Step 1 (bbc1): the grid; planes and cloud are dropped. */
+bbc_result bbc_session_grid(bbc_session *session, const bbc_planes_options *options,
+                            bbc_error *err);
+/* Step 2 (bbc2) on the kept grid (the cloud is dropped); refused
+ * (BBC_ERROR_INVALID_ARGUMENT, naming the parameter) without a grid or when
+ * `options` changed something step 1 uses. */
 bbc_result bbc_session_planes(bbc_session *session, const bbc_planes_options *options,
                               bbc_error *err);
 /* Step 3 on the kept planes; refused (BBC_ERROR_INVALID_ARGUMENT, naming
  * the parameter) when `options` changed something steps 1 or 2 use. */
 bbc_result bbc_session_cloud(bbc_session *session, const bbc_planes_options *options,
                              bbc_error *err);
-/* Steps 1 to 3. */
+/* Steps 1 to 3, all of them again. */
 bbc_result bbc_session_run(bbc_session *session, const bbc_planes_options *options, bbc_error *err);
 /* The first step `options` would need again (bbc_planes_options_first_step
  * against the planes' options; 0: none), -1 without planes. */
 int bbc_session_stale(const bbc_session *session, const bbc_planes_options *options,
                       const char **which);
+/* The same against the grid's options: 1 when step 1 is needed again, 0
+ * when the grid serves `options`, -1 without a grid. */
+int bbc_session_grid_stale(const bbc_session *session, const bbc_planes_options *options,
+                           const char **which);
 /* What the session holds now, or NULL. */
 const bbc_mesh *bbc_session_model(const bbc_session *session);
+const bbc_grid *bbc_session_grid_get(const bbc_session *session);
 const bbc_planeset *bbc_session_planeset(const bbc_session *session);
 const bbc_cloud *bbc_session_result(const bbc_session *session);
 

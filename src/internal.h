@@ -54,6 +54,13 @@ char *bbc__strdup(const char *s);
 /* Seconds from a monotonic clock (stage timings). */
 double bbc__now_s(void);
 
+/* A copy of planes options whose split pattern texts live in `text` (the
+ * caller's may change); callbacks cleared. */
+void bbc__planes_options_copy(bbc_planes_options *dst, char text[3][4096],
+                              const bbc_planes_options *src);
+/* The options a grid's step 1 ran with. */
+const bbc_planes_options *bbc__grid_options(const bbc_grid *grid);
+
 /* Checks that `path` names a readable regular file; BBC_ERROR_NOT_FOUND,
  * BBC_ERROR_NOT_A_FILE or BBC_ERROR_IO with a message otherwise. */
 bbc_result bbc__check_input_file(const char *path, bbc_error *err);

@@ -449,6 +449,32 @@ static void test_exec_state(void **state) {
     free(ta);
     free(tb);
   }
+  /* bbc2 on the grid of bbc1 after a step-2 change: the cloud of a full run */
+  const char *pairs[2][2] = {
+      {"c",
+       "bbc1\nset punishval 0.5\nset maxplanes 20\nbbc2\nset texres 32\nset quality 0\nbbc3\n"},
+      {"d", "set punishval 0.5\nset maxplanes 20\nset texres 32\nset quality 0\nbbc\n"}};
+  for (int k = 0; k < 2; k++) {
+    snprintf(text, sizeof text, "load %s\n%ssave %s\n", path, pairs[k][1], pairs[k][0]);
+    bf = tu_write_file(tu_dir, "kept.bbc", text, strlen(text));
+    snprintf(cmd, sizeof cmd, "cd '%s' && '%s/bbcgen' exec '%s' -q > /dev/null 2>&1", tu_dir,
+             BBC_BIN_DIR, bf);
+    st = system(cmd);
+    assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+    free(bf);
+  }
+  for (int i = 0; i < 2; i++) {
+    char fa[2048], fb[2048];
+    snprintf(fa, sizeof fa, "%s/vrml97models/c/Tree_1/Tree_1_e6.00_tex32_pl/%s", tu_dir, files[i]);
+    snprintf(fb, sizeof fb, "%s/vrml97models/d/Tree_1/Tree_1_e6.00_tex32_pl/%s", tu_dir, files[i]);
+    size_t na, nb;
+    unsigned char *ta = tu_read_file(fa, &na), *tb = tu_read_file(fb, &nb);
+    if (!ta || !tb) fail_msg("missing %s or %s", fa, fb);
+    assert_int_equal(na, nb);
+    assert_memory_equal(ta, tb, na);
+    free(ta);
+    free(tb);
+  }
   /* what a change needs, and commands out of order */
   const char *cases[][3] = {
       {"bbc\nset epsilon 8\nbbc3\n", "epsilon", "run bbc1 and bbc2"},
@@ -459,7 +485,9 @@ static void test_exec_state(void **state) {
       {"bbc\nset foliage.punishval 0.3\nbbc3\n", "foliage.punishval", "run bbc2"},
       {"bbc1\nbbc2\nsave x\n", "save needs a Billboard Cloud", ":4:"},
       {"bbc3\n", "bbc3 needs the planes", ":2:"},
-      {"bbc2\n", "bbc2 needs bbc1", ":2:"},
+      {"bbc2\n", "bbc2 needs the grid of bbc1", ":2:"},
+      {"bbc1\nset epsilon 8\nbbc2\n", "epsilon changed since bbc1", "run bbc1"},
+      {"bbc1\nset res 10\nbbc2\n", "res changed since bbc1", ":4:"},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
     snprintf(text, sizeof text, "load %s\n%s", path, cases[i][0]);

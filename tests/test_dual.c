@@ -36,7 +36,7 @@ static dual_face *random_faces(size_t n, uint64_t seed) {
   }
   const double origin[3] = {0, 0, 0};
   dual_face *f = NULL;
-  assert_int_equal(dual_faces_build(&m, tris, n, origin, &f), BBC_OK);
+  assert_int_equal(bbc__dual_faces_build(&m, tris, n, origin, &f), BBC_OK);
   free(m.positions);
   free(m.indices);
   free(tris);
@@ -64,7 +64,7 @@ static void test_simple_validity_never_misses(void **state) {
   size_t checked = 0;
   for (int up = 0; up < 3; up++) {
     dual_frame fr;
-    dual_frame_init(&fr, up);
+    bbc__dual_frame_init(&fr, up);
     for (size_t i = 0; i < nf; i++) {
       const dual_face *f = &faces[i];
       double eps = (i % 4 + 1) * 0.05;
@@ -85,7 +85,7 @@ static void test_simple_validity_never_misses(void **state) {
         }
         if (vmax - eps > vmin + eps) continue; /* no valid plane along n */
         double rho = bbc__rng_range(&r, vmax - eps, vmin + eps);
-        assert_true(dual_face_valid(f, n, rho, eps));
+        assert_true(bbc__dual_face_valid(f, n, rho, eps));
         double th, ph;
         angles(&fr, n, &th, &ph);
         for (int res = 1; res <= 4; res++) {
@@ -102,7 +102,7 @@ static void test_simple_validity_never_misses(void **state) {
             b.p0 = b.p1 - size;
           }
           dual_dir d;
-          dual_dir_of_box(&fr, &b, &d);
+          bbc__dual_dir_of_box(&fr, &b, &d);
           double lo, hi;
           if (!dual_face_range(f, &d, eps, &lo, &hi))
             fail_msg("face %zu: a valid plane's box reported empty (res %d)", i, res);
@@ -132,10 +132,10 @@ static void test_density_exact_and_thread_independent(void **state) {
   double area = 0;
   for (size_t i = 0; i < nf; i++) area += faces[i].area;
   dual_grid g1, g2;
-  assert_int_equal(dual_grid_init(&g1, 9, 0.6, 13, 1, area, 1), BBC_OK);
-  assert_int_equal(dual_grid_init(&g2, 9, 0.6, 13, 1, area, 2), BBC_OK);
-  dual_grid_accumulate(&g1, faces, NULL, nf, +1, NULL);
-  dual_grid_accumulate(&g2, faces, NULL, nf, +1, NULL);
+  assert_int_equal(bbc__dual_grid_init(&g1, 9, 0.6, 13, 1, area, 1), BBC_OK);
+  assert_int_equal(bbc__dual_grid_init(&g2, 9, 0.6, 13, 1, area, 2), BBC_OK);
+  bbc__dual_grid_accumulate(&g1, faces, NULL, nf, +1, NULL);
+  bbc__dual_grid_accumulate(&g2, faces, NULL, nf, +1, NULL);
   assert_true(grids_equal(&g1, &g2));
   size_t ncell = (size_t)g1.n_theta * g1.n_phi * g1.n_rho, nonzero = 0;
   for (size_t c = 0; c < ncell; c++) nonzero += g1.contrib[c] != 0;
@@ -146,16 +146,16 @@ static void test_density_exact_and_thread_independent(void **state) {
     odd[i] = (uint32_t)(nf - 1 - 2 * i);
     even[i] = (uint32_t)(nf - 2 - 2 * i);
   }
-  dual_grid_accumulate(&g1, faces, odd, nf / 2, -1, NULL);
-  dual_grid_accumulate(&g1, faces, even, nf / 2, -1, NULL);
+  bbc__dual_grid_accumulate(&g1, faces, odd, nf / 2, -1, NULL);
+  bbc__dual_grid_accumulate(&g1, faces, even, nf / 2, -1, NULL);
   for (size_t c = 0; c < ncell; c++) {
     assert_int_equal(g1.contrib[c], 0);
     assert_int_equal(g1.penalty[c], 0);
   }
   free(odd);
   free(even);
-  dual_grid_free(&g1);
-  dual_grid_free(&g2);
+  bbc__dual_grid_free(&g1);
+  bbc__dual_grid_free(&g2);
   free(faces);
 }
 

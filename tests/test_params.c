@@ -148,8 +148,8 @@ static void test_first_step(void **state) {
                {"cbcoverage", "30", 3}, {"shade", "40", 3},        {"posttweak", "0", 2},
                {"punishval", "0.7", 2}, {"punishcutoff", "55", 2}, {"supergreedy", "1", 2},
                {"epsilon", "8", 1},     {"res", "10", 1},          {"clustering", "2", 1},
-               {"upaxis", "z", 1},      {"maxplanes", "0", 1},     {"threads", "1", 0},
-               {"debug", "1", 0},       {"format", "1", 0}};
+               {"upaxis", "z", 1},      {"maxplanes", "0", 2},     {"threads", "1", 0},
+               {"minplanes", "40", 2},  {"debug", "1", 0},         {"format", "1", 0}};
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
     b = a;
     assert_int_equal(bbc_params_set(&b, cases[i].name, cases[i].value, &err), BBC_OK);

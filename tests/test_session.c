@@ -83,6 +83,12 @@ static void test_session(void **state) {
   o.split.trunk_patterns = pattern;
   assert_int_equal(bbc_session_stale(s, &o, &which), 1);
   assert_string_equal(which, "split");
+  assert_int_equal(bbc_session_grid_stale(s, &o, &which), 1);
+  assert_int_equal(bbc_session_planes(s, &o, &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_non_null(strstr(err.message, "split"));
+  assert_int_equal(bbc_session_grid(s, &o, &err), BBC_OK);
+  assert_null(bbc_session_result(s)); /* a new grid: planes and cloud are gone */
+  assert_null(bbc_session_planeset(s));
   assert_int_equal(bbc_session_planes(s, &o, &err), BBC_OK);
   assert_null(bbc_session_result(s)); /* new planes: the cloud is gone */
   assert_int_equal(bbc_session_stale(s, &o, NULL), 0);
@@ -103,7 +109,82 @@ static void test_session(void **state) {
   bbc_session_free(s);
 }
 
+static int same_planes(const bbc_planeset *a, const bbc_planeset *b) {
+  if (a->plane_count != b->plane_count || a->epsilon_scale != b->epsilon_scale) return 0;
+  for (size_t i = 0; i < a->plane_count; i++)
+    if (memcmp(a->planes[i].normal, b->planes[i].normal, sizeof a->planes[i].normal) ||
+        a->planes[i].d != b->planes[i].d || a->planes[i].kind != b->planes[i].kind)
+      return 0;
+  return !memcmp(a->face_plane, b->face_plane, a->face_count * sizeof *a->face_plane);
+}
+
+/* Step 2 on a kept grid gives what steps 1 and 2 from scratch give, also
+ * when minplanes makes it visit other epsilons; step-1 changes are refused. */
+static void test_steps(void **state) {
+  (void)state;
+  char path[1024];
+  tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
+  if (!tu_have_file(path)) skip();
+  bbc_load_options lo;
+  bbc_load_options_default(&lo);
+  bbc_mesh m;
+  bbc_error err;
+  assert_int_equal(bbc_mesh_load(path, &lo, &m, &err), BBC_OK);
+  bbc_planes_options o;
+  bbc_planes_options_default(&o);
+  bbc_grid *g;
+  assert_int_equal(bbc_grid_build(&m, &o, &g, &err), BBC_OK);
+  const double punish[3] = {0, 0.7, 0.3};
+  for (int k = 0; k < 3; k++) {
+    o.params.punish_value = punish[k];
+    o.params.min_planes = k == 2 ? 60 : 16; /* k = 2: smaller epsilons, more grids */
+    o.params.max_planes = k == 2 ? 100 : 32;
+    bbc_planeset kept, fresh;
+    assert_int_equal(bbc_planes_select(g, &o, &kept, &err), BBC_OK);
+    assert_int_equal(bbc_planes_find(&m, &o, &fresh, &err), BBC_OK);
+    assert_true(same_planes(&kept, &fresh));
+    if (k == 2) assert_true(kept.attempts > 1);
+    bbc_planeset_free(&kept);
+    bbc_planeset_free(&fresh);
+  }
+  /* a step-1 parameter changed: refused, naming it; the grid stays usable */
+  o.params.res_deg = 6;
+  bbc_planeset set;
+  assert_int_equal(bbc_planes_select(g, &o, &set, &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_non_null(strstr(err.message, "res"));
+  o.params.res_deg = 9;
+  assert_int_equal(bbc_planes_select(g, &o, &set, &err), BBC_OK);
+  bbc_planeset_free(&set);
+  bbc_grid_free(g);
+
+  /* the session: bbc2 before bbc1 refused; bbc1, bbc2 as bbc */
+  bbc_session *s = bbc_session_new();
+  assert_non_null(s);
+  assert_int_equal(bbc_session_load(s, path, &lo, &err), BBC_OK);
+  assert_int_equal(bbc_session_grid_stale(s, &o, NULL), -1);
+  assert_int_equal(bbc_session_planes(s, &o, &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_non_null(strstr(err.message, "step 1"));
+  assert_int_equal(bbc_session_grid(s, &o, &err), BBC_OK);
+  assert_non_null(bbc_session_grid_get(s));
+  o.params.punish_value = 0.7;
+  assert_int_equal(bbc_session_grid_stale(s, &o, NULL), 0);
+  assert_int_equal(bbc_session_planes(s, &o, &err), BBC_OK);
+  bbc_planeset fresh;
+  assert_int_equal(bbc_planes_find(&m, &o, &fresh, &err), BBC_OK);
+  assert_true(same_planes(bbc_session_planeset(s), &fresh));
+  bbc_planeset_free(&fresh);
+  o.params.epsilon_pct = 8;
+  const char *which = NULL;
+  assert_int_equal(bbc_session_grid_stale(s, &o, &which), 1);
+  assert_string_equal(which, "epsilon");
+  assert_int_equal(bbc_session_planes(s, &o, &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_non_null(strstr(err.message, "epsilon"));
+  assert_non_null(bbc_session_planeset(s)); /* refused: kept as it was */
+  bbc_session_free(s);
+  bbc_mesh_free(&m);
+}
+
 int main(void) {
-  const struct CMUnitTest tests[] = {cmocka_unit_test(test_session)};
+  const struct CMUnitTest tests[] = {cmocka_unit_test(test_session), cmocka_unit_test(test_steps)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -18,7 +18,7 @@ bbc_result bbc_billboards_compute(const bbc_mesh *mesh, const bbc_planeset *set,
   dual_face *faces = NULL;
   const double origin[3] = {0, 0, 0};
   for (size_t t = 0; all && t < nf; t++) all[t] = (uint32_t)t;
-  if (!all || !which || dual_faces_build(mesh, all, nf, origin, &faces) != BBC_OK) {
+  if (!all || !which || bbc__dual_faces_build(mesh, all, nf, origin, &faces) != BBC_OK) {
     free(all);
     free(which);
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "billboards: out of memory");
@@ -32,7 +32,7 @@ bbc_result bbc_billboards_compute(const bbc_mesh *mesh, const bbc_planeset *set,
     size_t n = 0;
     for (size_t t = 0; t < nf; t++) {
       if (set->face_plane[t] != owner) continue;
-      if (p->kind == BBC_PLANE_CARDBOARD && !dual_face_valid(&faces[t], p->normal, p->d, eps))
+      if (p->kind == BBC_PLANE_CARDBOARD && !bbc__dual_face_valid(&faces[t], p->normal, p->d, eps))
         continue;
       which[n++] = (uint32_t)t;
     }
@@ -40,7 +40,7 @@ bbc_result bbc_billboards_compute(const bbc_mesh *mesh, const bbc_planeset *set,
     memset(b, 0, sizeof *b);
     b->plane = (uint32_t)i;
     double mn[2], mx[2];
-    dual_min_rect(faces, which, n, p->normal, b->u, b->w, mn, mx);
+    bbc__dual_min_rect(faces, which, n, p->normal, b->u, b->w, mn, mx);
     double width = mx[0] - mn[0], height = mx[1] - mn[1];
     if (height > width) { /* longer side along u; u x w stays the normal */
       double u[3], w[3];

@@ -38,8 +38,8 @@ static void plane_axes(const double n[3], double u[3], double w[3]) {
   w[2] = n[0] * u[1] - n[1] * u[0];
 }
 
-size_t dual_cluster(const dual_face *faces, const uint32_t *which, size_t count, const double n[3],
-                    double gap, uint32_t *label) {
+size_t bbc__dual_cluster(const dual_face *faces, const uint32_t *which, size_t count,
+                         const double n[3], double gap, uint32_t *label) {
   if (count == 0) return 0;
   double u[3], w[3];
   plane_axes(n, u, w);

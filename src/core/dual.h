@@ -78,11 +78,11 @@ typedef struct dual_grid {
 } dual_grid;
 
 /* Unit normal of direction (theta, phi) in the frame. */
-void dual_normal(const dual_frame *f, double theta, double phi, double n[3]);
+void bbc__dual_normal(const dual_frame *f, double theta, double phi, double n[3]);
 /* Centre normal, chord radius and centre phi of a direction range. */
-void dual_dir_of_box(const dual_frame *f, const dual_box *b, dual_dir *out);
+void bbc__dual_dir_of_box(const dual_frame *f, const dual_box *b, dual_dir *out);
 /* Builds the frame for up axis 0/1/2 (x/y/z). */
-void dual_frame_init(dual_frame *f, int up_axis);
+void bbc__dual_frame_init(dual_frame *f, int up_axis);
 
 static inline double dual_max(double a, double b) {
   return a > b ? a : b;
@@ -114,7 +114,7 @@ static inline int dual_face_range(const dual_face *f, const dual_dir *dir, doubl
 }
 
 /* Exact validity: every vertex within eps of the plane n . x = rho. */
-int dual_face_valid(const dual_face *f, const double n[3], double rho, double eps);
+int bbc__dual_face_valid(const dual_face *f, const double n[3], double rho, double eps);
 
 /* Projected area of the face onto a plane with normal n (Eq. 2-5). */
 static inline double dual_projected_area(const dual_face *f, const double n[3]) {
@@ -122,17 +122,19 @@ static inline double dual_projected_area(const dual_face *f, const double n[3]) 
 }
 
 /* Prepares the faces of a part: `tris` lists mesh triangle indices. */
-bbc_result dual_faces_build(const bbc_mesh *mesh, const uint32_t *tris, size_t count,
-                            const double center[3], dual_face **out);
+bbc_result bbc__dual_faces_build(const bbc_mesh *mesh, const uint32_t *tris, size_t count,
+                                 const double center[3], dual_face **out);
 
-bbc_result dual_grid_init(dual_grid *g, int res_deg, double eps, double radius, int up_axis,
-                          double total_area, int threads);
-void dual_grid_free(dual_grid *g);
+bbc_result bbc__dual_grid_init(dual_grid *g, int res_deg, double eps, double radius, int up_axis,
+                               double total_area, int threads);
+void bbc__dual_grid_free(dual_grid *g);
+/* A deep copy (the greedy select consumes a grid's density). */
+bbc_result bbc__dual_grid_copy(dual_grid *dst, const dual_grid *src);
 
 /* Adds (sign = +1) or removes (sign = -1) the density of faces (thesis 2.1.5
  * step 2, and the grid update of 2.1.8). */
-void dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint32_t *which, size_t count,
-                          int sign, const bbc_callbacks *cb);
+void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint32_t *which,
+                               size_t count, int sign, const bbc_callbacks *cb);
 
 /* Fixed-point contribution and penalty of a face range [lo, hi] over a rho
  * box [r0, r1]: weighted by the fraction of the box's rho extent covered
@@ -150,7 +152,7 @@ static inline void dual_range_density(double lo, double hi, double eps, double p
 }
 
 /* Box of grid cell (dir index, k). */
-void dual_grid_cell_box(const dual_grid *g, size_t dir, int k, dual_box *b);
+void bbc__dual_grid_cell_box(const dual_grid *g, size_t dir, int k, dual_box *b);
 
 /* ---- clustering (2.3.10) ------------------------------------------------- */
 
@@ -158,26 +160,27 @@ void dual_grid_cell_box(const dual_grid *g, size_t dir, int k, dual_box *b);
  * splits along the plane's two axes and both diagonals, allowing gaps up to
  * `gap`, until stable. Writes a cluster label per face (0 = the cluster with
  * the largest projected area) and returns the number of clusters. */
-size_t dual_cluster(const dual_face *faces, const uint32_t *which, size_t count, const double n[3],
-                    double gap, uint32_t *label);
+size_t bbc__dual_cluster(const dual_face *faces, const uint32_t *which, size_t count,
+                         const double n[3], double gap, uint32_t *label);
 
 /* ---- plane tweaks (2.3.2, 2.3.3, 2.3.7) ---------------------------------- */
 
 /* 1 when every face lies in one plane (within a small tolerance); writes it. */
-int dual_coplanar(const dual_face *faces, const uint32_t *which, size_t count, double tol,
-                  double n[3], double *rho);
+int bbc__dual_coplanar(const dual_face *faces, const uint32_t *which, size_t count, double tol,
+                       double n[3], double *rho);
 /* Post-plane tweaking (Eq. 2-7, 2-8) with both reference points; returns 1
  * and replaces (n, rho) when a refined plane keeps every face valid and its
  * projected area does not shrink. */
-int dual_posttweak(const dual_face *faces, const uint32_t *which, size_t count, double eps,
-                   double n[3], double *rho);
+int bbc__dual_posttweak(const dual_face *faces, const uint32_t *which, size_t count, double eps,
+                        double n[3], double *rho);
 /* Least-squares plane of the faces' vertices (area-weighted); returns 1
  * and replaces (n, rho) when it keeps every face valid. Orientation kept. */
-int dual_fit_plane(const dual_face *faces, const uint32_t *which, size_t count, double eps,
-                   double n[3], double *rho);
+int bbc__dual_fit_plane(const dual_face *faces, const uint32_t *which, size_t count, double eps,
+                        double n[3], double *rho);
 /* Minimum-area bounding rectangle of the faces projected onto the plane:
  * writes its in-plane axes u, w (unit) and the rectangle's extents. */
-void dual_min_rect(const dual_face *faces, const uint32_t *which, size_t count, const double n[3],
-                   double u[3], double w[3], double min_uv[2], double max_uv[2]);
+void bbc__dual_min_rect(const dual_face *faces, const uint32_t *which, size_t count,
+                        const double n[3], double u[3], double w[3], double min_uv[2],
+                        double max_uv[2]);
 
 #endif /* BBC_DUAL_H */

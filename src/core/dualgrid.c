@@ -29,7 +29,7 @@
 #include <omp.h>
 #endif
 
-void dual_frame_init(dual_frame *f, int up_axis) {
+void bbc__dual_frame_init(dual_frame *f, int up_axis) {
   memset(f, 0, sizeof *f);
   /* (a, b, up) right-handed: a x b = up (cyclic axis order). */
   int a = (up_axis + 1) % 3, b = (up_axis + 2) % 3;
@@ -38,15 +38,15 @@ void dual_frame_init(dual_frame *f, int up_axis) {
   f->axis_up[up_axis] = 1;
 }
 
-void dual_normal(const dual_frame *f, double theta, double phi, double n[3]) {
+void bbc__dual_normal(const dual_frame *f, double theta, double phi, double n[3]) {
   double ct = cos(theta), st = sin(theta), cp = cos(phi), sp = sin(phi);
   for (int k = 0; k < 3; k++)
     n[k] = ct * cp * f->axis_a[k] + st * cp * f->axis_b[k] + sp * f->axis_up[k];
 }
 
-void dual_dir_of_box(const dual_frame *f, const dual_box *b, dual_dir *out) {
+void bbc__dual_dir_of_box(const dual_frame *f, const dual_box *b, dual_dir *out) {
   double tc = 0.5 * (b->t0 + b->t1), pc = 0.5 * (b->p0 + b->p1);
-  dual_normal(f, tc, pc, out->n);
+  bbc__dual_normal(f, tc, pc, out->n);
   out->phi = pc;
   /* The farthest direction of a theta-phi rectangle from its centre is a
    * corner: along an edge of constant phi the distance grows with
@@ -58,7 +58,7 @@ void dual_dir_of_box(const dual_frame *f, const dual_box *b, dual_dir *out) {
   for (int i = 0; i < 2; i++)
     for (int j = 0; j < 2; j++) {
       double m[3];
-      dual_normal(f, ts[i], ps[j], m);
+      bbc__dual_normal(f, ts[i], ps[j], m);
       double dx = m[0] - out->n[0], dy = m[1] - out->n[1], dz = m[2] - out->n[2];
       double q = dx * dx + dy * dy + dz * dz;
       if (q > r2) r2 = q;
@@ -66,7 +66,7 @@ void dual_dir_of_box(const dual_frame *f, const dual_box *b, dual_dir *out) {
   out->radius = sqrt(r2) * (1 + 1e-12) + 1e-15; /* rounding margin */
 }
 
-int dual_face_valid(const dual_face *f, const double n[3], double rho, double eps) {
+int bbc__dual_face_valid(const dual_face *f, const double n[3], double rho, double eps) {
   double cc = f->c[0] * n[0] + f->c[1] * n[1] + f->c[2] * n[2] - rho;
   double tol = eps * (1 + 1e-12);
   for (int i = 0; i < 3; i++) {
@@ -76,8 +76,8 @@ int dual_face_valid(const dual_face *f, const double n[3], double rho, double ep
   return 1;
 }
 
-bbc_result dual_faces_build(const bbc_mesh *m, const uint32_t *tris, size_t count,
-                            const double center[3], dual_face **out) {
+bbc_result bbc__dual_faces_build(const bbc_mesh *m, const uint32_t *tris, size_t count,
+                                 const double center[3], dual_face **out) {
   dual_face *fs = malloc((count ? count : 1) * sizeof *fs);
   if (!fs) return BBC_ERROR_OUT_OF_MEMORY;
   for (size_t i = 0; i < count; i++) {
@@ -114,10 +114,10 @@ bbc_result dual_faces_build(const bbc_mesh *m, const uint32_t *tris, size_t coun
   return BBC_OK;
 }
 
-bbc_result dual_grid_init(dual_grid *g, int res_deg, double eps, double radius, int up_axis,
-                          double total_area, int threads) {
+bbc_result bbc__dual_grid_init(dual_grid *g, int res_deg, double eps, double radius, int up_axis,
+                               double total_area, int threads) {
   memset(g, 0, sizeof *g);
-  dual_frame_init(&g->frame, up_axis);
+  bbc__dual_frame_init(&g->frame, up_axis);
   g->n_theta = 360 / res_deg;
   g->n_phi = 180 / res_deg;
   g->res_rad = res_deg * M_PI / 180.0;
@@ -141,7 +141,7 @@ bbc_result dual_grid_init(dual_grid *g, int res_deg, double eps, double radius, 
   g->contrib = calloc(nc, sizeof *g->contrib);
   g->penalty = calloc(nc, sizeof *g->penalty);
   if (!g->dirs || !g->contrib || !g->penalty) {
-    dual_grid_free(g);
+    bbc__dual_grid_free(g);
     return BBC_ERROR_OUT_OF_MEMORY;
   }
   for (int j = 0; j < g->n_phi; j++)
@@ -152,19 +152,35 @@ bbc_result dual_grid_init(dual_grid *g, int res_deg, double eps, double radius, 
                     -M_PI / 2 + (j + 1) * g->res_rad,
                     0,
                     0};
-      dual_dir_of_box(&g->frame, &b, &g->dirs[(size_t)j * g->n_theta + i]);
+      bbc__dual_dir_of_box(&g->frame, &b, &g->dirs[(size_t)j * g->n_theta + i]);
     }
   return BBC_OK;
 }
 
-void dual_grid_free(dual_grid *g) {
+bbc_result bbc__dual_grid_copy(dual_grid *dst, const dual_grid *src) {
+  *dst = *src;
+  size_t nd = (size_t)src->n_theta * src->n_phi, nc = nd * src->n_rho;
+  dst->dirs = malloc(nd * sizeof *dst->dirs);
+  dst->contrib = malloc(nc * sizeof *dst->contrib);
+  dst->penalty = malloc(nc * sizeof *dst->penalty);
+  if (!dst->dirs || !dst->contrib || !dst->penalty) {
+    bbc__dual_grid_free(dst);
+    return BBC_ERROR_OUT_OF_MEMORY;
+  }
+  memcpy(dst->dirs, src->dirs, nd * sizeof *dst->dirs);
+  memcpy(dst->contrib, src->contrib, nc * sizeof *dst->contrib);
+  memcpy(dst->penalty, src->penalty, nc * sizeof *dst->penalty);
+  return BBC_OK;
+}
+
+void bbc__dual_grid_free(dual_grid *g) {
   free(g->dirs);
   free(g->contrib);
   free(g->penalty);
   memset(g, 0, sizeof *g);
 }
 
-void dual_grid_cell_box(const dual_grid *g, size_t dir, int k, dual_box *b) {
+void bbc__dual_grid_cell_box(const dual_grid *g, size_t dir, int k, dual_box *b) {
   int i = (int)(dir % (size_t)g->n_theta), j = (int)(dir / (size_t)g->n_theta);
   b->t0 = -M_PI + i * g->res_rad;
   b->t1 = b->t0 + g->res_rad;
@@ -198,8 +214,8 @@ static void scatter(dual_grid *g, size_t dir, double lo, double hi, double proj,
   }
 }
 
-void dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint32_t *which, size_t count,
-                          int sign, const bbc_callbacks *cb) {
+void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint32_t *which,
+                               size_t count, int sign, const bbc_callbacks *cb) {
   /* Directions come in opposite pairs: (i, j) and (i + n_theta/2, n_phi-1-j)
    * have opposite normals, so one evaluation serves both (the range of -n is
    * [-hi, -lo]). Pairs are numbered by their first member. */

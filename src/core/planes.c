@@ -9,9 +9,11 @@
  *      step 1: dual grid and density; step 2: greedy select;
  *   3. merge: planes back to the model's frame, one face -> plane table.
  */
+#include "grid.h"
 #include "select.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -112,88 +114,201 @@ static const bbc_params *part_params(const bbc_planes_options *o, const char *na
   return &o->params;
 }
 
-static bbc_result find_once(const bbc_mesh *mesh, const bbc_planes_options *o, double scale,
-                            int attempt, bbc_planeset *set, bbc_error *err) {
-  memset(set, 0, sizeof *set);
+/* ---- step 1: the grid ------------------------------------------------------ */
+
+void bbc__planes_options_copy(bbc_planes_options *dst, char text[3][4096],
+                              const bbc_planes_options *src) {
+  *dst = *src;
+  const char **t[3] = {&dst->split.trunk_patterns, &dst->split.foliage_patterns, &dst->split.rest};
+  for (int k = 0; k < 3; k++)
+    if (*t[k]) {
+      snprintf(text[k], 4096, "%s", *t[k]);
+      *t[k] = text[k];
+    }
+  memset(&dst->callbacks, 0, sizeof dst->callbacks);
+}
+
+const bbc_planes_options *bbc__grid_options(const bbc_grid *g) {
+  return &g->options;
+}
+
+void bbc_grid_free(bbc_grid *g) {
+  if (!g) return;
+  for (size_t l = 0; l < g->level_count; l++)
+    for (size_t p = 0; p < 2; p++) bbc__dual_grid_free(&g->levels[l].g[p]);
+  free(g->levels);
+  for (size_t p = 0; p < 2; p++) {
+    free(g->part[p].tris);
+    free(g->part[p].faces);
+  }
+  free(g->face_part);
+  free(g);
+}
+
+/* Progress names the part and the run when steps repeat. */
+static void part_callbacks(const bbc_planes_options *o, const bbc_grid *g, const grid_part *gp,
+                           double scale, int attempt, bbc__label *lab, bbc_callbacks *cb) {
+  *cb = o->callbacks;
+  if (g->part_count > 1 && attempt > 1)
+    bbc__label_callbacks(&o->callbacks, lab, cb, "%s, run %d at epsilon %.3g %%", gp->name, attempt,
+                         scale * gp->params->epsilon_pct);
+  else if (g->part_count > 1)
+    bbc__label_callbacks(&o->callbacks, lab, cb, "%s", gp->name);
+  else if (attempt > 1)
+    bbc__label_callbacks(&o->callbacks, lab, cb, "run %d at epsilon %.3g %%", attempt,
+                         scale * gp->params->epsilon_pct);
+}
+
+/* The level at `scale`, built (step 1 proper: each part's dual grid and its
+ * density) unless the grid has it already. */
+static bbc_result level_at(bbc_grid *g, const bbc_planes_options *o, double scale, int attempt,
+                           size_t *index, bbc_error *err) {
+  for (size_t l = 0; l < g->level_count; l++)
+    if (g->levels[l].scale == scale) {
+      *index = l;
+      return BBC_OK;
+    }
+  grid_level *levels = realloc(g->levels, (g->level_count + 1) * sizeof *levels);
+  if (!levels) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 1: out of memory");
+  g->levels = levels;
+  grid_level *L = &levels[g->level_count];
+  memset(L, 0, sizeof *L);
+  L->scale = scale;
+  for (size_t pi = 0; pi < g->part_count; pi++) {
+    grid_part *gp = &g->part[pi];
+    if (!gp->n) continue;
+    const bbc_params *p = gp->params;
+    /* epsilon is relative to the whole model's radius for every part. */
+    L->eps_abs[pi] = scale * p->epsilon_pct / 100.0 * g->mesh_radius;
+    bbc__label lab;
+    bbc_callbacks cb;
+    part_callbacks(o, g, gp, scale, attempt, &lab, &cb);
+    double t0 = bbc__now_s();
+    if (bbc__dual_grid_init(&L->g[pi], p->res_deg, L->eps_abs[pi], gp->radius, p->up_axis,
+                            gp->total_area, p->threads) != BBC_OK) {
+      for (size_t q = 0; q < 2; q++) bbc__dual_grid_free(&L->g[q]);
+      return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 1: out of memory for the grid");
+    }
+    bbc__dual_grid_accumulate(&L->g[pi], gp->faces, NULL, gp->n, +1, &cb);
+    bbc__progress(&cb, "grid", 1.0);
+    L->step1_s[pi] = bbc__now_s() - t0;
+    if (bbc__cancelled(&cb)) {
+      for (size_t q = 0; q < 2; q++) bbc__dual_grid_free(&L->g[q]);
+      return bbc__fail(err, BBC_ERROR_CANCELLED, "plane selection: cancelled");
+    }
+  }
+  *index = g->level_count++;
+  return BBC_OK;
+}
+
+bbc_result bbc_grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_grid **out,
+                          bbc_error *err) {
+  *out = NULL;
   if (mesh->kind != BBC_MESH_TRIANGLES || mesh->triangle_count == 0)
     return bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
                      "plane selection needs a triangle mesh (point clouds are not supported yet)");
+  bbc_grid *g = calloc(1, sizeof *g);
   size_t nf = mesh->triangle_count;
+  if (g) g->face_part = malloc(nf * sizeof *g->face_part);
+  if (!g || !g->face_part) {
+    bbc_grid_free(g);
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
+  }
+  bbc__planes_options_copy(&g->options, g->text, o);
+  g->face_count = nf;
+  g->mesh_radius = mesh->radius;
+  char names[2][32];
+  bbc_split_options split = o->split;
+  split.up_axis = o->params.up_axis;
+  bbc_result r = bbc_split_parts(mesh, &split, g->face_part, &g->part_count, names, g->split_why,
+                                 sizeof g->split_why, err);
+  for (size_t pi = 0; r == BBC_OK && pi < g->part_count; pi++) {
+    grid_part *gp = &g->part[pi];
+    snprintf(gp->name, sizeof gp->name, "%s", names[pi]);
+    gp->params = part_params(&g->options, gp->name);
+    for (size_t t = 0; t < nf; t++) gp->n += g->face_part[t] == pi;
+    if (!gp->n) continue;
+    gp->tris = malloc(gp->n * sizeof *gp->tris);
+    if (!gp->tris) {
+      r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
+      break;
+    }
+    size_t n = 0;
+    for (size_t t = 0; t < nf; t++)
+      if (g->face_part[t] == pi) gp->tris[n++] = (uint32_t)t;
+    part_frame(mesh, gp->tris, n, gp->center, &gp->radius, &gp->total_area);
+    if (bbc__dual_faces_build(mesh, gp->tris, n, gp->center, &gp->faces) != BBC_OK)
+      r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory for the grid");
+  }
+  size_t first;
+  if (r == BBC_OK) r = level_at(g, o, 1.0, 1, &first, err);
+  g->current = 0;
+  if (r != BBC_OK) {
+    bbc_grid_free(g);
+    return r;
+  }
+  *out = g;
+  return BBC_OK;
+}
+
+/* The views show the level of the planes step 2 returned. */
+static void show_level(bbc_grid *g, double scale) {
+  for (size_t l = 0; l < g->level_count; l++)
+    if (g->levels[l].scale == scale) g->current = l;
+}
+
+/* ---- step 2 on the grid ------------------------------------------------------- */
+
+static bbc_result select_once(bbc_grid *g, const bbc_planes_options *o, double scale, int attempt,
+                              bbc_planeset *set, bbc_error *err) {
+  memset(set, 0, sizeof *set);
+  size_t nf = g->face_count, li;
+  bbc_result r = level_at(g, o, scale, attempt, &li, err);
+  if (r != BBC_OK) return r;
+  grid_level *L = &g->levels[li];
+  g->current = li;
   set->face_count = nf;
-  set->radius = mesh->radius;
+  set->radius = g->mesh_radius;
   set->face_plane = malloc(nf * sizeof *set->face_plane);
   set->face_part = malloc(nf * sizeof *set->face_part);
-  uint32_t *tris = malloc(nf * sizeof *tris);
-  if (!set->face_plane || !set->face_part || !tris) {
-    free(tris);
+  set->parts = calloc(g->part_count ? g->part_count : 1, sizeof *set->parts);
+  if (!set->face_plane || !set->face_part || !set->parts) {
     bbc_planeset_free(set);
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
   }
-  char names[2][32];
-  size_t part_count = 0;
-  bbc_split_options split = o->split;
-  split.up_axis = o->params.up_axis;
-  bbc_result r = bbc_split_parts(mesh, &split, set->face_part, &part_count, names, set->split_why,
-                                 sizeof set->split_why, err);
-  if (r == BBC_OK) {
-    set->parts = calloc(part_count, sizeof *set->parts);
-    if (!set->parts) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
-  }
-  for (size_t pi = 0; r == BBC_OK && pi < part_count; pi++) {
+  memcpy(set->face_part, g->face_part, nf * sizeof *set->face_part);
+  snprintf(set->split_why, sizeof set->split_why, "%s", g->split_why);
+  for (size_t pi = 0; r == BBC_OK && pi < g->part_count; pi++) {
+    grid_part *gp = &g->part[pi];
     bbc_part_result *pr = &set->parts[pi];
-    snprintf(pr->name, sizeof pr->name, "%s", names[pi]);
-    const bbc_params *p = part_params(o, pr->name);
-    size_t n = 0;
-    for (size_t t = 0; t < nf; t++)
-      if (set->face_part[t] == pi) tris[n++] = (uint32_t)t;
-    pr->face_count = n;
+    snprintf(pr->name, sizeof pr->name, "%s", gp->name);
+    pr->face_count = gp->n;
     set->part_count = pi + 1;
-    if (n == 0) continue;
-    /* epsilon is relative to the whole model's radius for every part. */
-    pr->epsilon_abs = scale * p->epsilon_pct / 100.0 * mesh->radius;
+    if (!gp->n) continue;
+    /* select asks for the parameters of step 2 as they are now */
+    const bbc_params *p = part_params(o, gp->name);
+    pr->epsilon_abs = L->eps_abs[pi];
     if (pr->epsilon_abs > set->epsilon_abs) set->epsilon_abs = pr->epsilon_abs;
-    double total_area;
-    part_frame(mesh, tris, n, pr->center, &pr->radius, &total_area);
+    memcpy(pr->center, gp->center, sizeof pr->center);
+    pr->radius = gp->radius;
+    const dual_grid *kept = &L->g[pi];
+    pr->grid_cells = (size_t)kept->n_theta * kept->n_phi * kept->n_rho;
+    pr->step1_s = L->reported ? 0 : L->step1_s[pi];
 
-    /* Progress names the part and the run when steps repeat. */
     bbc__label lab;
-    bbc_callbacks cb = o->callbacks;
-    if (part_count > 1 && attempt > 1)
-      bbc__label_callbacks(&o->callbacks, &lab, &cb, "%s, run %d at epsilon %.3g %%", pr->name,
-                           attempt, scale * p->epsilon_pct);
-    else if (part_count > 1)
-      bbc__label_callbacks(&o->callbacks, &lab, &cb, "%s", pr->name);
-    else if (attempt > 1)
-      bbc__label_callbacks(&o->callbacks, &lab, &cb, "run %d at epsilon %.3g %%", attempt,
-                           scale * p->epsilon_pct);
-    double t0 = bbc__now_s();
-    dual_face *faces = NULL;
-    dual_grid g;
-    memset(&g, 0, sizeof g);
-    if (dual_faces_build(mesh, tris, n, pr->center, &faces) != BBC_OK ||
-        dual_grid_init(&g, p->res_deg, pr->epsilon_abs, pr->radius, p->up_axis, total_area,
-                       p->threads) != BBC_OK) {
-      free(faces);
+    bbc_callbacks cb;
+    part_callbacks(o, g, gp, scale, attempt, &lab, &cb);
+    /* the greedy select consumes the density: a copy of the kept grid */
+    dual_grid work;
+    if (bbc__dual_grid_copy(&work, kept) != BBC_OK) {
       r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory for the grid");
-      break;
-    }
-    pr->grid_cells = (size_t)g.n_theta * g.n_phi * g.n_rho;
-    dual_grid_accumulate(&g, faces, NULL, n, +1, &cb);
-    bbc__progress(&cb, "grid", 1.0);
-    if (bbc__cancelled(&cb)) {
-      dual_grid_free(&g);
-      free(faces);
-      r = bbc__fail(err, BBC_ERROR_CANCELLED, "plane selection: cancelled");
       break;
     }
     double t1 = bbc__now_s();
     select_result sr;
-    r = select_planes(faces, n, &g, p, pr->epsilon_abs, pr->radius, &cb, &sr);
-    double t2 = bbc__now_s();
-    pr->step1_s = t1 - t0;
-    pr->step2_s = t2 - t1;
-    dual_grid_free(&g);
-    free(faces);
+    r = bbc__select_planes(gp->faces, gp->n, &work, p, pr->epsilon_abs, gp->radius, &cb, &sr);
+    pr->step2_s = bbc__now_s() - t1;
+    bbc__dual_grid_free(&work);
     if (r == BBC_ERROR_CANCELLED) {
       bbc__fail(err, r, "plane selection: cancelled");
       break;
@@ -205,7 +320,7 @@ static bbc_result find_once(const bbc_mesh *mesh, const bbc_planes_options *o, d
     /* Merge: the model's frame and global plane indices. */
     bbc_plane *planes = realloc(set->planes, (set->plane_count + sr.plane_count) * sizeof *planes);
     if (!planes) {
-      select_result_free(&sr);
+      bbc__select_result_free(&sr);
       r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
       break;
     }
@@ -213,25 +328,34 @@ static bbc_result find_once(const bbc_mesh *mesh, const bbc_planes_options *o, d
     size_t base = set->plane_count;
     for (size_t k = 0; k < sr.plane_count; k++) {
       bbc_plane pl = sr.planes[k];
-      pl.d += pl.normal[0] * pr->center[0] + pl.normal[1] * pr->center[1] +
-              pl.normal[2] * pr->center[2];
+      pl.d += pl.normal[0] * gp->center[0] + pl.normal[1] * gp->center[1] +
+              pl.normal[2] * gp->center[2];
       pl.part = (uint32_t)pi;
       if (pl.mother >= 0) pl.mother += (int32_t)base;
       planes[base + k] = pl;
     }
-    for (size_t i = 0; i < n; i++) set->face_plane[tris[i]] = (uint32_t)(base + sr.face_plane[i]);
+    for (size_t i = 0; i < gp->n; i++)
+      set->face_plane[gp->tris[i]] = (uint32_t)(base + sr.face_plane[i]);
     set->plane_count += sr.plane_count;
     pr->plane_count = sr.plane_count;
-    select_result_free(&sr);
+    bbc__select_result_free(&sr);
     bbc__progress(&cb, "select", 1.0);
   }
-  free(tris);
-  if (r != BBC_OK) bbc_planeset_free(set);
-  return r;
+  if (r != BBC_OK) {
+    bbc_planeset_free(set);
+    return r;
+  }
+  L->reported = 1;
+  return BBC_OK;
 }
 
-bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_planeset *set,
-                           bbc_error *err) {
+bbc_result bbc_planes_select(bbc_grid *grid, const bbc_planes_options *o, bbc_planeset *set,
+                             bbc_error *err) {
+  memset(set, 0, sizeof *set);
+  const char *which = NULL;
+  if (bbc_planes_options_first_step(&grid->options, o, &which) == 1)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
+                     "%s changed since step 1: the grid must be built again (step 1)", which);
   double scale = 1, retry = 0;
   int maxp = o->params.max_planes, minp = o->params.min_planes, grown = 0;
   if (minp > 0 && maxp > 0 && minp > maxp)
@@ -242,7 +366,7 @@ bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bb
   memset(&best, 0, sizeof best);
   for (int attempt = 1;; attempt++) {
     double t0 = bbc__now_s();
-    bbc_result r = find_once(mesh, o, scale, attempt, set, err);
+    bbc_result r = select_once(grid, o, scale, attempt, set, err);
     if (r != BBC_OK) {
       if (have_best) bbc_planeset_free(&best);
       return r;
@@ -258,6 +382,7 @@ bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bb
       *set = best;
       set->attempts = attempt;
       set->retry_s = retry;
+      show_level(grid, set->epsilon_scale);
       return BBC_OK;
     }
     if (have_best) bbc_planeset_free(&best);
@@ -281,6 +406,7 @@ bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bb
       if (maxp > 0 && n > (size_t)maxp)
         bbc__log(&o->callbacks, BBC_LOG_WARNING,
                  "%zu planes after %d tries (maxplanes %d): keeping them", n, attempt, maxp);
+      show_level(grid, set->epsilon_scale);
       return BBC_OK;
     }
     bbc__log(&o->callbacks, BBC_LOG_INFO, "%zu planes at epsilon %.3g %%, %s %d: trying %.3g %%", n,
@@ -291,4 +417,15 @@ bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bb
     memset(set, 0, sizeof *set);
     retry += bbc__now_s() - t0;
   }
+}
+
+bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_planeset *set,
+                           bbc_error *err) {
+  memset(set, 0, sizeof *set);
+  bbc_grid *grid;
+  bbc_result r = bbc_grid_build(mesh, o, &grid, err);
+  if (r != BBC_OK) return r;
+  r = bbc_planes_select(grid, o, set, err);
+  bbc_grid_free(grid);
+  return r;
 }

@@ -73,7 +73,7 @@ static double read_density(const ctx *c, int64_t contrib, int64_t penalty, doubl
 static size_t simply_valid(ctx *c, const dual_box *b, const uint32_t *in, size_t n_in,
                            uint32_t *out) {
   dual_dir dir;
-  dual_dir_of_box(&c->g->frame, b, &dir);
+  bbc__dual_dir_of_box(&c->g->frame, b, &dir);
   size_t n = in ? n_in : c->nf;
   int nt = thread_count(c);
   (void)nt;
@@ -99,7 +99,7 @@ static size_t largest_cluster(ctx *c, uint32_t *set, size_t n, const double norm
     if (fraction) *fraction = 1;
     return n;
   }
-  dual_cluster(c->faces, set, n, normal, c->gap, c->label);
+  bbc__dual_cluster(c->faces, set, n, normal, c->gap, c->label);
   double all = 0, kept_area = 0;
   size_t k = 0;
   for (size_t i = 0; i < n; i++) {
@@ -129,7 +129,7 @@ static size_t count_valid(ctx *c, const uint32_t *set, size_t n, const double no
   for (size_t i = 0; i < total; i++) {
     if (!set && c->assigned[i]) continue;
     const dual_face *f = &c->faces[set ? set[i] : i];
-    if (dual_face_valid(f, normal, rho, c->eps)) {
+    if (bbc__dual_face_valid(f, normal, rho, c->eps)) {
       count++;
       area += llround(dual_projected_area(f, normal) * c->g->scale);
     }
@@ -157,7 +157,7 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
                      0};
       /* Beyond a pole the directions repeat those on the other side. */
       valid_dir[s] = sb.p0 >= -M_PI / 2 - 1e-12 && sb.p1 <= M_PI / 2 + 1e-12;
-      if (valid_dir[s]) dual_dir_of_box(&c->g->frame, &sb, &dirs[s]);
+      if (valid_dir[s]) bbc__dual_dir_of_box(&c->g->frame, &sb, &dirs[s]);
     }
   int nt = thread_count(c);
   (void)nt;
@@ -246,7 +246,7 @@ static found_plane parachute(ctx *c, const uint32_t *set, size_t n) {
       /* Weighted average plane (Eq. 2-7/2-8, origin as reference). */
       memcpy(nn, fp.n, sizeof nn);
       rho = fp.rho;
-      if (!dual_posttweak(c->faces, set, n, INFINITY, nn, &rho)) continue;
+      if (!bbc__dual_posttweak(c->faces, set, n, INFINITY, nn, &rho)) continue;
     }
     int64_t area;
     size_t cnt = count_valid(c, set, n, nn, rho, &area);
@@ -296,7 +296,7 @@ static int densest_cells(ctx *c, size_t *cells, int want) {
      * them keep their plain density. Then re-sort (stable). */
     for (int k = 0; k < ntop && k < TOP; k++) {
       dual_box b;
-      dual_grid_cell_box(g, top[k] / g->n_rho, (int)(top[k] % g->n_rho), &b);
+      bbc__dual_grid_cell_box(g, top[k] / g->n_rho, (int)(top[k] % g->n_rho), &b);
       size_t n = simply_valid(c, &b, NULL, 0, c->scratch);
       double frac = 1;
       if (n > 1) largest_cluster(c, c->scratch, n, g->dirs[top[k] / g->n_rho].n, &frac);
@@ -337,7 +337,7 @@ static int refine_plane(ctx *c, dual_box box, const uint32_t *set0, size_t n0, u
   int64_t best_area = 0;
   for (int step = 0;; step++) {
     dual_dir dd;
-    dual_dir_of_box(&c->g->frame, &box, &dd);
+    bbc__dual_dir_of_box(&c->g->frame, &box, &dd);
     double rho = 0.5 * (box.r0 + box.r1);
     int64_t area;
     size_t cnt = count_valid(c, set, n, dd.n, rho, &area);
@@ -393,7 +393,7 @@ static bbc_result push_plane(ctx *c, const found_plane *fp, size_t face_count, d
 static bbc_result add_cardboard(ctx *c, const found_plane *mother, const uint32_t *set, size_t n,
                                 double mother_area, int32_t mother_index) {
   double u[3], w[3], mn[2], mx[2];
-  dual_min_rect(c->faces, set, n, mother->n, u, w, mn, mx);
+  bbc__dual_min_rect(c->faces, set, n, mother->n, u, w, mn, mx);
   /* Through the centre of gravity of the projected faces. */
   double cg[3] = {0, 0, 0}, a = 0;
   for (size_t i = 0; i < n; i++) {
@@ -415,7 +415,7 @@ static bbc_result add_cardboard(ctx *c, const found_plane *mother, const uint32_
     double area = 0;
     for (size_t i = 0; i < n; i++) {
       const dual_face *f = &c->faces[set[i]];
-      if (dual_face_valid(f, cand.n, cand.rho, c->eps)) {
+      if (bbc__dual_face_valid(f, cand.n, cand.rho, c->eps)) {
         cnt++;
         area += dual_projected_area(f, cand.n);
       }
@@ -501,7 +501,7 @@ static bbc_result merge_planes(const dual_face *faces, size_t nf, double eps, se
       for (size_t q = 0; q < np; q++) {
         const bbc_plane *pq = &out->planes[q];
         if (q == pi || !alive[q] || pq->kind == BBC_PLANE_CARDBOARD) continue;
-        if (!dual_face_valid(&faces[list[i]], pq->normal, pq->d, eps)) continue;
+        if (!bbc__dual_face_valid(&faces[list[i]], pq->normal, pq->d, eps)) continue;
         double a = dual_projected_area(&faces[list[i]], pq->normal);
         if (a > best) {
           best = a;
@@ -528,20 +528,20 @@ static bbc_result merge_planes(const dual_face *faces, size_t nf, double eps, se
         /* Only planes the faces lie close to (within 2 eps) are tried. */
         int near = 1;
         for (size_t i = 0; i < n && near; i++)
-          near = dual_face_valid(&faces[list[i]], pq->normal, pq->d, 2 * eps);
+          near = bbc__dual_face_valid(&faces[list[i]], pq->normal, pq->d, 2 * eps);
         if (!near) continue;
         size_t m = faces_of(out, nf, q, other);
         int all = 1;
         for (size_t i = 0; i < n && all; i++)
-          all = dual_face_valid(&faces[list[i]], pq->normal, pq->d, eps);
+          all = bbc__dual_face_valid(&faces[list[i]], pq->normal, pq->d, eps);
         if (all) {
           into = q;
           break;
         }
         memcpy(other + m, list, n * sizeof *list);
         double nn[3] = {pq->normal[0], pq->normal[1], pq->normal[2]}, rr = pq->d;
-        if (dual_posttweak(faces, other, m + n, eps, nn, &rr) ||
-            dual_fit_plane(faces, other, m + n, eps, nn, &rr)) {
+        if (bbc__dual_posttweak(faces, other, m + n, eps, nn, &rr) ||
+            bbc__dual_fit_plane(faces, other, m + n, eps, nn, &rr)) {
           memcpy(pq->normal, nn, sizeof nn);
           pq->d = rr;
           if (pq->kind == BBC_PLANE_STANDARD) pq->kind = BBC_PLANE_POSTTWEAKED;
@@ -576,9 +576,9 @@ static bbc_result merge_planes(const dual_face *faces, size_t nf, double eps, se
   return BBC_OK;
 }
 
-bbc_result select_planes(const dual_face *faces, size_t nf, dual_grid *g, const bbc_params *p,
-                         double eps, double part_radius, const bbc_callbacks *cb,
-                         select_result *out) {
+bbc_result bbc__select_planes(const dual_face *faces, size_t nf, dual_grid *g, const bbc_params *p,
+                              double eps, double part_radius, const bbc_callbacks *cb,
+                              select_result *out) {
   memset(out, 0, sizeof *out);
   ctx c;
   memset(&c, 0, sizeof c);
@@ -619,7 +619,7 @@ bbc_result select_planes(const dual_face *faces, size_t nf, dual_grid *g, const 
     double best_area = -1;
     for (int k = 0; k < ncand; k++) {
       dual_box box;
-      dual_grid_cell_box(g, cells[k] / g->n_rho, (int)(cells[k] % g->n_rho), &box);
+      bbc__dual_grid_cell_box(g, cells[k] / g->n_rho, (int)(cells[k] % g->n_rho), &box);
       size_t m0 = simply_valid(&c, &box, NULL, 0, cand0);
       if (m0 == 0) continue;
       if (p->clustering > 0)
@@ -630,7 +630,7 @@ bbc_result select_planes(const dual_face *faces, size_t nf, dual_grid *g, const 
       size_t m = 0;
       double area = 0;
       for (size_t i = 0; i < m0; i++)
-        if (dual_face_valid(&faces[cand0[i]], cp.n, cp.rho, eps)) {
+        if (bbc__dual_face_valid(&faces[cand0[i]], cp.n, cp.rho, eps)) {
           cand[m++] = cand0[i];
           area += dual_projected_area(&faces[cand0[i]], cp.n);
         }
@@ -651,13 +651,13 @@ bbc_result select_planes(const dual_face *faces, size_t nf, dual_grid *g, const 
         if (!c.assigned[f]) set0[n0++] = (uint32_t)f;
       fp = parachute(&c, set0, n0);
       for (size_t i = 0; i < n0; i++)
-        if (dual_face_valid(&faces[set0[i]], fp.n, fp.rho, eps)) set[n++] = set0[i];
+        if (bbc__dual_face_valid(&faces[set0[i]], fp.n, fp.rho, eps)) set[n++] = set0[i];
     }
     /* Tweaks (2.3.2, 2.3.3). */
     if (fp.kind == BBC_PLANE_STANDARD) {
-      if (dual_coplanar(faces, set, n, 1e-9 * (part_radius + eps), fp.n, &fp.rho))
+      if (bbc__dual_coplanar(faces, set, n, 1e-9 * (part_radius + eps), fp.n, &fp.rho))
         fp.kind = BBC_PLANE_COPLANAR;
-      else if (p->post_tweak && dual_posttweak(faces, set, n, eps, fp.n, &fp.rho))
+      else if (p->post_tweak && bbc__dual_posttweak(faces, set, n, eps, fp.n, &fp.rho))
         fp.kind = BBC_PLANE_POSTTWEAKED;
     }
     /* Supergreedy (2.3.6) after the tweaks: a tweaked plane lies closer to
@@ -666,7 +666,8 @@ bbc_result select_planes(const dual_face *faces, size_t nf, dual_grid *g, const 
       for (size_t i = 0; i < n; i++) c.assigned[set[i]] = 2; /* in the set already */
       size_t k = n;
       for (size_t f = 0; f < nf; f++)
-        if (!c.assigned[f] && dual_face_valid(&faces[f], fp.n, fp.rho, eps)) set[k++] = (uint32_t)f;
+        if (!c.assigned[f] && bbc__dual_face_valid(&faces[f], fp.n, fp.rho, eps))
+          set[k++] = (uint32_t)f;
       for (size_t i = 0; i < n; i++) c.assigned[set[i]] = 0;
       n = k;
     }
@@ -686,7 +687,7 @@ bbc_result select_planes(const dual_face *faces, size_t nf, dual_grid *g, const 
     c.remaining -= n;
     if (p->cardboard && (r = add_cardboard(&c, &fp, set, n, area, index)) != BBC_OK) break;
     /* Grid update: exactly reverse the simplified faces' density (2.1.8). */
-    dual_grid_accumulate(g, faces, set, n, -1, NULL);
+    bbc__dual_grid_accumulate(g, faces, set, n, -1, NULL);
     bbc__progress(cb, "select", 1.0 - (double)c.remaining / (double)nf);
     if (bbc__cancelled(cb)) {
       r = BBC_ERROR_CANCELLED;
@@ -703,11 +704,11 @@ bbc_result select_planes(const dual_face *faces, size_t nf, dual_grid *g, const 
   free(cand0);
   free(cand);
   free(work);
-  if (r != BBC_OK) select_result_free(out);
+  if (r != BBC_OK) bbc__select_result_free(out);
   return r;
 }
 
-void select_result_free(select_result *r) {
+void bbc__select_result_free(select_result *r) {
   free(r->planes);
   free(r->face_plane);
   memset(r, 0, sizeof *r);

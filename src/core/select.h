@@ -12,9 +12,9 @@ typedef struct select_result {
 
 /* Runs the greedy select on a grid whose density holds all `faces`. The
  * grid's density is consumed (it ends at zero). */
-bbc_result select_planes(const dual_face *faces, size_t nf, dual_grid *g, const bbc_params *p,
-                         double eps, double part_radius, const bbc_callbacks *cb,
-                         select_result *out);
-void select_result_free(select_result *r);
+bbc_result bbc__select_planes(const dual_face *faces, size_t nf, dual_grid *g, const bbc_params *p,
+                              double eps, double part_radius, const bbc_callbacks *cb,
+                              select_result *out);
+void bbc__select_result_free(select_result *r);
 
 #endif

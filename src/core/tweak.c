@@ -13,8 +13,8 @@ static double dot3(const double *a, const double *b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-int dual_coplanar(const dual_face *faces, const uint32_t *which, size_t count, double tol,
-                  double n[3], double *rho) {
+int bbc__dual_coplanar(const dual_face *faces, const uint32_t *which, size_t count, double tol,
+                       double n[3], double *rho) {
   if (count == 0) return 0;
   const dual_face *f0 = &faces[which[0]];
   double n0[3] = {f0->n[0], f0->n[1], f0->n[2]};
@@ -72,8 +72,8 @@ static int refined_plane(const dual_face *faces, const uint32_t *which, size_t c
   return 1;
 }
 
-int dual_posttweak(const dual_face *faces, const uint32_t *which, size_t count, double eps,
-                   double n[3], double *rho) {
+int bbc__dual_posttweak(const dual_face *faces, const uint32_t *which, size_t count, double eps,
+                        double n[3], double *rho) {
   if (count == 0) return 0;
   double old_area = projected_area_sum(faces, which, count, n);
   /* Reference points: the grid origin (the part's centre of gravity) and
@@ -99,7 +99,8 @@ int dual_posttweak(const dual_face *faces, const uint32_t *which, size_t count, 
     double a = projected_area_sum(faces, which, count, m);
     if (a < best_area) continue;
     int ok = 1;
-    for (size_t i = 0; i < count && ok; i++) ok = dual_face_valid(&faces[which[i]], m, rr, eps);
+    for (size_t i = 0; i < count && ok; i++)
+      ok = bbc__dual_face_valid(&faces[which[i]], m, rr, eps);
     if (!ok) continue;
     found = 1;
     best_area = a;
@@ -147,8 +148,8 @@ static void smallest_eigenvector(double a[3][3], double v_out[3]) {
   for (int k = 0; k < 3; k++) v_out[k] = v[k][m];
 }
 
-int dual_fit_plane(const dual_face *faces, const uint32_t *which, size_t count, double eps,
-                   double n[3], double *rho) {
+int bbc__dual_fit_plane(const dual_face *faces, const uint32_t *which, size_t count, double eps,
+                        double n[3], double *rho) {
   if (count == 0) return 0;
   /* Area-weighted least squares over the vertices: the plane through their
    * weighted centroid normal to the direction of least spread. */
@@ -179,7 +180,7 @@ int dual_fit_plane(const dual_face *faces, const uint32_t *which, size_t count, 
     for (int k = 0; k < 3; k++) e[k] = -e[k];
   double r = dot3(e, m);
   for (size_t i = 0; i < count; i++)
-    if (!dual_face_valid(&faces[which[i]], e, r, eps)) return 0;
+    if (!bbc__dual_face_valid(&faces[which[i]], e, r, eps)) return 0;
   memcpy(n, e, sizeof e);
   *rho = r;
   return 1;
@@ -217,8 +218,9 @@ static size_t convex_hull(pt2 *p, size_t n, pt2 *h) {
   return k > 1 ? k - 1 : k;
 }
 
-void dual_min_rect(const dual_face *faces, const uint32_t *which, size_t count, const double n[3],
-                   double u[3], double w[3], double min_uv[2], double max_uv[2]) {
+void bbc__dual_min_rect(const dual_face *faces, const uint32_t *which, size_t count,
+                        const double n[3], double u[3], double w[3], double min_uv[2],
+                        double max_uv[2]) {
   /* In-plane axes. */
   double t[3] = {0, 0, 0};
   int kk = fabs(n[0]) < fabs(n[1]) ? (fabs(n[0]) < fabs(n[2]) ? 0 : 2)

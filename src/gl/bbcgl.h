@@ -106,14 +106,23 @@ typedef struct bbcgl_viewer bbcgl_viewer;
 /* Appendix A's `show model` views: the input; the input with the
  * billboards' rectangles; the cloud with them; the cloud alone. Rectangles
  * are coloured by plane kind: light blue standard, orange coplanar, pink
- * post-tweaked, green cardboard, cyan parachute, yellow stem. */
+ * post-tweaked, green cardboard, cyan parachute, yellow stem. Then `show
+ * bbc`'s five: the selected face's discretised validity domain on the
+ * grid, its continuous domain, both, the grid's density, the model's faces
+ * (geometry built by the library: bbc_grid_view, bbc_faces_view). */
 typedef enum bbcgl_view_mode {
   BBCGL_VIEW_INPUT = 0,
   BBCGL_VIEW_RECTS,
   BBCGL_VIEW_CLOUD_RECTS,
   BBCGL_VIEW_CLOUD,
+  BBCGL_VIEW_DOMAIN, /* first of show bbc's */
+  BBCGL_VIEW_CONTINUOUS,
+  BBCGL_VIEW_BOTH,
+  BBCGL_VIEW_DENSITY,
+  BBCGL_VIEW_FACES,
   BBCGL_VIEW_COUNT
 } bbcgl_view_mode;
+#define BBCGL_VIEW_MODEL_COUNT 4 /* show model's views come first */
 
 typedef struct bbcgl_view {
   double yaw, pitch; /* degrees: the orbit around the model's centre */
@@ -121,11 +130,13 @@ typedef struct bbcgl_view {
   int wireframe;     /* F1 */
   int lighting;      /* F5: polygon models lit by a headlight (prelit clouds never) */
   int up_axis;       /* the model's up axis: 0 x, 1 y, 2 z */
+  int mini;          /* show bbc: the mini-model in the top left corner (F3) */
   float background[3];
 } bbcgl_view;
 
 void bbcgl_view_default(bbcgl_view *view);
-/* "input", "rects", "cloud-rects", "cloud"; from_name: -1 when unknown. */
+/* "input", "rects", "cloud-rects", "cloud", "domain", "continuous", "both",
+ * "density", "faces"; from_name: -1 when unknown. */
 const char *bbcgl_view_mode_name(bbcgl_view_mode mode);
 int bbcgl_view_mode_from_name(const char *name);
 
@@ -136,6 +147,10 @@ void bbcgl_viewer_free(bbcgl_viewer *viewer);
 int bbcgl_viewer_set_model(bbcgl_viewer *viewer, const bbc_mesh *model, char *err);
 /* The cloud and its rectangles (NULL: none). */
 int bbcgl_viewer_set_cloud(bbcgl_viewer *viewer, const bbc_cloud *cloud, char *err);
+/* show bbc's geometry: slot 0 the view's, slot 1 the mini-model (NULL:
+ * none). */
+int bbcgl_viewer_set_geometry(bbcgl_viewer *viewer, int slot, const bbc_geometry *geometry,
+                              char *err);
 /* Draws into the framebuffer's rectangle from (x, y) (bottom left) of
  * width x height, cleared to the view's background first. */
 void bbcgl_viewer_draw(bbcgl_viewer *viewer, bbcgl_view_mode mode, const bbcgl_view *view, int x,

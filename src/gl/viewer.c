@@ -25,9 +25,17 @@ typedef struct vmesh {
   size_t texture_count;
 } vmesh;
 
+/* Coloured triangles and lines (bbc_geometry) in one buffer. */
+typedef struct vgeom {
+  GLuint vao, vbo;
+  size_t tri_vertices, line_vertices;
+  double center[3], radius;
+} vgeom;
+
 struct bbcgl_viewer {
   GLuint p_mesh, p_line;
   vmesh model, cloud;
+  vgeom geom[2];       /* show bbc: the view's, the mini-model */
   GLuint l_vao, l_vbo; /* rectangles: 2 vertices per edge, position + colour */
   size_t l_count;
   double center[3], radius; /* of the model (else the cloud) */
@@ -81,8 +89,8 @@ static const char *const line_fs = "#version 450 core\n"
                                    "out vec4 o_colour;\n"
                                    "void main() { o_colour = vec4(v_colour, 1.0); }\n";
 
-static const char *const k_mode_names[BBCGL_VIEW_COUNT] = {"input", "rects", "cloud-rects",
-                                                           "cloud"};
+static const char *const k_mode_names[BBCGL_VIEW_COUNT] = {
+    "input", "rects", "cloud-rects", "cloud", "domain", "continuous", "both", "density", "faces"};
 
 const char *bbcgl_view_mode_name(bbcgl_view_mode mode) {
   return (unsigned)mode < BBCGL_VIEW_COUNT ? k_mode_names[mode] : NULL;
@@ -184,8 +192,47 @@ bbcgl_viewer *bbcgl_viewer_new(char *err) {
   return v;
 }
 
+static void vgeom_free(vgeom *g) {
+  if (g->vao) glDeleteVertexArrays(1, &g->vao);
+  if (g->vbo) glDeleteBuffers(1, &g->vbo);
+  memset(g, 0, sizeof *g);
+}
+
+int bbcgl_viewer_set_geometry(bbcgl_viewer *v, int slot, const bbc_geometry *geometry, char *err) {
+  vgeom *g = &v->geom[slot ? 1 : 0];
+  vgeom_free(g);
+  if (!geometry) return 1;
+  size_t nt = 3 * geometry->tri_count, nl = 2 * geometry->line_count, n = nt + nl;
+  glCreateVertexArrays(1, &g->vao);
+  glCreateBuffers(1, &g->vbo);
+  glNamedBufferStorage(g->vbo, (GLsizeiptr)((n ? n : 1) * 6 * sizeof(float)), NULL,
+                       GL_DYNAMIC_STORAGE_BIT);
+  if (nt) glNamedBufferSubData(g->vbo, 0, (GLsizeiptr)(nt * 6 * sizeof(float)), geometry->tris);
+  if (nl)
+    glNamedBufferSubData(g->vbo, (GLintptr)(nt * 6 * sizeof(float)),
+                         (GLsizeiptr)(nl * 6 * sizeof(float)), geometry->lines);
+  if (glGetError() == GL_OUT_OF_MEMORY) {
+    vgeom_free(g);
+    snprintf(err, BBCGL_ERR, "out of GPU memory for the view's geometry");
+    return 0;
+  }
+  glVertexArrayVertexBuffer(g->vao, 0, g->vbo, 0, 6 * sizeof(float));
+  for (GLuint i = 0; i < 2; i++) {
+    glEnableVertexArrayAttrib(g->vao, i);
+    glVertexArrayAttribFormat(g->vao, i, 3, GL_FLOAT, GL_FALSE, i * 3 * sizeof(float));
+    glVertexArrayAttribBinding(g->vao, i, 0);
+  }
+  g->tri_vertices = nt;
+  g->line_vertices = nl;
+  memcpy(g->center, geometry->center, sizeof g->center);
+  g->radius = geometry->radius > 0 ? geometry->radius : 1;
+  return 1;
+}
+
 void bbcgl_viewer_free(bbcgl_viewer *v) {
   if (!v) return;
+  vgeom_free(&v->geom[0]);
+  vgeom_free(&v->geom[1]);
   vmesh_free(&v->model);
   vmesh_free(&v->cloud);
   if (v->p_mesh) glDeleteProgram(v->p_mesh);
@@ -275,13 +322,13 @@ static void mul4(const double a[16], const double b[16], double out[16]) {
 
 /* The model-view-projection of an orbit around the model's centre (its up
  * axis up), and the headlight's direction in model coordinates. */
-static void orbit(const bbcgl_viewer *v, const bbcgl_view *view, int w, int h, float mvp[16],
-                  float light[3]) {
+static void orbit(const double center[3], double radius, const bbcgl_view *view, int w, int h,
+                  float mvp[16], float light[3]) {
   const double pi = 3.14159265358979323846, fov = 35 * pi / 180;
   double zoom = view->zoom > 0 ? view->zoom : 1;
-  double dist = v->radius / sin(fov / 2) * 1.05 / zoom;
-  double near = dist - 2 * v->radius > dist * 0.01 ? dist - 2 * v->radius : dist * 0.01;
-  double far = dist + 2 * v->radius;
+  double dist = radius / sin(fov / 2) * 1.05 / zoom;
+  double near = dist - 2 * radius > dist * 0.01 ? dist - 2 * radius : dist * 0.01;
+  double far = dist + 2 * radius;
   double f = 1 / tan(fov / 2), aspect = h > 0 ? (double)w / h : 1;
   double proj[16] = {f / aspect,
                      0,
@@ -300,8 +347,7 @@ static void orbit(const bbcgl_viewer *v, const bbcgl_view *view, int w, int h, f
                      2 * far * near / (near - far),
                      0};
   /* model: centre to the origin; a z-up model turned so that z is up on screen */
-  double model[16] = {
-      1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -v->center[0], -v->center[1], -v->center[2], 1};
+  double model[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -center[0], -center[1], -center[2], 1};
   if (view->up_axis == 2) {
     double zup[16] = {1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1};
     mul4(zup, model, model);
@@ -344,20 +390,55 @@ static void draw_mesh(const bbcgl_viewer *v, const vmesh *g, const bbcgl_view *v
   }
 }
 
-void bbcgl_viewer_draw(bbcgl_viewer *v, bbcgl_view_mode mode, const bbcgl_view *view, int x, int y,
-                       int width, int height) {
+static void clear_rect(const bbcgl_view *view, int x, int y, int width, int height) {
   glViewport(x, y, width, height);
   glEnable(GL_SCISSOR_TEST);
   glScissor(x, y, width, height);
   glClearColor(view->background[0], view->background[1], view->background[2], 1);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glDisable(GL_SCISSOR_TEST);
+}
+
+/* show bbc's geometry: grid views with y up, the faces in the model's frame. */
+static void draw_geometry(const bbcgl_viewer *v, const vgeom *g, const bbcgl_view *view, int grid,
+                          int width, int height) {
+  if (!g->vao) return;
+  bbcgl_view gv = *view;
+  if (grid) gv.up_axis = 1;
+  float mvp[16], light[3];
+  orbit(g->center, g->radius, &gv, width, height, mvp, light);
+  glUseProgram(v->p_line);
+  glUniformMatrix4fv(glGetUniformLocation(v->p_line, "u_mvp"), 1, GL_FALSE, mvp);
+  glBindVertexArray(g->vao);
+  glPolygonMode(GL_FRONT_AND_BACK, view->wireframe ? GL_LINE : GL_FILL);
+  if (g->tri_vertices) glDrawArrays(GL_TRIANGLES, 0, (GLsizei)g->tri_vertices);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  if (g->line_vertices) glDrawArrays(GL_LINES, (GLint)g->tri_vertices, (GLsizei)g->line_vertices);
+}
+
+void bbcgl_viewer_draw(bbcgl_viewer *v, bbcgl_view_mode mode, const bbcgl_view *view, int x, int y,
+                       int width, int height) {
+  clear_rect(view, x, y, width, height);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LEQUAL);
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
+  if (mode >= BBCGL_VIEW_DOMAIN) {
+    draw_geometry(v, &v->geom[0], view, mode != BBCGL_VIEW_FACES, width, height);
+    if (view->mini && mode != BBCGL_VIEW_FACES && v->geom[1].vao) {
+      /* the mini-model: a quarter of the height in the top left corner, framed */
+      int s = height / 4 > 32 ? height / 4 : 32;
+      float line_bg[3] = {view->background[0] > 0.5f ? 0.92f : 0.12f, 0, 0};
+      bbcgl_view mv = *view;
+      mv.background[0] = mv.background[1] = mv.background[2] = line_bg[0];
+      mv.wireframe = 0;
+      clear_rect(&mv, x, y + height - s, s, s);
+      draw_geometry(v, &v->geom[1], &mv, 0, s, s);
+    }
+    return;
+  }
   float mvp[16], light[3];
-  orbit(v, view, width, height, mvp, light);
+  orbit(v->center, v->radius, view, width, height, mvp, light);
   glPolygonMode(GL_FRONT_AND_BACK, view->wireframe ? GL_LINE : GL_FILL);
   glUseProgram(v->p_mesh);
   glUniformMatrix4fv(glGetUniformLocation(v->p_mesh, "u_mvp"), 1, GL_FALSE, mvp);

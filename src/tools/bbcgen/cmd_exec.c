@@ -6,7 +6,10 @@
  *   set NAME VALUE       a parameter (also PART.NAME: trunk, foliage, all)
  *   split MODE           auto | none | names | geometry
  *   split trunk=PATTERNS   or  split foliage=PATTERNS   (group/material globs)
- *   bbc1, bbc2           steps 1 and 2 (they run together at bbc2)
+ *   bbc1                 step 1: the dual grid and its density, kept
+ *   bbc2                 step 2 on the kept grid: the planes, kept; after a
+ *                        change of step-2 parameters only (Appendix A's '+');
+ *                        any other change asks for bbc1 again, saying which
  *   planes [OUT.json]    steps 1 and 2, the planes as JSON
  *   bbc3                 step 3 on the planes of the last bbc2 or bbc, which are
  *                        kept: after a change of texturing parameters only
@@ -53,7 +56,6 @@ static char *trim(char *s) {
 typedef struct batch {
   char model[4096];
   char pattern[2][4096];
-  int want_steps;
   bbc_session *sess;       /* the model, planes and cloud (the library's session) */
   bbc_params cloud_params; /* the parameters the cloud was made with (save's folder) */
   bbc_mesh loaded;         /* bbcload's cloud */
@@ -69,8 +71,8 @@ static const struct {
     {"set", "NAME VALUE", "a parameter (PART.NAME for one part: trunk, foliage)"},
     {"split", "MODE",
      "trunk and foliage: auto, none, names, geometry, trunk=PATTERNS, foliage=..."},
-    {"bbc1", "", "step 1 (runs with step 2 at bbc2)"},
-    {"bbc2", "", "steps 1 and 2: the planes (kept for bbc3)"},
+    {"bbc1", "", "step 1: the dual grid and its density (kept for bbc2)"},
+    {"bbc2", "", "step 2 on the kept grid: the planes (kept for bbc3)"},
     {"bbc3", "", "step 3 on the kept planes (after texturing changes only)"},
     {"bbc", "", "steps 1 to 3"},
     {"planes", "[OUT.json]", "steps 1 and 2, the planes as JSON"},
@@ -127,7 +129,6 @@ static int exec_command(cli *c, batch *b, char *s) {
     bbc_error e;
     if (bbc_session_load(b->sess, a1, &lo, &e) != BBC_OK) return cli_fail(&e, 0);
     snprintf(b->model, sizeof b->model, "%s", a1);
-    b->want_steps = 0;
   } else if (!strcmp(cmd, "set")) {
     if (!a1 || !a2) goto missing;
     const char *dot = strchr(a1, '.'), *name = dot ? dot + 1 : a1;
@@ -199,22 +200,32 @@ static int exec_command(cli *c, batch *b, char *s) {
     }
   } else if (!strcmp(cmd, "bbc1")) {
     if (!b->model[0]) goto noload;
-    b->want_steps = 1;
+    bbc_planes_options po;
+    if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
+    bbc_error e;
+    double t0 = cli_now();
+    if (bbc_session_grid(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
+    cli_info(c, "step 1: the grid in %.2f s (bbc2 finds the planes on it)", cli_now() - t0);
   } else if (!strcmp(cmd, "planes")) {
     if (!b->model[0]) goto noload;
     rc = run_planes(c, b->model, a1);
   } else if (!strcmp(cmd, "bbc2")) {
     if (!b->model[0]) goto noload;
-    if (!b->want_steps) {
-      cli_error("bbc2 needs bbc1 first");
-      return EXIT_USAGE;
-    }
     bbc_planes_options po;
     if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
+    const char *which = NULL;
+    int stale = bbc_session_grid_stale(b->sess, &po, &which);
+    if (stale < 0) {
+      cli_error("bbc2 needs the grid of bbc1 first (or run bbc)");
+      return EXIT_USAGE;
+    }
+    if (stale) {
+      cli_error("bbc2: %s changed since bbc1, and it needs step 1 again: run bbc1 (or bbc)", which);
+      return EXIT_USAGE;
+    }
     bbc_error e;
     if (bbc_session_planes(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
-    job_info(c, bbc_session_planeset(b->sess), NULL, &c->params, 0);
-    b->want_steps = 0;
+    job_info(c, bbc_session_planeset(b->sess), NULL, &c->params, 1);
   } else if (!strcmp(cmd, "bbc3")) {
     if (!b->model[0]) goto noload;
     bbc_planes_options po;

@@ -140,9 +140,11 @@ void job_info(const cli *c, const bbc_planeset *set, const bbc_cloud *cloud,
   }
   char why[160] = "";
   epsilon_adjustment(&L, why, sizeof why);
-  cli_info(c, "epsilon %.3g %%%s: %zu planes; steps 1+2 %.2f s%s",
-           L.epsilon_pct * set->epsilon_scale, why, set->plane_count,
-           L.step1_s + L.step2_s + set->retry_s, set->attempts > 1 ? " in several runs" : "");
+  /* step3_only here: step 1 was kept (bbc2 after bbc1) */
+  cli_info(c, "epsilon %.3g %%%s: %zu planes; %s %.2f s%s", L.epsilon_pct * set->epsilon_scale, why,
+           set->plane_count, step3_only ? "step 2 on the kept grid" : "steps 1+2",
+           (step3_only ? 0 : L.step1_s) + L.step2_s + set->retry_s,
+           set->attempts > 1 ? " in several runs" : "");
 }
 
 /* ---- cloud files ------------------------------------------------------------- */

@@ -30,7 +30,7 @@ typedef struct job {
  * failure the job is freed. */
 int job_run(const cli *c, const char *model, const double *epsilons, size_t count, job *j);
 /* The info line of steps 1 and 2 (cloud NULL) or of a cloud made with
- * `params` (step3_only: "steps 1+2 kept"). */
+ * `params` (step3_only: "steps 1+2 kept"; without a cloud: step 1 kept). */
 void job_info(const cli *c, const bbc_planeset *set, const bbc_cloud *cloud,
               const bbc_params *params, int step3_only);
 /* Loads the model only (no steps). */

@@ -1,0 +1,42 @@
+/* grid.h — step 1's result kept for step 2 and for the views (planes.c,
+ * views.c); internal. */
+#ifndef BBC_GRID_H
+#define BBC_GRID_H
+
+#include "dual.h"
+
+/* One part's share of step 1 that does not depend on epsilon: its faces in
+ * dual form and its frame. */
+typedef struct grid_part {
+  char name[32];
+  const bbc_params *params; /* into grid->options */
+  uint32_t *tris;           /* mesh triangles of the part */
+  size_t n;
+  dual_face *faces;
+  double center[3], radius, total_area;
+} grid_part;
+
+/* Every part's dual grid at one epsilon scale, its density whole (step 2
+ * works on copies). maxplanes/minplanes visit several scales. */
+typedef struct grid_level {
+  double scale;
+  dual_grid g[2];
+  double eps_abs[2], step1_s[2];
+  int reported; /* step 1's time went into a planeset already */
+} grid_level;
+
+struct bbc_grid {
+  bbc_planes_options options; /* what step 1 was run with (texts copied below) */
+  char text[3][4096];
+  size_t face_count; /* the mesh's triangles */
+  uint32_t *face_part;
+  size_t part_count;
+  grid_part part[2];
+  char split_why[320];
+  double mesh_radius;
+  grid_level *levels;
+  size_t level_count;
+  size_t current; /* the level step 2 used last (0 before) */
+};
+
+#endif

@@ -578,13 +578,14 @@ static void test_prompt(void **state) {
   free(pty);
 }
 
-/* The share of pixels of a PNG that differ from its top-left pixel. */
+/* The share of pixels of a PNG that differ from its bottom-right pixel (the
+ * background; show bbc's mini-model is top left). */
 static double covered(const char *png) {
   bbc_image im;
   bbc_error e;
   if (bbc_image_load(png, &im, &e) != BBC_OK) fail_msg("%s: %s", png, e.message);
   size_t n = (size_t)im.width * im.height, diff = 0;
-  for (size_t i = 0; i < n; i++) diff += memcmp(im.rgba + 4 * i, im.rgba, 3) != 0;
+  for (size_t i = 0; i < n; i++) diff += memcmp(im.rgba + 4 * i, im.rgba + 4 * (n - 1), 3) != 0;
   bbc_image_free(&im);
   return (double)diff / n;
 }
@@ -598,10 +599,11 @@ static void test_viewer(void **state) {
   tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
   if (!tu_have_file(path)) skip();
   char *out, *err;
-  const char *modes[] = {"input", "rects", "cloud-rects", "cloud"};
-  unsigned char *img[4];
-  size_t len[4];
-  for (int m = 0; m < 4; m++) {
+  const char *modes[] = {"input",      "rects", "cloud-rects", "cloud", "domain",
+                         "continuous", "both",  "density",     "faces"};
+  unsigned char *img[9];
+  size_t len[9];
+  for (int m = 0; m < 9; m++) {
     snprintf(args, sizeof args, "view '%s' --mode %s --size 96 --texres 32 -q --screenshot v%d.png",
              path, modes[m], m);
     int rc = run_in(args, "", &out, &err);
@@ -621,10 +623,29 @@ static void test_viewer(void **state) {
     img[m] = tu_read_file(p, &len[m]);
     assert_non_null(img[m]);
   }
-  for (int a = 0; a < 4; a++)
-    for (int b = a + 1; b < 4; b++)
+  for (int a = 0; a < 9; a++)
+    for (int b = a + 1; b < 9; b++)
       assert_false(len[a] == len[b] && !memcmp(img[a], img[b], len[a]));
-  for (int m = 0; m < 4; m++) free(img[m]);
+  for (int m = 0; m < 9; m++) free(img[m]);
+  /* the selection: a face out of range, an unknown part, one vertex's domain */
+  snprintf(args, sizeof args, "view '%s' --mode domain --face 99999 --screenshot f.png", path);
+  assert_int_equal(run_in(args, "", &out, &err), 1);
+  assert_non_null(strstr(err, "--face 99999: part foliage has"));
+  free(out);
+  free(err);
+  snprintf(args, sizeof args, "view '%s' --mode domain --part twig --screenshot f.png", path);
+  assert_int_equal(run_in(args, "", &out, &err), 1);
+  assert_non_null(strstr(err, "parts are trunk and foliage"));
+  free(out);
+  free(err);
+  snprintf(args, sizeof args,
+           "view '%s' --mode continuous --part trunk --face 3 --vertex 2 --size 96 --screenshot "
+           "f.png",
+           path);
+  assert_int_equal(run_in(args, "", &out, &err), 0);
+  assert_non_null(strstr(err, "part trunk, face 3"));
+  free(out);
+  free(err);
   assert_int_equal(run_in("view x.obj --mode sideways --screenshot a.png", "", &out, &err), 1);
   assert_non_null(strstr(err, "--mode sideways: expected"));
   free(out);
@@ -643,6 +664,8 @@ static void test_viewer(void **state) {
   snprintf(text, sizeof text,
            "load %s\nset texres 32\nbbc\nsave s\nshow model shot:s0.png,left,shot:s1.png,right,"
            "right,shot:s2.png,right,shot:s3.png,esc\n"
+           "show bbc shot:s4.png,down,shot:s5.png,f6,shot:s6.png,down,shot:s7.png,down,"
+           "shot:s8.png,right,shot:s9.png,down,esc\n"
            "bbcload vrml97models/s/Tree_1/Tree_1_e6.00_tex32_pl/Tree_1.wrl\n"
            "show model right,right,shot:l3.png,esc\nbbcload nosuch.wrl\n"
            "set texres 16\nsetup\nquit\n",
@@ -660,40 +683,47 @@ static void test_viewer(void **state) {
   snprintf(o, sizeof o, "%s/win_out.txt", tu_dir);
   snprintf(e, sizeof e, "%s/win_err.txt", tu_dir);
   char *in = tu_write_file(tu_dir, "win.txt", text, strlen(text));
+  /* the prompt on a pseudo-terminal (script(1)), as a person types it */
   snprintf(cmd, sizeof cmd,
-           "cd '%s' && timeout 120 xvfb-run -a -s '-screen 0 1024x768x24' '%s/bbcgen' -i < '%s' "
-           "> '%s' 2> '%s'",
+           "cd '%s' && timeout 180 xvfb-run -a -s '-screen 0 1024x768x24' script -qec '%s/bbcgen' "
+           "/dev/null < '%s' > '%s' 2> '%s'",
            tu_dir, BBC_BIN_DIR, in, o, e);
   free(in);
   int st = system(cmd);
-  char *eo = (char *)tu_read_file(e, NULL);
-  /* 2: the last failure, bbcload nosuch.wrl; everything before it worked */
-  if (!(WIFEXITED(st) && WEXITSTATUS(st) == 2)) fail_msg("show model: %s", eo ? eo : "");
-  free(eo);
   char *so = (char *)tu_read_file(o, NULL);
+  /* 2: the last failure, bbcload nosuch.wrl; everything before it worked */
+  if (!(WIFEXITED(st) && WEXITSTATUS(st) == 2)) fail_msg("show: %s", so ? so : "");
   assert_non_null(so);
-  assert_non_null(strstr(so, "texres         16")); /* back at the prompt after Esc */
+  assert_non_null(strstr(so, "bbcgen> "));
+  assert_non_null(strstr(so, "show bbc: faces, part foliage")); /* down x 4 */
+  assert_non_null(strstr(so, "texres         16"));             /* back at the prompt after Esc */
+  assert_non_null(strstr(so, "nosuch.wrl"));
   free(so);
   /* bbcload: the saved cloud shown in place of the cloud; a missing file is
    * reported and the session goes on */
   char lp[1200];
   snprintf(lp, sizeof lp, "%s/l3.png", tu_dir);
   assert_true(covered(lp) > 0.01);
-  char *se = (char *)tu_read_file(e, NULL);
-  assert_non_null(se);
-  assert_non_null(strstr(se, "nosuch.wrl"));
-  free(se);
-  for (int m = 0; m < 4; m++) {
+  /* show model's four views, then show bbc's: domain, continuous, its third
+   * vertex's (F6), both, density, another face's density */
+  for (int m = 0; m < 10; m++) {
     char p[1200];
     snprintf(p, sizeof p, "%s/s%d.png", tu_dir, m);
     double c = covered(p);
-    if (c < 0.01) fail_msg("show model view %d is blank", m);
-    img[m] = tu_read_file(p, &len[m]);
+    if (c < 0.01) fail_msg("show view %d is blank", m);
+    size_t n;
+    unsigned char *im = tu_read_file(p, &n);
+    if (m < 9) {
+      img[m] = im;
+      len[m] = n;
+    } else {
+      free(im);
+    }
   }
-  for (int a = 0; a < 4; a++)
-    for (int b = a + 1; b < 4; b++)
+  for (int a = 0; a < 9; a++)
+    for (int b = a + 1; b < 9; b++)
       assert_false(len[a] == len[b] && !memcmp(img[a], img[b], len[a]));
-  for (int m = 0; m < 4; m++) free(img[m]);
+  for (int m = 0; m < 9; m++) free(img[m]);
 }
 
 /* bbcgen MODEL -o OUT: option errors before any work; batch bbc/shade/save

@@ -7,6 +7,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "bbc.h"
@@ -184,7 +185,90 @@ static void test_steps(void **state) {
   bbc_mesh_free(&m);
 }
 
+/* show bbc's geometry: the discretised domain (step 1's cells) holds the
+ * continuous one (every exact valid plane sampled), for faces of both
+ * parts; the density view has cubes; the faces view marks the plane. */
+static void test_views(void **state) {
+  (void)state;
+  char path[1024];
+  tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
+  if (!tu_have_file(path)) skip();
+  bbc_load_options lo;
+  bbc_load_options_default(&lo);
+  bbc_mesh m;
+  bbc_error err;
+  assert_int_equal(bbc_mesh_load(path, &lo, &m, &err), BBC_OK);
+  bbc_planes_options o;
+  bbc_planes_options_default(&o);
+  bbc_grid *g;
+  assert_int_equal(bbc_grid_build(&m, &o, &g, &err), BBC_OK);
+  assert_int_equal(bbc_grid_part_count(g), 2);
+  size_t checked = 0;
+  for (size_t part = 0; part < 2; part++) {
+    size_t n = bbc_grid_part_faces(g, part);
+    const size_t faces[3] = {0, n / 2, bbc_grid_largest_face(g, part)};
+    for (int f = 0; f < 3; f++) {
+      bbc_grid_view_options vo = {BBC_GRID_VIEW_DOMAIN, part, faces[f], -1, 0};
+      bbc_geometry dom, cont;
+      assert_int_equal(bbc_grid_view(g, &vo, &dom, &err), BBC_OK);
+      assert_true(dom.tri_count > 0 && dom.tri_count % 12 == 0);
+      vo.kind = BBC_GRID_VIEW_CONTINUOUS;
+      assert_int_equal(bbc_grid_view(g, &vo, &cont, &err), BBC_OK);
+      assert_true(cont.tri_count > 0);
+      size_t cubes = dom.tri_count / 12;
+      for (size_t v = 0; v < 3 * cont.tri_count; v += 7) {
+        const float *p = cont.tris + 6 * v;
+        int inside = 0;
+        for (size_t c = 0; c < cubes && !inside; c++) {
+          float lo3[3] = {1e9f, 1e9f, 1e9f}, hi3[3] = {-1e9f, -1e9f, -1e9f};
+          for (size_t k = 0; k < 36; k++)
+            for (int a = 0; a < 3; a++) {
+              float x = dom.tris[6 * (36 * c + k) + a];
+              lo3[a] = x < lo3[a] ? x : lo3[a];
+              hi3[a] = x > hi3[a] ? x : hi3[a];
+            }
+          inside = 1;
+          for (int a = 0; a < 3; a++) { /* the cube as drawn is inset by 8 % */
+            float mid = 0.5f * (lo3[a] + hi3[a]), half = 0.5f * (hi3[a] - lo3[a]) / 0.92f;
+            if (p[a] < mid - half - 1e-4f || p[a] > mid + half + 1e-4f) inside = 0;
+          }
+        }
+        if (!inside) fail_msg("part %zu face %zu: a valid plane outside the cells", part, faces[f]);
+        checked++;
+      }
+      bbc_geometry_free(&dom);
+      bbc_geometry_free(&cont);
+    }
+  }
+  assert_true(checked > 100);
+  bbc_grid_view_options vo = {BBC_GRID_VIEW_DENSITY, 1, 0, -1, 0};
+  bbc_geometry geo;
+  assert_int_equal(bbc_grid_view(g, &vo, &geo, &err), BBC_OK);
+  assert_true(geo.tri_count > 12 * 10);
+  bbc_geometry_free(&geo);
+  vo.face = 1u << 30;
+  assert_int_equal(bbc_grid_view(g, &vo, &geo, &err), BBC_ERROR_INVALID_ARGUMENT);
+  /* faces: the selected face's plane solid, the rest as wireframe */
+  bbc_planeset set;
+  assert_int_equal(bbc_planes_select(g, &o, &set, &err), BBC_OK);
+  uint8_t *st = malloc(m.triangle_count);
+  assert_non_null(st);
+  size_t sel = (size_t)bbc_grid_face_triangle(g, 1, bbc_grid_largest_face(g, 1)), valid = 0;
+  bbc_faces_state(&set, sel, st, m.triangle_count);
+  for (size_t t = 0; t < m.triangle_count; t++) valid += st[t] == BBC_FACE_VALID;
+  assert_int_equal(valid, set.planes[set.face_plane[sel]].face_count);
+  assert_int_equal(bbc_faces_view(&m, st, sel, &geo, &err), BBC_OK);
+  assert_int_equal(geo.tri_count, valid); /* the selected one yellow instead of blue */
+  assert_int_equal(geo.line_count, 3 * (m.triangle_count - valid) + 3);
+  bbc_geometry_free(&geo);
+  free(st);
+  bbc_planeset_free(&set);
+  bbc_grid_free(g);
+  bbc_mesh_free(&m);
+}
+
 int main(void) {
-  const struct CMUnitTest tests[] = {cmocka_unit_test(test_session), cmocka_unit_test(test_steps)};
+  const struct CMUnitTest tests[] = {cmocka_unit_test(test_session), cmocka_unit_test(test_steps),
+                                     cmocka_unit_test(test_views)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

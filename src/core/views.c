@@ -347,21 +347,38 @@ bbc_result bbc_grid_view(const bbc_grid *grid, const bbc_grid_view_options *o, b
 bbc_result bbc_faces_view(const bbc_mesh *mesh, const uint8_t *state, size_t selected,
                           bbc_geometry *out, bbc_error *err) {
   static const float grey[3] = {0.5f, 0.5f, 0.5f}, blue[3] = {0.15f, 0.35f, 0.95f},
-                     yellow[3] = {1.0f, 0.9f, 0.0f};
+                     yellow[3] = {1.0f, 0.9f, 0.0f}, cross[3] = {0.9f, 0.1f, 0.1f};
   memset(out, 0, sizeof *out);
   if (mesh->kind != BBC_MESH_TRIANGLES || !mesh->triangle_count)
     return bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT, "the faces view needs a triangle mesh");
   builder b = {out, 0, 0, 0};
   for (size_t t = 0; t < mesh->triangle_count; t++) {
     int s = t == selected ? 3 : state ? state[t] : BBC_FACE_REMAINING;
-    if (s == BBC_FACE_DONE) continue;
+    if (s == BBC_FACE_DONE || s == 3) continue;
     const uint32_t *ix = mesh->indices + 3 * t;
     const double *p[3] = {mesh->positions + 3 * ix[0], mesh->positions + 3 * ix[1],
                           mesh->positions + 3 * ix[2]};
     if (s == BBC_FACE_REMAINING) {
       for (int e = 0; e < 3; e++) line(&b, p[e], p[(e + 1) % 3], grey);
     } else {
-      tri(&b, p[0], p[1], p[2], s == 3 ? yellow : blue);
+      tri(&b, p[0], p[1], p[2], blue);
+    }
+  }
+  if (selected < mesh->triangle_count) {
+    /* the selected face last, and a cross through it: a leaf is small */
+    const uint32_t *ix = mesh->indices + 3 * selected;
+    const double *p[3] = {mesh->positions + 3 * ix[0], mesh->positions + 3 * ix[1],
+                          mesh->positions + 3 * ix[2]};
+    tri(&b, p[0], p[1], p[2], yellow);
+    double c[3], r = 0.12 * (mesh->radius > 0 ? mesh->radius : 1);
+    for (int k = 0; k < 3; k++) c[k] = (p[0][k] + p[1][k] + p[2][k]) / 3;
+    for (int k = 0; k < 3; k++) {
+      double a[3], z[3];
+      memcpy(a, c, sizeof a);
+      memcpy(z, c, sizeof z);
+      a[k] -= r;
+      z[k] += r;
+      line(&b, a, z, cross);
     }
   }
   memcpy(out->center, mesh->center, sizeof out->center);

@@ -410,10 +410,16 @@ static void draw_geometry(const bbcgl_viewer *v, const vgeom *g, const bbcgl_vie
   glUseProgram(v->p_line);
   glUniformMatrix4fv(glGetUniformLocation(v->p_line, "u_mvp"), 1, GL_FALSE, mvp);
   glBindVertexArray(g->vao);
+  if (!grid) { /* the faces: the wireframe, then the solid faces over it */
+    if (g->line_vertices) glDrawArrays(GL_LINES, (GLint)g->tri_vertices, (GLsizei)g->line_vertices);
+    glDepthFunc(GL_ALWAYS);
+  }
   glPolygonMode(GL_FRONT_AND_BACK, view->wireframe ? GL_LINE : GL_FILL);
   if (g->tri_vertices) glDrawArrays(GL_TRIANGLES, 0, (GLsizei)g->tri_vertices);
   glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-  if (g->line_vertices) glDrawArrays(GL_LINES, (GLint)g->tri_vertices, (GLsizei)g->line_vertices);
+  glDepthFunc(GL_LEQUAL);
+  if (grid && g->line_vertices)
+    glDrawArrays(GL_LINES, (GLint)g->tri_vertices, (GLsizei)g->line_vertices);
 }
 
 void bbcgl_viewer_draw(bbcgl_viewer *v, bbcgl_view_mode mode, const bbcgl_view *view, int x, int y,
@@ -428,9 +434,9 @@ void bbcgl_viewer_draw(bbcgl_viewer *v, bbcgl_view_mode mode, const bbcgl_view *
     if (view->mini && mode != BBCGL_VIEW_FACES && v->geom[1].vao) {
       /* the mini-model: a quarter of the height in the top left corner, framed */
       int s = height / 4 > 32 ? height / 4 : 32;
-      float line_bg[3] = {view->background[0] > 0.5f ? 0.92f : 0.12f, 0, 0};
       bbcgl_view mv = *view;
-      mv.background[0] = mv.background[1] = mv.background[2] = line_bg[0];
+      mv.background[0] = mv.background[1] = mv.background[2] =
+          view->background[0] > 0.5f ? 0.92f : 0.12f;
       mv.wireframe = 0;
       clear_rect(&mv, x, y + height - s, s, s);
       draw_geometry(v, &v->geom[1], &mv, 0, s, s);

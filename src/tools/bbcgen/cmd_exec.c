@@ -26,9 +26,11 @@
  *   cls                  clear the screen (at the prompt)
  *   q, quit              stop
  *   show model [KEYS]    the viewer in a window (keys script it)
+ *   show bbc [KEYS]      the algorithm's internals: a face's validity domain on
+ *                        the grid (discretised, continuous, both), the grid's
+ *                        density, the faces of its plane
  *   bbcload FILE         a saved cloud, shown by show model in place of the cloud
  *                        (until the next bbc or bbc3), to compare with the model
- * Not implemented: show bbc.
  *
  * The prompt (`bbcgen -i`, `bbcgen -x FILE`, `bbcgen` on a terminal) runs
  * the same commands line by line; an error is reported and the session
@@ -81,7 +83,8 @@ static const struct {
     {"setup", "", "print every parameter"},
     {"exec", "FILE", "run a batch file"},
     {"bbcload", "FILE", "a saved cloud, shown by show model to compare with the model"},
-    {"show", "model [KEYS]", "a window: the model, rectangles, cloud (arrow keys; Esc returns)"},
+    {"show", "model|bbc [KEYS]",
+     "a window: the model, rectangles, cloud; or the grid's domains, density, faces (Esc returns)"},
     {"help", "[COMMAND]", "the commands, or one"},
     {"cls", "", "clear the screen"},
     {"quit", "", "stop (also q)"},
@@ -281,10 +284,9 @@ static int exec_command(cli *c, batch *b, char *s) {
     v.lods[0].cloud = *cloud;
     rc = job_save_vrml(c, &v, a1);
   } else if (!strcmp(cmd, "show")) {
-    /* show model [KEYS...]: the window; keys script it (tests) */
-    if (!a1 || strcmp(a1, "model")) {
-      cli_error("show %s: only `show model` is built yet (show bbc is not)",
-                a1 ? a1 : "needs model or bbc:");
+    /* show model|bbc [KEYS...]: the window; keys script it (tests) */
+    if (!a1 || (strcmp(a1, "model") && strcmp(a1, "bbc"))) {
+      cli_error("show %s: expected show model or show bbc", a1 ? a1 : "needs model or bbc:");
       return EXIT_USAGE;
     }
     if (!b->model[0]) goto noload;
@@ -292,7 +294,7 @@ static int exec_command(cli *c, batch *b, char *s) {
     memset(&wrap, 0, sizeof wrap);
     wrap.mesh = b->loaded;
     const bbc_cloud *cl = b->show_loaded ? &wrap : bbc_session_result(b->sess);
-    rc = show_model(c, bbc_session_model(b->sess), cl, a2);
+    rc = show_window(c, b->sess, cl, a1[0] == 'b', a2);
   } else if (!strcmp(cmd, "bbcload")) {
     if (!a1) goto missing;
     bbc_load_options lo;

@@ -1,6 +1,8 @@
-/* cmd_view.c — the viewer (thesis Appendix A `show model`): `bbcgen view`
- * renders its views headless; `show model` at the prompt opens a window.
- * The drawing is src/gl/viewer.c. */
+/* cmd_view.c — the viewer (thesis Appendix A `show model`, `show bbc`):
+ * `bbcgen view` renders its nine views headless; `show model` and `show
+ * bbc` at the prompt open a window. The geometry of show bbc's views comes
+ * from the library (bbc_grid_view, bbc_faces_view), the drawing is
+ * src/gl/viewer.c; the model, grid, planes and cloud from the session. */
 #include "pipeline.h"
 
 #include <GLFW/glfw3.h>
@@ -39,10 +41,75 @@ static bbcgl_viewer *viewer_for(const bbc_mesh *model, const bbc_cloud *cloud) {
   return v;
 }
 
-/* bbcgen view MODEL --mode M --screenshot PNG [--size PX] [--yaw D] [--pitch D] */
+/* show bbc's selection: the part, its face, the vertex (F6), the volume (F7). */
+typedef struct bbc_pick {
+  size_t part, face;
+  int vertex, volume;
+} bbc_pick;
+
+/* The first selection: the largest face of the part with most faces. */
+static void pick_default(const bbc_grid *g, bbc_pick *p) {
+  memset(p, 0, sizeof *p);
+  p->vertex = -1;
+  for (size_t i = 1; i < bbc_grid_part_count(g); i++)
+    if (bbc_grid_part_faces(g, i) > bbc_grid_part_faces(g, p->part)) p->part = i;
+  p->face = bbc_grid_largest_face(g, p->part);
+}
+
+/* Uploads the geometry of a show bbc view for the selection, and the
+ * mini-model (the wireframe model, the selected face yellow). */
+static int bbc_geometry_for(bbcgl_viewer *v, const bbc_session *s, int mode, const bbc_pick *p) {
+  const bbc_grid *g = bbc_session_grid_get(s);
+  const bbc_mesh *m = bbc_session_model(s);
+  int64_t tri = bbc_grid_face_triangle(g, p->part, p->face);
+  bbc_geometry geo, mini;
+  bbc_error e;
+  char err[BBCGL_ERR];
+  uint8_t *state = NULL;
+  bbc_result r;
+  if (mode == BBCGL_VIEW_FACES) {
+    state = malloc(m->triangle_count);
+    if (!state) {
+      cli_error("out of memory");
+      return EXIT_RESOURCES;
+    }
+    bbc_faces_state(bbc_session_planeset(s), (size_t)tri, state, m->triangle_count);
+    r = bbc_faces_view(m, state, (size_t)tri, &geo, &e);
+    free(state);
+  } else {
+    bbc_grid_view_options o = {(bbc_grid_view_kind)(mode - BBCGL_VIEW_DOMAIN), p->part, p->face,
+                               p->vertex, p->volume};
+    r = bbc_grid_view(g, &o, &geo, &e);
+  }
+  if (r != BBC_OK) return cli_fail(&e, 0);
+  int ok = bbcgl_viewer_set_geometry(v, 0, &geo, err);
+  bbc_geometry_free(&geo);
+  if (ok && mode != BBCGL_VIEW_FACES) {
+    if (bbc_faces_view(m, NULL, (size_t)tri, &mini, &e) != BBC_OK) return cli_fail(&e, 0);
+    ok = bbcgl_viewer_set_geometry(v, 1, &mini, err);
+    bbc_geometry_free(&mini);
+  }
+  if (!ok) {
+    cli_error("viewer: %s", err);
+    return EXIT_RESOURCES;
+  }
+  return EXIT_OK;
+}
+
+/* "1".."3" or "all" (F6's choices) -> -1..2; -2 on error. */
+static int parse_vertex(const char *t) {
+  if (!strcmp(t, "all")) return -1;
+  if (t[0] >= '1' && t[0] <= '3' && !t[1]) return t[0] - '1';
+  return -2;
+}
+
+/* bbcgen view MODEL --mode M --screenshot PNG [--size PX] [--yaw D] [--pitch D]
+ *   [--part P] [--face N] [--vertex 1|2|3|all] [--volume] [--no-mini] */
 int cmd_view(cli *c, int argc, char **argv) {
-  const char *model = NULL, *shot = NULL, *mode_name = "input";
+  const char *model = NULL, *shot = NULL, *mode_name = "input", *part = NULL;
   double size = 512, yaw = 30, pitch = 10;
+  long long face = -1;
+  int vertex = -1, volume = 0, mini = 1;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
     int has = i + 1 < argc;
@@ -50,6 +117,19 @@ int cmd_view(cli *c, int argc, char **argv) {
       mode_name = argv[++i];
     } else if (!strcmp(a, "--screenshot") && has) {
       shot = argv[++i];
+    } else if (!strcmp(a, "--part") && has) {
+      part = argv[++i];
+    } else if (!strcmp(a, "--face") && has) {
+      if ((face = cli_parse_count("--face", argv[++i], 1LL << 40)) < 0) return EXIT_USAGE;
+    } else if (!strcmp(a, "--vertex") && has) {
+      if ((vertex = parse_vertex(argv[++i])) < -1) {
+        cli_error("view: --vertex %s: expected 1, 2, 3 or all", argv[i]);
+        return EXIT_USAGE;
+      }
+    } else if (!strcmp(a, "--volume")) {
+      volume = 1;
+    } else if (!strcmp(a, "--no-mini")) {
+      mini = 0;
     } else if ((!strcmp(a, "--size") || !strcmp(a, "--yaw") || !strcmp(a, "--pitch")) && has) {
       char *end;
       double v = strtod(argv[++i], &end);
@@ -66,8 +146,9 @@ int cmd_view(cli *c, int argc, char **argv) {
       if (a[0] != '-' && !model) {
         model = a;
       } else if (a[0] == '-') {
-        static const char *const own[] = {"--mode", "--screenshot", "--size",
-                                          "--yaw",  "--pitch",      NULL};
+        static const char *const own[] = {"--mode",   "--screenshot", "--size", "--yaw",
+                                          "--pitch",  "--part",       "--face", "--vertex",
+                                          "--volume", "--no-mini",    NULL};
         return cli_unknown_option("view", a, own);
       } else {
         cli_error("view: one model at a time ('%s' is a second one)", a);
@@ -78,12 +159,16 @@ int cmd_view(cli *c, int argc, char **argv) {
   int all = !strcmp(mode_name, "all");
   int mode = all ? 0 : bbcgl_view_mode_from_name(mode_name);
   if (mode < 0) {
-    cli_error("view: --mode %s: expected input, rects, cloud-rects, cloud or all", mode_name);
+    cli_error("view: --mode %s: expected input, rects, cloud-rects, cloud, domain, continuous, "
+              "both, density, faces or all",
+              mode_name);
     return EXIT_USAGE;
   }
   if (!model || !shot) {
     cli_error("view: usage: bbcgen view MODEL --screenshot OUT.png [--mode "
-              "input|rects|cloud-rects|cloud|all] [--size PX] [--yaw DEG] [--pitch DEG]");
+              "input|rects|cloud-rects|cloud|domain|continuous|both|density|faces|all] [--size "
+              "PX] [--yaw DEG] [--pitch DEG] [--part P] [--face N] [--vertex 1|2|3|all] "
+              "[--volume] [--no-mini]");
     return EXIT_USAGE;
   }
   size_t sl = strlen(shot);
@@ -91,22 +176,75 @@ int cmd_view(cli *c, int argc, char **argv) {
     cli_error("view: --screenshot %s: the picture is written as .png", shot);
     return EXIT_USAGE;
   }
-  int need_cloud = all || mode != BBCGL_VIEW_INPUT;
-  job j;
-  int rc = need_cloud ? job_run(c, model, NULL, 0, &j) : job_load(c, model, &j);
-  if (rc != EXIT_OK) return rc;
+  /* the session: the model; the grid and planes for show bbc's views; the
+   * cloud for show model's (all: everything) */
+  bbc_session *sess = bbc_session_new();
+  if (!sess) {
+    cli_error("out of memory");
+    return EXIT_RESOURCES;
+  }
+  bbc_load_options lo;
+  cli_load_options(c, &lo);
+  bbc_planes_options po;
+  bbc_error e;
+  int rc = cli_planes_options(c, &po);
+  int need_cloud = all || (mode != BBCGL_VIEW_INPUT && mode < BBCGL_VIEW_DOMAIN);
+  int need_grid = all || mode >= BBCGL_VIEW_DOMAIN;
+  if (rc == EXIT_OK && bbc_session_load(sess, model, &lo, &e) != BBC_OK) rc = cli_fail(&e, 0);
+  if (rc == EXIT_OK && need_cloud && bbc_session_run(sess, &po, &e) != BBC_OK)
+    rc = cli_fail_in(model, &e, 0);
+  if (rc == EXIT_OK && need_grid && !need_cloud &&
+      (bbc_session_grid(sess, &po, &e) != BBC_OK || bbc_session_planes(sess, &po, &e) != BBC_OK))
+    rc = cli_fail_in(model, &e, 0);
+  bbc_pick pick;
+  memset(&pick, 0, sizeof pick);
+  if (rc == EXIT_OK && need_grid) {
+    const bbc_grid *g = bbc_session_grid_get(sess);
+    pick_default(g, &pick);
+    pick.vertex = vertex;
+    pick.volume = volume;
+    if (part) {
+      size_t n = bbc_grid_part_count(g), k;
+      for (k = 0; k < n; k++)
+        if (!strcasecmp(part, bbc_grid_part_name(g, k)) ||
+            (part[0] >= '0' && part[0] <= '9' && !part[1] && (size_t)(part[0] - '0') == k))
+          break;
+      if (k == n) {
+        cli_error("view: --part %s: the model's parts are %s%s%s", part, bbc_grid_part_name(g, 0),
+                  n > 1 ? " and " : "", n > 1 ? bbc_grid_part_name(g, 1) : "");
+        rc = EXIT_USAGE;
+      } else {
+        pick.part = k;
+        pick.face = bbc_grid_largest_face(g, k);
+      }
+    }
+    if (rc == EXIT_OK && face >= 0) {
+      if ((size_t)face >= bbc_grid_part_faces(g, pick.part)) {
+        cli_error("view: --face %lld: part %s has %zu faces (0 to %zu)", face,
+                  bbc_grid_part_name(g, pick.part), bbc_grid_part_faces(g, pick.part),
+                  bbc_grid_part_faces(g, pick.part) - 1);
+        rc = EXIT_USAGE;
+      } else {
+        pick.face = (size_t)face;
+      }
+    }
+  }
+  if (rc != EXIT_OK) {
+    bbc_session_free(sess);
+    return rc;
+  }
   char err[BBCGL_ERR];
-  int px = (int)size, w = all ? 2 * px : px, h = all ? 2 * px : px;
+  int px = (int)size, w = all ? 3 * px : px, h = all ? 3 * px : px;
   bbcgl_context *ctx = bbcgl_context_headless(w, h, err);
   if (!ctx) {
     cli_error("view: %s", err);
-    job_free(&j);
+    bbc_session_free(sess);
     return EXIT_RESOURCES;
   }
-  bbcgl_viewer *v = viewer_for(&j.mesh, need_cloud ? &j.lods[0].cloud : NULL);
+  bbcgl_viewer *v = viewer_for(bbc_session_model(sess), bbc_session_result(sess));
   if (!v) {
     bbcgl_context_free(ctx);
-    job_free(&j);
+    bbc_session_free(sess);
     return EXIT_RESOURCES;
   }
   bbcgl_view view;
@@ -114,54 +252,111 @@ int cmd_view(cli *c, int argc, char **argv) {
   view.yaw = yaw;
   view.pitch = pitch;
   view.up_axis = c->params.up_axis;
+  view.mini = mini;
   bbcgl_context_begin(ctx);
-  if (all) { /* a 2 x 2 sheet: input, rects / cloud-rects, cloud */
-    for (int m = 0; m < BBCGL_VIEW_COUNT; m++)
-      bbcgl_viewer_draw(v, (bbcgl_view_mode)m, &view, (m % 2) * px, (1 - m / 2) * px, px, px);
-  } else {
-    bbcgl_viewer_draw(v, (bbcgl_view_mode)mode, &view, 0, 0, w, h);
+  for (int m = all ? 0 : mode; rc == EXIT_OK && m < (all ? BBCGL_VIEW_COUNT : mode + 1); m++) {
+    if (m >= BBCGL_VIEW_DOMAIN) rc = bbc_geometry_for(v, sess, m, &pick);
+    if (rc != EXIT_OK) break;
+    bbcgl_view mv = view;
+    if (m >= BBCGL_VIEW_DOMAIN && m != BBCGL_VIEW_FACES && yaw == 30 && pitch == 10) {
+      mv.yaw = 25; /* the grid's box from above its front corner */
+      mv.pitch = 25;
+    }
+    if (all) /* a 3 x 3 sheet: show model's four, then show bbc's five */
+      bbcgl_viewer_draw(v, (bbcgl_view_mode)m, &mv, (m % 3) * px, (2 - m / 3) * px, px, px);
+    else
+      bbcgl_viewer_draw(v, (bbcgl_view_mode)m, &mv, 0, 0, w, h);
   }
   bbcgl_context_end(ctx);
-  rc = write_png(ctx, shot);
-  if (rc == EXIT_OK) cli_info(c, "wrote %s: %s", shot, all ? "the four views" : mode_name);
+  if (rc == EXIT_OK) rc = write_png(ctx, shot);
+  if (rc == EXIT_OK) {
+    if (need_grid)
+      cli_info(c, "wrote %s: %s; part %s, face %zu (triangle %lld of the model)", shot,
+               all ? "the nine views" : mode_name,
+               bbc_grid_part_name(bbc_session_grid_get(sess), pick.part), pick.face,
+               (long long)bbc_grid_face_triangle(bbc_session_grid_get(sess), pick.part, pick.face));
+    else
+      cli_info(c, "wrote %s: %s", shot, mode_name);
+  }
   bbcgl_viewer_free(v);
   bbcgl_context_free(ctx);
-  job_free(&j);
+  bbc_session_free(sess);
   return rc;
 }
 
-/* ---- show model: a window at the prompt -------------------------------------- */
+/* ---- show model / show bbc: a window at the prompt ----------------------------- */
 
 typedef struct show_state {
   bbcgl_view view;
-  int mode, quit, dragging;
+  int bbc; /* show bbc (else show model) */
+  int mode, quit, dragging, changed;
+  const bbc_grid *grid;
+  bbc_pick pick;
   double mx, my;
 } show_state;
 
+/* Arrow keys: up/down cycle the views (show model: left/right too), in show
+ * bbc left/right cycle the selected face. */
 static void show_key(show_state *s, int key) {
+  int first = s->bbc ? BBCGL_VIEW_DOMAIN : 0;
+  int count = s->bbc ? BBCGL_VIEW_COUNT - BBCGL_VIEW_DOMAIN : BBCGL_VIEW_MODEL_COUNT;
+  int step = 0;
   switch (key) {
-  case GLFW_KEY_RIGHT:
   case GLFW_KEY_DOWN:
-    s->mode = (s->mode + 1) % BBCGL_VIEW_COUNT;
+    step = 1;
     break;
-  case GLFW_KEY_LEFT:
   case GLFW_KEY_UP:
-    s->mode = (s->mode + BBCGL_VIEW_COUNT - 1) % BBCGL_VIEW_COUNT;
+    step = -1;
+    break;
+  case GLFW_KEY_RIGHT:
+  case GLFW_KEY_LEFT:
+    if (!s->bbc) {
+      step = key == GLFW_KEY_RIGHT ? 1 : -1;
+    } else {
+      size_t n = bbc_grid_part_faces(s->grid, s->pick.part);
+      s->pick.face = (s->pick.face + (key == GLFW_KEY_RIGHT ? 1 : n - 1)) % n;
+      s->changed = 1;
+    }
+    break;
+  case GLFW_KEY_PAGE_UP:
+  case GLFW_KEY_PAGE_DOWN:
+    if (s->bbc) { /* the other part */
+      size_t parts = bbc_grid_part_count(s->grid);
+      s->pick.part = (s->pick.part + 1) % parts;
+      s->pick.face = bbc_grid_largest_face(s->grid, s->pick.part);
+      s->changed = 1;
+    }
     break;
   case GLFW_KEY_TAB: {
-    int up = s->view.up_axis;
+    int up = s->view.up_axis, mini = s->view.mini;
     float bg[3];
     memcpy(bg, s->view.background, sizeof bg);
     bbcgl_view_default(&s->view);
     s->view.up_axis = up;
+    s->view.mini = mini;
     memcpy(s->view.background, bg, sizeof bg);
     break;
   }
   case GLFW_KEY_F1:
     s->view.wireframe = !s->view.wireframe;
     break;
+  case GLFW_KEY_F3:
+    s->view.mini = !s->view.mini;
+    break;
   case GLFW_KEY_F5:
     s->view.lighting = !s->view.lighting;
+    break;
+  case GLFW_KEY_F6: /* the face's domain, then its first, second, third vertex's */
+    if (s->bbc) {
+      s->pick.vertex = s->pick.vertex >= 2 ? -1 : s->pick.vertex + 1;
+      s->changed = 1;
+    }
+    break;
+  case GLFW_KEY_F7: /* sheets only, or the domain between them */
+    if (s->bbc) {
+      s->pick.volume = !s->pick.volume;
+      s->changed = 1;
+    }
     break;
   case GLFW_KEY_F12: {
     float b = s->view.background[0] > 0.5f ? 0.0f : 1.0f;
@@ -173,6 +368,10 @@ static void show_key(show_state *s, int key) {
     break;
   default:
     break;
+  }
+  if (step) {
+    s->mode = first + ((s->mode - first) + step + count) % count;
+    s->changed = 1;
   }
 }
 
@@ -209,27 +408,37 @@ static void on_scroll(GLFWwindow *w, double dx, double dy) {
   if (s->view.zoom > 20) s->view.zoom = 20;
 }
 
+static const struct {
+  const char *name;
+  int key;
+} k_keys[] = {{"right", GLFW_KEY_RIGHT}, {"left", GLFW_KEY_LEFT},    {"up", GLFW_KEY_UP},
+              {"down", GLFW_KEY_DOWN},   {"pgup", GLFW_KEY_PAGE_UP}, {"pgdn", GLFW_KEY_PAGE_DOWN},
+              {"tab", GLFW_KEY_TAB},     {"f1", GLFW_KEY_F1},        {"f3", GLFW_KEY_F3},
+              {"f5", GLFW_KEY_F5},       {"f6", GLFW_KEY_F6},        {"f7", GLFW_KEY_F7},
+              {"f12", GLFW_KEY_F12},     {"esc", GLFW_KEY_ESCAPE}};
+
 static int key_from_name(const char *n) {
-  static const struct {
-    const char *name;
-    int key;
-  } keys[] = {{"right", GLFW_KEY_RIGHT}, {"left", GLFW_KEY_LEFT}, {"up", GLFW_KEY_UP},
-              {"down", GLFW_KEY_DOWN},   {"tab", GLFW_KEY_TAB},   {"f1", GLFW_KEY_F1},
-              {"f5", GLFW_KEY_F5},       {"f12", GLFW_KEY_F12},   {"esc", GLFW_KEY_ESCAPE}};
-  for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
-    if (!strcasecmp(n, keys[i].name)) return keys[i].key;
+  for (size_t i = 0; i < sizeof k_keys / sizeof k_keys[0]; i++)
+    if (!strcasecmp(n, k_keys[i].name)) return k_keys[i].key;
   return -1;
 }
 
-int show_model(const cli *c, const bbc_mesh *model, const bbc_cloud *cloud, const char *keys) {
-  int have_cloud = cloud != NULL;
+int show_window(const cli *c, const bbc_session *sess, const bbc_cloud *cloud, int bbc,
+                const char *keys) {
   char err[BBCGL_ERR];
+  const bbc_mesh *model = bbc_session_model(sess);
+  int have_cloud = cloud != NULL;
+  if (bbc && !bbc_session_grid_get(sess)) {
+    cli_error("show bbc needs the grid of step 1: run bbc1 (or bbc) first");
+    return EXIT_USAGE;
+  }
   if (!getenv("DISPLAY") && !getenv("WAYLAND_DISPLAY")) {
     cli_error("show: no display to open a window on (for pictures without one: bbcgen view "
               "MODEL --mode ... --screenshot OUT.png)");
     return EXIT_USAGE;
   }
-  bbcgl_context *ctx = bbcgl_context_window(800, 600, "bbcgen: show model", err);
+  bbcgl_context *ctx =
+      bbcgl_context_window(800, 600, bbc ? "bbcgen: show bbc" : "bbcgen: show model", err);
   if (!ctx) {
     cli_error("show: %s (for pictures without a display: bbcgen view)", err);
     return EXIT_RESOURCES;
@@ -243,7 +452,12 @@ int show_model(const cli *c, const bbc_mesh *model, const bbc_cloud *cloud, cons
   memset(&s, 0, sizeof s);
   bbcgl_view_default(&s.view);
   s.view.up_axis = c->params.up_axis;
-  s.mode = have_cloud ? BBCGL_VIEW_RECTS : BBCGL_VIEW_INPUT;
+  s.view.mini = 1;
+  s.bbc = bbc;
+  s.grid = bbc_session_grid_get(sess);
+  if (bbc) pick_default(s.grid, &s.pick);
+  s.mode = bbc ? BBCGL_VIEW_DOMAIN : have_cloud ? BBCGL_VIEW_RECTS : BBCGL_VIEW_INPUT;
+  s.changed = 1;
   GLFWwindow *win = bbcgl_context_window_handle(ctx);
   glfwSetWindowUserPointer(win, &s);
   glfwSetKeyCallback(win, on_key);
@@ -252,19 +466,42 @@ int show_model(const cli *c, const bbc_mesh *model, const bbc_cloud *cloud, cons
     glfwSetCursorPosCallback(win, on_cursor);
     glfwSetScrollCallback(win, on_scroll);
   }
-  cli_info(c, "show: arrow keys change the view (input, rectangles, cloud with rectangles, "
-              "cloud), mouse drag turns, wheel zooms, Tab resets, F1 wireframe, F5 lighting, "
-              "F12 background, Esc back to the prompt");
+  if (bbc)
+    cli_info(c, "show bbc: up/down change the view (validity domain on the grid: discretised, "
+                "continuous, both; the grid's density; the faces), left/right the face, "
+                "PgUp/PgDn the part, F3 mini-model, F6 the face's or one vertex's domain, F7 "
+                "sheets or volume, mouse drag turns, wheel zooms, Tab resets, F1 wireframe, F12 "
+                "background, Esc back to the prompt");
+  else
+    cli_info(c, "show model: arrow keys change the view (input, rectangles, cloud with "
+                "rectangles, cloud), mouse drag turns, wheel zooms, Tab resets, F1 wireframe, F5 "
+                "lighting, F12 background, Esc back to the prompt");
   int rc = EXIT_OK;
   char *script = keys ? strdup(keys) : NULL, *save = NULL;
   char *tok = script ? strtok_r(script, " ,", &save) : NULL;
   while (!s.quit && !glfwWindowShouldClose(win)) {
     glfwPollEvents();
-    if (!have_cloud && s.mode != BBCGL_VIEW_INPUT) s.mode = BBCGL_VIEW_INPUT;
+    if (!bbc && !have_cloud && s.mode != BBCGL_VIEW_INPUT) s.mode = BBCGL_VIEW_INPUT;
+    if (bbc && s.changed) {
+      if ((rc = bbc_geometry_for(v, sess, s.mode, &s.pick)) != EXIT_OK) break;
+      const char *vn[3] = {"first", "second", "third"};
+      int sheets =
+          s.pick.vertex >= 0 && (s.mode == BBCGL_VIEW_CONTINUOUS || s.mode == BBCGL_VIEW_BOTH);
+      cli_info(c, "show bbc: %s, part %s, face %zu of %zu%s%s%s", bbcgl_view_mode_name(s.mode),
+               bbc_grid_part_name(s.grid, s.pick.part), s.pick.face,
+               bbc_grid_part_faces(s.grid, s.pick.part), sheets ? ", its " : "",
+               sheets ? vn[s.pick.vertex] : "", sheets ? " vertex's domain" : "");
+    }
+    s.changed = 0;
     int w, h;
     bbcgl_context_size(ctx, &w, &h);
     bbcgl_context_begin(ctx);
-    bbcgl_viewer_draw(v, (bbcgl_view_mode)s.mode, &s.view, 0, 0, w, h);
+    bbcgl_view dv = s.view;
+    if (bbc && s.mode != BBCGL_VIEW_FACES) {
+      dv.yaw -= 5; /* the grid's box from above its front corner */
+      dv.pitch += 15;
+    }
+    bbcgl_viewer_draw(v, (bbcgl_view_mode)s.mode, &dv, 0, 0, w, h);
     if (script) { /* scripted keys: names, shot:FILE.png; the window closes after them */
       if (!tok) break;
       if (!strncmp(tok, "shot:", 5)) {
@@ -272,7 +509,9 @@ int show_model(const cli *c, const bbc_mesh *model, const bbc_cloud *cloud, cons
       } else if (key_from_name(tok) >= 0) {
         show_key(&s, key_from_name(tok));
       } else {
-        cli_error("show: unknown key '%s' (right left up down tab f1 f5 f12 esc, shot:FILE)", tok);
+        cli_error("show: unknown key '%s' (right left up down pgup pgdn tab f1 f3 f5 f6 f7 f12 "
+                  "esc, shot:FILE)",
+                  tok);
         rc = EXIT_USAGE;
         break;
       }

@@ -51,9 +51,11 @@ int job_preview(const cli *c, const job *j, const char *out, int cell);
  * (created as needed) under the current folder. */
 int job_save_vrml(const cli *c, job *j, const char *user_dir);
 
-/* `show model` (cmd_view.c): a window with the viewer over a model and (may
- * be NULL) a cloud; returns when it is closed (Esc). keys (may be NULL):
- * scripted keys, then the window closes. */
-int show_model(const cli *c, const bbc_mesh *model, const bbc_cloud *cloud, const char *keys);
+/* `show model` and `show bbc` (cmd_view.c): a window with the viewer over
+ * the session's model, grid, planes and `cloud` (may be NULL; bbcload's or
+ * the session's); `keys` (may be NULL) script it: key names and
+ * shot:FILE.png, the window closing after them. */
+int show_window(const cli *c, const bbc_session *session, const bbc_cloud *cloud, int bbc,
+                const char *keys);
 
 #endif

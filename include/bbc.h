@@ -68,6 +68,20 @@ typedef struct bbc_error {
 typedef enum bbc_log_level { BBC_LOG_INFO = 0, BBC_LOG_WARNING = 1 } bbc_log_level;
 
 /* Optional reporting hooks. Every member may be NULL. */
+/* What step 2 shows at the `debug` levels of Appendix A, as it happens. */
+typedef struct bbc_debug_event {
+  int level;             /* 1: a plane was picked; 2: a step of the recursive greedy
+                          * select; 3: the cluster kept from a densest cell */
+  const char *where;     /* the part and run, e.g. "foliage" ("" with one part) */
+  size_t plane;          /* planes picked so far in this part */
+  int step;              /* level 2: the recursion step (0 = the grid cell) */
+  const uint32_t *faces; /* mesh triangles: level 1 the plane's faces, 2 those
+                          * simply valid for the step's subcell, 3 the cluster */
+  size_t face_count;
+  const uint32_t *done; /* mesh triangles of this part simplified by earlier planes */
+  size_t done_count;
+} bbc_debug_event;
+
 typedef struct bbc_callbacks {
   /* A message for the user (a missing texture, dropped faces). */
   void (*log)(void *user, bbc_log_level level, const char *message);
@@ -79,6 +93,10 @@ typedef struct bbc_callbacks {
    * bbc_cloud_build): non-zero stops the step, which frees what it made and
    * returns BBC_ERROR_CANCELLED. NULL: never. */
   int (*cancel)(void *user);
+  /* Step 2's internals at parameter `debug` >= the event's level (NULL:
+   * none); the step waits for it to return and its result does not depend
+   * on it. Arrays are valid during the call only. */
+  void (*debug)(void *user, const bbc_debug_event *event);
 } bbc_callbacks;
 
 /* ------------------------------------------------------------------------ */

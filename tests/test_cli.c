@@ -726,6 +726,53 @@ static void test_viewer(void **state) {
   for (int m = 0; m < 9; m++) free(img[m]);
 }
 
+/* The debug levels: step 2 opens a window per pick (1) and per greedy step
+ * (2) as it runs; End goes on without more of them. */
+static void test_debug_views(void **state) {
+  (void)state;
+  char path[1024], text[4096], cmd[8192], o[1024];
+  tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
+  if (!tu_have_file(path)) skip();
+  if (system("command -v xvfb-run > /dev/null 2>&1") != 0) {
+    if (getenv("CI")) fail_msg("xvfb-run is missing (scripts/setup.sh test installs it)");
+    skip();
+  }
+  snprintf(text, sizeof text, "load %s\nset debug 1\nbbc1\nbbc2\nset debug 2\nbbc\nquit\n", path);
+  char *bf = tu_write_file(tu_dir, "debug.bbc", text, strlen(text));
+  snprintf(o, sizeof o, "%s/debug_out.txt", tu_dir);
+  /* bbc2 shows every pick (a picture each); bbc's first window ends them */
+  snprintf(cmd, sizeof cmd,
+           "cd '%s' && BBCGEN_DEBUG_KEYS='shot:dbg%%d.png,esc' timeout 180 xvfb-run -a -s '-screen "
+           "0 800x600x24' '%s/bbcgen' -x '%s' > '%s' 2>&1",
+           tu_dir, BBC_BIN_DIR, bf, o);
+  int st = system(cmd);
+  char *so = (char *)tu_read_file(o, NULL);
+  if (!(WIFEXITED(st) && WEXITSTATUS(st) == 0)) fail_msg("debug: %s", so ? so : "");
+  int picks = 0;
+  for (const char *p = so; (p = strstr(p, "plane picked")); p++) picks++;
+  assert_true(picks >= 20); /* Tree_1: 32 planes and more picks before merging */
+  assert_non_null(strstr(so, "greedy step"));
+  for (int i = 1; i <= picks; i++) {
+    char png[1200];
+    snprintf(png, sizeof png, "%s/dbg%d.png", tu_dir, i);
+    if (covered(png) < 0.005) fail_msg("debug view %d missing or blank", i);
+  }
+  free(so);
+  /* End: the first window of a step is its last */
+  snprintf(cmd, sizeof cmd,
+           "cd '%s' && BBCGEN_DEBUG_KEYS='end' timeout 180 xvfb-run -a '%s/bbcgen' -x '%s' > '%s' "
+           "2>&1",
+           tu_dir, BBC_BIN_DIR, bf, o);
+  st = system(cmd);
+  so = (char *)tu_read_file(o, NULL);
+  if (!(WIFEXITED(st) && WEXITSTATUS(st) == 0)) fail_msg("debug: %s", so ? so : "");
+  int views = 0;
+  for (const char *p = so; (p = strstr(p, "(view ")); p++) views++;
+  assert_int_equal(views, 2); /* one for bbc2, one for bbc */
+  free(so);
+  free(bf);
+}
+
 /* bbcgen MODEL -o OUT: option errors before any work; batch bbc/shade/save
  * write the thesis's VRML folder. */
 static void test_cloud_command(void **state) {
@@ -1110,6 +1157,7 @@ int main(void) {
       cmocka_unit_test(test_exec_state),
       cmocka_unit_test(test_prompt),
       cmocka_unit_test(test_viewer),
+      cmocka_unit_test(test_debug_views),
       cmocka_unit_test(test_cloud_command),
       cmocka_unit_test(test_hand_epsilon_kept),
       cmocka_unit_test(test_suggestions),

@@ -86,6 +86,13 @@ static void label_log(void *user, bbc_log_level level, const char *message) {
   if (l->outer.log) l->outer.log(l->outer.user, level, l->text);
 }
 
+static void label_debug(void *user, const bbc_debug_event *event) {
+  bbc__label *l = user;
+  bbc_debug_event e = *event;
+  e.where = l->label;
+  l->outer.debug(l->outer.user, &e);
+}
+
 void bbc__label_callbacks(const bbc_callbacks *in, bbc__label *l, bbc_callbacks *out,
                           const char *fmt, ...) {
   memset(l, 0, sizeof *l);
@@ -97,6 +104,7 @@ void bbc__label_callbacks(const bbc_callbacks *in, bbc__label *l, bbc_callbacks 
   out->progress = l->outer.progress ? label_progress : NULL;
   out->log = l->outer.log ? label_log : NULL;
   out->cancel = l->outer.cancel ? label_cancel : NULL;
+  out->debug = l->outer.debug ? label_debug : NULL;
   out->user = l;
 }
 

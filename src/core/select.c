@@ -36,10 +36,23 @@ typedef struct ctx {
   int threads;
   const bbc_callbacks *cb;
   select_result *out;
-  uint8_t *flag;     /* scratch per face */
-  uint32_t *scratch; /* scratch per face */
-  uint32_t *label;   /* scratch per face */
+  uint8_t *flag;                /* scratch per face */
+  uint32_t *scratch;            /* scratch per face */
+  uint32_t *label;              /* scratch per face */
+  uint32_t *ev_faces, *ev_done; /* debug events: mesh triangles (NULL: no debug) */
 } ctx;
+
+/* An Appendix A debug event (parameter `debug`): `set` as mesh triangles,
+ * and the faces earlier planes simplified. */
+static void debug_event(ctx *c, int level, int step, const uint32_t *set, size_t n) {
+  if (!c->ev_faces || c->p->debug < level) return;
+  for (size_t i = 0; i < n; i++) c->ev_faces[i] = c->faces[set[i]].mesh_index;
+  size_t nd = 0;
+  for (size_t f = 0; f < c->nf; f++)
+    if (c->assigned[f] == 1) c->ev_done[nd++] = c->faces[f].mesh_index;
+  bbc_debug_event e = {level, "", c->out->plane_count, step, c->ev_faces, n, c->ev_done, nd};
+  c->cb->debug(c->cb->user, &e);
+}
 
 static int thread_count(const ctx *c) {
 #ifdef _OPENMP
@@ -364,6 +377,7 @@ static int refine_plane(ctx *c, dual_box box, const uint32_t *set0, size_t n0, u
     memcpy(set, c->scratch, m * sizeof *set);
     n = m;
     box = sub;
+    debug_event(c, 2, step + 1, set, n);
   }
 }
 
@@ -603,6 +617,11 @@ bbc_result bbc__select_planes(const dual_face *faces, size_t nf, dual_grid *g, c
   uint32_t *work = malloc((nf ? nf : 1) * sizeof *work);
   out->face_plane = malloc((nf ? nf : 1) * sizeof *out->face_plane);
   bbc_result r = BBC_OK;
+  if (p->debug > 0 && cb && cb->debug) {
+    c.ev_faces = malloc((nf ? nf : 1) * sizeof *c.ev_faces);
+    c.ev_done = malloc((nf ? nf : 1) * sizeof *c.ev_done);
+    if (!c.ev_faces || !c.ev_done) r = BBC_ERROR_OUT_OF_MEMORY;
+  }
   if (!c.assigned || !c.flag || !c.scratch || !c.label || !set || !set0 || !cand0 || !cand ||
       !work || !out->face_plane)
     r = BBC_ERROR_OUT_OF_MEMORY;
@@ -622,8 +641,10 @@ bbc_result bbc__select_planes(const dual_face *faces, size_t nf, dual_grid *g, c
       bbc__dual_grid_cell_box(g, cells[k] / g->n_rho, (int)(cells[k] % g->n_rho), &box);
       size_t m0 = simply_valid(&c, &box, NULL, 0, cand0);
       if (m0 == 0) continue;
-      if (p->clustering > 0)
+      if (p->clustering > 0) {
         m0 = largest_cluster(&c, cand0, m0, g->dirs[cells[k] / g->n_rho].n, NULL);
+        debug_event(&c, 3, 0, cand0, m0);
+      }
       found_plane cp;
       if (!refine_plane(&c, box, cand0, m0, work, &cp)) cp = parachute(&c, cand0, m0);
       /* The faces it simplifies: those of the cell's set valid for it. */
@@ -680,6 +701,7 @@ bbc_result bbc__select_planes(const dual_face *faces, size_t nf, dual_grid *g, c
     int32_t index = (int32_t)out->plane_count;
     r = push_plane(&c, &fp, n, area, -1, 100.0);
     if (r != BBC_OK) break;
+    debug_event(&c, 1, 0, set, n);
     for (size_t i = 0; i < n; i++) {
       c.assigned[set[i]] = 1;
       out->face_plane[set[i]] = (uint32_t)index;
@@ -695,6 +717,8 @@ bbc_result bbc__select_planes(const dual_face *faces, size_t nf, dual_grid *g, c
     }
   }
   if (r == BBC_OK && p->merge) r = merge_planes(faces, nf, eps, out);
+  free(c.ev_faces);
+  free(c.ev_done);
   free(c.assigned);
   free(c.flag);
   free(c.scratch);

@@ -227,7 +227,10 @@ static int exec_command(cli *c, batch *b, char *s) {
       return EXIT_USAGE;
     }
     bbc_error e;
-    if (bbc_session_planes(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
+    debug_views_begin(c, bbc_session_model(b->sess), &po);
+    bbc_result r = bbc_session_planes(b->sess, &po, &e);
+    debug_views_end();
+    if (r != BBC_OK) return cli_fail_in(b->model, &e, 0);
     job_info(c, bbc_session_planeset(b->sess), NULL, &c->params, 1);
   } else if (!strcmp(cmd, "bbc3")) {
     if (!b->model[0]) goto noload;
@@ -253,7 +256,10 @@ static int exec_command(cli *c, batch *b, char *s) {
     bbc_planes_options po;
     if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
     bbc_error e;
-    if (bbc_session_run(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
+    debug_views_begin(c, bbc_session_model(b->sess), &po);
+    bbc_result r = bbc_session_run(b->sess, &po, &e);
+    debug_views_end();
+    if (r != BBC_OK) return cli_fail_in(b->model, &e, 0);
     made_cloud(c, b, 0);
   } else if (!strcmp(cmd, "shade")) {
     if (!a1) goto missing;

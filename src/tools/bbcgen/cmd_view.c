@@ -288,8 +288,10 @@ int cmd_view(cli *c, int argc, char **argv) {
 
 typedef struct show_state {
   bbcgl_view view;
-  int bbc; /* show bbc (else show model) */
-  int mode, quit, dragging, changed;
+  int bbc;   /* show bbc (else show model) */
+  int debug; /* a debug view during step 2: the faces only; End: no more of them */
+  int have_cloud;
+  int mode, quit, end, dragging, changed;
   const bbc_grid *grid;
   bbc_pick pick;
   double mx, my;
@@ -301,6 +303,9 @@ static void show_key(show_state *s, int key) {
   int first = s->bbc ? BBCGL_VIEW_DOMAIN : 0;
   int count = s->bbc ? BBCGL_VIEW_COUNT - BBCGL_VIEW_DOMAIN : BBCGL_VIEW_MODEL_COUNT;
   int step = 0;
+  if (s->debug && (key == GLFW_KEY_UP || key == GLFW_KEY_DOWN || key == GLFW_KEY_LEFT ||
+                   key == GLFW_KEY_RIGHT || key == GLFW_KEY_PAGE_UP || key == GLFW_KEY_PAGE_DOWN))
+    return;
   switch (key) {
   case GLFW_KEY_DOWN:
     step = 1;
@@ -366,6 +371,9 @@ static void show_key(show_state *s, int key) {
   case GLFW_KEY_ESCAPE:
     s->quit = 1;
     break;
+  case GLFW_KEY_END:
+    s->quit = s->end = 1;
+    break;
   default:
     break;
   }
@@ -415,12 +423,72 @@ static const struct {
               {"down", GLFW_KEY_DOWN},   {"pgup", GLFW_KEY_PAGE_UP}, {"pgdn", GLFW_KEY_PAGE_DOWN},
               {"tab", GLFW_KEY_TAB},     {"f1", GLFW_KEY_F1},        {"f3", GLFW_KEY_F3},
               {"f5", GLFW_KEY_F5},       {"f6", GLFW_KEY_F6},        {"f7", GLFW_KEY_F7},
-              {"f12", GLFW_KEY_F12},     {"esc", GLFW_KEY_ESCAPE}};
+              {"f12", GLFW_KEY_F12},     {"esc", GLFW_KEY_ESCAPE},   {"end", GLFW_KEY_END}};
 
 static int key_from_name(const char *n) {
   for (size_t i = 0; i < sizeof k_keys / sizeof k_keys[0]; i++)
     if (!strcasecmp(n, k_keys[i].name)) return k_keys[i].key;
   return -1;
+}
+
+/* The window's loop: draws, takes keys (or the script's) until Esc, End or
+ * the script's end. */
+static int run_window(const cli *c, bbcgl_context *ctx, bbcgl_viewer *v, const bbc_session *sess,
+                      show_state *sp, const char *keys) {
+  GLFWwindow *win = bbcgl_context_window_handle(ctx);
+  glfwSetWindowUserPointer(win, sp);
+  glfwSetKeyCallback(win, on_key);
+  if (!keys) { /* scripted keys are the only input of a scripted run */
+    glfwSetMouseButtonCallback(win, on_button);
+    glfwSetCursorPosCallback(win, on_cursor);
+    glfwSetScrollCallback(win, on_scroll);
+  }
+  int rc = EXIT_OK;
+  char *script = keys ? strdup(keys) : NULL, *save = NULL;
+  char *tok = script ? strtok_r(script, " ,", &save) : NULL;
+  while (!sp->quit && !glfwWindowShouldClose(win)) {
+    glfwPollEvents();
+    if (!sp->bbc && !sp->debug && !sp->have_cloud && sp->mode != BBCGL_VIEW_INPUT)
+      sp->mode = BBCGL_VIEW_INPUT;
+    if (sp->bbc && sp->changed) {
+      if ((rc = bbc_geometry_for(v, sess, sp->mode, &sp->pick)) != EXIT_OK) break;
+      const char *vn[3] = {"first", "second", "third"};
+      int sheets = sp->pick.vertex >= 0 &&
+                   (sp->mode == BBCGL_VIEW_CONTINUOUS || sp->mode == BBCGL_VIEW_BOTH);
+      cli_info(c, "show bbc: %s, part %s, face %zu of %zu%s%s%s", bbcgl_view_mode_name(sp->mode),
+               bbc_grid_part_name(sp->grid, sp->pick.part), sp->pick.face,
+               bbc_grid_part_faces(sp->grid, sp->pick.part), sheets ? ", its " : "",
+               sheets ? vn[sp->pick.vertex] : "", sheets ? " vertex's domain" : "");
+    }
+    sp->changed = 0;
+    int w, h;
+    bbcgl_context_size(ctx, &w, &h);
+    bbcgl_context_begin(ctx);
+    bbcgl_view dv = sp->view;
+    if (sp->bbc && sp->mode != BBCGL_VIEW_FACES) {
+      dv.yaw -= 5; /* the grid's box from above its front corner */
+      dv.pitch += 15;
+    }
+    bbcgl_viewer_draw(v, (bbcgl_view_mode)sp->mode, &dv, 0, 0, w, h);
+    if (script) { /* scripted keys: names, shot:FILE.png; the window closes after them */
+      if (!tok) break;
+      if (!strncmp(tok, "shot:", 5)) {
+        if (write_png(ctx, tok + 5) != EXIT_OK) rc = EXIT_OUTPUT;
+      } else if (key_from_name(tok) >= 0) {
+        show_key(sp, key_from_name(tok));
+      } else {
+        cli_error("show: unknown key '%s' (right left up down pgup pgdn tab f1 f3 f5 f6 f7 f12 "
+                  "esc end, shot:FILE)",
+                  tok);
+        rc = EXIT_USAGE;
+        break;
+      }
+      tok = strtok_r(NULL, " ,", &save);
+    }
+    bbcgl_context_end(ctx);
+  }
+  free(script);
+  return rc;
 }
 
 int show_window(const cli *c, const bbc_session *sess, const bbc_cloud *cloud, int bbc,
@@ -454,18 +522,11 @@ int show_window(const cli *c, const bbc_session *sess, const bbc_cloud *cloud, i
   s.view.up_axis = c->params.up_axis;
   s.view.mini = 1;
   s.bbc = bbc;
+  s.have_cloud = have_cloud;
   s.grid = bbc_session_grid_get(sess);
   if (bbc) pick_default(s.grid, &s.pick);
   s.mode = bbc ? BBCGL_VIEW_DOMAIN : have_cloud ? BBCGL_VIEW_RECTS : BBCGL_VIEW_INPUT;
   s.changed = 1;
-  GLFWwindow *win = bbcgl_context_window_handle(ctx);
-  glfwSetWindowUserPointer(win, &s);
-  glfwSetKeyCallback(win, on_key);
-  if (!keys) { /* scripted keys are the only input of a scripted run */
-    glfwSetMouseButtonCallback(win, on_button);
-    glfwSetCursorPosCallback(win, on_cursor);
-    glfwSetScrollCallback(win, on_scroll);
-  }
   if (bbc)
     cli_info(c, "show bbc: up/down change the view (validity domain on the grid: discretised, "
                 "continuous, both; the grid's density; the faces), left/right the face, "
@@ -476,51 +537,108 @@ int show_window(const cli *c, const bbc_session *sess, const bbc_cloud *cloud, i
     cli_info(c, "show model: arrow keys change the view (input, rectangles, cloud with "
                 "rectangles, cloud), mouse drag turns, wheel zooms, Tab resets, F1 wireframe, F5 "
                 "lighting, F12 background, Esc back to the prompt");
-  int rc = EXIT_OK;
-  char *script = keys ? strdup(keys) : NULL, *save = NULL;
-  char *tok = script ? strtok_r(script, " ,", &save) : NULL;
-  while (!s.quit && !glfwWindowShouldClose(win)) {
-    glfwPollEvents();
-    if (!bbc && !have_cloud && s.mode != BBCGL_VIEW_INPUT) s.mode = BBCGL_VIEW_INPUT;
-    if (bbc && s.changed) {
-      if ((rc = bbc_geometry_for(v, sess, s.mode, &s.pick)) != EXIT_OK) break;
-      const char *vn[3] = {"first", "second", "third"};
-      int sheets =
-          s.pick.vertex >= 0 && (s.mode == BBCGL_VIEW_CONTINUOUS || s.mode == BBCGL_VIEW_BOTH);
-      cli_info(c, "show bbc: %s, part %s, face %zu of %zu%s%s%s", bbcgl_view_mode_name(s.mode),
-               bbc_grid_part_name(s.grid, s.pick.part), s.pick.face,
-               bbc_grid_part_faces(s.grid, s.pick.part), sheets ? ", its " : "",
-               sheets ? vn[s.pick.vertex] : "", sheets ? " vertex's domain" : "");
-    }
-    s.changed = 0;
-    int w, h;
-    bbcgl_context_size(ctx, &w, &h);
-    bbcgl_context_begin(ctx);
-    bbcgl_view dv = s.view;
-    if (bbc && s.mode != BBCGL_VIEW_FACES) {
-      dv.yaw -= 5; /* the grid's box from above its front corner */
-      dv.pitch += 15;
-    }
-    bbcgl_viewer_draw(v, (bbcgl_view_mode)s.mode, &dv, 0, 0, w, h);
-    if (script) { /* scripted keys: names, shot:FILE.png; the window closes after them */
-      if (!tok) break;
-      if (!strncmp(tok, "shot:", 5)) {
-        if (write_png(ctx, tok + 5) != EXIT_OK) rc = EXIT_OUTPUT;
-      } else if (key_from_name(tok) >= 0) {
-        show_key(&s, key_from_name(tok));
-      } else {
-        cli_error("show: unknown key '%s' (right left up down pgup pgdn tab f1 f3 f5 f6 f7 f12 "
-                  "esc, shot:FILE)",
-                  tok);
-        rc = EXIT_USAGE;
-        break;
-      }
-      tok = strtok_r(NULL, " ,", &save);
-    }
-    bbcgl_context_end(ctx);
-  }
-  free(script);
+  int rc = run_window(c, ctx, v, sess, &s, keys);
   bbcgl_viewer_free(v);
   bbcgl_context_free(ctx);
   return rc;
+}
+
+/* ---- debug levels: step 2's internals in a window as they happen ------------ */
+
+static struct {
+  const cli *c;
+  const bbc_mesh *model;
+  bbcgl_context *ctx;
+  bbcgl_viewer *v;
+  show_state s;
+  uint8_t *state;
+  int count, off;
+} g_dbg;
+
+/* The faces view of one event: the faces earlier planes took hidden, the
+ * event's faces blue (the first yellow), the rest as wireframe; Esc goes on,
+ * End goes on without more debug views in this command. */
+static void on_debug(void *user, const bbc_debug_event *ev) {
+  (void)user;
+  if (g_dbg.off || !g_dbg.model) return;
+  const cli *c = g_dbg.c;
+  g_dbg.count++;
+  const char *what = ev->level == 1 ? "plane picked" : ev->level == 2 ? "greedy step" : "cluster";
+  char step[32] = "";
+  if (ev->level == 2) snprintf(step, sizeof step, " %d", ev->step);
+  cli_info(c, "debug %d: %s%splane %zu, %s%s: %zu faces (view %d)", ev->level, ev->where,
+           ev->where[0] ? ", " : "", ev->plane + (ev->level != 1), what, step, ev->face_count,
+           g_dbg.count);
+  char err[BBCGL_ERR];
+  if (!g_dbg.ctx) {
+    if (!getenv("DISPLAY") && !getenv("WAYLAND_DISPLAY")) {
+      cli_log((void *)c, BBC_LOG_WARNING, "debug: no display for the debug views (step 2 goes on)");
+      g_dbg.off = 1;
+      return;
+    }
+    g_dbg.state = malloc(g_dbg.model->triangle_count);
+    g_dbg.ctx = bbcgl_context_window(800, 600, "bbcgen: debug", err);
+    if (!g_dbg.state || !g_dbg.ctx || !(g_dbg.v = viewer_for(g_dbg.model, NULL))) {
+      if (!g_dbg.ctx) cli_error("debug: %s", err);
+      g_dbg.off = 1;
+      return;
+    }
+    memset(&g_dbg.s, 0, sizeof g_dbg.s);
+    bbcgl_view_default(&g_dbg.s.view);
+    g_dbg.s.view.up_axis = c->params.up_axis;
+    g_dbg.s.debug = 1;
+    g_dbg.s.mode = BBCGL_VIEW_FACES;
+  }
+  size_t nt = g_dbg.model->triangle_count;
+  memset(g_dbg.state, BBC_FACE_REMAINING, nt);
+  for (size_t i = 0; i < ev->done_count; i++) g_dbg.state[ev->done[i]] = BBC_FACE_DONE;
+  for (size_t i = 0; i < ev->face_count; i++) g_dbg.state[ev->faces[i]] = BBC_FACE_VALID;
+  bbc_geometry geo;
+  bbc_error e;
+  if (bbc_faces_view(g_dbg.model, g_dbg.state, ev->face_count ? ev->faces[0] : nt, &geo, &e) !=
+      BBC_OK) {
+    cli_error("debug: %s", e.message);
+    g_dbg.off = 1;
+    return;
+  }
+  int ok = bbcgl_viewer_set_geometry(g_dbg.v, 0, &geo, err);
+  bbc_geometry_free(&geo);
+  if (!ok) {
+    cli_error("debug: %s", err);
+    g_dbg.off = 1;
+    return;
+  }
+  /* scripts and tests: BBCGEN_DEBUG_KEYS, %d the view's number */
+  const char *keys = getenv("BBCGEN_DEBUG_KEYS");
+  char script[1024];
+  if (keys) {
+    size_t o = 0;
+    for (const char *k = keys; *k && o + 16 < sizeof script; k++) {
+      if (k[0] == '%' && k[1] == 'd') {
+        o += (size_t)snprintf(script + o, sizeof script - o, "%d", g_dbg.count);
+        k++;
+      } else {
+        script[o++] = *k;
+      }
+    }
+    script[o] = 0;
+  }
+  g_dbg.s.quit = 0;
+  run_window(c, g_dbg.ctx, g_dbg.v, NULL, &g_dbg.s, keys ? script : NULL);
+  if (g_dbg.s.end) g_dbg.off = 1;
+}
+
+void debug_views_begin(const cli *c, const bbc_mesh *model, bbc_planes_options *o) {
+  memset(&g_dbg, 0, sizeof g_dbg);
+  if (c->params.debug <= 0 || !model) return;
+  g_dbg.c = c;
+  g_dbg.model = model;
+  o->callbacks.debug = on_debug;
+}
+
+void debug_views_end(void) {
+  bbcgl_viewer_free(g_dbg.v);
+  bbcgl_context_free(g_dbg.ctx);
+  free(g_dbg.state);
+  memset(&g_dbg, 0, sizeof g_dbg);
 }

@@ -57,5 +57,10 @@ int job_save_vrml(const cli *c, job *j, const char *user_dir);
  * shot:FILE.png, the window closing after them. */
 int show_window(const cli *c, const bbc_session *session, const bbc_cloud *cloud, int bbc,
                 const char *keys);
+/* The debug levels (parameter debug >= 1): from begin to end, step 2 shows
+ * its picks (1), greedy steps (2) and clusters (3) in a window over `model`
+ * (sets o->callbacks.debug). */
+void debug_views_begin(const cli *c, const bbc_mesh *model, bbc_planes_options *o);
+void debug_views_end(void);
 
 #endif

@@ -437,6 +437,26 @@ typedef struct bbc_param_info {
 void bbc_params_default(bbc_params *params);
 /* The thesis's Appendix A defaults exactly (maxplanes, minplanes, atlasmax off). */
 void bbc_params_thesis(bbc_params *params);
+
+/* Parameters as a person sets them (bbcgen's command line, its prompt, the
+ * session): which were set by hand, a bit per bbc_param_at index. A value
+ * set by hand is meant: a texres set by hand turns atlasmax off unless
+ * atlasmax is set by hand too, and an epsilon (the model's or a part's) turns
+ * maxplanes and minplanes off unless they are set by hand too, in any order. */
+typedef uint64_t bbc_hand;
+/* bbc_params_set, then the value counts as set by hand. */
+bbc_result bbc_params_set_by_hand(bbc_params *params, bbc_hand *hand, const char *name,
+                                  const char *text, bbc_error *err);
+/* Counts `name` as set by hand (a value set elsewhere, e.g. a part's own
+ * epsilon) and applies the rules. */
+void bbc_params_note_hand(bbc_params *params, bbc_hand *hand, const char *name);
+int bbc_params_by_hand(bbc_hand hand, const char *name);
+/* Appendix A's defaults (bbc_params_thesis) for every parameter not set by
+ * hand (bbcgen --thesis). */
+void bbc_params_thesis_merge(bbc_params *params, bbc_hand hand);
+/* A chain of levels of detail asks for its epsilons: maxplanes and
+ * minplanes off unless set by hand. */
+void bbc_params_lod_chain(bbc_params *params, bbc_hand hand);
 size_t bbc_param_count(void);
 /* i < bbc_param_count(); in Appendix A order. */
 const bbc_param_info *bbc_param_at(size_t i);

@@ -186,11 +186,54 @@ static void test_first_step(void **state) {
   }
 }
 
+/* Values set by hand are meant: texres turns atlasmax off, epsilon the plane
+ * budgets, unless they are set by hand too (any order); --thesis and LOD
+ * chains keep what was set by hand. */
+static void test_by_hand(void **state) {
+  (void)state;
+  bbc_params p, d;
+  bbc_params_default(&d);
+  bbc_hand hand = 0;
+  bbc_error err;
+  p = d;
+  assert_int_equal(bbc_params_set_by_hand(&p, &hand, "texres", "64", &err), BBC_OK);
+  assert_int_equal(p.atlas_max, 0);
+  assert_true(bbc_params_by_hand(hand, "TEXRES"));
+  assert_false(bbc_params_by_hand(hand, "atlasmax"));
+  hand = 0;
+  p = d;
+  assert_int_equal(bbc_params_set_by_hand(&p, &hand, "maxplanes", "40", &err), BBC_OK);
+  assert_int_equal(bbc_params_set_by_hand(&p, &hand, "epsilon", "3", &err), BBC_OK);
+  assert_int_equal(p.max_planes, 40); /* by hand before epsilon: kept */
+  assert_int_equal(p.min_planes, 0);  /* not by hand: off */
+  assert_int_not_equal(bbc_params_set_by_hand(&p, &hand, "epsilon", "500", &err), BBC_OK);
+  assert_true(p.epsilon_pct == 3);
+  /* --thesis: Appendix A's defaults where nothing was set by hand */
+  bbc_params_thesis_merge(&p, hand);
+  bbc_params t;
+  bbc_params_thesis(&t);
+  assert_true(p.epsilon_pct == 3);
+  assert_int_equal(p.max_planes, 40);
+  assert_int_equal(p.clustering, t.clustering);
+  assert_int_equal(p.quality, t.quality);
+  /* a LOD chain: the budgets off unless by hand */
+  p = d;
+  bbc_params_lod_chain(&p, 0);
+  assert_int_equal(p.max_planes, 0);
+  assert_int_equal(p.min_planes, 0);
+  p = d;
+  hand = 0;
+  assert_int_equal(bbc_params_set_by_hand(&p, &hand, "minplanes", "8", &err), BBC_OK);
+  bbc_params_lod_chain(&p, hand);
+  assert_int_equal(p.min_planes, 8);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_defaults_match_appendix_a),
       cmocka_unit_test(test_set_and_ranges),
       cmocka_unit_test(test_first_step),
+      cmocka_unit_test(test_by_hand),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

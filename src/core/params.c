@@ -337,3 +337,54 @@ bbc_result bbc_params_set_assignment(bbc_params *p, const char *assignment, bbc_
 int bbc_params_unlit(const bbc_params *p) {
   return p->unlit == 2 ? p->prelight != 0 : p->unlit;
 }
+
+/* ---- parameters as a person sets them ------------------------------------------ */
+
+_Static_assert(ROW_COUNT <= 64, "bbc_hand has a bit per parameter");
+
+static long row_index(const char *name) {
+  for (size_t i = 0; i < ROW_COUNT; i++)
+    if (!strcasecmp(k_rows[i].info.name, name)) return (long)i;
+  return -1;
+}
+
+int bbc_params_by_hand(bbc_hand hand, const char *name) {
+  long i = row_index(name);
+  return i >= 0 && ((hand >> i) & 1u);
+}
+
+void bbc_params_note_hand(bbc_params *p, bbc_hand *hand, const char *name) {
+  long i = row_index(name);
+  if (i >= 0) *hand |= (bbc_hand)1 << i;
+  if (bbc_params_by_hand(*hand, "texres") && !bbc_params_by_hand(*hand, "atlasmax"))
+    p->atlas_max = 0;
+  if (bbc_params_by_hand(*hand, "epsilon") && !bbc_params_by_hand(*hand, "maxplanes"))
+    p->max_planes = 0;
+  if (bbc_params_by_hand(*hand, "epsilon") && !bbc_params_by_hand(*hand, "minplanes"))
+    p->min_planes = 0;
+}
+
+bbc_result bbc_params_set_by_hand(bbc_params *p, bbc_hand *hand, const char *name, const char *text,
+                                  bbc_error *err) {
+  bbc_result r = bbc_params_set(p, name, text, err);
+  if (r == BBC_OK) bbc_params_note_hand(p, hand, name);
+  return r;
+}
+
+void bbc_params_thesis_merge(bbc_params *p, bbc_hand hand) {
+  bbc_params t;
+  bbc_params_thesis(&t);
+  for (size_t i = 0; i < ROW_COUNT; i++) {
+    if ((hand >> i) & 1u) continue;
+    const param_row *r = &k_rows[i];
+    memcpy((char *)p + r->offset, (const char *)&t + r->offset,
+           r->is_double ? sizeof(double) : sizeof(int));
+  }
+  /* the rules still hold for what was set by hand */
+  bbc_params_note_hand(p, &hand, "");
+}
+
+void bbc_params_lod_chain(bbc_params *p, bbc_hand hand) {
+  if (!bbc_params_by_hand(hand, "maxplanes")) p->max_planes = 0;
+  if (!bbc_params_by_hand(hand, "minplanes")) p->min_planes = 0;
+}

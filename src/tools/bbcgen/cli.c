@@ -105,19 +105,11 @@ long long cli_parse_count(const char *opt, const char *text, long long max) {
   return v;
 }
 
-/* A value set by hand is meant: a texres turns the atlas budget off unless
- * atlasmax is set by hand too, and an epsilon turns maxplanes and minplanes
- * off unless they are set by hand too (in any order). */
+/* A value set by hand is meant (the library's rules, bbc_params_note_hand). */
 static void note_explicit(cli *c, const char *name_or_assignment) {
-  size_t n = strcspn(name_or_assignment, "=");
-  if (n == 7 && !strncasecmp(name_or_assignment, "epsilon", 7)) c->epsilon_set = 1;
-  if (n == 6 && !strncasecmp(name_or_assignment, "texres", 6)) c->texres_set = 1;
-  if (n == 8 && !strncasecmp(name_or_assignment, "atlasmax", 8)) c->atlasmax_set = 1;
-  if (n == 9 && !strncasecmp(name_or_assignment, "minplanes", 9)) c->minplanes_set = 1;
-  if (n == 9 && !strncasecmp(name_or_assignment, "maxplanes", 9)) c->maxplanes_set = 1;
-  if (c->texres_set && !c->atlasmax_set) c->params.atlas_max = 0;
-  if (c->epsilon_set && !c->maxplanes_set) c->params.max_planes = 0;
-  if (c->epsilon_set && !c->minplanes_set) c->params.min_planes = 0;
+  char name[64];
+  snprintf(name, sizeof name, "%.*s", (int)strcspn(name_or_assignment, "="), name_or_assignment);
+  bbc_params_note_hand(&c->params, &c->hand, name);
 }
 
 int cli_common_option(cli *c, int argc, char **argv, int *i) {
@@ -127,19 +119,8 @@ int cli_common_option(cli *c, int argc, char **argv, int *i) {
     return 1;
   }
   if (!strcmp(a, "--thesis")) {
-    /* Appendix A's defaults; parameters set before it are kept. */
-    bbc_params t, d;
-    bbc_params_thesis(&t);
-    bbc_params_default(&d);
-    if (c->params.clustering == d.clustering) c->params.clustering = t.clustering;
-    if (c->params.epsilon_pct == d.epsilon_pct) c->params.epsilon_pct = t.epsilon_pct;
-    if (c->params.quality == d.quality) c->params.quality = t.quality;
-    if (c->params.max_planes == d.max_planes) c->params.max_planes = t.max_planes;
-    if (c->params.min_planes == d.min_planes) c->params.min_planes = t.min_planes;
-    if (c->params.atlas_max == d.atlas_max) c->params.atlas_max = t.atlas_max;
-    if (c->params.dither == d.dither) c->params.dither = t.dither;
-    if (c->params.refine == d.refine) c->params.refine = t.refine;
-    if (c->params.stem == d.stem) c->params.stem = t.stem;
+    /* Appendix A's defaults; parameters set by hand are kept. */
+    bbc_params_thesis_merge(&c->params, c->hand);
     return 1;
   }
   bbc_error err;
@@ -195,7 +176,10 @@ int cli_common_option(cli *c, int argc, char **argv, int *i) {
         cli_error("too many or too long part settings ('%s')", v);
         return -1;
       }
-      if (!strncasecmp(dot + 1, "epsilon=", 8)) note_explicit(c, dot + 1); /* kept too */
+      if (!strncasecmp(dot + 1, "epsilon=", 8)) { /* kept too: the budgets go off */
+        bbc_hand h = c->hand;
+        bbc_params_note_hand(&c->params, &h, "epsilon");
+      }
       cli_part_setting *ps = &c->part_settings[c->part_setting_count++];
       snprintf(ps->part, sizeof ps->part, "%.*s", (int)(dot - v), v);
       snprintf(ps->assignment, sizeof ps->assignment, "%s", dot + 1);

@@ -40,13 +40,10 @@ typedef struct cli {
   bbc_callbacks callbacks;
   size_t part_setting_count;
   cli_part_setting part_settings[32];
-  bbc_split_options split;          /* --split, --trunk, --foliage */
-  int branches_with_trunk;          /* --branches trunk (default: with the foliage) */
-  int texres_set, atlasmax_set;     /* set by hand: texres alone turns atlasmax off */
-  int minplanes_set, maxplanes_set; /* set by hand: else --lod and a hand-set epsilon
-                                     * turn them off */
-  int epsilon_set;                  /* epsilon set by hand (global or a part's) */
-  const char *progress_label;       /* what progress bars belong to ("level 2 of 3") */
+  bbc_split_options split; /* --split, --trunk, --foliage */
+  int branches_with_trunk; /* --branches trunk (default: with the foliage) */
+  bbc_hand hand;           /* parameters set by hand (the library's rules: bbc_params_note_hand) */
+  const char *progress_label; /* what progress bars belong to ("level 2 of 3") */
 } cli;
 
 void cli_init(cli *c);

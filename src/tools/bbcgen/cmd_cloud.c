@@ -92,8 +92,7 @@ int cmd_cloud(cli *c, int argc, char **argv) {
     return EXIT_OUTPUT;
   /* A LOD chain asks for these epsilons: neither minplanes nor maxplanes
    * moves them (unless set by hand), so the levels stay in order. */
-  if (lods && !c->minplanes_set) c->params.min_planes = 0;
-  if (lods && !c->maxplanes_set) c->params.max_planes = 0;
+  if (lods) bbc_params_lod_chain(&c->params, c->hand);
   job j;
   int rc = job_run(c, path, lods ? eps : NULL, lods, &j);
   if (rc != EXIT_OK) return rc;

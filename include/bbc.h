@@ -1043,6 +1043,54 @@ int bbc_session_stale(const bbc_session *session, const bbc_planes_options *opti
  * when the grid serves `options`, -1 without a grid. */
 int bbc_session_grid_stale(const bbc_session *session, const bbc_planes_options *options,
                            const char **which);
+/* Levels of detail (bbcgen --lod): steps 1 to 3 for each epsilon (percent,
+ * increasing), maxplanes/minplanes as in `options` (bbc_params_lod_chain
+ * turns them off); level 0 becomes the session's grid, planes and cloud,
+ * the others are kept beside it until level 0's cloud changes. */
+#define BBC_SESSION_MAX_LEVELS 8
+bbc_result bbc_session_run_levels(bbc_session *session, const bbc_planes_options *options,
+                                  const double *epsilons, size_t count, bbc_error *err);
+/* Levels held: 0 without a cloud, 1 after a run or step 3, more after
+ * bbc_session_run_levels. */
+size_t bbc_session_level_count(const bbc_session *session);
+/* Level k's cloud (NULL past the last), its planes, the parameters it was
+ * made with and the epsilon asked (each may be NULL). */
+const bbc_cloud *bbc_session_level(const bbc_session *session, size_t k,
+                                   const bbc_planeset **planes, const bbc_params **params,
+                                   double *epsilon_pct);
+/* " (raised from 6 % by maxplanes 32)" when maxplanes/minplanes moved level
+ * k's epsilon, else "". */
+void bbc_session_epsilon_note(const bbc_session *session, size_t k, char *buf, size_t size);
+const char *bbc_session_model_path(const bbc_session *session);
+/* Seconds the last load and the last write took. */
+void bbc_session_times(const bbc_session *session, double *load_s, double *write_s);
+
+/* What bbcgen writes, from the session's levels (byte for byte the same):
+ * by the extension .glb/.gltf (one file; a chain as MSFT_lod with nodes
+ * <model>_LOD<k> and MSFT_screencoverage, one shared atlas when it fits),
+ * .obj or .wrl (level k > 0 in OUT_lod<k>.EXT), each stating the parameters
+ * and the epsilon used. Atomic: nothing half-written. */
+bbc_result bbc_session_write(bbc_session *session, const char *path, const bbc_callbacks *callbacks,
+                             bbc_error *err);
+/* The file of level k that bbc_session_write makes for `path`. */
+void bbc_session_output_path(const char *path, size_t k, char *buf, size_t size);
+/* Appendix A's save: the cloud as VRML in
+ * vrml97models/[DIR/]<model>/<model>_eX.XX_texN[_nm][_pl]/<model>.wrl under
+ * the current folder (DIR may be NULL; no leading '/', no '..'); `written`
+ * (may be NULL) gets the file's path. */
+bbc_result bbc_session_save(bbc_session *session, const char *dir, const bbc_callbacks *callbacks,
+                            char *written, size_t written_size, bbc_error *err);
+/* The JSON report of bbcgen --report: the model, the parameters, times,
+ * every level's planes, billboards and atlas. `output` (may be NULL): the
+ * cloud file it describes. */
+bbc_result bbc_session_report(const bbc_session *session, const char *path, const char *output,
+                              bbc_error *err);
+/* The preview sheet of bbcgen --preview: four views (front, side, above,
+ * oblique) of the original, the cloud and the billboards' outlines coloured
+ * by kind; `cell` pixels a view (16 to 4096). */
+bbc_result bbc_session_preview(const bbc_session *session, const char *path, int cell,
+                               bbc_error *err);
+
 /* What the session holds now, or NULL. */
 const bbc_mesh *bbc_session_model(const bbc_session *session);
 const bbc_grid *bbc_session_grid_get(const bbc_session *session);

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "bbc.h"
 #include "test_util.h"
@@ -267,8 +268,62 @@ static void test_views(void **state) {
   bbc_mesh_free(&m);
 }
 
+/* A program linking libbbc gets what bbcgen gives: the session's LOD chain
+ * and save are byte for byte bbcgen's files; writes need a cloud and a
+ * known extension. */
+static void test_outputs(void **state) {
+  (void)state;
+  char path[1024], cmd[4096], a[1200], b[1200];
+  tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
+  if (!tu_have_file(path)) skip();
+  bbc_session *s = bbc_session_new();
+  assert_non_null(s);
+  bbc_load_options lo;
+  bbc_load_options_default(&lo);
+  bbc_error err;
+  assert_int_equal(bbc_session_load(s, path, &lo, &err), BBC_OK);
+  snprintf(a, sizeof a, "%s/lib.glb", tu_dir);
+  assert_int_equal(bbc_session_write(s, a, NULL, &err), BBC_ERROR_INVALID_ARGUMENT);
+  bbc_planes_options o;
+  bbc_planes_options_default(&o);
+  o.params.texres = 32;
+  o.params.atlas_max = 0;
+  bbc_params_lod_chain(&o.params, 0);
+  const double eps[3] = {4, 8, 16};
+  assert_int_equal(bbc_session_run_levels(s, &o, eps, 3, &err), BBC_OK);
+  assert_int_equal(bbc_session_level_count(s), 3);
+  assert_int_equal(bbc_session_write(s, a, NULL, &err), BBC_OK);
+  snprintf(b, sizeof b, "%s/lib.png", tu_dir);
+  assert_int_equal(bbc_session_write(s, b, NULL, &err), BBC_ERROR_INVALID_ARGUMENT);
+  snprintf(cmd, sizeof cmd, "'%s/bbcgen' '%s' -o '%s/tool.glb' --texres 32 --lod 4,8,16 -q",
+           BBC_BIN_DIR, path, tu_dir);
+  assert_int_equal(system(cmd), 0);
+  snprintf(b, sizeof b, "%s/tool.glb", tu_dir);
+  size_t na, nb;
+  unsigned char *ta = tu_read_file(a, &na), *tb = tu_read_file(b, &nb);
+  assert_non_null(ta);
+  assert_non_null(tb);
+  assert_int_equal(na, nb);
+  assert_memory_equal(ta, tb, na);
+  free(ta);
+  free(tb);
+  /* step 3 again (level 0 was made at epsilon 4): one level; save into Appendix A's folder */
+  o.params.epsilon_pct = 4;
+  assert_int_equal(bbc_session_cloud(s, &o, &err), BBC_OK);
+  assert_int_equal(bbc_session_level_count(s), 1);
+  char saved[4600], cwd[4096];
+  assert_non_null(getcwd(cwd, sizeof cwd));
+  assert_int_equal(chdir(tu_dir), 0);
+  assert_int_equal(bbc_session_save(s, "../x", NULL, saved, sizeof saved, &err),
+                   BBC_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(bbc_session_save(s, "lib", NULL, saved, sizeof saved, &err), BBC_OK);
+  assert_string_equal(saved, "vrml97models/lib/Tree_1/Tree_1_e4.00_tex32_pl/Tree_1.wrl");
+  assert_int_equal(chdir(cwd), 0);
+  bbc_session_free(s);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {cmocka_unit_test(test_session), cmocka_unit_test(test_steps),
-                                     cmocka_unit_test(test_views)};
-  return cmocka_run_group_tests(tests, NULL, NULL);
+                                     cmocka_unit_test(test_views), cmocka_unit_test(test_outputs)};
+  return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

@@ -3,21 +3,11 @@
  * what a change needs. Every step builds into new state and replaces the
  * old only when it is whole, so a failed or cancelled step leaves the
  * session as it was. */
-#include "internal.h"
+#include "session.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-struct bbc_session {
-  int have_model, have_planes, have_cloud;
-  bbc_mesh model;
-  bbc_grid *grid;
-  bbc_planeset planes;
-  bbc_cloud cloud;
-  bbc_planes_options planned; /* the options the planes were found with ... */
-  char text[3][4096];         /* ... and copies of its split patterns */
-};
 
 static void remember(bbc_session *s, const bbc_planes_options *options) {
   bbc__planes_options_copy(&s->planned, s->text, options);
@@ -27,14 +17,38 @@ bbc_session *bbc_session_new(void) {
   return calloc(1, sizeof(bbc_session));
 }
 
+static void drop_extra(bbc_session *s) {
+  for (size_t k = 0; k < s->extra_count; k++) {
+    bbc_planeset_free(&s->extra[k].planes);
+    bbc_cloud_free(&s->extra[k].cloud);
+  }
+  s->extra_count = 0;
+  s->atlas_shared = 0;
+}
+
 static void drop_cloud(bbc_session *s) {
-  if (s->have_cloud) bbc_cloud_free(&s->cloud);
+  drop_extra(s);
+  if (s->have_cloud) bbc_cloud_free(&s->level0.cloud);
   s->have_cloud = 0;
+}
+
+bbc__level *bbc__session_level(bbc_session *s, size_t k) {
+  if (!s->have_cloud) return NULL;
+  if (k == 0) return &s->level0;
+  return k - 1 < s->extra_count ? &s->extra[k - 1] : NULL;
+}
+
+/* Level 0's cloud made with `params`. */
+static void set_cloud(bbc_session *s, const bbc_cloud *c, const bbc_params *params) {
+  s->level0.cloud = *c;
+  s->level0.params = *params;
+  s->level0.epsilon_pct = params->epsilon_pct;
+  s->have_cloud = 1;
 }
 
 static void drop_planes(bbc_session *s) {
   drop_cloud(s);
-  if (s->have_planes) bbc_planeset_free(&s->planes);
+  if (s->have_planes) bbc_planeset_free(&s->level0.planes);
   s->have_planes = 0;
 }
 
@@ -54,12 +68,15 @@ void bbc_session_free(bbc_session *s) {
 bbc_result bbc_session_load(bbc_session *s, const char *path, const bbc_load_options *options,
                             bbc_error *err) {
   bbc_mesh m;
+  double t0 = bbc__now_s();
   bbc_result r = bbc_mesh_load(path, options, &m, err);
   if (r != BBC_OK) return r;
   drop_grid(s);
   if (s->have_model) bbc_mesh_free(&s->model);
   s->model = m;
   s->have_model = 1;
+  snprintf(s->model_path, sizeof s->model_path, "%s", path);
+  s->load_s = bbc__now_s() - t0;
   return BBC_OK;
 }
 
@@ -101,7 +118,7 @@ bbc_result bbc_session_planes(bbc_session *s, const bbc_planes_options *options,
   bbc_result r = bbc_planes_select(s->grid, options, &set, err);
   if (r != BBC_OK) return r;
   drop_planes(s);
-  s->planes = set;
+  s->level0.planes = set;
   s->have_planes = 1;
   remember(s, options);
   return BBC_OK;
@@ -119,11 +136,10 @@ bbc_result bbc_session_cloud(bbc_session *s, const bbc_planes_options *options, 
                      step);
   bbc_cloud c;
   bbc_result r =
-      bbc_cloud_build(&s->model, &s->planes, &options->params, &options->callbacks, &c, err);
+      bbc_cloud_build(&s->model, &s->level0.planes, &options->params, &options->callbacks, &c, err);
   if (r != BBC_OK) return r;
   drop_cloud(s);
-  s->cloud = c;
-  s->have_cloud = 1;
+  set_cloud(s, &c, &options->params);
   return BBC_OK;
 }
 
@@ -150,12 +166,97 @@ bbc_result bbc_session_run(bbc_session *s, const bbc_planes_options *options, bb
   }
   drop_grid(s);
   s->grid = g;
-  s->planes = set;
+  s->level0.planes = set;
   s->have_planes = 1;
-  s->cloud = c;
-  s->have_cloud = 1;
+  set_cloud(s, &c, &options->params);
   remember(s, options);
   return BBC_OK;
+}
+
+bbc_result bbc_session_run_levels(bbc_session *s, const bbc_planes_options *options,
+                                  const double *epsilons, size_t count, bbc_error *err) {
+  if (!epsilons || !count) return bbc_session_run(s, options, err);
+  if (count > BBC_SESSION_MAX_LEVELS)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "at most %d levels of detail",
+                     BBC_SESSION_MAX_LEVELS);
+  for (size_t k = 0; k < count; k++)
+    if (!(epsilons[k] > 0) || (k && epsilons[k] <= epsilons[k - 1]))
+      return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
+                       "the levels' epsilons must be positive and increase (finest first)");
+  if (!s->have_model)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "steps 1 to 3 need a model: load one");
+  /* every level into new state first: a failure keeps the session as it was */
+  bbc__level lv[BBC_SESSION_MAX_LEVELS];
+  bbc_grid *g0 = NULL;
+  bbc_result r = BBC_OK;
+  size_t made = 0;
+  bbc_planes_options o0;
+  for (size_t k = 0; k < count && r == BBC_OK; k++) {
+    bbc_planes_options o = *options;
+    o.params.epsilon_pct = epsilons[k];
+    for (size_t i = 0; i < o.part_override_count; i++) /* a part's own epsilon stays */
+      if (o.part_overrides[i].params.epsilon_pct == options->params.epsilon_pct)
+        o.part_overrides[i].params.epsilon_pct = epsilons[k];
+    if (!k) o0 = o;
+    bbc__label lab;
+    if (count > 1)
+      bbc__label_callbacks(&options->callbacks, &lab, &o.callbacks, "level %zu of %zu", k + 1,
+                           count);
+    bbc_grid *g;
+    r = bbc_grid_build(&s->model, &o, &g, err);
+    if (r != BBC_OK) break;
+    r = bbc_planes_select(g, &o, &lv[k].planes, err);
+    if (r == BBC_OK) {
+      r = bbc_cloud_build(&s->model, &lv[k].planes, &o.params, &o.callbacks, &lv[k].cloud, err);
+      if (r != BBC_OK) bbc_planeset_free(&lv[k].planes);
+    }
+    if (k == 0 && r == BBC_OK)
+      g0 = g;
+    else
+      bbc_grid_free(g);
+    if (r != BBC_OK) break;
+    lv[k].params = o.params;
+    lv[k].epsilon_pct = epsilons[k];
+    made = k + 1;
+  }
+  if (r != BBC_OK) {
+    for (size_t k = 0; k < made; k++) {
+      bbc_planeset_free(&lv[k].planes);
+      bbc_cloud_free(&lv[k].cloud);
+    }
+    bbc_grid_free(g0);
+    return r;
+  }
+  drop_grid(s);
+  s->grid = g0;
+  s->level0 = lv[0];
+  s->have_planes = s->have_cloud = 1;
+  remember(s, &o0);
+  for (size_t k = 1; k < count; k++) s->extra[k - 1] = lv[k];
+  s->extra_count = count - 1;
+  return BBC_OK;
+}
+
+size_t bbc_session_level_count(const bbc_session *s) {
+  return s->have_cloud ? 1 + s->extra_count : 0;
+}
+
+const bbc_cloud *bbc_session_level(const bbc_session *s, size_t k, const bbc_planeset **planes,
+                                   const bbc_params **params, double *epsilon_pct) {
+  const bbc__level *L = bbc__session_level((bbc_session *)s, k);
+  if (planes) *planes = L ? &L->planes : NULL;
+  if (params) *params = L ? &L->params : NULL;
+  if (epsilon_pct) *epsilon_pct = L ? L->epsilon_pct : 0;
+  return L ? &L->cloud : NULL;
+}
+
+const char *bbc_session_model_path(const bbc_session *s) {
+  return s->have_model ? s->model_path : NULL;
+}
+
+void bbc_session_times(const bbc_session *s, double *load_s, double *write_s) {
+  if (load_s) *load_s = s->load_s;
+  if (write_s) *write_s = s->write_s;
 }
 
 const bbc_mesh *bbc_session_model(const bbc_session *s) {
@@ -167,9 +268,9 @@ const bbc_grid *bbc_session_grid_get(const bbc_session *s) {
 }
 
 const bbc_planeset *bbc_session_planeset(const bbc_session *s) {
-  return s->have_planes ? &s->planes : NULL;
+  return s->have_planes ? &s->level0.planes : NULL;
 }
 
 const bbc_cloud *bbc_session_result(const bbc_session *s) {
-  return s->have_cloud ? &s->cloud : NULL;
+  return s->have_cloud ? &s->level0.cloud : NULL;
 }

@@ -39,7 +39,7 @@ static int parse_lods(const char *text, double *eps, size_t max, size_t *count) 
 
 int cmd_cloud(cli *c, int argc, char **argv) {
   const char *path = argv[0], *out = NULL, *report = NULL, *preview = NULL;
-  double eps[JOB_MAX_LODS];
+  double eps[BBC_SESSION_MAX_LEVELS];
   size_t lods = 0;
   long long cell = 256;
   for (int i = 1; i < argc; i++) {
@@ -61,7 +61,7 @@ int cmd_cloud(cli *c, int argc, char **argv) {
       }
     } else if (!strcmp(argv[i], "--lod")) {
       if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
-      if (parse_lods(v, eps, JOB_MAX_LODS, &lods) < 0) return EXIT_USAGE;
+      if (parse_lods(v, eps, BBC_SESSION_MAX_LEVELS, &lods) < 0) return EXIT_USAGE;
     } else {
       static const char *const own[] = {
           "-o", "--output", "--report", "--preview", "--preview-size", "--lod", NULL};
@@ -93,18 +93,26 @@ int cmd_cloud(cli *c, int argc, char **argv) {
   /* A LOD chain asks for these epsilons: neither minplanes nor maxplanes
    * moves them (unless set by hand), so the levels stay in order. */
   if (lods) bbc_params_lod_chain(&c->params, c->hand);
-  job j;
-  int rc = job_run(c, path, lods ? eps : NULL, lods, &j);
-  if (rc != EXIT_OK) return rc;
-  rc = job_write(c, &j, out);
+  bbc_session *sess = bbc_session_new();
+  if (!sess) {
+    cli_error("out of memory");
+    return EXIT_RESOURCES;
+  }
+  int rc = session_run(c, sess, path, lods ? eps : NULL, lods);
+  if (rc == EXIT_OK) rc = session_write(c, sess, out);
+  bbc_error err;
   if (rc == EXIT_OK && preview) {
-    rc = job_preview(c, &j, preview, (int)cell);
-    if (rc == EXIT_OK) cli_info(c, "wrote %s", preview);
+    if (bbc_session_preview(sess, preview, (int)cell, &err) != BBC_OK)
+      rc = cli_fail(&err, 1);
+    else
+      cli_info(c, "wrote %s", preview);
   }
   if (rc == EXIT_OK && report) {
-    rc = job_report(c, &j, report, out);
-    if (rc == EXIT_OK) cli_info(c, "wrote %s", report);
+    if (bbc_session_report(sess, report, out, &err) != BBC_OK)
+      rc = cli_fail(&err, 1);
+    else
+      cli_info(c, "wrote %s", report);
   }
-  job_free(&j);
+  bbc_session_free(sess);
   return rc;
 }

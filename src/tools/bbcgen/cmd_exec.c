@@ -58,11 +58,10 @@ static char *trim(char *s) {
 typedef struct batch {
   char model[4096];
   char pattern[2][4096];
-  bbc_session *sess;       /* the model, planes and cloud (the library's session) */
-  bbc_params cloud_params; /* the parameters the cloud was made with (save's folder) */
-  bbc_mesh loaded;         /* bbcload's cloud */
-  int show_loaded;         /* 1: show model shows `loaded` (bbcload came after bbc/bbc3) */
-  int depth;               /* nested exec */
+  bbc_session *sess; /* the model, planes and cloud (the library's session) */
+  bbc_mesh loaded;   /* bbcload's cloud */
+  int show_loaded;   /* 1: show model shows `loaded` (bbcload came after bbc/bbc3) */
+  int depth;         /* nested exec */
   int quit;
 } batch;
 
@@ -96,9 +95,8 @@ static int exec_file(cli *c, batch *b, const char *file);
 /* After bbc or bbc3: what save names the folder by, the computed cloud
  * shown again (not bbcload's), the info line. */
 static void made_cloud(const cli *c, batch *b, int step3_only) {
-  b->cloud_params = c->params;
   b->show_loaded = 0;
-  job_info(c, bbc_session_planeset(b->sess), bbc_session_result(b->sess), &c->params, step3_only);
+  session_info(c, b->sess, 0, step3_only);
 }
 
 static void help(const char *which) {
@@ -231,7 +229,7 @@ static int exec_command(cli *c, batch *b, char *s) {
     bbc_result r = bbc_session_planes(b->sess, &po, &e);
     debug_views_end();
     if (r != BBC_OK) return cli_fail_in(b->model, &e, 0);
-    job_info(c, bbc_session_planeset(b->sess), NULL, &c->params, 1);
+    session_info(c, b->sess, 0, 1);
   } else if (!strcmp(cmd, "bbc3")) {
     if (!b->model[0]) goto noload;
     bbc_planes_options po;
@@ -278,17 +276,7 @@ static int exec_command(cli *c, batch *b, char *s) {
       cli_error("save needs a Billboard Cloud: run bbc or bbc3 first");
       return EXIT_USAGE;
     }
-    /* the writers take a job: a view of the session's model, planes and cloud */
-    job v;
-    memset(&v, 0, sizeof v);
-    snprintf(v.model_path, sizeof v.model_path, "%s", b->model);
-    v.mesh = *bbc_session_model(b->sess);
-    v.lod_count = 1;
-    v.lods[0].epsilon_pct = b->cloud_params.epsilon_pct;
-    v.lods[0].params = b->cloud_params;
-    v.lods[0].set = *bbc_session_planeset(b->sess);
-    v.lods[0].cloud = *cloud;
-    rc = job_save_vrml(c, &v, a1);
+    rc = session_save(c, b->sess, a1);
   } else if (!strcmp(cmd, "show")) {
     /* show model|bbc [KEYS...]: the window; keys script it (tests) */
     if (!a1 || (strcmp(a1, "model") && strcmp(a1, "bbc"))) {

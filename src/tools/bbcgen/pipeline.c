@@ -1,598 +1,105 @@
-/* pipeline.c — steps 1 to 3 for one or more levels of detail, and the
- * outputs: cloud files, JSON report, preview sheet, Appendix A save folder. */
+/* pipeline.c — what bbcgen says and checks around the library's session:
+ * the info line of each level, output folders checked before work, the
+ * files written. The steps and the writers are the library's (bbc_session_*,
+ * src/core/session.c and output.c), so a program linking libbbc gets what
+ * bbcgen gives. */
 #include "pipeline.h"
 
-#include <cjson/cJSON.h>
-#include <ctype.h>
-#include <errno.h>
-#include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
-void job_free(job *j) {
-  bbc_mesh_free(&j->mesh);
-  for (size_t k = 0; k < j->lod_count; k++) {
-    bbc_planeset_free(&j->lods[k].set);
-    bbc_cloud_free(&j->lods[k].cloud);
+void session_info(const cli *c, const bbc_session *s, size_t k, int kept) {
+  const bbc_planeset *set = NULL;
+  const bbc_params *params = NULL;
+  double eps = 0;
+  const bbc_cloud *cloud = bbc_session_level(s, k, &set, &params, &eps);
+  if (!cloud) {
+    set = bbc_session_planeset(s);
+    if (!set) return;
+    eps = c->params.epsilon_pct;
   }
-  memset(j, 0, sizeof *j);
-}
-
-/* Which budget moved epsilon (maxplanes raises it, minplanes lowers it), or
- * NULL when the asked epsilon was used. */
-static const char *epsilon_adjusted_by(const job_lod *L) {
-  double f = L->set.epsilon_scale;
-  return f > 1 ? "maxplanes" : f < 1 ? "minplanes" : NULL;
-}
-
-/* " (raised from 6 % by maxplanes 32)" or "". */
-static void epsilon_adjustment(const job_lod *L, char *buf, size_t n) {
-  const char *by = epsilon_adjusted_by(L);
-  if (!by) {
-    buf[0] = 0;
+  double s1 = 0, s2 = 0;
+  for (size_t p = 0; p < set->part_count; p++) {
+    s1 += set->parts[p].step1_s;
+    s2 += set->parts[p].step2_s;
+  }
+  char why[160] = "";
+  if (cloud)
+    bbc_session_epsilon_note(s, k, why, sizeof why);
+  else if (set->epsilon_scale != 1)
+    snprintf(why, sizeof why, " (%s from %.3g %% by %s %d)",
+             set->epsilon_scale > 1 ? "raised" : "lowered", eps,
+             set->epsilon_scale > 1 ? "maxplanes" : "minplanes",
+             set->epsilon_scale > 1 ? c->params.max_planes : c->params.min_planes);
+  const char *runs = set->attempts > 1 ? " in several runs" : "";
+  if (!cloud) {
+    cli_info(c, "epsilon %.3g %%%s: %zu planes; %s %.2f s%s", eps * set->epsilon_scale, why,
+             set->plane_count, kept ? "step 2 on the kept grid" : "steps 1+2",
+             (kept ? 0 : s1) + s2 + set->retry_s, runs);
     return;
   }
-  int raised = by[1] == 'a';
-  snprintf(buf, n, " (%s from %.3g %% by %s %d)", raised ? "raised" : "lowered", L->epsilon_pct, by,
-           raised ? L->params.max_planes : L->params.min_planes);
-}
-
-/* Steps 1 and 2 of one level with ck's parameters. */
-static int lod_planes(const cli *ck, job *j, job_lod *L) {
-  bbc_planes_options po;
-  if (cli_planes_options(ck, &po) != EXIT_OK) return EXIT_USAGE;
-  bbc_error err;
-  if (bbc_planes_find(&j->mesh, &po, &L->set, &err) != BBC_OK)
-    return cli_fail_in(j->model_path, &err, 0); /* the message names the model */
-  L->step1_s = L->step2_s = 0;
-  for (size_t p = 0; p < L->set.part_count; p++) {
-    L->step1_s += L->set.parts[p].step1_s;
-    L->step2_s += L->set.parts[p].step2_s;
-  }
-  return EXIT_OK;
-}
-
-/* Step 3 of one level on its planes. */
-static int lod_cloud(const cli *ck, job *j, job_lod *L) {
-  bbc_error err;
-  if (bbc_cloud_build(&j->mesh, &L->set, &ck->params, &ck->callbacks, &L->cloud, &err) != BBC_OK)
-    return cli_fail_in(j->model_path, &err, 0);
-  return EXIT_OK;
-}
-
-static void lod_info(const cli *c, const job_lod *L, int step3_only) {
-  const bbc_image *a = &L->cloud.mesh.textures[0].image;
-  char why[160] = "", steps[96];
-  epsilon_adjustment(L, why, sizeof why);
-  if (step3_only)
+  const bbc_image *a = &cloud->mesh.textures[0].image;
+  char steps[96];
+  if (kept)
     snprintf(steps, sizeof steps, "steps 1+2 kept");
   else
-    snprintf(steps, sizeof steps, "steps 1+2 %.2f s%s", L->step1_s + L->step2_s + L->set.retry_s,
-             L->set.attempts > 1 ? " in several runs" : "");
+    snprintf(steps, sizeof steps, "steps 1+2 %.2f s%s", s1 + s2 + set->retry_s, runs);
   cli_info(c,
            "epsilon %.3g %%%s: %zu planes, %zu billboards, texres %d, atlas %dx%d (%.0f %% "
            "filled); %s, step 3 %.2f s",
-           L->epsilon_pct * L->set.epsilon_scale, why, L->set.plane_count, L->cloud.billboard_count,
-           L->cloud.texres, a->width, a->height, 100 * L->cloud.atlas_fill, steps,
-           L->cloud.bake_s + L->cloud.atlas_s);
+           eps * set->epsilon_scale, why, set->plane_count, cloud->billboard_count, cloud->texres,
+           a->width, a->height, 100 * cloud->atlas_fill, steps, cloud->bake_s + cloud->atlas_s);
 }
 
-int job_load(const cli *c, const char *model, job *j) {
-  memset(j, 0, sizeof *j);
-  snprintf(j->model_path, sizeof j->model_path, "%s", model);
+int session_run(const cli *c, bbc_session *s, const char *model, const double *epsilons,
+                size_t count) {
   bbc_load_options lo;
   cli_load_options(c, &lo);
+  bbc_planes_options po;
+  if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
   bbc_error err;
-  double t0 = cli_now();
-  if (bbc_mesh_load(model, &lo, &j->mesh, &err) != BBC_OK) return cli_fail(&err, 0);
-  j->load_s = cli_now() - t0;
+  if (bbc_session_load(s, model, &lo, &err) != BBC_OK) return cli_fail(&err, 0);
+  if (bbc_session_run_levels(s, &po, epsilons, epsilons ? count : 0, &err) != BBC_OK)
+    return cli_fail_in(model, &err, 0); /* the message names the model */
+  for (size_t k = 0; k < bbc_session_level_count(s); k++) session_info(c, s, k, 0);
   return EXIT_OK;
 }
 
-int job_run(const cli *c, const char *model, const double *epsilons, size_t count, job *j) {
-  if (count == 0 || !epsilons) count = 1;
-  if (count > JOB_MAX_LODS) {
-    memset(j, 0, sizeof *j);
-    cli_error("at most %d levels of detail", JOB_MAX_LODS);
-    return EXIT_USAGE;
-  }
-  int rc = job_load(c, model, j);
-  if (rc != EXIT_OK) return rc;
-  for (size_t k = 0; k < count; k++) {
-    cli ck = *c;
-    ck.callbacks.user = &ck;
-    char label[64];
-    if (count > 1) {
-      snprintf(label, sizeof label, "level %zu of %zu", k + 1, count);
-      ck.progress_label = label;
-    }
-    if (epsilons && epsilons[k] > 0) ck.params.epsilon_pct = epsilons[k];
-    job_lod *L = &j->lods[k];
-    L->epsilon_pct = ck.params.epsilon_pct;
-    L->params = ck.params;
-    j->lod_count = k + 1;
-    if ((rc = lod_planes(&ck, j, L)) != EXIT_OK || (rc = lod_cloud(&ck, j, L)) != EXIT_OK) {
-      job_free(j);
-      return rc;
-    }
-    lod_info(c, L, 0);
-  }
-  return EXIT_OK;
-}
-
-void job_info(const cli *c, const bbc_planeset *set, const bbc_cloud *cloud,
-              const bbc_params *params, int step3_only) {
-  job_lod L;
-  memset(&L, 0, sizeof L);
-  L.epsilon_pct = params->epsilon_pct;
-  L.params = *params;
-  L.set = *set;
-  if (cloud) L.cloud = *cloud;
-  for (size_t p = 0; p < set->part_count; p++) {
-    L.step1_s += set->parts[p].step1_s;
-    L.step2_s += set->parts[p].step2_s;
-  }
-  if (cloud) {
-    lod_info(c, &L, step3_only);
-    return;
-  }
-  char why[160] = "";
-  epsilon_adjustment(&L, why, sizeof why);
-  /* step3_only here: step 1 was kept (bbc2 after bbc1) */
-  cli_info(c, "epsilon %.3g %%%s: %zu planes; %s %.2f s%s", L.epsilon_pct * set->epsilon_scale, why,
-           set->plane_count, step3_only ? "step 2 on the kept grid" : "steps 1+2",
-           (step3_only ? 0 : L.step1_s) + L.step2_s + set->retry_s,
-           set->attempts > 1 ? " in several runs" : "");
-}
-
-/* ---- cloud files ------------------------------------------------------------- */
-
-static const char *extension_of(const char *path) {
-  const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
-  return dot && (!slash || dot > slash) ? dot : path + strlen(path);
-}
-
-/* OUT with "_lod<k>" before its extension (k > 0). */
-static void lod_path(const char *out, size_t k, char *buf, size_t n) {
-  if (k == 0) {
-    snprintf(buf, n, "%s", out);
-    return;
-  }
-  const char *ext = extension_of(out);
-  snprintf(buf, n, "%.*s_lod%zu%s", (int)(ext - out), out, k, ext);
-}
-
-static char *params_json_text(const bbc_params *p) {
-  cJSON *o = cJSON_CreateObject();
-  for (size_t i = 0; i < bbc_param_count(); i++) {
-    const bbc_param_info *info = bbc_param_at(i);
-    /* threads never changes a result: left out, so outputs are identical */
-    if (!strcmp(info->name, "threads")) continue;
-    cJSON_AddNumberToObject(o, info->name, bbc_params_get(p, info));
-  }
-  char *s = cJSON_PrintUnformatted(o);
-  cJSON_Delete(o);
-  return s;
-}
-
-static cJSON *lod_json(const job_lod *L, int detailed) {
-  cJSON *o = cJSON_CreateObject();
-  cJSON_AddNumberToObject(o, "epsilon_pct", L->epsilon_pct);
-  /* maxplanes/minplanes may have scaled it: */
-  cJSON_AddNumberToObject(o, "epsilon_pct_used", L->epsilon_pct * L->set.epsilon_scale);
-  /* Which budget moved epsilon; "none" rather than null, which some glTF
-   * readers warn about in extras. */
-  const char *by = epsilon_adjusted_by(L);
-  cJSON_AddStringToObject(o, "epsilon_adjusted_by", by ? by : "none");
-  cJSON_AddNumberToObject(o, "epsilon", L->set.epsilon_abs);
-  cJSON_AddNumberToObject(o, "planes", (double)L->set.plane_count);
-  cJSON_AddNumberToObject(o, "billboards", (double)L->cloud.billboard_count);
-  cJSON *kinds = cJSON_AddArrayToObject(o, "kinds");
-  for (size_t b = 0; b < L->cloud.billboard_count; b++)
-    cJSON_AddItemToArray(kinds,
-                         cJSON_CreateString(bbc_plane_kind_name(L->cloud.billboards[b].kind)));
-  if (!detailed) return o;
-  const bbc_mesh *m = &L->cloud.mesh;
-  cJSON_AddNumberToObject(o, "triangles", (double)m->triangle_count);
-  cJSON_AddNumberToObject(o, "texels", (double)L->cloud.texels);
-  cJSON_AddNumberToObject(o, "texres_used", L->cloud.texres);
-  cJSON_AddNumberToObject(o, "plane_runs", L->set.attempts);
-  cJSON *atlas = cJSON_AddArrayToObject(o, "atlas");
-  cJSON_AddItemToArray(atlas, cJSON_CreateNumber(m->textures[0].image.width));
-  cJSON_AddItemToArray(atlas, cJSON_CreateNumber(m->textures[0].image.height));
-  cJSON_AddNumberToObject(o, "atlas_fill", L->cloud.atlas_fill);
-  cJSON *t = cJSON_AddObjectToObject(o, "times_s");
-  cJSON_AddNumberToObject(t, "step1", L->step1_s);
-  cJSON_AddNumberToObject(t, "step2", L->step2_s);
-  cJSON_AddNumberToObject(t, "steps12_discarded_runs", L->set.retry_s);
-  cJSON_AddNumberToObject(t, "step3_bake", L->cloud.bake_s);
-  cJSON_AddNumberToObject(t, "step3_atlas", L->cloud.atlas_s);
-  cJSON *parts = cJSON_AddArrayToObject(o, "parts");
-  for (size_t p = 0; p < L->set.part_count; p++) {
-    const bbc_part_result *pr = &L->set.parts[p];
-    cJSON *q = cJSON_CreateObject();
-    cJSON_AddStringToObject(q, "name", pr->name);
-    cJSON_AddNumberToObject(q, "faces", (double)pr->face_count);
-    cJSON_AddNumberToObject(q, "planes", (double)pr->plane_count);
-    cJSON_AddNumberToObject(q, "epsilon", pr->epsilon_abs);
-    cJSON_AddItemToArray(parts, q);
-  }
-  cJSON_AddStringToObject(o, "split", L->set.split_why);
-  cJSON *bbs = cJSON_AddArrayToObject(o, "billboard_list");
-  for (size_t b = 0; b < L->cloud.billboard_count; b++) {
-    const bbc_cloud_billboard *cb = &L->cloud.billboards[b];
-    cJSON *q = cJSON_CreateObject();
-    cJSON_AddStringToObject(q, "kind", bbc_plane_kind_name(cb->kind));
-    cJSON_AddStringToObject(q, "part", L->set.parts[cb->part].name);
-    cJSON_AddItemToObject(q, "normal", cJSON_CreateDoubleArray(cb->normal, 3));
-    cJSON_AddNumberToObject(q, "d", cb->d);
-    cJSON_AddNumberToObject(q, "width", cb->rect.width);
-    cJSON_AddNumberToObject(q, "height", cb->rect.height);
-    int tex[2] = {cb->tex_width, cb->tex_height};
-    cJSON_AddItemToObject(q, "texture", cJSON_CreateIntArray(tex, 2));
-    cJSON_AddNumberToObject(q, "faces_drawn", (double)cb->face_count);
-    cJSON_AddNumberToObject(q, "corners", cb->corner_count);
-    cJSON_AddItemToArray(bbs, q);
-  }
-  return o;
-}
-
-static int write_text_file(const char *path, const char *text) {
-  bbc_error err;
-  if (bbc_write_file_atomic(path, text, strlen(text), &err) != BBC_OK) return cli_fail(&err, 1);
-  return EXIT_OK;
-}
-
-/* The model's file name without folder and extension, safe for names. */
-static void model_name(const char *path, char *out, size_t n) {
-  const char *base = strrchr(path, '/');
-  base = base ? base + 1 : path;
-  const char *ext = extension_of(base);
-  size_t i = 0;
-  for (const char *p = base; p < ext && i + 1 < n; p++, i++) {
-    unsigned char ch = (unsigned char)*p;
-    out[i] = (char)(isalnum(ch) || ch == '_' || ch == '-' || ch == '.' ? ch : '_');
-  }
-  out[i] = 0;
-  if (!i) snprintf(out, n, "model");
-}
-
-int job_write(const cli *c, job *j, const char *out) {
-  const char *ext = extension_of(out);
-  int glb = !strcmp(ext, ".glb"), gltf = !strcmp(ext, ".gltf"), obj = !strcmp(ext, ".obj"),
-      wrl = !strcmp(ext, ".wrl");
-  if (!glb && !gltf && !obj && !wrl) {
-    cli_error("the output must end in .glb, .gltf, .obj or .wrl, not '%s'", out);
-    return EXIT_USAGE;
-  }
-  for (size_t k = 1; k < j->lod_count && !glb && !gltf; k++) {
+/* "wrote ..." for each level's file. */
+static void wrote(const cli *c, const bbc_session *s, const char *out) {
+  const char *ext = strrchr(out, '.');
+  int one_file = ext && (!strcmp(ext, ".glb") || !strcmp(ext, ".gltf"));
+  for (size_t k = 0; k < bbc_session_level_count(s); k++) {
+    const bbc_planeset *set;
+    double eps;
+    const bbc_cloud *cl = bbc_session_level(s, k, &set, NULL, &eps);
     char path[4200];
-    lod_path(out, k, path, sizeof path);
+    bbc_session_output_path(out, one_file ? 0 : k, path, sizeof path);
+    cli_info(c, "wrote %s: %zu billboards, %zu triangles (epsilon %.3g %%)", path,
+             cl->billboard_count, cl->mesh.triangle_count, eps * set->epsilon_scale);
+  }
+}
+
+int session_write(const cli *c, bbc_session *s, const char *out) {
+  const char *ext = strrchr(out, '.');
+  int one_file = ext && (!strcmp(ext, ".glb") || !strcmp(ext, ".gltf"));
+  for (size_t k = 1; k < bbc_session_level_count(s) && !one_file; k++) {
+    char path[4200];
+    bbc_session_output_path(out, k, path, sizeof path);
     if (!cli_output_ok("-o", path)) return EXIT_OUTPUT;
   }
-  if (obj && j->lods[0].params.normal_maps)
-    cli_log((void *)c, BBC_LOG_WARNING,
-            "OBJ output carries no normal map (use .glb, .gltf or .wrl)");
-  double t0 = cli_now();
   bbc_error err;
-  bbc_result r = BBC_OK;
-  /* Names engines understand: <model>_LOD<k> for the levels of a chain, <model>
-   * for a single cloud and for the chain's group node; the material
-   * "billboards" (a chain's "billboards_LOD<k>"), so texture files are
-   * <stem>_billboards.png (bbc_texture_file_name). */
-  char model[128];
-  model_name(j->model_path, model, sizeof model);
-  for (size_t k = 0; k < j->lod_count && j->lod_count > 1; k++) {
-    char name[64];
-    snprintf(name, sizeof name, "billboards_LOD%zu", k);
-    bbc_material *mat = &j->lods[k].cloud.mesh.materials[0];
-    char *dup = strdup(name);
-    if (dup) {
-      free(mat->name);
-      mat->name = dup;
-    }
-  }
-  int unlit = bbc_params_unlit(&j->lods[0].params);
-  if ((glb || gltf) && j->lod_count > 1 && !j->atlas_shared) {
-    /* One atlas for every level when they fit the budget (atlasmax, else
-     * the largest level's atlas): one texture bind for the whole chain. */
-    int budget = j->lods[0].params.atlas_max;
-    for (size_t k = 0; k < j->lod_count; k++) {
-      const bbc_image *a = &j->lods[k].cloud.mesh.textures[0].image;
-      if (a->width > budget) budget = a->width;
-    }
-    bbc_cloud clouds[JOB_MAX_LODS];
-    for (size_t k = 0; k < j->lod_count; k++) clouds[k] = j->lods[k].cloud;
-    r = bbc_clouds_share_atlas(clouds, j->lod_count, budget < 64 ? 64 : budget, &j->atlas_shared,
-                               &err);
-    for (size_t k = 0; k < j->lod_count; k++) j->lods[k].cloud = clouds[k];
-    if (r != BBC_OK) return cli_fail(&err, 0);
-    const bbc_image *a = &j->lods[0].cloud.mesh.textures[0].image;
-    if (j->atlas_shared)
-      cli_info(c, "the %zu levels share one %dx%d atlas", j->lod_count, a->width, a->height);
-    else
-      cli_info(c, "the levels do not fit one %dx%d atlas together: one atlas each", budget, budget);
-  }
-  if (glb || gltf) {
-    char *texts[JOB_MAX_LODS] = {0}, names[JOB_MAX_LODS][160];
-    bbc_gltf_node nodes[JOB_MAX_LODS];
-    double coverage[JOB_MAX_LODS];
-    for (size_t k = 0; k < j->lod_count; k++) {
-      cJSON *o = lod_json(&j->lods[k], 0);
-      texts[k] = cJSON_PrintUnformatted(o);
-      cJSON_Delete(o);
-      if (j->lod_count > 1)
-        snprintf(names[k], sizeof names[k], "%s_LOD%zu", model, k);
-      else
-        snprintf(names[k], sizeof names[k], "%s", model);
-      nodes[k] = (bbc_gltf_node){&j->lods[k].cloud.mesh, names[k], texts[k]};
-      /* MSFT_screencoverage: level k gives way to level k + 1 once level
-       * k + 1's error (epsilon, a share of the bounding radius) is at most
-       * 2 pixels of a 1080-line screen; the last level ends at 2 pixels. */
-      if (k + 1 < j->lod_count) {
-        double e = j->lods[k + 1].epsilon_pct * j->lods[k + 1].set.epsilon_scale / 100;
-        coverage[k] = fmin(1.0, 2.0 * 2.0 / (e * 1080.0));
-      } else {
-        coverage[k] = 2.0 / 1080.0;
-      }
-      if (k && coverage[k] > coverage[k - 1]) coverage[k] = coverage[k - 1];
-    }
-    char *params = params_json_text(&j->lods[0].params);
-    size_t n = strlen(params) + 64;
-    char *extras = malloc(n);
-    if (extras) snprintf(extras, n, "{\"bbcgen_parameters\":%s}", params);
-    bbc_gltf_options go;
-    memset(&go, 0, sizeof go);
-    go.binary = glb;
-    go.extras_json = extras;
-    go.lod_chain = 1;
-    go.lod_group_name = model;
-    go.screen_coverage = coverage;
-    go.unlit = unlit;
-    r = bbc_scene_write_gltf(out, nodes, j->lod_count, &go, &err);
-    free(extras);
-    cJSON_free(params);
-    for (size_t k = 0; k < j->lod_count; k++) cJSON_free(texts[k]);
-  } else {
-    for (size_t k = 0; k < j->lod_count && r == BBC_OK; k++) {
-      char path[4200];
-      lod_path(out, k, path, sizeof path);
-      char comment[4600], why[160];
-      epsilon_adjustment(&j->lods[k], why, sizeof why);
-      snprintf(comment, sizeof comment, "model: %s\nepsilon: %.4g %% (%.6g model units)%s",
-               j->model_path, j->lods[k].epsilon_pct * j->lods[k].set.epsilon_scale,
-               j->lods[k].set.epsilon_abs, why);
-      if (obj)
-        r = bbc_mesh_write_obj_ex(path, &j->lods[k].cloud.mesh, comment, unlit, &err);
-      else
-        r = bbc_cloud_write_vrml(path, &j->lods[k].cloud,
-                                 j->lods[k].params.format | (unlit ? BBC_VRML_UNLIT : 0), comment,
-                                 &err);
-    }
-  }
-  j->write_s = cli_now() - t0;
-  if (r != BBC_OK) return cli_fail(&err, 1);
-  for (size_t k = 0; k < j->lod_count; k++) {
-    char path[4200];
-    lod_path(out, k, path, sizeof path);
-    cli_info(c, "wrote %s: %zu billboards, %zu triangles (epsilon %.3g %%)",
-             glb || gltf ? out : path, j->lods[k].cloud.billboard_count,
-             j->lods[k].cloud.mesh.triangle_count,
-             j->lods[k].epsilon_pct * j->lods[k].set.epsilon_scale);
-  }
+  bbc_result r = bbc_session_write(s, out, &c->callbacks, &err);
+  if (r != BBC_OK) return cli_fail(&err, r != BBC_ERROR_INVALID_ARGUMENT);
+  wrote(c, s, out);
   return EXIT_OK;
 }
 
-int job_report(const cli *c, const job *j, const char *out, const char *cloud_path) {
-  (void)c;
-  cJSON *o = cJSON_CreateObject();
-  cJSON_AddStringToObject(o, "generator", "bbcgen " BBC_VERSION_STRING);
-  cJSON_AddStringToObject(o, "model", j->model_path);
-  if (cloud_path) cJSON_AddStringToObject(o, "output", cloud_path);
-  cJSON_AddNumberToObject(o, "model_triangles", (double)j->mesh.triangle_count);
-  cJSON_AddNumberToObject(o, "model_radius", j->mesh.radius);
-  char *params = params_json_text(&j->lods[0].params);
-  cJSON_AddItemToObject(o, "parameters", cJSON_Parse(params));
-  cJSON_free(params);
-  cJSON *t = cJSON_AddObjectToObject(o, "times_s");
-  double total = j->load_s + j->write_s;
-  for (size_t k = 0; k < j->lod_count; k++)
-    total += j->lods[k].step1_s + j->lods[k].step2_s + j->lods[k].set.retry_s +
-             j->lods[k].cloud.bake_s + j->lods[k].cloud.atlas_s;
-  cJSON_AddNumberToObject(t, "load", j->load_s);
-  cJSON_AddNumberToObject(t, "write", j->write_s);
-  cJSON_AddNumberToObject(t, "total", total);
-  cJSON_AddBoolToObject(o, "atlas_shared", j->atlas_shared);
-  cJSON *lods = cJSON_AddArrayToObject(o, "lods");
-  for (size_t k = 0; k < j->lod_count; k++) cJSON_AddItemToArray(lods, lod_json(&j->lods[k], 1));
-  char *text = cJSON_Print(o);
-  cJSON_Delete(o);
-  size_t n = strlen(text);
-  char *withnl = malloc(n + 2);
-  int rc = EXIT_RESOURCES;
-  if (withnl) {
-    memcpy(withnl, text, n);
-    withnl[n] = '\n';
-    withnl[n + 1] = 0;
-    rc = write_text_file(out, withnl);
-  }
-  free(withnl);
-  cJSON_free(text);
-  return rc;
-}
-
-/* ---- preview ------------------------------------------------------------------ */
-
-static void put_px(bbc_image *im, int x, int y, const uint8_t *rgb) {
-  if (x < 0 || y < 0 || x >= im->width || y >= im->height) return;
-  uint8_t *p = im->rgba + 4 * ((size_t)y * im->width + x);
-  memcpy(p, rgb, 3);
-  p[3] = 255;
-}
-
-static void draw_line(bbc_image *im, double x0, double y0, double x1, double y1,
-                      const uint8_t *rgb) {
-  double dx = x1 - x0, dy = y1 - y0;
-  int steps = (int)ceil(fmax(fabs(dx), fabs(dy)));
-  if (steps > 100000) steps = 100000;
-  for (int i = 0; i <= steps; i++) {
-    double t = steps ? (double)i / steps : 0;
-    int x = (int)floor(x0 + t * dx), y = (int)floor(y0 + t * dy);
-    put_px(im, x, y, rgb);
-    put_px(im, x + 1, y, rgb);
-    put_px(im, x, y + 1, rgb);
-  }
-}
-
-/* The thesis's colour code (Fig. 2-33 ff.). */
-static const uint8_t k_kind_rgb[BBC_PLANE_KIND_COUNT][3] = {
-    {120, 190, 255}, /* standard: light blue */
-    {255, 150, 20},  /* coplanar: orange */
-    {255, 120, 200}, /* post-tweaked: pink */
-    {40, 220, 60},   /* cardboard: green */
-    {0, 255, 255},   /* parachute: cyan */
-    {255, 230, 40},  /* stem: yellow */
-};
-
-int job_preview(const cli *c, const job *j, const char *out, int cell) {
-  (void)c;
-  const bbc_mesh *m = &j->mesh;
-  const job_lod *L = &j->lods[0];
-  int up = L->params.up_axis;
-  /* Front, side, above, and from 35 degrees up between front and side. */
-  double dirs[4][3], ups[4][3];
-  int a = (up + 1) % 3, b = (up + 2) % 3; /* (a, b, up) right-handed */
-  for (int v = 0; v < 4; v++)
-    for (int k = 0; k < 3; k++) dirs[v][k] = ups[v][k] = 0;
-  dirs[0][b] = -1;
-  dirs[1][a] = -1;
-  dirs[2][up] = -1;
-  double e = 35 * 3.14159265358979323846 / 180;
-  dirs[3][a] = -cos(e) * sqrt(0.5);
-  dirs[3][b] = -cos(e) * sqrt(0.5);
-  dirs[3][up] = -sin(e);
-  ups[0][up] = ups[1][up] = ups[3][up] = 1;
-  ups[2][b] = -1;
-  bbc_image sheet, img;
+int session_save(const cli *c, bbc_session *s, const char *user_dir) {
+  char path[4600];
   bbc_error err;
-  if (bbc_image_alloc(&sheet, 4 * cell, 3 * cell) != BBC_OK ||
-      bbc_image_alloc(&img, cell, cell) != BBC_OK) {
-    bbc_image_free(&sheet);
-    cli_error("out of memory");
-    return EXIT_RESOURCES;
-  }
-  float *shade = NULL;
-  if (L->params.shade_voxels > 0) {
-    shade = malloc(m->vertex_count * sizeof *shade);
-    if (shade && bbc_shade_vertices(m, L->params.shade_voxels, L->params.shade_ambient, up, shade,
-                                    &err) != BBC_OK) {
-      free(shade);
-      shade = NULL;
-    }
-  }
-  double light[3], gain = 1.0;
-  bbc_params_light_direction(&L->params, light);
-  int rc = EXIT_OK;
-  if (L->params.prelight && bbc_light_gain(m, light, L->params.up_axis, &gain, &err) != BBC_OK)
-    rc = cli_fail(&err, 0);
-  for (int v = 0; v < 4 && rc == EXIT_OK; v++) {
-    for (int row = 0; row < 3 && rc == EXIT_OK; row++) {
-      bbc_view view;
-      bbc_view_frame_mesh(m, dirs[v], ups[v], &view);
-      /* The original lit as the textures were baked; the cloud unlit (its
-       * textures carry the light). */
-      view.lighting = row == 1 ? 0 : L->params.prelight;
-      view.light_gain = gain;
-      view.ambient = L->params.viewer_ambient;
-      memcpy(view.light, light, sizeof light);
-      view.vertex_shade = row == 1 ? NULL : shade;
-      if (row == 2) view.background[0] = view.background[1] = view.background[2] = 40;
-      const bbc_mesh *what = row == 1 ? &L->cloud.mesh : m;
-      if (bbc_render_ortho(what, &view, &img, &err) != BBC_OK) {
-        rc = cli_fail(&err, 0);
-        break;
-      }
-      if (row == 2) {
-        /* The original faded into the background, the billboards' outlines
-         * on top, coloured by kind. */
-        for (size_t i = 0; i < (size_t)cell * cell; i++)
-          for (int k = 0; k < 3; k++)
-            img.rgba[4 * i + k] = (uint8_t)(40 + (img.rgba[4 * i + k] - 40) * 45 / 100);
-        for (size_t q = 0; q < L->cloud.billboard_count; q++) {
-          const bbc_cloud_billboard *cb = &L->cloud.billboards[q];
-          const uint8_t *rgb = k_kind_rgb[cb->kind < BBC_PLANE_KIND_COUNT ? cb->kind : 0];
-          double prev[2] = {0, 0}, first[2] = {0, 0};
-          for (int cc = 0; cc <= cb->corner_count; cc++) {
-            const double *st = cb->corners[cc % cb->corner_count];
-            double p[3], s[2];
-            for (int k = 0; k < 3; k++)
-              p[k] = cb->rect.origin[k] + st[0] * cb->rect.width * cb->rect.u[k] +
-                     st[1] * cb->rect.height * cb->rect.w[k];
-            bbc_view_project(&view, cell, cell, p, s);
-            if (cc == 0)
-              memcpy(first, s, sizeof s);
-            else
-              draw_line(&img, prev[0], prev[1], s[0], s[1], rgb);
-            memcpy(prev, s, sizeof s);
-          }
-          (void)first;
-        }
-      }
-      for (int y = 0; y < cell; y++)
-        memcpy(sheet.rgba + 4 * ((size_t)(row * cell + y) * sheet.width + (size_t)v * cell),
-               img.rgba + 4 * (size_t)y * cell, 4 * (size_t)cell);
-    }
-  }
-  free(shade);
-  bbc_image_free(&img);
-  if (rc == EXIT_OK && bbc_image_write_png(out, &sheet, &err) != BBC_OK) rc = cli_fail(&err, 1);
-  bbc_image_free(&sheet);
-  return rc;
-}
-
-/* ---- Appendix A save folder ---------------------------------------------------- */
-
-static int make_dirs(const char *path) {
-  char buf[4096];
-  snprintf(buf, sizeof buf, "%s", path);
-  for (char *p = buf + 1; *p; p++) {
-    if (*p != '/') continue;
-    *p = 0;
-    if (mkdir(buf, 0777) != 0 && errno != EEXIST) return -1;
-    *p = '/';
-  }
-  if (mkdir(buf, 0777) != 0 && errno != EEXIST) return -1;
-  return 0;
-}
-
-int job_save_vrml(const cli *c, job *j, const char *user_dir) {
-  /* Appendix A: always below vrml97models/ of the current folder. */
-  if (user_dir && (user_dir[0] == '/' || !strcmp(user_dir, "..") || !strncmp(user_dir, "../", 3) ||
-                   strstr(user_dir, "/../") ||
-                   (strlen(user_dir) >= 3 && !strcmp(user_dir + strlen(user_dir) - 3, "/..")))) {
-    cli_error("save %s: the folder must stay below vrml97models/ (no '/' start, no '..')",
-              user_dir);
-    return EXIT_USAGE;
-  }
-  const char *base = strrchr(j->model_path, '/');
-  base = base ? base + 1 : j->model_path;
-  const char *ext = extension_of(base);
-  char stem[256];
-  snprintf(stem, sizeof stem, "%.*s", (int)(ext - base), base);
-  const bbc_params *p = &j->lods[0].params;
-  char dir[4096], leaf[512], path[4600];
-  snprintf(leaf, sizeof leaf, "%s_e%.2f_tex%d%s%s", stem, j->lods[0].epsilon_pct, p->texres,
-           p->normal_maps ? "_nm" : "", p->prelight ? "_pl" : "");
-  if (user_dir && *user_dir)
-    snprintf(dir, sizeof dir, "vrml97models/%s/%s/%s", user_dir, stem, leaf);
-  else
-    snprintf(dir, sizeof dir, "vrml97models/%s/%s", stem, leaf);
-  if (make_dirs(dir) != 0) {
-    cli_error("%s: cannot create the folder: %s", dir, strerror(errno));
-    return EXIT_OUTPUT;
-  }
-  snprintf(path, sizeof path, "%s/%s.wrl", dir, stem);
-  return job_write(c, j, path);
+  bbc_result r = bbc_session_save(s, user_dir, &c->callbacks, path, sizeof path, &err);
+  if (r != BBC_OK) return cli_fail(&err, r != BBC_ERROR_INVALID_ARGUMENT);
+  wrote(c, s, path);
+  return EXIT_OK;
 }

@@ -726,6 +726,79 @@ static void test_viewer(void **state) {
   for (int m = 0; m < 9; m++) free(img[m]);
 }
 
+/* Every command's errors in a batch file: the message names file:line and
+ * the batch stops with a non-zero status. */
+static void test_exec_errors(void **state) {
+  (void)state;
+  char path[1024], args[4096], text[8192];
+  tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
+  if (!tu_have_file(path)) skip();
+  const char *cases[][3] = {
+      /* {lines after an optional load ("L" = load first), expected text, "L" or ""} */
+      {"load\n", "load needs an argument", ""},
+      {"load /no/such/tree.obj\n", "no such file", ""},
+      {"load @ nomip\n", "'nomip' is not supported", ""},
+      {"set epsilon\n", "set needs NAME VALUE", ""},
+      {"set epslon 5\n", "did you mean epsilon", ""},
+      {"set epsilon 500\n", "epsilon", ""},
+      {"set trunk.res 7\n", "res", ""},
+      {"split sideways\n", "--split must be", ""},
+      {"split trunk=\n", "needs patterns", ""},
+      {"bbc1\n", "bbc1 before load", ""},
+      {"bbc2\n", "bbc2 before load", ""},
+      {"bbc3\n", "bbc3 before load", ""},
+      {"bbc\n", "bbc before load", ""},
+      {"planes\n", "planes before load", ""},
+      {"shade many\n", "shade NUMVOXELS", ""},
+      {"shade 40 3\n", "ambient 0..1", ""},
+      {"save\n", "save needs a Billboard Cloud", "L"},
+      {"exec\n", "exec needs an argument", ""},
+      {"exec /no/such.bbc\n", "cannot open batch file", ""},
+      {"help frobnicate\n", "no command 'frobnicate'", ""},
+      {"show\n", "needs model or bbc", ""},
+      {"show sideways\n", "expected show model or show bbc", "L"},
+      {"show model\n", "show before load", ""},
+      {"show bbc\n", "show bbc needs the grid", "L"},
+      {"bbcload\n", "bbcload needs an argument", ""},
+      {"bbcload /no/such/cloud.wrl\n", "no such file", ""},
+      {"frobnicate\n", "'frobnicate' is not a command", ""},
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+    char body[2048]; /* @ = the model */
+    const char *at = strchr(cases[i][0], '@');
+    if (at)
+      snprintf(body, sizeof body, "%.*s%s%s", (int)(at - cases[i][0]), cases[i][0], path, at + 1);
+    else
+      snprintf(body, sizeof body, "%s", cases[i][0]);
+    int line = cases[i][2][0] ? 2 : 1;
+    if (cases[i][2][0])
+      snprintf(text, sizeof text, "load %s\n%snext\n", path, body);
+    else
+      snprintf(text, sizeof text, "%snext\n", body);
+    char *bf = tu_write_file(tu_dir, "err.bbc", text, strlen(text));
+    snprintf(args, sizeof args, "exec '%s' -q", bf);
+    char *out, *err;
+    int rc = run_in(args, "", &out, &err);
+    char where[64];
+    snprintf(where, sizeof where, "err.bbc:%d:", line);
+    if (rc == 0 || !strstr(err, cases[i][1]) || !strstr(err, where) || strstr(err, "'next'"))
+      fail_msg("case %zu (%s): rc %d: %s", i, cases[i][0], rc, err);
+    free(out);
+    free(err);
+    free(bf);
+  }
+  /* exec of itself: the depth limit */
+  snprintf(text, sizeof text, "exec %s/self.bbc\n", tu_dir);
+  char *bf = tu_write_file(tu_dir, "self.bbc", text, strlen(text));
+  snprintf(args, sizeof args, "exec '%s' -q", bf);
+  char *out, *err;
+  assert_int_not_equal(run_in(args, "", &out, &err), 0);
+  assert_non_null(strstr(err, "nested more than 8 deep"));
+  free(out);
+  free(err);
+  free(bf);
+}
+
 /* The debug levels: step 2 opens a window per pick (1) and per greedy step
  * (2) as it runs; End goes on without more of them. */
 static void test_debug_views(void **state) {
@@ -1158,6 +1231,7 @@ int main(void) {
       cmocka_unit_test(test_prompt),
       cmocka_unit_test(test_viewer),
       cmocka_unit_test(test_debug_views),
+      cmocka_unit_test(test_exec_errors),
       cmocka_unit_test(test_cloud_command),
       cmocka_unit_test(test_hand_epsilon_kept),
       cmocka_unit_test(test_suggestions),

@@ -408,6 +408,26 @@ static void test_exec_batch(void **state) {
   free(bf);
 }
 
+/* Tree_1's saved cloud in vrml97models/A/... and vrml97models/B/... are the
+ * same bytes. */
+static void same_saves(const char *a, const char *b) {
+  const char *files[] = {"Tree_1.wrl", "Tree_1_billboards.png"};
+  for (int i = 0; i < 2; i++) {
+    char fa[2048], fb[2048];
+    snprintf(fa, sizeof fa, "%s/vrml97models/%s/Tree_1/Tree_1_e6.00_tex32_pl/%s", tu_dir, a,
+             files[i]);
+    snprintf(fb, sizeof fb, "%s/vrml97models/%s/Tree_1/Tree_1_e6.00_tex32_pl/%s", tu_dir, b,
+             files[i]);
+    size_t na, nb;
+    unsigned char *ta = tu_read_file(fa, &na), *tb = tu_read_file(fb, &nb);
+    if (!ta || !tb) fail_msg("missing %s or %s", fa, fb);
+    assert_int_equal(na, nb);
+    assert_memory_equal(ta, tb, na);
+    free(ta);
+    free(tb);
+  }
+}
+
 /* Batch state (Appendix A's parameter classes): bbc3 after a texturing
  * change keeps steps 1 and 2 and gives the very cloud a full run gives;
  * any other change asks for the steps it needs, naming the parameter. */
@@ -436,19 +456,7 @@ static void test_exec_state(void **state) {
   st = system(cmd);
   assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
   free(bf);
-  const char *files[] = {"Tree_1.wrl", "Tree_1_billboards.png"};
-  for (int i = 0; i < 2; i++) {
-    char fa[2048], fb[2048];
-    snprintf(fa, sizeof fa, "%s/vrml97models/a/Tree_1/Tree_1_e6.00_tex32_pl/%s", tu_dir, files[i]);
-    snprintf(fb, sizeof fb, "%s/vrml97models/b/Tree_1/Tree_1_e6.00_tex32_pl/%s", tu_dir, files[i]);
-    size_t na, nb;
-    unsigned char *ta = tu_read_file(fa, &na), *tb = tu_read_file(fb, &nb);
-    if (!ta || !tb) fail_msg("missing %s or %s", fa, fb);
-    assert_int_equal(na, nb);
-    assert_memory_equal(ta, tb, na);
-    free(ta);
-    free(tb);
-  }
+  same_saves("a", "b");
   /* bbc2 on the grid of bbc1 after a step-2 change: the cloud of a full run */
   const char *pairs[2][2] = {
       {"c",
@@ -463,18 +471,7 @@ static void test_exec_state(void **state) {
     assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
     free(bf);
   }
-  for (int i = 0; i < 2; i++) {
-    char fa[2048], fb[2048];
-    snprintf(fa, sizeof fa, "%s/vrml97models/c/Tree_1/Tree_1_e6.00_tex32_pl/%s", tu_dir, files[i]);
-    snprintf(fb, sizeof fb, "%s/vrml97models/d/Tree_1/Tree_1_e6.00_tex32_pl/%s", tu_dir, files[i]);
-    size_t na, nb;
-    unsigned char *ta = tu_read_file(fa, &na), *tb = tu_read_file(fb, &nb);
-    if (!ta || !tb) fail_msg("missing %s or %s", fa, fb);
-    assert_int_equal(na, nb);
-    assert_memory_equal(ta, tb, na);
-    free(ta);
-    free(tb);
-  }
+  same_saves("c", "d");
   /* what a change needs, and commands out of order */
   const char *cases[][3] = {
       {"bbc\nset epsilon 8\nbbc3\n", "epsilon", "run bbc1 and bbc2"},

@@ -33,40 +33,35 @@ static void vertex(float *o, const double p[3], const float rgb[3]) {
   memcpy(o + 3, rgb, 3 * sizeof *rgb);
 }
 
-static void tri(builder *b, const double p0[3], const double p1[3], const double p2[3],
-                const float rgb[3]) {
-  bbc_geometry *g = b->g;
-  if (b->failed) return;
-  if (g->tri_count == b->tri_cap) {
-    size_t cap = b->tri_cap ? 2 * b->tri_cap : 4096;
-    float *t = realloc(g->tris, cap * 18 * sizeof *t);
+/* Room for one more item of `per` floats in a growing array; NULL when out
+ * of memory (the builder then fails). */
+static float *push(builder *b, float **items, size_t *count, size_t *cap, size_t per) {
+  if (b->failed) return NULL;
+  if (*count == *cap) {
+    size_t n = *cap ? 2 * *cap : 4096;
+    float *t = realloc(*items, n * per * sizeof *t);
     if (!t) {
       b->failed = 1;
-      return;
+      return NULL;
     }
-    g->tris = t;
-    b->tri_cap = cap;
+    *items = t;
+    *cap = n;
   }
-  float *o = g->tris + 18 * g->tri_count++;
+  return *items + per * (*count)++;
+}
+
+static void tri(builder *b, const double p0[3], const double p1[3], const double p2[3],
+                const float rgb[3]) {
+  float *o = push(b, &b->g->tris, &b->g->tri_count, &b->tri_cap, 18);
+  if (!o) return;
   vertex(o, p0, rgb);
   vertex(o + 6, p1, rgb);
   vertex(o + 12, p2, rgb);
 }
 
 static void line(builder *b, const double p0[3], const double p1[3], const float rgb[3]) {
-  bbc_geometry *g = b->g;
-  if (b->failed) return;
-  if (g->line_count == b->line_cap) {
-    size_t cap = b->line_cap ? 2 * b->line_cap : 4096;
-    float *l = realloc(g->lines, cap * 12 * sizeof *l);
-    if (!l) {
-      b->failed = 1;
-      return;
-    }
-    g->lines = l;
-    b->line_cap = cap;
-  }
-  float *o = g->lines + 12 * g->line_count++;
+  float *o = push(b, &b->g->lines, &b->g->line_count, &b->line_cap, 12);
+  if (!o) return;
   vertex(o, p0, rgb);
   vertex(o + 6, p1, rgb);
 }

@@ -191,6 +191,8 @@ typedef struct bbc_mesh {
                               * before zero-area ones were dropped */
   size_t dropped_degenerate; /* zero-area triangles removed */
   int normals_generated;     /* 1 when normals were computed, not read */
+  int no_mipmaps;            /* Appendix A's `load ... nomip`: its textures are
+                              * sampled at full resolution (baking, viewer) */
 
   /* Frame (thesis 2.1.4): area-weighted centre of gravity of the triangles
    * (mean of the points for a point cloud) and the radius of the bounding
@@ -213,6 +215,8 @@ typedef struct bbc_load_options {
    * bbcgen's glTF LOD chains follow (Assimp-read formats; BBC_ERROR_NOT_FOUND
    * when the file has no such node). */
   int lod_node;
+  /* 1 = no mipmaps for the model's textures (bbc_mesh.no_mipmaps). */
+  int no_mipmaps;
   bbc_callbacks callbacks;
 } bbc_load_options;
 

@@ -734,7 +734,7 @@ static void test_exec_errors(void **state) {
       /* {lines after an optional load ("L" = load first), expected text, "L" or ""} */
       {"load\n", "load needs an argument", ""},
       {"load /no/such/tree.obj\n", "no such file", ""},
-      {"load @ nomip\n", "'nomip' is not supported", ""},
+      {"load @ nocache\n", "'nocache' is not a flag", ""},
       {"set epsilon\n", "set needs NAME VALUE", ""},
       {"set epslon 5\n", "did you mean epsilon", ""},
       {"set epsilon 500\n", "epsilon", ""},
@@ -783,6 +783,33 @@ static void test_exec_errors(void **state) {
     free(out);
     free(err);
     free(bf);
+  }
+  /* load ... nomip: the model's textures at full resolution in the bake */
+  char tex[1024];
+  tu_data_path(tex, sizeof tex, "trees/eztree/oak_medium.obj");
+  if (tu_have_file(tex)) {
+    const char *flags[2] = {"", " nocg nomip"};
+    for (int k = 0; k < 2; k++) {
+      snprintf(text, sizeof text, "load %s%s\nset texres 32\nbbc\nsave m%d\n", tex, flags[k], k);
+      char *mf = tu_write_file(tu_dir, "mip.bbc", text, strlen(text));
+      snprintf(args, sizeof args, "exec '%s' -q", mf);
+      char *o2, *e2;
+      if (run_in(args, "", &o2, &e2)) fail_msg("nomip: %s", e2);
+      free(o2);
+      free(e2);
+      free(mf);
+    }
+    char pa[2048], pb[2048];
+    snprintf(pa, sizeof pa, "%s/vrml97models/m0/oak_medium/oak_medium_e6.00_tex32_pl/%s", tu_dir,
+             "oak_medium_billboards.png");
+    snprintf(pb, sizeof pb, "%s/vrml97models/m1/oak_medium/oak_medium_e6.00_tex32_pl/%s", tu_dir,
+             "oak_medium_billboards.png");
+    size_t na, nb;
+    unsigned char *ta = tu_read_file(pa, &na), *tb = tu_read_file(pb, &nb);
+    if (!ta || !tb) fail_msg("missing %s or %s", pa, pb);
+    assert_false(na == nb && !memcmp(ta, tb, na)); /* other texture colours */
+    free(ta);
+    free(tb);
   }
   /* exec of itself: the depth limit */
   snprintf(text, sizeof text, "exec %s/self.bbc\n", tu_dir);

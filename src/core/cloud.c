@@ -593,7 +593,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
     double light_gain = 1.0;
     if (prm->prelight) r = bbc_light_gain(m, light, prm->up_axis, &light_gain, err);
     /* Colours as a GPU shows the textures from the billboards' distance. */
-    if (r == BBC_OK) r = bbc__mips_build(m, &mips, err);
+    if (r == BBC_OK && !m->no_mipmaps) r = bbc__mips_build(m, &mips, err);
     int nt = prm->threads;
 #ifdef _OPENMP
     if (nt <= 0) nt = omp_get_max_threads();

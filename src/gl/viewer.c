@@ -147,12 +147,14 @@ static int vmesh_build(vmesh *g, const bbc_mesh *m, char *err) {
     const bbc_image *im = &m->textures[t].image;
     if (!im->rgba || im->width < 1 || im->height < 1) continue;
     int levels = 1;
-    for (int s = im->width > im->height ? im->width : im->height; s > 1; s /= 2) levels++;
+    for (int s = im->width > im->height ? im->width : im->height; s > 1 && !m->no_mipmaps; s /= 2)
+      levels++;
     glTextureStorage2D(g->textures[t], levels, GL_RGBA8, im->width, im->height);
     glTextureSubImage2D(g->textures[t], 0, 0, 0, im->width, im->height, GL_RGBA, GL_UNSIGNED_BYTE,
                         im->rgba);
-    glGenerateTextureMipmap(g->textures[t]);
-    glTextureParameteri(g->textures[t], GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    if (levels > 1) glGenerateTextureMipmap(g->textures[t]);
+    glTextureParameteri(g->textures[t], GL_TEXTURE_MIN_FILTER,
+                        levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
     glTextureParameteri(g->textures[t], GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   }
   for (size_t mat = 0; mat < groups; mat++) {

@@ -41,6 +41,9 @@ bbc_result bbc_mesh_load(const char *path, const bbc_load_options *options, bbc_
                mesh->dropped_degenerate);
     bbc__progress(&options->callbacks, "load", 1.0);
   }
-  if (r != BBC_OK) bbc_mesh_free(mesh);
+  if (r != BBC_OK)
+    bbc_mesh_free(mesh);
+  else
+    mesh->no_mipmaps = options->no_mipmaps;
   return r;
 }

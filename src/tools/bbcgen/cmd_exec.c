@@ -68,7 +68,8 @@ typedef struct batch {
 static const struct {
   const char *name, *args, *what;
 } k_commands[] = {
-    {"load", "FILE [nocg]", "the model for the following commands (it stays where it is)"},
+    {"load", "FILE [nocg] [nomip]",
+     "the model (it stays where it is); nomip: its textures without mipmaps"},
     {"set", "NAME VALUE", "a parameter (PART.NAME for one part: trunk, foliage)"},
     {"split", "MODE",
      "trunk and foliage: auto, none, names, geometry, trunk=PATTERNS, foliage=..."},
@@ -102,7 +103,7 @@ static void made_cloud(const cli *c, batch *b, int step3_only) {
 static void help(const char *which) {
   for (size_t i = 0; i < COMMAND_COUNT; i++)
     if (!which || !strcmp(which, k_commands[i].name))
-      printf("  %-7s %-12s %s\n", k_commands[i].name, k_commands[i].args, k_commands[i].what);
+      printf("  %-7s %-19s %s\n", k_commands[i].name, k_commands[i].args, k_commands[i].what);
 }
 
 /* One command line (already trimmed, not empty). In a batch file every
@@ -119,14 +120,17 @@ static int exec_command(cli *c, batch *b, char *s) {
     if (!a1) goto missing;
     /* Appendix A: load FILE [nocg] [nomip]. nocg (the model stays where it
      * is, not moved to its centre of gravity) is how models always load
-     * here; nomip is not supported. */
-    for (char *w = a2 ? strtok(a2, " \t") : NULL; w; w = strtok(NULL, " \t"))
-      if (strcmp(w, "nocg")) {
-        cli_error("load: '%s' is not supported (load FILE [nocg])", w);
-        return EXIT_USAGE;
-      }
+     * here; nomip: the model's textures without mipmaps (baking, viewer). */
     bbc_load_options lo;
     cli_load_options(c, &lo);
+    for (char *w = a2 ? strtok(a2, " \t") : NULL; w; w = strtok(NULL, " \t")) {
+      if (!strcmp(w, "nomip")) {
+        lo.no_mipmaps = 1;
+      } else if (strcmp(w, "nocg")) {
+        cli_error("load: '%s' is not a flag (load FILE [nocg] [nomip])", w);
+        return EXIT_USAGE;
+      }
+    }
     bbc_error e;
     if (bbc_session_load(b->sess, a1, &lo, &e) != BBC_OK) return cli_fail(&e, 0);
     snprintf(b->model, sizeof b->model, "%s", a1);

@@ -683,6 +683,14 @@ enum {
 /* and the selected triangle solid yellow (state NULL: all remaining). */
 bbc_result bbc_faces_view(const bbc_mesh *mesh, const uint8_t *state, size_t selected,
                           bbc_geometry *out, bbc_error *err);
+/* show model's overlays: every vertex's validity domain in model space (an
+ * octahedron of radius eps: the planes valid for the vertex meet its
+ * eps-ball; at most 200,000 vertices, every k-th of larger models), and
+ * the shadow voxels of 2.3.11 (the occupied voxels, grey by their light). */
+bbc_result bbc_vertex_domains_view(const bbc_mesh *mesh, double eps, bbc_geometry *out,
+                                   bbc_error *err);
+bbc_result bbc_shade_view(const bbc_mesh *mesh, int voxels, double ambient, int up_axis,
+                          bbc_geometry *out, bbc_error *err);
 /* States after step 2: the faces of the selected triangle's plane valid,
  * the others remaining (set NULL: all remaining). */
 void bbc_faces_state(const bbc_planeset *set, size_t selected, uint8_t *state, size_t count);
@@ -806,6 +814,12 @@ void bbc_params_light_direction(const bbc_params *params, double light[3]);
  * 1. Writes one factor in [ambient, 1] per vertex into shade[vertex_count]. */
 bbc_result bbc_shade_vertices(const bbc_mesh *mesh, int voxels, double ambient, int up_axis,
                               float *shade, bbc_error *err);
+/* The occupied voxels of the same grid, for showing them (`show model`
+ * F10): 4 floats a voxel, its centre and its light (ambient..1), in `boxes`
+ * (the caller frees it); a voxel's side is bbc_shade_voxel_size. */
+bbc_result bbc_shade_voxels(const bbc_mesh *mesh, int voxels, double ambient, int up_axis,
+                            float **boxes, size_t *count, bbc_error *err);
+double bbc_shade_voxel_size(const bbc_mesh *mesh, int voxels);
 
 /* ------------------------------------------------------------------------ */
 /* Software rendering (no GPU): previews now, baking and evaluation later    */

@@ -663,6 +663,7 @@ static void test_viewer(void **state) {
            "right,shot:s2.png,right,shot:s3.png,esc\n"
            "show bbc shot:s4.png,down,shot:s5.png,f6,shot:s6.png,down,shot:s7.png,down,"
            "shot:s8.png,right,shot:s9.png,down,esc\n"
+           "show model f2,shot:s10.png,f2,f10,shot:s11.png,esc\n"
            "bbcload vrml97models/s/Tree_1/Tree_1_e6.00_tex32_pl/Tree_1.wrl\n"
            "show model right,right,shot:l3.png,esc\nbbcload nosuch.wrl\n"
            "set texres 16\nsetup\nquit\n",
@@ -720,6 +721,16 @@ static void test_viewer(void **state) {
   for (int a = 0; a < 9; a++)
     for (int b = a + 1; b < 9; b++)
       assert_false(len[a] == len[b] && !memcmp(img[a], img[b], len[a]));
+  /* F2 (vertex domains) and F10 (shadow voxels) over the rectangles view */
+  for (int m = 10; m < 12; m++) {
+    char p[1200];
+    snprintf(p, sizeof p, "%s/s%d.png", tu_dir, m);
+    size_t n;
+    unsigned char *im = tu_read_file(p, &n);
+    if (!im) fail_msg("show model F%d: no picture", m == 10 ? 2 : 10);
+    assert_false(n == len[0] && !memcmp(im, img[0], n));
+    free(im);
+  }
   for (int m = 0; m < 9; m++) free(img[m]);
 }
 

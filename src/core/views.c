@@ -391,3 +391,68 @@ void bbc_faces_state(const bbc_planeset *set, size_t selected, uint8_t *state, s
     state[t] = set && t < set->face_count && set->face_plane[t] == plane ? BBC_FACE_VALID
                                                                          : BBC_FACE_REMAINING;
 }
+
+/* ---- show model's overlays ------------------------------------------------------- */
+
+bbc_result bbc_vertex_domains_view(const bbc_mesh *mesh, double eps, bbc_geometry *out,
+                                   bbc_error *err) {
+  static const float blue[3] = {0.45f, 0.75f, 1.0f};
+  memset(out, 0, sizeof *out);
+  if (!(eps > 0))
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "vertex domains need an epsilon > 0");
+  builder b = {out, 0, 0, 0};
+  /* at most 200,000 vertices drawn: every k-th of a larger model */
+  size_t stride = mesh->vertex_count > 200000 ? (mesh->vertex_count + 199999) / 200000 : 1;
+  for (size_t v = 0; v < mesh->vertex_count; v += stride) {
+    const double *p = mesh->positions + 3 * v;
+    double c[6][3];
+    for (int k = 0; k < 6; k++) {
+      memcpy(c[k], p, sizeof c[k]);
+      c[k][k / 2] += k % 2 ? eps : -eps;
+    }
+    /* an octahedron of radius eps: the planes valid for the vertex are those
+     * that meet its eps-ball */
+    static const int f[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                                {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+    for (int t = 0; t < 8; t++) {
+      float shade = 0.7f + 0.3f * (float)(t % 4) / 3.0f, col[3];
+      for (int k = 0; k < 3; k++) col[k] = blue[k] * shade;
+      tri(&b, c[f[t][0]], c[f[t][1]], c[f[t][2]], col);
+    }
+  }
+  memcpy(out->center, mesh->center, sizeof out->center);
+  out->radius = mesh->radius > 0 ? mesh->radius : 1;
+  if (b.failed) {
+    bbc_geometry_free(out);
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "vertex domains: out of memory");
+  }
+  return BBC_OK;
+}
+
+bbc_result bbc_shade_view(const bbc_mesh *mesh, int voxels, double ambient, int up_axis,
+                          bbc_geometry *out, bbc_error *err) {
+  memset(out, 0, sizeof *out);
+  float *vox;
+  size_t n;
+  bbc_result r = bbc_shade_voxels(mesh, voxels, ambient, up_axis, &vox, &n, err);
+  if (r != BBC_OK) return r;
+  double half = 0.45 * bbc_shade_voxel_size(mesh, voxels);
+  builder b = {out, 0, 0, 0};
+  for (size_t i = 0; i < n; i++) {
+    double lo[3], hi[3];
+    for (int k = 0; k < 3; k++) {
+      lo[k] = vox[4 * i + k] - half;
+      hi[k] = vox[4 * i + k] + half;
+    }
+    float l = vox[4 * i + 3], rgb[3] = {l, l, l * 0.9f};
+    box(&b, lo, hi, rgb, 1);
+  }
+  free(vox);
+  memcpy(out->center, mesh->center, sizeof out->center);
+  out->radius = mesh->radius > 0 ? mesh->radius : 1;
+  if (b.failed) {
+    bbc_geometry_free(out);
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "shadow voxels: out of memory");
+  }
+  return BBC_OK;
+}

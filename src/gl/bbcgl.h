@@ -131,6 +131,8 @@ typedef struct bbcgl_view {
   int lighting;      /* F5: polygon models lit by a headlight (prelit clouds never) */
   int up_axis;       /* the model's up axis: 0 x, 1 y, 2 z */
   int mini;          /* show bbc: the mini-model in the top left corner (F3) */
+  int normal_maps;   /* show model: the cloud's normal maps as colours (F3) */
+  double pan[2];     /* the orbit's centre moved across the screen, in model radii */
   float background[3];
 } bbcgl_view;
 
@@ -147,10 +149,15 @@ void bbcgl_viewer_free(bbcgl_viewer *viewer);
 int bbcgl_viewer_set_model(bbcgl_viewer *viewer, const bbc_mesh *model, char *err);
 /* The cloud and its rectangles (NULL: none). */
 int bbcgl_viewer_set_cloud(bbcgl_viewer *viewer, const bbc_cloud *cloud, char *err);
-/* show bbc's geometry: slot 0 the view's, slot 1 the mini-model (NULL:
- * none). */
+/* show bbc's geometry: slot 0 the view's, slot 1 the mini-model; slot 2
+ * show model's overlay in the model's frame (vertex domains, shadow voxels),
+ * drawn with the input views (NULL: none). */
 int bbcgl_viewer_set_geometry(bbcgl_viewer *viewer, int slot, const bbc_geometry *geometry,
                               char *err);
+/* Lines of text on a panel at the bottom left of a width x height
+ * framebuffer (the window's key help). */
+void bbcgl_viewer_text(bbcgl_viewer *viewer, int width, int height, const char *const *lines,
+                       size_t count);
 /* Draws into the framebuffer's rectangle from (x, y) (bottom left) of
  * width x height, cleared to the view's background first. */
 void bbcgl_viewer_draw(bbcgl_viewer *viewer, bbcgl_view_mode mode, const bbcgl_view *view, int x,

@@ -229,88 +229,6 @@ static const char *const water_fs =
     "  o_colour = vec4(fogged(vec3(0.16, 0.32, 0.42), v_world), 0.82);\n"
     "}\n";
 
-static const char *const text_vs = "#version 450 core\n"
-                                   "layout(location = 0) in vec4 a_v;\n" /* pixel x, y, u, v */
-                                   "uniform vec2 u_size;\n"
-                                   "out vec2 v_uv;\n"
-                                   "void main() {\n"
-                                   "  v_uv = a_v.zw;\n"
-                                   "  gl_Position = vec4(a_v.x / u_size.x * 2.0 - 1.0,\n"
-                                   "                     1.0 - a_v.y / u_size.y * 2.0, 0.0, 1.0);\n"
-                                   "}\n";
-
-static const char *const text_fs =
-    "#version 450 core\n"
-    "in vec2 v_uv;\n"
-    "uniform sampler2D u_font;\n"
-    "uniform vec4 u_colour;\n"
-    "out vec4 o_colour;\n"
-    "void main() {\n"
-    "  if (v_uv.x < 0.0) { o_colour = vec4(0.0, 0.0, 0.0, 0.55); return; }\n"
-    "  if (texelFetch(u_font, ivec2(v_uv), 0).r < 0.5) discard;\n"
-    "  o_colour = u_colour;\n"
-    "}\n";
-
-/* ---- the built-in 5 x 7 font ------------------------------------------- */
-
-static const char font_chars[] = " %()+,-./0123456789:=<>ABCDEFGHIJKLMNOPQRSTUVWXYZ_[]|";
-static const uint8_t font_rows[][7] = {
-    {0, 0, 0, 0, 0, 0, 0},                      /* space */
-    {0x18, 0x19, 0x02, 0x04, 0x08, 0x13, 0x03}, /* % */
-    {0x02, 0x04, 0x08, 0x08, 0x08, 0x04, 0x02}, /* ( */
-    {0x08, 0x04, 0x02, 0x02, 0x02, 0x04, 0x08}, /* ) */
-    {0, 0x04, 0x04, 0x1F, 0x04, 0x04, 0},       /* + */
-    {0, 0, 0, 0, 0x0C, 0x04, 0x08},             /* , */
-    {0, 0, 0, 0x1F, 0, 0, 0},                   /* - */
-    {0, 0, 0, 0, 0, 0x0C, 0x0C},                /* . */
-    {0x01, 0x01, 0x02, 0x04, 0x08, 0x10, 0x10}, /* / */
-    {0x0E, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0E}, /* 0 */
-    {0x04, 0x0C, 0x04, 0x04, 0x04, 0x04, 0x0E}, /* 1 */
-    {0x0E, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1F}, /* 2 */
-    {0x1F, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0E}, /* 3 */
-    {0x02, 0x06, 0x0A, 0x12, 0x1F, 0x02, 0x02}, /* 4 */
-    {0x1F, 0x10, 0x1E, 0x01, 0x01, 0x11, 0x0E}, /* 5 */
-    {0x06, 0x08, 0x10, 0x1E, 0x11, 0x11, 0x0E}, /* 6 */
-    {0x1F, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08}, /* 7 */
-    {0x0E, 0x11, 0x11, 0x0E, 0x11, 0x11, 0x0E}, /* 8 */
-    {0x0E, 0x11, 0x11, 0x0F, 0x01, 0x02, 0x0C}, /* 9 */
-    {0, 0x0C, 0x0C, 0, 0x0C, 0x0C, 0},          /* : */
-    {0, 0, 0x1F, 0, 0x1F, 0, 0},                /* = */
-    {0x02, 0x04, 0x08, 0x10, 0x08, 0x04, 0x02}, /* < */
-    {0x08, 0x04, 0x02, 0x01, 0x02, 0x04, 0x08}, /* > */
-    {0x0E, 0x11, 0x11, 0x1F, 0x11, 0x11, 0x11}, /* A */
-    {0x1E, 0x11, 0x11, 0x1E, 0x11, 0x11, 0x1E}, /* B */
-    {0x0E, 0x11, 0x10, 0x10, 0x10, 0x11, 0x0E}, /* C */
-    {0x1C, 0x12, 0x11, 0x11, 0x11, 0x12, 0x1C}, /* D */
-    {0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x1F}, /* E */
-    {0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x10}, /* F */
-    {0x0E, 0x11, 0x10, 0x17, 0x11, 0x11, 0x0F}, /* G */
-    {0x11, 0x11, 0x11, 0x1F, 0x11, 0x11, 0x11}, /* H */
-    {0x0E, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0E}, /* I */
-    {0x07, 0x02, 0x02, 0x02, 0x02, 0x12, 0x0C}, /* J */
-    {0x11, 0x12, 0x14, 0x18, 0x14, 0x12, 0x11}, /* K */
-    {0x10, 0x10, 0x10, 0x10, 0x10, 0x10, 0x1F}, /* L */
-    {0x11, 0x1B, 0x15, 0x15, 0x11, 0x11, 0x11}, /* M */
-    {0x11, 0x11, 0x19, 0x15, 0x13, 0x11, 0x11}, /* N */
-    {0x0E, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0E}, /* O */
-    {0x1E, 0x11, 0x11, 0x1E, 0x10, 0x10, 0x10}, /* P */
-    {0x0E, 0x11, 0x11, 0x11, 0x15, 0x12, 0x0D}, /* Q */
-    {0x1E, 0x11, 0x11, 0x1E, 0x14, 0x12, 0x11}, /* R */
-    {0x0F, 0x10, 0x10, 0x0E, 0x01, 0x01, 0x1E}, /* S */
-    {0x1F, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04}, /* T */
-    {0x11, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0E}, /* U */
-    {0x11, 0x11, 0x11, 0x11, 0x11, 0x0A, 0x04}, /* V */
-    {0x11, 0x11, 0x11, 0x15, 0x15, 0x15, 0x0A}, /* W */
-    {0x11, 0x11, 0x0A, 0x04, 0x0A, 0x11, 0x11}, /* X */
-    {0x11, 0x11, 0x11, 0x0A, 0x04, 0x04, 0x04}, /* Y */
-    {0x1F, 0x01, 0x02, 0x04, 0x08, 0x10, 0x1F}, /* Z */
-    {0, 0, 0, 0, 0, 0, 0x1F},                   /* _ */
-    {0x0E, 0x08, 0x08, 0x08, 0x08, 0x08, 0x0E}, /* [ */
-    {0x0E, 0x02, 0x02, 0x02, 0x02, 0x02, 0x0E}, /* ] */
-    {0x04, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04}, /* | */
-};
-#define FONT_COUNT ((int)(sizeof font_rows / sizeof font_rows[0]))
-
 /* ---- the renderer -------------------------------------------------------- */
 
 typedef struct batch {
@@ -342,7 +260,7 @@ struct bbcgl_forest {
   bbcgl_scene scene;
   const bbc_forest_world *world;
   float fog_colour[3];
-  GLuint p_terrain, p_model, p_sky, p_water, p_text;
+  GLuint p_terrain, p_model, p_sky, p_water;
   GLint u_has, u_base, u_lit, u_gain, u_amb; /* the model program's per-material uniforms */
   /* terrain */
   GLuint t_vao, t_vbo, t_ebo, t_nodes, t_height, t_colour;
@@ -372,9 +290,7 @@ struct bbcgl_forest {
   size_t g_ncmd;     /* one command per part and material */
   GLuint vao_source; /* the buffer the parts' VAOs take their instances from */
   /* text */
-  GLuint x_vao, x_vbo, font;
-  size_t x_capacity; /* vertices */
-  float *x_data;
+  bbcgl__text *text;
 };
 
 static void set_fog(GLuint p, const bbcgl_forest *f, const double eye[3]) {
@@ -512,26 +428,6 @@ static void build_sky(bbcgl_forest *f) {
   glTextureParameteri(f->cube, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
 }
 
-static void build_text(bbcgl_forest *f) {
-  int w = FONT_COUNT * 6, h = 8;
-  uint8_t *px = calloc((size_t)w * h, 1);
-  if (px)
-    for (int g = 0; g < FONT_COUNT; g++)
-      for (int y = 0; y < 7; y++)
-        for (int x = 0; x < 5; x++)
-          if (font_rows[g][y] & (0x10 >> x)) px[y * w + g * 6 + x] = 255;
-  glCreateTextures(GL_TEXTURE_2D, 1, &f->font);
-  glTextureStorage2D(f->font, 1, GL_R8, w, h);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  if (px) glTextureSubImage2D(f->font, 0, 0, 0, w, h, GL_RED, GL_UNSIGNED_BYTE, px);
-  free(px);
-  glCreateVertexArrays(1, &f->x_vao);
-  glCreateBuffers(1, &f->x_vbo);
-  glEnableVertexArrayAttrib(f->x_vao, 0);
-  glVertexArrayAttribFormat(f->x_vao, 0, 4, GL_FLOAT, GL_FALSE, 0);
-  glVertexArrayAttribBinding(f->x_vao, 0, 0);
-}
-
 bbcgl_forest *bbcgl_forest_create(const bbcgl_scene *scene, char *err) {
   bbcgl_forest *f = calloc(1, sizeof *f);
   if (!f) {
@@ -547,7 +443,7 @@ bbcgl_forest *bbcgl_forest_create(const bbcgl_scene *scene, char *err) {
       !(f->p_model = bbcgl__program(model_vs, model_fs, "model", err)) ||
       !(f->p_sky = bbcgl__program(sky_vs, sky_fs, "sky", err)) ||
       !(f->p_water = bbcgl__program(water_vs, water_fs, "water", err)) ||
-      !(f->p_text = bbcgl__program(text_vs, text_fs, "text", err)) || !build_terrain(f, err)) {
+      !(f->text = bbcgl__text_new(err)) || !build_terrain(f, err)) {
     bbcgl_forest_free(f);
     return NULL;
   }
@@ -558,7 +454,6 @@ bbcgl_forest *bbcgl_forest_create(const bbcgl_scene *scene, char *err) {
   f->u_amb = glGetUniformLocation(f->p_model, "u_amb");
   build_water(f);
   build_sky(f);
-  build_text(f);
   glCreateBuffers(1, &f->instances);
   glCreateBuffers(1, &f->indirect);
   return f;
@@ -576,17 +471,17 @@ void bbcgl_forest_free(bbcgl_forest *f) {
   free(f->parts);
   for (size_t i = 0; i < f->texture_count; i++) glDeleteTextures(1, &f->textures[i].tex);
   free(f->textures);
-  GLuint progs[5] = {f->p_terrain, f->p_model, f->p_sky, f->p_water, f->p_text};
-  for (int i = 0; i < 5; i++)
+  GLuint progs[4] = {f->p_terrain, f->p_model, f->p_sky, f->p_water};
+  for (int i = 0; i < 4; i++)
     if (progs[i]) glDeleteProgram(progs[i]);
-  GLuint bufs[7] = {f->t_vbo, f->t_ebo, f->t_nodes, f->w_vbo, f->instances, f->x_vbo, f->indirect};
-  glDeleteBuffers(7, bufs);
-  GLuint vaos[4] = {f->t_vao, f->sky_vao, f->w_vao, f->x_vao};
-  glDeleteVertexArrays(4, vaos);
-  GLuint texs[4] = {f->t_height, f->t_colour, f->cube, f->font};
-  glDeleteTextures(4, texs);
+  GLuint bufs[6] = {f->t_vbo, f->t_ebo, f->t_nodes, f->w_vbo, f->instances, f->indirect};
+  glDeleteBuffers(6, bufs);
+  GLuint vaos[3] = {f->t_vao, f->sky_vao, f->w_vao};
+  glDeleteVertexArrays(3, vaos);
+  GLuint texs[3] = {f->t_height, f->t_colour, f->cube};
+  glDeleteTextures(3, texs);
   free(f->t_node_data);
-  free(f->x_data);
+  bbcgl__text_free(f->text);
   free(f->cmds);
   if (f->p_cull) glDeleteProgram(f->p_cull);
   if (f->p_cmdfill) glDeleteProgram(f->p_cmdfill);
@@ -1254,58 +1149,5 @@ void bbcgl_forest_draw(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_
 
 void bbcgl_forest_text(bbcgl_forest *f, int width, int height, const char *const *lines,
                        size_t line_count, int scale) {
-  if (scale < 1) scale = 1;
-  size_t chars = 0, longest = 0;
-  for (size_t i = 0; i < line_count; i++) {
-    size_t l = strlen(lines[i]);
-    chars += l;
-    longest = l > longest ? l : longest;
-  }
-  size_t need = (chars + 1) * 6;
-  if (need > f->x_capacity) {
-    float *d = realloc(f->x_data, need * 2 * 4 * sizeof *d);
-    if (!d) return;
-    f->x_data = d;
-    f->x_capacity = need * 2;
-    glNamedBufferData(f->x_vbo, (GLsizeiptr)(f->x_capacity * 4 * sizeof(float)), NULL,
-                      GL_STREAM_DRAW);
-    glVertexArrayVertexBuffer(f->x_vao, 0, f->x_vbo, 0, 4 * sizeof(float));
-  }
-  float *v = f->x_data;
-  size_t n = 0;
-  float cw = 6.0f * scale, lh = 9.0f * scale, pad = 4.0f * scale;
-  /* a dark panel behind the text (u < 0) */
-  float bx = pad + longest * cw + pad, by = pad + line_count * lh + pad;
-  float panel[6][4] = {{0, 0, -1, 0}, {bx, 0, -1, 0},  {bx, by, -1, 0},
-                       {0, 0, -1, 0}, {bx, by, -1, 0}, {0, by, -1, 0}};
-  memcpy(v, panel, sizeof panel);
-  n = 6;
-  for (size_t i = 0; i < line_count; i++)
-    for (size_t j = 0; lines[i][j]; j++) {
-      int ch = (unsigned char)lines[i][j];
-      if (ch >= 'a' && ch <= 'z') ch -= 'a' - 'A';
-      const char *at = ch ? strchr(font_chars, ch) : NULL;
-      if (!at || ch == ' ') continue;
-      int g = (int)(at - font_chars);
-      float x0 = pad + j * cw, y0 = pad + i * lh, x1 = x0 + 6.0f * scale, y1 = y0 + 8.0f * scale;
-      float u0 = g * 6.0f, u1 = u0 + 6.0f;
-      float q[6][4] = {{x0, y0, u0, 0}, {x1, y0, u1, 0}, {x1, y1, u1, 8},
-                       {x0, y0, u0, 0}, {x1, y1, u1, 8}, {x0, y1, u0, 8}};
-      memcpy(v + 4 * n, q, sizeof q);
-      n += 6;
-    }
-  glNamedBufferSubData(f->x_vbo, 0, (GLsizeiptr)(n * 4 * sizeof(float)), v);
-  glDisable(GL_DEPTH_TEST);
-  glEnable(GL_BLEND);
-  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-  glViewport(0, 0, width, height);
-  glUseProgram(f->p_text);
-  glUniform2f(glGetUniformLocation(f->p_text, "u_size"), (float)width, (float)height);
-  glUniform4f(glGetUniformLocation(f->p_text, "u_colour"), 1, 1, 0.85f, 1);
-  glUniform1i(glGetUniformLocation(f->p_text, "u_font"), 3);
-  glBindTextureUnit(3, f->font);
-  glBindVertexArray(f->x_vao);
-  glDrawArrays(GL_TRIANGLES, 0, (GLsizei)n);
-  glDisable(GL_BLEND);
-  glEnable(GL_DEPTH_TEST);
+  bbcgl__text_draw(f->text, width, height, lines, line_count, scale, 0);
 }

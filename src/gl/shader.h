@@ -22,4 +22,14 @@ GLuint bbcgl__compute_program(const char *cs, const char *name, char *err);
 int bbcgl__mesh_upload(const bbc_mesh *mesh, GLuint *vao, GLuint *vbo, GLuint *ebo, size_t *first,
                        size_t *count, float **keep_vertices, uint32_t **keep_indices, char *err);
 
+/* A text overlay (text.c): lines in a 5 x 7 font on a dark panel, at the
+ * top left of a width x height framebuffer (bottom: at the bottom left),
+ * `scale` pixels a font pixel. Lower case is drawn upper case; characters
+ * outside the font are left out. */
+typedef struct bbcgl__text bbcgl__text;
+bbcgl__text *bbcgl__text_new(char *err);
+void bbcgl__text_free(bbcgl__text *text);
+void bbcgl__text_draw(bbcgl__text *text, int width, int height, const char *const *lines,
+                      size_t line_count, int scale, int bottom);
+
 #endif

@@ -13,6 +13,7 @@
 typedef struct vbatch {
   size_t first, count; /* indices */
   GLuint tex;          /* 0: untextured */
+  GLuint ntex;         /* its normal map, 0: none */
   float base[4];
   int unlit;
 } vbatch;
@@ -35,7 +36,8 @@ typedef struct vgeom {
 struct bbcgl_viewer {
   GLuint p_mesh, p_line;
   vmesh model, cloud;
-  vgeom geom[2];       /* show bbc: the view's, the mini-model */
+  vgeom geom[3]; /* show bbc: the view's, the mini-model; show model's overlay */
+  bbcgl__text *text;
   GLuint l_vao, l_vbo; /* rectangles: 2 vertices per edge, position + colour */
   size_t l_count;
   double center[3], radius; /* of the model (else the cloud) */
@@ -170,6 +172,9 @@ static int vmesh_build(vmesh *g, const bbc_mesh *m, char *err) {
       if (ma->texture >= 0 && (size_t)ma->texture < m->texture_count &&
           m->textures[ma->texture].image.rgba)
         b->tex = g->textures[ma->texture];
+      if (ma->normal_map > 0 && (size_t)ma->normal_map - 1 < m->texture_count &&
+          m->textures[ma->normal_map - 1].image.rgba)
+        b->ntex = g->textures[ma->normal_map - 1];
     }
   }
   free(first);
@@ -191,6 +196,10 @@ bbcgl_viewer *bbcgl_viewer_new(char *err) {
   glCreateVertexArrays(1, &v->l_vao);
   glCreateBuffers(1, &v->l_vbo);
   v->radius = 1;
+  if (!(v->text = bbcgl__text_new(err))) {
+    bbcgl_viewer_free(v);
+    return NULL;
+  }
   return v;
 }
 
@@ -201,7 +210,7 @@ static void vgeom_free(vgeom *g) {
 }
 
 int bbcgl_viewer_set_geometry(bbcgl_viewer *v, int slot, const bbc_geometry *geometry, char *err) {
-  vgeom *g = &v->geom[slot ? 1 : 0];
+  vgeom *g = &v->geom[slot < 0 ? 0 : slot > 2 ? 2 : slot];
   vgeom_free(g);
   if (!geometry) return 1;
   size_t nt = 3 * geometry->tri_count, nl = 2 * geometry->line_count, n = nt + nl;
@@ -233,8 +242,8 @@ int bbcgl_viewer_set_geometry(bbcgl_viewer *v, int slot, const bbc_geometry *geo
 
 void bbcgl_viewer_free(bbcgl_viewer *v) {
   if (!v) return;
-  vgeom_free(&v->geom[0]);
-  vgeom_free(&v->geom[1]);
+  for (int i = 0; i < 3; i++) vgeom_free(&v->geom[i]);
+  bbcgl__text_free(v->text);
   vmesh_free(&v->model);
   vmesh_free(&v->cloud);
   if (v->p_mesh) glDeleteProgram(v->p_mesh);
@@ -360,7 +369,8 @@ static void orbit(const double center[3], double radius, const bbcgl_view *view,
   double ya = view->yaw * pi / 180, pa = view->pitch * pi / 180;
   double ry[16] = {cos(ya), 0, sin(ya), 0, 0, 1, 0, 0, -sin(ya), 0, cos(ya), 0, 0, 0, 0, 1};
   double rx[16] = {1, 0, 0, 0, 0, cos(pa), -sin(pa), 0, 0, sin(pa), cos(pa), 0, 0, 0, 0, 1};
-  double tr[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, -dist, 1};
+  double tr[16] = {
+      1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, view->pan[0] * radius, -view->pan[1] * radius, -dist, 1};
   double rot[16], viewm[16], m[16];
   mul4(rx, ry, rot);
   mul4(tr, rot, viewm);
@@ -384,9 +394,10 @@ static void draw_mesh(const bbcgl_viewer *v, const vmesh *g, const bbcgl_view *v
   for (size_t i = 0; i < g->batch_count; i++) {
     const vbatch *b = &g->batches[i];
     glUniform4fv(glGetUniformLocation(p, "u_base"), 1, b->base);
-    glUniform1i(glGetUniformLocation(p, "u_has_tex"), b->tex != 0);
-    glUniform1i(glGetUniformLocation(p, "u_unlit"), b->unlit);
-    if (b->tex) glBindTextureUnit(0, b->tex);
+    GLuint tex = view->normal_maps && b->ntex ? b->ntex : b->tex;
+    glUniform1i(glGetUniformLocation(p, "u_has_tex"), tex != 0);
+    glUniform1i(glGetUniformLocation(p, "u_unlit"), b->unlit || tex != b->tex);
+    if (tex) glBindTextureUnit(0, tex);
     glDrawElements(GL_TRIANGLES, (GLsizei)b->count, GL_UNSIGNED_INT,
                    (const void *)(b->first * sizeof(uint32_t)));
   }
@@ -406,7 +417,7 @@ static void draw_geometry(const bbcgl_viewer *v, const vgeom *g, const bbcgl_vie
                           int width, int height) {
   if (!g->vao) return;
   bbcgl_view gv = *view;
-  if (grid) gv.up_axis = 1;
+  if (grid == 1) gv.up_axis = 1; /* 2: in the model's frame, depth-tested like the grid */
   float mvp[16], light[3];
   orbit(g->center, g->radius, &gv, width, height, mvp, light);
   glUseProgram(v->p_line);
@@ -453,6 +464,10 @@ void bbcgl_viewer_draw(bbcgl_viewer *v, bbcgl_view_mode mode, const bbcgl_view *
   glUniform3fv(glGetUniformLocation(v->p_mesh, "u_light"), 1, light);
   glUniform1i(glGetUniformLocation(v->p_mesh, "u_tex"), 0);
   if (mode == BBCGL_VIEW_INPUT || mode == BBCGL_VIEW_RECTS) draw_mesh(v, &v->model, view);
+  if ((mode == BBCGL_VIEW_INPUT || mode == BBCGL_VIEW_RECTS) && v->geom[2].vao) {
+    draw_geometry(v, &v->geom[2], view, 2, width, height);
+    glUseProgram(v->p_mesh);
+  }
   if (mode == BBCGL_VIEW_CLOUD || mode == BBCGL_VIEW_CLOUD_RECTS) draw_mesh(v, &v->cloud, view);
   glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
   if ((mode == BBCGL_VIEW_RECTS || mode == BBCGL_VIEW_CLOUD_RECTS) && v->l_count) {
@@ -461,4 +476,10 @@ void bbcgl_viewer_draw(bbcgl_viewer *v, bbcgl_view_mode mode, const bbcgl_view *
     glBindVertexArray(v->l_vao);
     glDrawArrays(GL_LINES, 0, (GLsizei)v->l_count);
   }
+}
+
+void bbcgl_viewer_text(bbcgl_viewer *v, int width, int height, const char *const *lines,
+                       size_t count) {
+  glViewport(0, 0, width, height);
+  bbcgl__text_draw(v->text, width, height, lines, count, width >= 1100 ? 2 : 1, 1);
 }

@@ -292,6 +292,12 @@ typedef struct show_state {
   int debug; /* a debug view during step 2: the faces only; End: no more of them */
   int have_cloud;
   int mode, quit, end, dragging, changed;
+  int help;            /* the key help at the bottom (H) */
+  int domains, voxels; /* show model: F2 vertex validity domains, F10 shadow voxels */
+  int overlay_changed;
+  const cli *c; /* its parameters: epsilon, shade */
+  const bbc_mesh *model;
+  const bbc_planeset *planes; /* the epsilon used, when there are planes */
   const bbc_grid *grid;
   bbc_pick pick;
   double mx, my;
@@ -345,8 +351,26 @@ static void show_key(show_state *s, int key) {
   case GLFW_KEY_F1:
     s->view.wireframe = !s->view.wireframe;
     break;
-  case GLFW_KEY_F3:
-    s->view.mini = !s->view.mini;
+  case GLFW_KEY_F2: /* show model: every vertex's validity domain */
+    if (!s->bbc && !s->debug) {
+      s->domains = !s->domains;
+      s->overlay_changed = 1;
+    }
+    break;
+  case GLFW_KEY_F3: /* show bbc: the mini-model; show model: the normal maps */
+    if (s->bbc)
+      s->view.mini = !s->view.mini;
+    else
+      s->view.normal_maps = !s->view.normal_maps;
+    break;
+  case GLFW_KEY_F10: /* show model: the shadow voxels (2.3.11) */
+    if (!s->bbc && !s->debug) {
+      s->voxels = !s->voxels;
+      s->overlay_changed = 1;
+    }
+    break;
+  case GLFW_KEY_H:
+    s->help = !s->help;
     break;
   case GLFW_KEY_F5:
     s->view.lighting = !s->view.lighting;
@@ -392,17 +416,30 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods) {
 static void on_button(GLFWwindow *w, int button, int action, int mods) {
   (void)mods;
   show_state *s = glfwGetWindowUserPointer(w);
-  if (button == GLFW_MOUSE_BUTTON_LEFT) s->dragging = action == GLFW_PRESS;
+  /* Appendix A: left turns, middle pans, right zooms */
+  int which = button == GLFW_MOUSE_BUTTON_LEFT     ? 1
+              : button == GLFW_MOUSE_BUTTON_MIDDLE ? 2
+              : button == GLFW_MOUSE_BUTTON_RIGHT  ? 3
+                                                   : 0;
+  if (which) s->dragging = action == GLFW_PRESS ? which : 0;
   glfwGetCursorPos(w, &s->mx, &s->my);
 }
 
 static void on_cursor(GLFWwindow *w, double x, double y) {
   show_state *s = glfwGetWindowUserPointer(w);
-  if (s->dragging) {
-    s->view.yaw += (x - s->mx) * 0.4;
-    s->view.pitch += (y - s->my) * 0.4;
+  double dx = x - s->mx, dy = y - s->my;
+  if (s->dragging == 1) {
+    s->view.yaw += dx * 0.4;
+    s->view.pitch += dy * 0.4;
     if (s->view.pitch > 89) s->view.pitch = 89;
     if (s->view.pitch < -89) s->view.pitch = -89;
+  } else if (s->dragging == 2) {
+    s->view.pan[0] += dx * 0.005 / s->view.zoom;
+    s->view.pan[1] += dy * 0.005 / s->view.zoom;
+  } else if (s->dragging == 3) {
+    s->view.zoom *= pow(1.01, -dy);
+    if (s->view.zoom < 0.2) s->view.zoom = 0.2;
+    if (s->view.zoom > 20) s->view.zoom = 20;
   }
   s->mx = x;
   s->my = y;
@@ -423,12 +460,64 @@ static const struct {
               {"down", GLFW_KEY_DOWN},   {"pgup", GLFW_KEY_PAGE_UP}, {"pgdn", GLFW_KEY_PAGE_DOWN},
               {"tab", GLFW_KEY_TAB},     {"f1", GLFW_KEY_F1},        {"f3", GLFW_KEY_F3},
               {"f5", GLFW_KEY_F5},       {"f6", GLFW_KEY_F6},        {"f7", GLFW_KEY_F7},
-              {"f12", GLFW_KEY_F12},     {"esc", GLFW_KEY_ESCAPE},   {"end", GLFW_KEY_END}};
+              {"f12", GLFW_KEY_F12},     {"esc", GLFW_KEY_ESCAPE},   {"end", GLFW_KEY_END},
+              {"f2", GLFW_KEY_F2},       {"f10", GLFW_KEY_F10},      {"h", GLFW_KEY_H}};
 
 static int key_from_name(const char *n) {
   for (size_t i = 0; i < sizeof k_keys / sizeof k_keys[0]; i++)
     if (!strcasecmp(n, k_keys[i].name)) return k_keys[i].key;
   return -1;
+}
+
+/* show model's overlay: F2 every vertex's validity domain (epsilon: the
+ * planes' when there are planes, else the parameter's), F10 the shadow
+ * voxels (the shade parameter's grid, else 60 voxels). */
+static int model_overlay(bbcgl_viewer *v, const show_state *s) {
+  char err[BBCGL_ERR];
+  bbc_error e;
+  bbc_geometry geo;
+  int ok = 1;
+  if (!s->domains && !s->voxels) {
+    bbcgl_viewer_set_geometry(v, 2, NULL, err); /* clearing cannot fail */
+    return EXIT_OK;
+  }
+  bbc_geometry a = {0}, b = {0};
+  if (s->domains) {
+    double eps =
+        s->planes ? s->planes->epsilon_abs : s->c->params.epsilon_pct / 100.0 * s->model->radius;
+    if (bbc_vertex_domains_view(s->model, eps, &a, &e) != BBC_OK) return cli_fail(&e, 0);
+  }
+  if (s->voxels) {
+    int n = s->c->params.shade_voxels > 0 ? s->c->params.shade_voxels : 60;
+    double amb = s->c->params.shade_voxels > 0 ? s->c->params.shade_ambient : 0.4;
+    if (bbc_shade_view(s->model, n, amb, s->c->params.up_axis, &b, &e) != BBC_OK) {
+      bbc_geometry_free(&a);
+      return cli_fail(&e, 0);
+    }
+  }
+  /* both: one geometry */
+  memset(&geo, 0, sizeof geo);
+  geo.tri_count = a.tri_count + b.tri_count;
+  geo.tris = malloc((geo.tri_count ? geo.tri_count : 1) * 18 * sizeof *geo.tris);
+  if (!geo.tris) {
+    ok = 0;
+    snprintf(err, sizeof err, "out of memory");
+  } else {
+    if (a.tri_count) memcpy(geo.tris, a.tris, a.tri_count * 18 * sizeof *geo.tris);
+    if (b.tri_count)
+      memcpy(geo.tris + 18 * a.tri_count, b.tris, b.tri_count * 18 * sizeof *geo.tris);
+    memcpy(geo.center, s->model->center, sizeof geo.center);
+    geo.radius = s->model->radius;
+    ok = bbcgl_viewer_set_geometry(v, 2, &geo, err);
+  }
+  bbc_geometry_free(&a);
+  bbc_geometry_free(&b);
+  bbc_geometry_free(&geo);
+  if (!ok) {
+    cli_error("show: %s", err);
+    return EXIT_RESOURCES;
+  }
+  return EXIT_OK;
 }
 
 /* The window's loop: draws, takes keys (or the script's) until Esc, End or
@@ -461,6 +550,8 @@ static int run_window(const cli *c, bbcgl_context *ctx, bbcgl_viewer *v, const b
                sheets ? vn[sp->pick.vertex] : "", sheets ? " vertex's domain" : "");
     }
     sp->changed = 0;
+    if (sp->overlay_changed && (rc = model_overlay(v, sp)) != EXIT_OK) break;
+    sp->overlay_changed = 0;
     int w, h;
     bbcgl_context_size(ctx, &w, &h);
     bbcgl_context_begin(ctx);
@@ -470,6 +561,23 @@ static int run_window(const cli *c, bbcgl_context *ctx, bbcgl_viewer *v, const b
       dv.pitch += 15;
     }
     bbcgl_viewer_draw(v, (bbcgl_view_mode)sp->mode, &dv, 0, 0, w, h);
+    if (sp->help) {
+      static const char *const model_help[] = {
+          "ARROWS VIEW  LEFT DRAG TURN  MIDDLE PAN  RIGHT/WHEEL ZOOM  TAB RESET",
+          "F1 WIRE  F2 DOMAINS  F3 NORMAL MAPS  F5 LIGHT  F10 VOXELS  F12 BG  H HELP  ESC BACK"};
+      static const char *const bbc_help[] = {
+          "UP/DOWN VIEW  LEFT/RIGHT FACE  PGUP/PGDN PART  LEFT DRAG TURN  MIDDLE PAN  RIGHT ZOOM",
+          "F1 WIRE  F3 MINI-MODEL  F6 VERTEX  F7 VOLUME  F12 BG  TAB RESET  H HELP  ESC BACK"};
+      static const char *const debug_help[] = {
+          "DRAG TURN  MIDDLE PAN  RIGHT/WHEEL ZOOM  F1 WIRE  F12 BG  H HELP",
+          "ESC NEXT  END NO MORE DEBUG VIEWS IN THIS COMMAND"};
+      char title[96];
+      snprintf(title, sizeof title, "%s",
+               sp->debug ? "DEBUG: THE FACES" : bbcgl_view_mode_name(sp->mode));
+      const char *const *keys_help = sp->debug ? debug_help : sp->bbc ? bbc_help : model_help;
+      const char *lines[3] = {title, keys_help[0], keys_help[1]};
+      bbcgl_viewer_text(v, w, h, lines, 3);
+    }
     if (script) { /* scripted keys: names, shot:FILE.png; the window closes after them */
       if (!tok) break;
       if (!strncmp(tok, "shot:", 5)) {
@@ -477,8 +585,8 @@ static int run_window(const cli *c, bbcgl_context *ctx, bbcgl_viewer *v, const b
       } else if (key_from_name(tok) >= 0) {
         show_key(sp, key_from_name(tok));
       } else {
-        cli_error("show: unknown key '%s' (right left up down pgup pgdn tab f1 f3 f5 f6 f7 f12 "
-                  "esc end, shot:FILE)",
+        cli_error("show: unknown key '%s' (right left up down pgup pgdn tab f1 f2 f3 f5 f6 f7 "
+                  "f10 f12 h esc end, shot:FILE)",
                   tok);
         rc = EXIT_USAGE;
         break;
@@ -523,6 +631,10 @@ int show_window(const cli *c, const bbc_session *sess, const bbc_cloud *cloud, i
   s.view.mini = 1;
   s.bbc = bbc;
   s.have_cloud = have_cloud;
+  s.help = 1;
+  s.c = c;
+  s.model = model;
+  s.planes = bbc_session_planeset(sess);
   s.grid = bbc_session_grid_get(sess);
   if (bbc) pick_default(s.grid, &s.pick);
   s.mode = bbc ? BBCGL_VIEW_DOMAIN : have_cloud ? BBCGL_VIEW_RECTS : BBCGL_VIEW_INPUT;
@@ -587,6 +699,7 @@ static void on_debug(void *user, const bbc_debug_event *ev) {
     bbcgl_view_default(&g_dbg.s.view);
     g_dbg.s.view.up_axis = c->params.up_axis;
     g_dbg.s.debug = 1;
+    g_dbg.s.help = 1;
     g_dbg.s.mode = BBCGL_VIEW_FACES;
   }
   size_t nt = g_dbg.model->triangle_count;

@@ -378,6 +378,7 @@ typedef struct bbc_params {
   double point_size;    /* pointsize: point size for point clouds */
   int point_smooth;     /* pointsmooth: round points */
   int point_skip;       /* pointskip: skip planes with fewer points */
+  int point_normals;    /* pointnormals: weigh points by their normals (file or estimated) */
   double poly_skip_pct; /* polyskip: skip planes below n% coverage */
   int prelight;         /* prelight: lighting while texturing */
   int pure;             /* pure: only a plane's own faces in its texture */
@@ -481,6 +482,12 @@ double bbc_params_get(const bbc_params *params, const bbc_param_info *info);
  * changes a result changed (threads, debug and the VRML format never do).
  * `which` (may be NULL) gets the name of a parameter that forces that step. */
 int bbc_params_first_step(const bbc_params *before, const bbc_params *after, const char **which);
+
+/* A normal for each point of a point cloud (3 floats a point, unit, or zero
+ * where a point has fewer than 3 neighbours): the direction of least spread
+ * of the points around it (principal components within a cell of a grid
+ * holding about 12 points). Deterministic for any thread count (0 = all). */
+bbc_result bbc_point_normals(const bbc_mesh *mesh, int threads, float *normals, bbc_error *err);
 
 /* ------------------------------------------------------------------------ */
 /* Plane selection: steps 1 and 2 of the Billboard Cloud algorithm          */

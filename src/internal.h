@@ -176,6 +176,12 @@ typedef struct bbc__bake {
 
 bbc_result bbc__render_bake(const bbc_mesh *mesh, const uint32_t *faces, size_t face_count,
                             const bbc_view *view, bbc__bake *bake, bbc_error *err);
+/* The same for a point cloud's points (NULL: all), splatted `size_px`
+ * pixels wide, round when `smooth`, coloured as scanned (else light grey);
+ * the front image keeps the nearest point, the back image the farthest. */
+bbc_result bbc__render_splats(const bbc_mesh *mesh, const uint32_t *points, size_t count,
+                              const bbc_view *view, bbc__bake *bake, double size_px, int smooth,
+                              bbc_error *err);
 
 /* The orthographic camera of a bbc_view on a w x h image (src/core/raster.c). */
 typedef struct bbc__camera {

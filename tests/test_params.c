@@ -31,7 +31,7 @@ static void test_defaults_match_appendix_a(void **state) {
   assert_int_equal(p.format, 0);
   assert_int_equal(p.max_planes, 0);
   assert_int_equal(p.atlas_max, 0);
-  /* The toolkit's defaults differ from the thesis in nine places only. */
+  /* The toolkit's defaults differ from the thesis in ten places only. */
   bbc_params d;
   bbc_params_default(&d);
   assert_int_equal(d.clustering, 0);
@@ -43,6 +43,8 @@ static void test_defaults_match_appendix_a(void **state) {
   assert_int_equal(d.dither, 1);
   assert_int_equal(d.refine, 16);
   assert_int_equal(d.stem, 3);
+  assert_int_equal(d.point_normals, 1);
+  d.point_normals = 0;
   d.dither = 0;
   d.refine = 0;
   d.stem = 0;

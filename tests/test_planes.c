@@ -521,6 +521,84 @@ static void test_threads_identical(void **state) {
   bbc_mesh_free(&m);
 }
 
+/* Point clouds (thesis 2.4): every point lies within epsilon of its plane,
+ * no plane is tweaked (2.4.4), results are the same with 1 and 2 threads,
+ * and a building's walls come out as planes along its walls. */
+static void check_points(const bbc_mesh *m, const bbc_planeset *s) {
+  assert_int_equal(s->face_count, m->vertex_count);
+  for (size_t v = 0; v < m->vertex_count; v++) {
+    uint32_t pi = s->face_plane[v];
+    if (pi >= s->plane_count) fail_msg("point %zu has no plane", v);
+    const bbc_plane *p = &s->planes[pi];
+    assert_true(p->kind == BBC_PLANE_STANDARD || p->kind == BBC_PLANE_PARACHUTE);
+    double eps = s->parts[p->part].epsilon_abs, tol = eps + 1e-5 * (eps + m->radius);
+    const double *x = m->positions + 3 * v;
+    double d = p->normal[0] * x[0] + p->normal[1] * x[1] + p->normal[2] * x[2] - p->d;
+    if (fabs(d) > tol) fail_msg("point %zu is %g from plane %u (eps %g)", v, d, pi, eps);
+  }
+}
+
+static void test_points(void **state) {
+  (void)state;
+  const char *files[] = {"points/adtree/house.xyz", "points/adtree/tree7.xyz", "points/ball.ply"};
+  for (int f = 0; f < 3; f++) {
+    char path[1024];
+    tu_data_path(path, sizeof path, files[f]);
+    if (!tu_have_file(path)) continue;
+    bbc_mesh m;
+    bbc_error err;
+    if (bbc_mesh_load(path, NULL, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+    assert_int_equal(m.kind, BBC_MESH_POINTS);
+    bbc_planeset a, b;
+    bbc_planes_options o;
+    bbc_planes_options_default(&o);
+    o.params.up_axis = 2; /* the scans are z-up */
+    o.params.threads = 1;
+    if (bbc_planes_find(&m, &o, &a, &err) != BBC_OK) fail_msg("%s", err.message);
+    o.params.threads = 2;
+    if (bbc_planes_find(&m, &o, &b, &err) != BBC_OK) fail_msg("%s", err.message);
+    check_points(&m, &a);
+    assert_same(&a, &b);
+    assert_true(a.plane_count >= 4);
+    if (f == 0) {
+      /* the house: its walls stand (normals horizontal) at right angles:
+       * among the five planes with most points, two near-vertical ones are
+       * perpendicular (within 5 degrees) */
+      int found = 0;
+      for (size_t i = 0; i < a.plane_count && !found; i++)
+        for (size_t j = i + 1; j < a.plane_count && !found; j++) {
+          const double *n1 = a.planes[i].normal, *n2 = a.planes[j].normal;
+          if (a.planes[i].face_count < 300 || a.planes[j].face_count < 300) continue;
+          if (fabs(n1[2]) > 0.1 || fabs(n2[2]) > 0.1) continue;
+          found = fabs(n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2]) < sin(5 * M_PI / 180);
+        }
+      assert_true(found);
+    }
+    /* step 3: a cloud of splats, pointskip drops small planes */
+    bbc_params prm = o.params;
+    prm.texres = 32;
+    prm.atlas_max = 0;
+    bbc_cloud c1, c2;
+    assert_int_equal(bbc_cloud_build(&m, &a, &prm, NULL, &c1, &err), BBC_OK);
+    assert_true(c1.billboard_count > 0 && c1.billboard_count <= a.plane_count);
+    size_t opaque = 0,
+           nt = (size_t)c1.mesh.textures[0].image.width * c1.mesh.textures[0].image.height;
+    for (size_t t = 0; t < nt; t++) opaque += c1.mesh.textures[0].image.rgba[4 * t + 3] > 0;
+    assert_true(opaque > 100);
+    size_t most = 0;
+    for (size_t i = 0; i < a.plane_count; i++)
+      if (a.planes[i].face_count > most) most = a.planes[i].face_count;
+    prm.point_skip = (int)most; /* only the largest plane(s) stay */
+    assert_int_equal(bbc_cloud_build(&m, &a, &prm, NULL, &c2, &err), BBC_OK);
+    assert_true(c2.billboard_count >= 1 && c2.billboard_count < c1.billboard_count);
+    bbc_cloud_free(&c1);
+    bbc_cloud_free(&c2);
+    bbc_planeset_free(&a);
+    bbc_planeset_free(&b);
+    bbc_mesh_free(&m);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_one_plane),
@@ -530,6 +608,7 @@ int main(void) {
       cmocka_unit_test(test_house),
       cmocka_unit_test(test_billboard_rotated_rectangle),
       cmocka_unit_test(test_threads_identical),
+      cmocka_unit_test(test_points),
       cmocka_unit_test(test_aspen),
       cmocka_unit_test(test_oak),
       cmocka_unit_test(test_ezbush),

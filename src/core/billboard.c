@@ -9,16 +9,20 @@
 bbc_result bbc_billboards_compute(const bbc_mesh *mesh, const bbc_planeset *set, bbc_billboard *out,
                                   bbc_error *err) {
   size_t nf = set->face_count, np = set->plane_count;
-  if (nf != mesh->triangle_count)
+  int points = mesh->kind == BBC_MESH_POINTS;
+  size_t have = points ? mesh->vertex_count : mesh->triangle_count;
+  if (nf != have)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
-                     "billboards: the plane set has %zu faces, the mesh %zu triangles", nf,
-                     mesh->triangle_count);
+                     "billboards: the plane set has %zu faces, the model %zu %s", nf, have,
+                     points ? "points" : "triangles");
   uint32_t *all = malloc((nf ? nf : 1) * sizeof *all),
            *which = malloc((nf ? nf : 1) * sizeof *which);
   dual_face *faces = NULL;
   const double origin[3] = {0, 0, 0};
   for (size_t t = 0; all && t < nf; t++) all[t] = (uint32_t)t;
-  if (!all || !which || bbc__dual_faces_build(mesh, all, nf, origin, &faces) != BBC_OK) {
+  if (!all || !which ||
+      (points ? bbc__dual_points_build(mesh, all, nf, origin, NULL, &faces)
+              : bbc__dual_faces_build(mesh, all, nf, origin, &faces)) != BBC_OK) {
     free(all);
     free(which);
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "billboards: out of memory");

@@ -242,6 +242,30 @@ static size_t slab_faces(const bbc_mesh *m, const bbc_planeset *set, const bbc_p
   return n;
 }
 
+/* A point cloud's points within the plane's +-eps slab (pure: those of
+ * plane `owner`), and their bounds. */
+static size_t slab_points(const bbc_mesh *m, const bbc_planeset *set, const bbc_plane *p,
+                          uint32_t owner, double eps, int pure, uint32_t *out, double lo[3],
+                          double hi[3]) {
+  size_t n = 0;
+  for (int k = 0; k < 3; k++) {
+    lo[k] = INFINITY;
+    hi[k] = -INFINITY;
+  }
+  for (size_t v = 0; v < m->vertex_count; v++) {
+    if (pure && set->face_plane[v] != owner) continue;
+    const double *x = m->positions + 3 * v;
+    double d = p->normal[0] * x[0] + p->normal[1] * x[1] + p->normal[2] * x[2] - p->d;
+    if (d > eps || d < -eps) continue;
+    out[n++] = (uint32_t)v;
+    for (int k = 0; k < 3; k++) {
+      lo[k] = fmin(lo[k], x[k]);
+      hi[k] = fmax(hi[k], x[k]);
+    }
+  }
+  return n;
+}
+
 /* Bakes billboard cb of plane p: the faces crossing its +-eps slab (pure:
  * those of plane `owner`), or with `mask` the faces it marks (a stem
  * billboard, eps its slab). */
@@ -251,7 +275,9 @@ static void bake_one(const bbc_mesh *m, const bbc_planeset *set, const bbc_param
                      const uint8_t *mask, bbc_cloud_billboard *cb, uint32_t *faces, baked *out) {
   const bbc_billboard *b = &cb->rect;
   double lo[3], hi[3];
-  cb->face_count = slab_faces(m, set, p, owner, eps, prm->pure, mask, faces, lo, hi);
+  int points = m->kind == BBC_MESH_POINTS;
+  cb->face_count = points ? slab_points(m, set, p, owner, eps, prm->pure, faces, lo, hi)
+                          : slab_faces(m, set, p, owner, eps, prm->pure, mask, faces, lo, hi);
   if (cb->face_count) {
     /* Never beyond the model's own bounds (+- epsilon; a stem billboard,
      * whose slab may be thicker, within its faces' bounds). */
@@ -272,8 +298,9 @@ static void bake_one(const bbc_mesh *m, const bbc_planeset *set, const bbc_param
   int w = cb->tex_width * ss, h = cb->tex_height * ss;
   bbc_result r = bbc_image_alloc(&out->front, w, h);
   if (r == BBC_OK && prm->back_images) r = bbc_image_alloc(&out->back, w, h);
-  if (r == BBC_OK && prm->normal_maps) r = bbc_image_alloc(&out->front_nm, w, h);
-  if (r == BBC_OK && prm->normal_maps && prm->back_images) r = bbc_image_alloc(&out->back_nm, w, h);
+  int want_nm = prm->normal_maps && !points; /* 2.4.4: no normal maps for points */
+  if (r == BBC_OK && want_nm) r = bbc_image_alloc(&out->front_nm, w, h);
+  if (r == BBC_OK && want_nm && prm->back_images) r = bbc_image_alloc(&out->back_nm, w, h);
   if (r != BBC_OK) {
     out->r = bbc__fail(&out->err, r, "step 3: out of memory for a %dx%d texture", w, h);
     return;
@@ -306,7 +333,14 @@ static void bake_one(const bbc_mesh *m, const bbc_planeset *set, const bbc_param
   bk.backface = prm->backface;
   bk.mips = mips;
   bk.mip_bias = ss == 4 ? 2 : 0;
-  r = bbc__render_bake(m, faces, cb->face_count, &v, &bk, &out->err);
+  if (points) {
+    /* 2.4: splats `pointsize` texels wide on a billboard of texres texels
+     * (so their cover does not change with the resolution), ss samples a texel */
+    double size = prm->point_size * (double)prm->texres / 256.0 * ss;
+    r = bbc__render_splats(m, faces, cb->face_count, &v, &bk, size, prm->point_smooth, &out->err);
+  } else {
+    r = bbc__render_bake(m, faces, cb->face_count, &v, &bk, &out->err);
+  }
   if (r == BBC_OK && prm->quality == 2) {
     /* One mask per side, shared by its colour and normal images; kept
      * until refinement (bbc__refine_alpha) has used it. */
@@ -448,9 +482,11 @@ bbc_result bbc_cloud_build(const bbc_mesh *m, const bbc_planeset *set, const bbc
 }
 
 /* Whether plane i gets a billboard (2.3.5, 2.3.7). */
-static int plane_kept(const bbc_planeset *set, size_t i, const bbc_params *prm) {
+static int plane_kept(const bbc_mesh *m, const bbc_planeset *set, size_t i, const bbc_params *prm) {
   const bbc_plane *p = &set->planes[i];
   if (p->kind == BBC_PLANE_CARDBOARD) return p->coverage_pct >= prm->cb_coverage_pct;
+  /* 2.4.4: a point cloud's planes with fewer than pointskip points go */
+  if (m->kind == BBC_MESH_POINTS) return p->face_count >= (size_t)prm->point_skip;
   double largest = 0;
   for (size_t j = 0; j < set->plane_count; j++)
     if (set->planes[j].part == p->part && set->planes[j].kind != BBC_PLANE_CARDBOARD &&
@@ -468,6 +504,13 @@ bbc_result bbc__cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
                                   const bbc_billboard *given, const bbc_params *prm,
                                   const bbc_callbacks *cbk, bbc_cloud *cl, bbc_error *err) {
   memset(cl, 0, sizeof *cl);
+  bbc_params pts;
+  if (m->kind == BBC_MESH_POINTS) { /* 2.4.4: no normal maps, no stem for points */
+    pts = *prm;
+    pts.normal_maps = 0;
+    pts.stem = 0;
+    prm = &pts;
+  }
   bbc__stem stem;
   bbc_result r = BBC_OK;
   if (m->kind == BBC_MESH_TRIANGLES)
@@ -492,7 +535,7 @@ bbc_result bbc__cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
   else if (r == BBC_OK)
     r = bbc_billboards_compute(m, set, bb, err);
   for (size_t i = 0; r == BBC_OK && i < np; i++)
-    if (plane_kept(set, i, prm)) kept[nk++] = bb[i];
+    if (plane_kept(m, set, i, prm)) kept[nk++] = bb[i];
   for (size_t i = 0; r == BBC_OK && i < stem.count; i++) kept[nk++] = stem.rects[i];
   int texres = 4;
   size_t per = (size_t)(prm->back_images ? 2 : 1) * (prm->quality == 3 ? 16 : 1);
@@ -518,15 +561,14 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
                               const bbc_params *prm, const bbc_callbacks *cbk, bbc_cloud *cl,
                               bbc_error *err, int atlas_limit) {
   memset(cl, 0, sizeof *cl);
-  if (m->kind != BBC_MESH_TRIANGLES)
-    return bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
-                     "step 3: point clouds are not supported yet");
-  if (set->face_count != m->triangle_count)
+  int points = m->kind == BBC_MESH_POINTS;
+  size_t nf = points ? m->vertex_count : m->triangle_count;
+  if (set->face_count != nf)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
-                     "step 3: the planes were found for another mesh (%zu faces, mesh has %zu)",
-                     set->face_count, m->triangle_count);
+                     "step 3: the planes were found for another model (%zu %s, it has %zu)",
+                     set->face_count, points ? "points" : "faces", nf);
   double t0 = bbc__now_s();
-  size_t np = set->plane_count, nf = m->triangle_count;
+  size_t np = set->plane_count;
   bbc_billboard *bb = calloc(np ? np : 1, sizeof *bb);
   size_t *order = malloc((np ? np : 1) * sizeof *order);
   float *vshade = NULL;
@@ -537,7 +579,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
     memcpy(bb, given, np * sizeof *bb);
   else if (r == BBC_OK)
     r = bbc_billboards_compute(m, set, bb, err);
-  if (r == BBC_OK && prm->shade_voxels > 0) {
+  if (r == BBC_OK && prm->shade_voxels > 0 && !points) {
     vshade = malloc((m->vertex_count ? m->vertex_count : 1) * sizeof *vshade);
     if (!vshade)
       r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
@@ -548,7 +590,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
   size_t nk = 0;
   double longest = 0;
   for (size_t i = 0; r == BBC_OK && i < np; i++)
-    if (plane_kept(set, i, prm)) {
+    if (plane_kept(m, set, i, prm)) {
       order[nk++] = i;
       longest = fmax(longest, fmax(bb[i].width, bb[i].height));
     }
@@ -591,9 +633,9 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
      * (the sun adds relief, not darkness): shown unlit, the cloud looks as
      * the original does in a viewer. */
     double light_gain = 1.0;
-    if (prm->prelight) r = bbc_light_gain(m, light, prm->up_axis, &light_gain, err);
+    if (prm->prelight && !points) r = bbc_light_gain(m, light, prm->up_axis, &light_gain, err);
     /* Colours as a GPU shows the textures from the billboards' distance. */
-    if (r == BBC_OK && !m->no_mipmaps) r = bbc__mips_build(m, &mips, err);
+    if (r == BBC_OK && !m->no_mipmaps && !points) r = bbc__mips_build(m, &mips, err);
     int nt = prm->threads;
 #ifdef _OPENMP
     if (nt <= 0) nt = omp_get_max_threads();
@@ -661,7 +703,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
       ri[k].width = cl->billboards[k].tex_width;
       ri[k].height = cl->billboards[k].tex_height;
     }
-    if (r == BBC_OK && prm->refine > 0) {
+    if (r == BBC_OK && prm->refine > 0 && !points) { /* renders of triangles */
       if (cbk) bbc__progress(cbk, "refining", 0.0);
       bbc__refine_options ro = {prm->refine, 256, 3, prm->up_axis, prm->threads};
       r = bbc__refine_alpha(m, cl->billboards, ri, nk, &ro, err);

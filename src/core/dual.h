@@ -41,7 +41,9 @@ typedef struct dual_face {
   double area;         /* model units squared */
   double c_len;        /* |c| */
   double d_max;        /* max |d_i| */
-  uint32_t mesh_index; /* triangle index in the mesh */
+  uint32_t mesh_index; /* triangle index in the mesh (a point cloud: the point's) */
+  int point;           /* a point of a point cloud (thesis 2.4): c the point, d and n
+                        * zero, area its weight (1): it counts, it has no area */
 } dual_face;
 
 /* A box of plane space: theta x phi x rho ranges (radians, model units). */
@@ -118,9 +120,64 @@ int bbc__dual_face_valid(const dual_face *f, const double n[3], double rho, doub
 
 /* Projected area of the face onto a plane with normal n (Eq. 2-5). */
 static inline double dual_projected_area(const dual_face *f, const double n[3]) {
+  if (f->point && f->n[0] == 0 && f->n[1] == 0 && f->n[2] == 0)
+    return f->area; /* 2.4.3: a point counts, whatever the direction */
   return f->area * fabs(f->n[0] * n[0] + f->n[1] * n[1] + f->n[2] * n[2]);
 }
 
+/* A direction box's edges as cosines and sines, for exact point ranges. */
+typedef struct dual_box_trig {
+  double ct0, st0, ct1, st1, cp0, sp0, cp1, sp1;
+} dual_box_trig;
+
+static inline void dual_box_trig_of(const dual_box *b, dual_box_trig *t) {
+  t->ct0 = cos(b->t0);
+  t->st0 = sin(b->t0);
+  t->ct1 = cos(b->t1);
+  t->st1 = sin(b->t1);
+  t->cp0 = cos(b->p0);
+  t->sp0 = sin(b->p0);
+  t->cp1 = cos(b->p1);
+  t->sp1 = sin(b->p1);
+}
+
+/* The exact range of rho = p . n over the directions of a box (theta and phi
+ * ranges under 180 degrees) for a point with frame coordinates (a, b, c):
+ * p . n = cos(phi) (a cos(theta) + b sin(theta)) + c sin(phi). Its extremes
+ * lie at the box's edges or where a partial derivative vanishes, found with
+ * sign tests (no trigonometry per point). Thesis 2.4.2: a point's validity
+ * domain is then [min - eps, max + eps], with no false positives. */
+static inline void dual_point_extremes(double a, double b, double c, const dual_box_trig *t,
+                                       double *lo, double *hi) {
+  double u0 = a * t->ct0 + b * t->st0, u1 = a * t->ct1 + b * t->st1;
+  double umax = dual_max(u0, u1), umin = dual_min(u0, u1);
+  double R = sqrt(a * a + b * b);
+  /* u = a cos + b sin peaks (R) towards (a, b), and dips (-R) opposite */
+  if (t->ct0 * b - t->st0 * a >= 0 && a * t->st1 - b * t->ct1 >= 0) umax = R;
+  if (t->st0 * a - t->ct0 * b >= 0 && b * t->ct1 - a * t->st1 >= 0) umin = -R;
+  /* over phi (cos phi >= 0): max of umax cos + c sin, min of umin cos + c sin */
+  double mx = dual_max(umax * t->cp0 + c * t->sp0, umax * t->cp1 + c * t->sp1);
+  if (umax > 0 && t->cp0 * c - t->sp0 * umax >= 0 && umax * t->sp1 - c * t->cp1 >= 0)
+    mx = sqrt(umax * umax + c * c);
+  double mn = dual_min(umin * t->cp0 + c * t->sp0, umin * t->cp1 + c * t->sp1);
+  if (umin < 0 && -t->cp0 * c + t->sp0 * umin >= 0 && -umin * t->sp1 + c * t->cp1 >= 0)
+    mn = -sqrt(umin * umin + c * c);
+  *lo = mn;
+  *hi = mx;
+}
+
+/* A point's frame coordinates. */
+static inline void dual_point_frame(const dual_frame *fr, const double p[3], double *a, double *b,
+                                    double *c) {
+  *a = p[0] * fr->axis_a[0] + p[1] * fr->axis_a[1] + p[2] * fr->axis_a[2];
+  *b = p[0] * fr->axis_b[0] + p[1] * fr->axis_b[1] + p[2] * fr->axis_b[2];
+  *c = p[0] * fr->axis_up[0] + p[1] * fr->axis_up[1] + p[2] * fr->axis_up[2];
+}
+
+/* The points of a point cloud as dual faces (`idx`: point indices;
+ * `normals`, 3 a point, may be NULL: unoriented points). */
+bbc_result bbc__dual_points_build(const bbc_mesh *mesh, const uint32_t *idx, size_t count,
+                                  const double center[3], const float *normals, dual_face **out);
 /* Prepares the faces of a part: `tris` lists mesh triangle indices. */
 bbc_result bbc__dual_faces_build(const bbc_mesh *mesh, const uint32_t *tris, size_t count,
                                  const double center[3], dual_face **out);

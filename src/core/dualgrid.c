@@ -76,6 +76,24 @@ int bbc__dual_face_valid(const dual_face *f, const double n[3], double rho, doub
   return 1;
 }
 
+bbc_result bbc__dual_points_build(const bbc_mesh *m, const uint32_t *idx, size_t count,
+                                  const double center[3], const float *normals, dual_face **out) {
+  dual_face *fs = calloc(count ? count : 1, sizeof *fs);
+  if (!fs) return BBC_ERROR_OUT_OF_MEMORY;
+  for (size_t i = 0; i < count; i++) {
+    dual_face *f = &fs[i];
+    for (int k = 0; k < 3; k++) f->c[k] = m->positions[3 * (size_t)idx[i] + k] - center[k];
+    f->area = 1;
+    f->point = 1;
+    f->c_len = sqrt(f->c[0] * f->c[0] + f->c[1] * f->c[1] + f->c[2] * f->c[2]);
+    f->mesh_index = idx[i];
+    if (normals)
+      for (int k = 0; k < 3; k++) f->n[k] = normals[3 * (size_t)idx[i] + k];
+  }
+  *out = fs;
+  return BBC_OK;
+}
+
 bbc_result bbc__dual_faces_build(const bbc_mesh *m, const uint32_t *tris, size_t count,
                                  const double center[3], dual_face **out) {
   dual_face *fs = malloc((count ? count : 1) * sizeof *fs);
@@ -109,6 +127,7 @@ bbc_result bbc__dual_faces_build(const bbc_mesh *m, const uint32_t *tris, size_t
     for (int k = 0; k < 3; k++) f->n[k] = l > 0 ? cr[k] / l : 0;
     f->c_len = sqrt(f->c[0] * f->c[0] + f->c[1] * f->c[1] + f->c[2] * f->c[2]);
     f->mesh_index = t;
+    f->point = 0;
   }
   *out = fs;
   return BBC_OK;
@@ -243,11 +262,12 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
     size_t nb = p1 > p0 ? p1 - p0 : 1;
     /* Structure-of-arrays copies of this block's directions, so the range
      * pass below vectorises. */
-    double *buf = malloc(nb * 9 * sizeof *buf);
+    double *buf = malloc(nb * 17 * sizeof *buf);
     size_t *dir_a = malloc(nb * 2 * sizeof *dir_a);
     if (buf && dir_a) {
       double *nx = buf, *ny = buf + nb, *nz = buf + 2 * nb, *rad = buf + 3 * nb;
       double *lo = buf + 4 * nb, *hi = buf + 5 * nb, *proj = buf + 6 * nb, *ok = buf + 7 * nb;
+      double *tr = buf + 9 * nb; /* the directions' boxes for points: 8 a direction */
       size_t *dir_b = dir_a + nb;
       for (size_t q = p0; q < p1; q++) {
         /* Pair q: rows j < n_phi-1-j, then the first half of a middle row. */
@@ -266,6 +286,11 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
         ny[q - p0] = d->n[1];
         nz[q - p0] = d->n[2];
         rad[q - p0] = d->radius;
+        dual_box box;
+        bbc__dual_grid_cell_box(g, a, 0, &box);
+        dual_box_trig bt;
+        dual_box_trig_of(&box, &bt);
+        memcpy(tr + 8 * (q - p0), &bt, sizeof bt);
         dir_a[q - p0] = a;
         dir_b[q - p0] = b;
       }
@@ -277,21 +302,36 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
         const double(*dd)[3] = fc->d;
         double slack = 1e-12 * (fc->c_len + fc->d_max + eps);
         double wlen = fc->c_len + fc->d_max, parea = fc->area * scale;
-        /* Range pass (same arithmetic as dual_face_range). */
-        for (size_t q = 0; q < m; q++) {
-          double x = nx[q], y = ny[q], z = nz[q];
-          double cc = cx * x + cy * y + cz * z;
-          double a0 = dd[0][0] * x + dd[0][1] * y + dd[0][2] * z;
-          double a1 = dd[1][0] * x + dd[1][1] * y + dd[1][2] * z;
-          double a2 = dd[2][0] * x + dd[2][1] * y + dd[2][2] * z;
-          double amax = dual_max(a0, dual_max(a1, a2)), amin = dual_min(a0, dual_min(a1, a2));
-          double w = wlen * rad[q] + eps + slack;
-          ok[q] = amax - amin - 2 * fc->d_max * rad[q] <= 2 * eps + slack;
-          lo[q] = cc + amax - w;
-          hi[q] = cc + amin + w;
-          double pn = fc->n[0] * x + fc->n[1] * y + fc->n[2] * z;
-          proj[q] = parea * (pn < 0 ? -pn : pn);
-        }
+        if (fc->point) { /* 2.4.2: a point's exact range over each direction box */
+          double pa, pb, pc;
+          dual_point_frame(&g->frame, fc->c, &pa, &pb, &pc);
+          int oriented = fc->n[0] != 0 || fc->n[1] != 0 || fc->n[2] != 0;
+          for (size_t q = 0; q < m; q++) {
+            double mn, mx;
+            dual_point_extremes(pa, pb, pc, (const dual_box_trig *)(tr + 8 * q), &mn, &mx);
+            lo[q] = mn - eps;
+            hi[q] = mx + eps;
+            ok[q] = 1;
+            proj[q] = oriented
+                          ? parea * fabs(fc->n[0] * nx[q] + fc->n[1] * ny[q] + fc->n[2] * nz[q])
+                          : parea;
+          }
+        } else
+          /* Range pass (same arithmetic as dual_face_range). */
+          for (size_t q = 0; q < m; q++) {
+            double x = nx[q], y = ny[q], z = nz[q];
+            double cc = cx * x + cy * y + cz * z;
+            double a0 = dd[0][0] * x + dd[0][1] * y + dd[0][2] * z;
+            double a1 = dd[1][0] * x + dd[1][1] * y + dd[1][2] * z;
+            double a2 = dd[2][0] * x + dd[2][1] * y + dd[2][2] * z;
+            double amax = dual_max(a0, dual_max(a1, a2)), amin = dual_min(a0, dual_min(a1, a2));
+            double w = wlen * rad[q] + eps + slack;
+            ok[q] = amax - amin - 2 * fc->d_max * rad[q] <= 2 * eps + slack;
+            lo[q] = cc + amax - w;
+            hi[q] = cc + amin + w;
+            double pn = fc->n[0] * x + fc->n[1] * y + fc->n[2] * z;
+            proj[q] = parea * (pn < 0 ? -pn : pn);
+          }
         /* Scatter pass: the direction and its opposite. */
         for (size_t q = 0; q < m; q++) {
           if (ok[q] == 0 || proj[q] <= 0) continue;

@@ -74,6 +74,11 @@ static const param_row k_rows[] = {
     {{"pointskip", BBC_PARAM_INT, 0, 1e9, 0, F3, "billboard", "points",
       "skip planes with fewer than n points"},
      INT_FIELD(point_skip)},
+    {{"pointnormals", BBC_PARAM_BOOL, 0, 1, 1, 0, "extension", "",
+      "point clouds: a point counts for a plane as its normal (from the file, else from its "
+      "neighbours) meets it, as a triangle by its projected area; 0 = every point counts 1 "
+      "(thesis 2.4.3)"},
+     INT_FIELD(point_normals)},
     {{"polyskip", BBC_PARAM_REAL, 0, 99, 0, F3, "billboard", "%",
       "skip planes whose coverage is below n% of the largest plane's (2.3.5)"},
      DBL_FIELD(poly_skip_pct)},
@@ -168,6 +173,7 @@ void bbc_params_thesis(bbc_params *p) {
   p->dither = 0; /* quality 2 grows (2.3.9) */
   p->refine = 0;
   p->stem = 0;
+  p->point_normals = 0;
 }
 
 int bbc_params_first_step(const bbc_params *a, const bbc_params *b, const char **which) {

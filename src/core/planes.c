@@ -108,6 +108,25 @@ static void part_frame(const bbc_mesh *m, const uint32_t *tris, size_t n, double
   *total_area = (double)area;
 }
 
+/* A point cloud's frame: the mean of its points, the radius around it, and
+ * its points' total weight (1 each). */
+static void points_frame(const bbc_mesh *m, double center[3], double *radius, double *total) {
+  long double s[3] = {0, 0, 0};
+  size_t n = m->vertex_count;
+  for (size_t v = 0; v < n; v++)
+    for (int k = 0; k < 3; k++) s[k] += m->positions[3 * v + k];
+  for (int k = 0; k < 3; k++) center[k] = n ? (double)(s[k] / n) : 0;
+  double r2 = 0;
+  for (size_t v = 0; v < n; v++) {
+    const double *p = m->positions + 3 * v;
+    double d[3] = {p[0] - center[0], p[1] - center[1], p[2] - center[2]};
+    double q = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    if (q > r2) r2 = q;
+  }
+  *radius = sqrt(r2);
+  *total = (double)n;
+}
+
 static const bbc_params *part_params(const bbc_planes_options *o, const char *name) {
   for (size_t i = 0; i < o->part_override_count; i++)
     if (!strcasecmp(o->part_overrides[i].part, name)) return &o->part_overrides[i].params;
@@ -204,11 +223,16 @@ static bbc_result level_at(bbc_grid *g, const bbc_planes_options *o, double scal
 bbc_result bbc_grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_grid **out,
                           bbc_error *err) {
   *out = NULL;
-  if (mesh->kind != BBC_MESH_TRIANGLES || mesh->triangle_count == 0)
-    return bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
-                     "plane selection needs a triangle mesh (point clouds are not supported yet)");
+  int points = mesh->kind == BBC_MESH_POINTS;
+  if ((!points && mesh->kind != BBC_MESH_TRIANGLES) ||
+      (points ? mesh->vertex_count : mesh->triangle_count) == 0)
+    return bbc__fail(err, BBC_ERROR_EMPTY, "plane selection: the model has no %s",
+                     points ? "points" : "triangles");
+  if (points && mesh->vertex_count > UINT32_MAX)
+    return bbc__fail(err, BBC_ERROR_OUT_OF_RANGE, "plane selection: more than 2^32 points");
   bbc_grid *g = calloc(1, sizeof *g);
-  size_t nf = mesh->triangle_count;
+  /* "faces": a point cloud's points (thesis 2.4) */
+  size_t nf = points ? mesh->vertex_count : mesh->triangle_count;
   if (g) g->face_part = malloc(nf * sizeof *g->face_part);
   if (!g || !g->face_part) {
     bbc_grid_free(g);
@@ -220,8 +244,16 @@ bbc_result bbc_grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc
   char names[2][32];
   bbc_split_options split = o->split;
   split.up_axis = o->params.up_axis;
-  bbc_result r = bbc_split_parts(mesh, &split, g->face_part, &g->part_count, names, g->split_why,
-                                 sizeof g->split_why, err);
+  bbc_result r = BBC_OK;
+  if (points) { /* one part: a scan has no trunk or foliage groups */
+    memset(g->face_part, 0, nf * sizeof *g->face_part);
+    g->part_count = 1;
+    snprintf(names[0], sizeof names[0], "all");
+    snprintf(g->split_why, sizeof g->split_why, "a point cloud: one part");
+  } else {
+    r = bbc_split_parts(mesh, &split, g->face_part, &g->part_count, names, g->split_why,
+                        sizeof g->split_why, err);
+  }
   for (size_t pi = 0; r == BBC_OK && pi < g->part_count; pi++) {
     grid_part *gp = &g->part[pi];
     snprintf(gp->name, sizeof gp->name, "%s", names[pi]);
@@ -236,8 +268,32 @@ bbc_result bbc_grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc
     size_t n = 0;
     for (size_t t = 0; t < nf; t++)
       if (g->face_part[t] == pi) gp->tris[n++] = (uint32_t)t;
-    part_frame(mesh, gp->tris, n, gp->center, &gp->radius, &gp->total_area);
-    if (bbc__dual_faces_build(mesh, gp->tris, n, gp->center, &gp->faces) != BBC_OK)
+    if (points)
+      points_frame(mesh, gp->center, &gp->radius, &gp->total_area);
+    else
+      part_frame(mesh, gp->tris, n, gp->center, &gp->radius, &gp->total_area);
+    float *normals = NULL; /* pointnormals: the file's, else estimated */
+    if (points && gp->params->point_normals) {
+      if (mesh->normals) {
+        normals = mesh->normals;
+      } else {
+        normals = malloc(mesh->vertex_count * 3 * sizeof *normals);
+        if (!normals) {
+          r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
+          break;
+        }
+        r = bbc_point_normals(mesh, gp->params->threads, normals, err);
+        if (r != BBC_OK) {
+          free(normals);
+          break;
+        }
+      }
+    }
+    bbc_result rb = points
+                        ? bbc__dual_points_build(mesh, gp->tris, n, gp->center, normals, &gp->faces)
+                        : bbc__dual_faces_build(mesh, gp->tris, n, gp->center, &gp->faces);
+    if (normals && normals != mesh->normals) free(normals);
+    if (rb != BBC_OK)
       r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory for the grid");
   }
   size_t first;

@@ -481,6 +481,55 @@ bbc_result bbc__render_bake(const bbc_mesh *m, const uint32_t *faces, size_t fac
   return BBC_OK;
 }
 
+bbc_result bbc__render_splats(const bbc_mesh *m, const uint32_t *points, size_t count,
+                              const bbc_view *view, bbc__bake *bake, double size_px, int smooth,
+                              bbc_error *err) {
+  if (m->kind != BBC_MESH_POINTS || !bake->front)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "splats: needs points and a front image");
+  camera cam;
+  bbc_result r = check_view(view, bake->width, bake->height, &cam, err);
+  if (r != BBC_OK) return r;
+  size_t n = (size_t)bake->width * bake->height;
+  float *depth = malloc(2 * n * sizeof *depth);
+  if (!depth) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "splats: out of memory");
+  for (size_t i = 0; i < n; i++) {
+    depth[i] = FLT_MAX;
+    depth[n + i] = -FLT_MAX;
+  }
+  double half = 0.5 * (size_px >= 1 ? size_px : 1), r2 = half * half;
+  for (size_t i = 0; i < count; i++) {
+    size_t v = points ? points[i] : i;
+    double s[3];
+    bbc__camera_project(&cam, m->positions + 3 * v, s);
+    if (s[2] < view->depth_min || s[2] > view->depth_max) continue;
+    uint8_t px4[4] = {200, 200, 200, 255}; /* no colour in the scan: light grey */
+    if (m->colors) memcpy(px4, m->colors + 4 * v, 3);
+    int x0 = (int)floor(s[0] - half + 0.5), x1 = (int)floor(s[0] + half - 0.5);
+    int y0 = (int)floor(s[1] - half + 0.5), y1 = (int)floor(s[1] + half - 0.5);
+    if (x1 < x0) x1 = x0;
+    if (y1 < y0) y1 = y0;
+    for (int y = y0 < 0 ? 0 : y0; y <= y1 && y < bake->height; y++)
+      for (int x = x0 < 0 ? 0 : x0; x <= x1 && x < bake->width; x++) {
+        /* round splats: pixel centres within the disc (a one-pixel splat
+         * always keeps its pixel) */
+        double dx = x + 0.5 - s[0], dy = y + 0.5 - s[1];
+        if (smooth && x1 > x0 && dx * dx + dy * dy > r2) continue;
+        size_t pi = (size_t)y * bake->width + x;
+        float z = (float)s[2];
+        if (z < depth[pi]) { /* front: the point nearest the viewer */
+          depth[pi] = z;
+          memcpy(bake->front + 4 * pi, px4, 4);
+        }
+        if (bake->back && z > depth[n + pi]) { /* back: the farthest */
+          depth[n + pi] = z;
+          memcpy(bake->back + 4 * pi, px4, 4);
+        }
+      }
+  }
+  free(depth);
+  return BBC_OK;
+}
+
 int bbc_view_project(const bbc_view *view, int width, int height, const double p[3],
                      double out[2]) {
   camera cam;

@@ -81,12 +81,27 @@ static double read_density(const ctx *c, int64_t contrib, int64_t penalty, doubl
   return d > 0 ? d * view_factor(c->p, phi) : d;
 }
 
+/* A face's range of valid rho over a direction box (simple validity); a
+ * point's exact range (2.4.2). 0 when no plane of the box can be valid. */
+static int range_over_box(const ctx *c, const dual_face *f, const dual_dir *dir,
+                          const dual_box_trig *bt, double *lo, double *hi) {
+  if (!f->point) return dual_face_range(f, dir, c->eps, lo, hi);
+  double a, b, cc;
+  dual_point_frame(&c->g->frame, f->c, &a, &b, &cc);
+  dual_point_extremes(a, b, cc, bt, lo, hi);
+  *lo -= c->eps;
+  *hi += c->eps;
+  return 1;
+}
+
 /* Faces of `in` (or all unassigned faces when in == NULL) simply valid for
  * box b, written to out in ascending order; returns their number. */
 static size_t simply_valid(ctx *c, const dual_box *b, const uint32_t *in, size_t n_in,
                            uint32_t *out) {
   dual_dir dir;
   bbc__dual_dir_of_box(&c->g->frame, b, &dir);
+  dual_box_trig bt;
+  dual_box_trig_of(b, &bt);
   size_t n = in ? n_in : c->nf;
   int nt = thread_count(c);
   (void)nt;
@@ -96,7 +111,7 @@ static size_t simply_valid(ctx *c, const dual_box *b, const uint32_t *in, size_t
   for (size_t i = 0; i < n; i++) {
     size_t f = in ? in[i] : i;
     double lo, hi;
-    c->flag[i] = (in || !c->assigned[f]) && dual_face_range(&c->faces[f], &dir, c->eps, &lo, &hi) &&
+    c->flag[i] = (in || !c->assigned[f]) && range_over_box(c, &c->faces[f], &dir, &bt, &lo, &hi) &&
                  hi >= b->r0 && lo <= b->r1;
   }
   size_t k = 0;
@@ -183,6 +198,21 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
     const dual_dir *dd = &dirs[s];
     for (size_t i = 0; i < n; i++) {
       const dual_face *f = &c->faces[set[i]];
+      if (f->point) {
+        /* 2.4.3, Eq. 2-11/2-12: subcells are finer than eps, so a point
+         * gives more the closer it lies to a subcell's centre plane, and
+         * penalises a plane it lies in front of by eps to 2 eps. */
+        double rho = f->c[0] * dd->n[0] + f->c[1] * dd->n[1] + f->c[2] * dd->n[2];
+        double w = dual_projected_area(f, dd->n) * c->g->scale;
+        for (int r = 0; r < NR; r++) {
+          double mid = b->r0 - 2 * dr + (r + 0.5) * dr, d = rho - mid, ad = fabs(d);
+          if (ad <= c->eps)
+            contrib[s][r] += (int64_t)(w * (1 - ad / c->eps) + 0.5);
+          else if (d > 0 && d <= 2 * c->eps)
+            penalty[s][r] += (int64_t)(w * (2 * c->eps - d) / c->eps + 0.5);
+        }
+        continue;
+      }
       double lo, hi;
       if (!dual_face_range(f, dd, c->eps, &lo, &hi)) continue;
       double proj = dual_projected_area(f, dd->n) * c->g->scale;
@@ -254,7 +284,15 @@ static found_plane parachute(ctx *c, const uint32_t *set, size_t n) {
     if (i < nc) {
       const dual_face *f = &c->faces[cand[i].index];
       memcpy(nn, f->n, sizeof nn);
+      if (f->point && nn[0] == 0 && nn[1] == 0 && nn[2] == 0) {
+        /* no normal: the plane through it facing away from the centre */
+        nn[2] = 1;
+        if (f->c_len > 0)
+          for (int k = 0; k < 3; k++) nn[k] = f->c[k] / f->c_len;
+      }
       rho = nn[0] * f->c[0] + nn[1] * f->c[1] + nn[2] * f->c[2];
+    } else if (c->faces[set[0]].point) {
+      continue; /* the weighted average plane needs face normals */
     } else {
       /* Weighted average plane (Eq. 2-7/2-8, origin as reference). */
       memcpy(nn, fp.n, sizeof nn);
@@ -554,11 +592,13 @@ static bbc_result merge_planes(const dual_face *faces, size_t nf, double eps, se
         }
         memcpy(other + m, list, n * sizeof *list);
         double nn[3] = {pq->normal[0], pq->normal[1], pq->normal[2]}, rr = pq->d;
-        if (bbc__dual_posttweak(faces, other, m + n, eps, nn, &rr) ||
+        /* points: no tweaking (2.4.4); a refit by least squares only */
+        if ((!faces[list[0]].point && bbc__dual_posttweak(faces, other, m + n, eps, nn, &rr)) ||
             bbc__dual_fit_plane(faces, other, m + n, eps, nn, &rr)) {
           memcpy(pq->normal, nn, sizeof nn);
           pq->d = rr;
-          if (pq->kind == BBC_PLANE_STANDARD) pq->kind = BBC_PLANE_POSTTWEAKED;
+          if (pq->kind == BBC_PLANE_STANDARD && !faces[list[0]].point)
+            pq->kind = BBC_PLANE_POSTTWEAKED;
           into = q;
         }
       }
@@ -675,7 +715,8 @@ bbc_result bbc__select_planes(const dual_face *faces, size_t nf, dual_grid *g, c
         if (bbc__dual_face_valid(&faces[set0[i]], fp.n, fp.rho, eps)) set[n++] = set0[i];
     }
     /* Tweaks (2.3.2, 2.3.3). */
-    if (fp.kind == BBC_PLANE_STANDARD) {
+    if (fp.kind == BBC_PLANE_STANDARD && n > 0 &&
+        !faces[set[0]].point) { /* 2.4.4: not for points */
       if (bbc__dual_coplanar(faces, set, n, 1e-9 * (part_radius + eps), fp.n, &fp.rho))
         fp.kind = BBC_PLANE_COPLANAR;
       else if (p->post_tweak && bbc__dual_posttweak(faces, set, n, eps, fp.n, &fp.rho))

@@ -191,6 +191,10 @@ typedef struct bbc_mesh {
                               * before zero-area ones were dropped */
   size_t dropped_degenerate; /* zero-area triangles removed */
   int normals_generated;     /* 1 when normals were computed, not read */
+  double origin[3];          /* subtracted from the file's coordinates on load when
+                              * they lie far from 0 (georeferenced scans: the centre
+                              * rounded to whole units), so that float outputs keep
+                              * their precision; 0 0 0 when nothing was */
   int no_mipmaps;            /* Appendix A's `load ... nomip`: its textures are
                               * sampled at full resolution (baking, viewer) */
 
@@ -482,6 +486,15 @@ double bbc_params_get(const bbc_params *params, const bbc_param_info *info);
  * changes a result changed (threads, debug and the VRML format never do).
  * `which` (may be NULL) gets the name of a parameter that forces that step. */
 int bbc_params_first_step(const bbc_params *before, const bbc_params *after, const char **which);
+
+/* `count` points on a triangle mesh's surface, uniform by area, coloured as
+ * the surface there (material colour times texture), the same for the same
+ * seed: a point cloud (`out`, freed with bbc_mesh_free). */
+bbc_result bbc_mesh_sample_points(const bbc_mesh *mesh, size_t count, uint64_t seed, bbc_mesh *out,
+                                  bbc_error *err);
+/* A point cloud as binary little-endian PLY: x y z as doubles, red green
+ * blue when it has colours. Atomic. */
+bbc_result bbc_points_write_ply(const char *path, const bbc_mesh *points, bbc_error *err);
 
 /* A normal for each point of a point cloud (3 floats a point, unit, or zero
  * where a point has fewer than 3 neighbours): the direction of least spread

@@ -191,7 +191,8 @@ static void test_b9_training(void **state) {
   const unsigned char *body = (const unsigned char *)eh + strlen("end_header\n");
   double first[3];
   memcpy(first, body, sizeof first);
-  for (int k = 0; k < 3; k++) assert_true(m.positions[k] == first[k]);
+  for (int k = 0; k < 3; k++) /* moved by the origin when far from 0 */
+    assert_true(fabs(m.positions[k] + m.origin[k] - first[k]) <= 1e-9 * (1 + fabs(first[k])));
   assert_int_equal(m.colors[0], body[24]);
   assert_int_equal(m.colors[1], body[25]);
   assert_int_equal(m.colors[2], body[26]);
@@ -199,7 +200,9 @@ static void test_b9_training(void **state) {
   /* The last record as well: the whole body was walked in step. */
   const unsigned char *last = body + (size_t)22299 * 31;
   memcpy(first, last, sizeof first);
-  for (int k = 0; k < 3; k++) assert_true(m.positions[3 * 22299 + k] == first[k]);
+  for (int k = 0; k < 3; k++)
+    assert_true(fabs(m.positions[3 * 22299 + k] + m.origin[k] - first[k]) <=
+                1e-9 * (1 + fabs(first[k])));
   free(raw);
   /* Colours vary (it is an RGB scan, not one constant). */
   int varied = 0;
@@ -314,27 +317,31 @@ static void test_lidr_precision(void **state) {
     long double v[3];
     for (int k = 0; k < 3; k++) v[k] = strtold(p, &p);
     if (n == 0) {
-      /* The first point exactly as strtod reads it. */
-      assert_true(m.positions[0] == strtod(line, NULL));
-      assert_true(m.positions[0] == 519054.680);
-      assert_true(m.positions[1] == 5357592.050);
-      assert_true(m.positions[2] == 4.760);
+      /* The first point read as doubles, moved by the whole-unit origin
+       * (georeferenced: the centre rounded), so that as a float it keeps
+       * a tenth of a millimetre. */
+      const double want[3] = {519054.680, 5357592.050, 4.760};
+      for (int k = 0; k < 3; k++) {
+        assert_true(m.origin[k] == round(m.origin[k]));
+        assert_true(fabs(m.positions[k] + m.origin[k] - want[k]) < 1e-9);
+        assert_true(fabs((double)(float)m.positions[k] + m.origin[k] - want[k]) < 1e-4);
+      }
+      assert_true(m.origin[0] > 5e5 && m.origin[1] > 5e6);
     }
     for (int k = 0; k < 3; k++) sum[k] += v[k];
     n++;
   }
   free(text);
   assert_int_equal(n, 17709);
-  assert_true(m.center[0] > 5e5 && m.center[0] < 6e5);
-  assert_true(m.center[1] > 5e6 && m.center[1] < 6e6);
   for (int k = 0; k < 3; k++) {
     double mean = (double)(sum[k] / (long double)n);
-    if (fabs(m.center[k] - mean) > 1e-6)
-      printf("  centre[%d] %.9f vs mean %.9f\n", k, m.center[k], mean);
-    assert_true(fabs(m.center[k] - mean) <= 1e-6);
+    if (fabs(m.center[k] + m.origin[k] - mean) > 1e-6)
+      printf("  centre[%d] %.9f vs mean %.9f\n", k, m.center[k] + m.origin[k], mean);
+    assert_true(fabs(m.center[k] + m.origin[k] - mean) <= 1e-6);
+    assert_true(fabs(m.center[k]) < 1); /* near 0 */
   }
-  /* Bounds are exact input values, so they too are full-precision UTM. */
-  assert_true(m.bbox_min[0] > 5e5 && m.bbox_max[1] < 6e6);
+  /* Bounds: the input's, moved by the same origin. */
+  assert_true(m.bbox_min[0] + m.origin[0] > 5e5 && m.bbox_max[1] + m.origin[1] < 6e6);
   bbc_mesh_free(&m);
 }
 
@@ -1262,7 +1269,9 @@ static void test_xyz_formats(void **state) {
   assert_int_equal(m.vertex_count, 5);
   const double want[15] = {1.5, 2.5,        3.5,         4,     5,     6,  7, 8,
                            9,   519054.680, 5357592.050, 4.760, -1e-3, 16, 2};
-  for (int i = 0; i < 15; i++) assert_true(m.positions[i] == want[i]);
+  for (int i = 0; i < 15; i++) /* moved by the origin (the UTM point is far from 0) */
+    assert_true(fabs(m.positions[i] + m.origin[i % 3] - want[i]) <= 1e-9 * (1 + fabs(want[i])));
+  assert_true(m.origin[0] != 0);
   assert_null(m.normals);
   assert_null(m.colors);
   bbc_mesh_free(&m);
@@ -1306,6 +1315,37 @@ static void test_xyz_errors(void **state) {
   free(p);
 }
 
+/* Appendix A's VRML point cloud: one PointSet with point and color; a
+ * colour count that does not match is refused with its line. */
+static void test_vrml_pointset(void **state) {
+  char *p = write_text(state, "ps.wrl",
+                       "#VRML V2.0 utf8\n"
+                       "Transform { translation 10 0 0 children [\n"
+                       "Shape { geometry PointSet {\n"
+                       "  coord Coordinate { point [ 0 0 0, 1 0 0, 0 1 0, 0 0 1 ] }\n"
+                       "  color Color { color [ 1 0 0, 0 1 0, 0 0 1, 1 1 1 ] } } } ] }\n");
+  bbc_mesh m;
+  bbc_error err;
+  assert_int_equal(bbc_mesh_load(p, NULL, &m, &err), BBC_OK);
+  assert_int_equal(m.kind, BBC_MESH_POINTS);
+  assert_int_equal(m.vertex_count, 4);
+  assert_non_null(m.colors);
+  assert_true(m.positions[0] == 10 && m.positions[3] == 11); /* the transform applied */
+  assert_int_equal(m.colors[0], 255);
+  assert_int_equal(m.colors[4 + 1], 255);
+  assert_int_equal(m.colors[8 + 2], 255);
+  bbc_mesh_free(&m);
+  free(p);
+  p = write_text(state, "bad.wrl",
+                 "#VRML V2.0 utf8\nShape { geometry PointSet {\n"
+                 "  coord Coordinate { point [ 0 0 0, 1 0 0 ] }\n"
+                 "  color Color { color [ 1 0 0 ] } } }\n");
+  assert_int_not_equal(bbc_mesh_load(p, NULL, &m, &err), BBC_OK);
+  assert_non_null(strstr(err.message, "bad.wrl"));
+  assert_non_null(strstr(err.message, "color"));
+  free(p);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_b9_training),
@@ -1314,6 +1354,7 @@ int main(void) {
       cmocka_unit_test(test_pond_damaged),
       cmocka_unit_test(test_xyz_counts),
       cmocka_unit_test(test_lidr_precision),
+      cmocka_unit_test_setup_teardown(test_vrml_pointset, setup, teardown),
       cmocka_unit_test_setup_teardown(test_ply_ascii_nan, setup, teardown),
       cmocka_unit_test_setup_teardown(test_ply_ascii_malformed_lines, setup, teardown),
       cmocka_unit_test_setup_teardown(test_ply_ascii_crlf_and_types, setup, teardown),

@@ -234,8 +234,13 @@ bbc_result bbc_session_write(bbc_session *s, const char *out, const bbc_callback
     }
     char *params = params_json_text(&lods[0]->params);
     size_t n = strlen(params) + 64;
-    char *extras = malloc(n);
-    if (extras) snprintf(extras, n, "{\"bbcgen_parameters\":%s}", params);
+    char *extras = malloc(n + 128);
+    const double *og = s->model.origin;
+    if (extras && (og[0] != 0 || og[1] != 0 || og[2] != 0)) /* where the coordinates were */
+      snprintf(extras, n + 128, "{\"bbcgen_parameters\":%s,\"bbcgen_origin\":[%.17g,%.17g,%.17g]}",
+               params, og[0], og[1], og[2]);
+    else if (extras)
+      snprintf(extras, n, "{\"bbcgen_parameters\":%s}", params);
     bbc_gltf_options go;
     memset(&go, 0, sizeof go);
     go.binary = glb;
@@ -254,9 +259,14 @@ bbc_result bbc_session_write(bbc_session *s, const char *out, const bbc_callback
       lod_path(out, k, path, sizeof path);
       char comment[4600], why[160];
       bbc_session_epsilon_note(s, k, why, sizeof why);
-      snprintf(comment, sizeof comment, "model: %s\nepsilon: %.4g %% (%.6g model units)%s",
+      const double *og = s->model.origin;
+      char origin[160] = "";
+      if (og[0] != 0 || og[1] != 0 || og[2] != 0)
+        snprintf(origin, sizeof origin, "\norigin: %.17g %.17g %.17g (add to the coordinates)",
+                 og[0], og[1], og[2]);
+      snprintf(comment, sizeof comment, "model: %s\nepsilon: %.4g %% (%.6g model units)%s%s",
                s->model_path, lods[k]->epsilon_pct * lods[k]->planes.epsilon_scale,
-               lods[k]->planes.epsilon_abs, why);
+               lods[k]->planes.epsilon_abs, why, origin);
       if (obj)
         r = bbc_mesh_write_obj_ex(path, &lods[k]->cloud.mesh, comment, unlit, err);
       else
@@ -476,8 +486,15 @@ bbc_result bbc_session_save(bbc_session *s, const char *user_dir, const bbc_call
   snprintf(stem, sizeof stem, "%.*s", (int)(ext - base), base);
   const bbc_params *p = &s->level0.params;
   char dir[4096], leaf[512], path[4600];
-  snprintf(leaf, sizeof leaf, "%s_e%.2f_tex%d%s%s", stem, s->level0.epsilon_pct, p->texres,
-           p->normal_maps ? "_nm" : "", p->prelight ? "_pl" : "");
+  /* Appendix A's appendices in order: eX.XX, texX, nm, pl, and for point
+   * clouds szX.X (point size), skipX (point skip), smooth */
+  char pts[64] = "";
+  if (s->model.kind == BBC_MESH_POINTS)
+    snprintf(pts, sizeof pts, "_sz%.1f_skip%d%s", p->point_size, p->point_skip,
+             p->point_smooth ? "_smooth" : "");
+  snprintf(leaf, sizeof leaf, "%s_e%.2f_tex%d%s%s%s", stem, s->level0.epsilon_pct, p->texres,
+           p->normal_maps && s->model.kind != BBC_MESH_POINTS ? "_nm" : "",
+           p->prelight ? "_pl" : "", pts);
   if (user_dir && *user_dir)
     snprintf(dir, sizeof dir, "vrml97models/%s/%s/%s", user_dir, stem, leaf);
   else

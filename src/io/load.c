@@ -1,7 +1,29 @@
 /* load.c — bbc_mesh_load: picks the reader for a file and finishes the mesh. */
 #include "internal.h"
 
+#include <math.h>
 #include <string.h>
+
+/* Georeferenced coordinates (a centre beyond 10,000 units, e.g. UTM metres)
+ * are moved near 0: read as doubles, they would lose millimetres as floats
+ * in the outputs. The offset, the centre rounded to whole units, is kept in
+ * mesh->origin. */
+static void recentre(bbc_mesh *m) {
+  double o[3] = {0, 0, 0};
+  int far = 0;
+  for (int k = 0; k < 3; k++)
+    if (fabs(m->center[k]) > 1e4) far = 1;
+  if (!far) return;
+  for (int k = 0; k < 3; k++) o[k] = round(m->center[k]);
+  for (size_t v = 0; v < m->vertex_count; v++)
+    for (int k = 0; k < 3; k++) m->positions[3 * v + k] -= o[k];
+  for (int k = 0; k < 3; k++) {
+    m->center[k] -= o[k];
+    m->bbox_min[k] -= o[k];
+    m->bbox_max[k] -= o[k];
+    m->origin[k] = o[k];
+  }
+}
 
 bbc_result bbc_mesh_load(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
                          bbc_error *err) {
@@ -43,7 +65,9 @@ bbc_result bbc_mesh_load(const char *path, const bbc_load_options *options, bbc_
   }
   if (r != BBC_OK)
     bbc_mesh_free(mesh);
-  else
+  else {
     mesh->no_mipmaps = options->no_mipmaps;
+    recentre(mesh);
+  }
   return r;
 }

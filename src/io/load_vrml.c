@@ -373,8 +373,50 @@ typedef struct builder {
   size_t vcap, tcap, mcap, tex_cap; /* vertices, triangles, materials, textures */
   char folder[4096];
   int load_textures;
-  size_t skipped; /* geometry nodes other than IndexedFaceSet */
+  size_t skipped; /* geometry nodes other than IndexedFaceSet and PointSet */
+  /* PointSets (Appendix A: a point cloud is one node with point and color) */
+  double *pts;
+  uint8_t *cols;
+  size_t np, pcap;
+  int any_colour;
 } builder;
+
+/* One PointSet under transform xf: its points and their colours (Color
+ * per point; light grey where it has none). */
+static int add_points(builder *b, const vnode *ps, const double *xf) {
+  const vfield *pt = field(child(ps, "coord"), "point");
+  const vfield *cl = field(child(ps, "color"), "color");
+  size_t n = pt ? pt->num_count / 3 : 0;
+  if (pt && pt->num_count % 3)
+    return fail(b->p, BBC_ERROR_CORRUPT, "PointSet: point needs x y z triples");
+  if (cl && cl->num_count && cl->num_count != 3 * n)
+    return fail(b->p, BBC_ERROR_CORRUPT, "PointSet: color needs one r g b per point");
+  if (b->np + n > b->pcap) {
+    size_t c = b->pcap ? 2 * b->pcap : 1024;
+    while (c < b->np + n) c *= 2;
+    double *p2 = realloc(b->pts, 3 * c * sizeof *p2);
+    if (p2) b->pts = p2;
+    uint8_t *c2 = realloc(b->cols, 4 * c);
+    if (c2) b->cols = c2;
+    if (!p2 || !c2) return fail(b->p, BBC_ERROR_OUT_OF_MEMORY, "out of memory");
+    b->pcap = c;
+  }
+  for (size_t i = 0; i < n; i++) {
+    const double *q = pt->num + 3 * i;
+    double *o = b->pts + 3 * (b->np + i);
+    for (int r = 0; r < 3; r++)
+      o[r] = xf[4 * r] * q[0] + xf[4 * r + 1] * q[1] + xf[4 * r + 2] * q[2] + xf[4 * r + 3];
+    uint8_t *c = b->cols + 4 * (b->np + i);
+    for (int k = 0; k < 3; k++) {
+      double v = cl && cl->num_count ? cl->num[3 * i + k] : 200.0 / 255;
+      c[k] = (uint8_t)lrint(255 * (v < 0 ? 0 : v > 1 ? 1 : v));
+    }
+    c[3] = 255;
+  }
+  if (cl && cl->num_count) b->any_colour = 1;
+  b->np += n;
+  return 1;
+}
 
 static int texture_index(builder *b, const char *url) {
   bbc_mesh *m = b->m;
@@ -547,6 +589,7 @@ static int walk(builder *b, const vnode *n, const double *xf, int depth) {
   if (!strcmp(t, "Shape")) {
     const vnode *g = child(n, "geometry");
     if (g && !strcmp(g->type, "IndexedFaceSet")) return add_faces(b, n, g, xf);
+    if (g && !strcmp(g->type, "PointSet")) return add_points(b, g, xf);
     if (g) b->skipped++;
     return 1;
   }
@@ -630,12 +673,39 @@ bbc_result bbc__load_vrml(const char *path, const bbc_load_options *options, bbc
   free(p.all);
   free(p.defs);
   free(text);
-  if (p.failed) return err ? err->code : BBC_ERROR_CORRUPT;
+  if (p.failed) {
+    free(b.pts);
+    free(b.cols);
+    return err ? err->code : BBC_ERROR_CORRUPT;
+  }
+  if (mesh->triangle_count == 0 && b.np) { /* a point cloud */
+    free(mesh->uvs);
+    mesh->uvs = NULL;
+    free(mesh->positions);
+    mesh->kind = BBC_MESH_POINTS;
+    mesh->positions = b.pts;
+    mesh->vertex_count = b.np;
+    mesh->colors = b.cols;
+    if (!b.any_colour) { /* no Color anywhere: no colours */
+      free(mesh->colors);
+      mesh->colors = NULL;
+    }
+    if (b.skipped)
+      bbc__log(&options->callbacks, BBC_LOG_WARNING, "%s: %zu shapes other than PointSet skipped",
+               path, b.skipped);
+    return BBC_OK;
+  }
+  if (b.np)
+    bbc__log(&options->callbacks, BBC_LOG_WARNING,
+             "%s: %zu points of PointSets skipped (the file has faces)", path, b.np);
+  free(b.pts);
+  free(b.cols);
   if (b.skipped)
     bbc__log(&options->callbacks, BBC_LOG_WARNING,
              "%s: %zu shapes other than IndexedFaceSet skipped", path, b.skipped);
   if (mesh->triangle_count == 0)
-    return bbc__fail(err, BBC_ERROR_EMPTY, "%s: no IndexedFaceSet with faces", path);
+    return bbc__fail(err, BBC_ERROR_EMPTY, "%s: no IndexedFaceSet with faces and no PointSet",
+                     path);
   mesh->group_count = 1;
   mesh->group_names = calloc(1, sizeof *mesh->group_names);
   if (!mesh->group_names || !(mesh->group_names[0] = bbc__strdup("")))

@@ -99,6 +99,7 @@ int cli_planes_options(const cli *c, bbc_planes_options *o);
 /* Commands. */
 int cmd_info(cli *c, int argc, char **argv);
 int cmd_tree(cli *c, int argc, char **argv);
+int cmd_sample(cli *c, int argc, char **argv);
 int cmd_render(cli *c, int argc, char **argv);
 int cmd_setup(cli *c, int argc, char **argv);
 int cmd_planes(cli *c, int argc, char **argv);

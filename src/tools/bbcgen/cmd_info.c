@@ -50,6 +50,7 @@ static char *info_json(const char *path, const bbc_mesh *m, const size_t *group_
   cJSON *bbox = cJSON_AddObjectToObject(root, "bbox");
   cJSON_AddItemToObject(bbox, "min", vec3(m->bbox_min));
   cJSON_AddItemToObject(bbox, "max", vec3(m->bbox_max));
+  cJSON_AddItemToObject(root, "origin", vec3(m->origin));
   cJSON_AddItemToObject(root, "center", vec3(m->center));
   cJSON_AddNumberToObject(root, "radius", m->radius);
   char *s = cJSON_Print(root);
@@ -89,6 +90,10 @@ static void info_text(const char *path, const bbc_mesh *m, const size_t *group_t
          m->bbox_max[0], m->bbox_max[1], m->bbox_max[2]);
   printf("  centre [%g %g %g] (centre of gravity)\n", m->center[0], m->center[1], m->center[2]);
   printf("  radius %g (bounding sphere around the centre)\n", m->radius);
+  if (m->origin[0] != 0 || m->origin[1] != 0 || m->origin[2] != 0)
+    printf("  origin [%.3f %.3f %.3f] subtracted from the file's coordinates (they lie far\n"
+           "         from 0: positions above and in outputs are relative to it)\n",
+           m->origin[0], m->origin[1], m->origin[2]);
 }
 
 int cmd_info(cli *c, int argc, char **argv) {

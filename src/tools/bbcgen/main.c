@@ -31,6 +31,9 @@ static void print_help(FILE *out) {
           "  bbcgen info MODEL [--json] [--no-textures]\n"
           "      Triangles, vertices, materials (texture, alpha), groups, bounding box,\n"
           "      centre of gravity and bounding radius of a model or point cloud.\n"
+          "  bbcgen sample MODEL -o OUT.ply [--points N] [--seed S]\n"
+          "      A point cloud of N points (default 1,000,000) on the model's surface,\n"
+          "      uniform by area, coloured as the surface: binary PLY with doubles.\n"
           "  bbcgen tree [--seed S] [--leaves N] [--species NAME] [--texture-size N]\n"
           "              -o OUT.obj [--preview OUT.png]\n"
           "      Generate the built-in procedural tree as OBJ + MTL + PNG textures.\n"
@@ -168,6 +171,7 @@ int main(int argc, char **argv) {
     }
   if (!strcmp(cmd, "info")) return cmd_info(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "tree")) return cmd_tree(&c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "sample")) return cmd_sample(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "render")) return cmd_render(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "setup")) return cmd_setup(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "planes")) return cmd_planes(&c, argc - 1, argv + 1);
@@ -175,8 +179,8 @@ int main(int argc, char **argv) {
   if (!strcmp(cmd, "baseline")) return cmd_baseline(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "exec")) return cmd_exec(&c, argc - 1, argv + 1);
   if (!strcmp(cmd, "view")) return cmd_view(&c, argc - 1, argv + 1);
-  static const char *const commands[] = {"info", "tree",     "render", "setup", "planes",
-                                         "eval", "baseline", "exec",   "view",  NULL};
+  static const char *const commands[] = {"info", "sample",   "tree", "render", "setup", "planes",
+                                         "eval", "baseline", "exec", "view",   NULL};
   if (cmd[0] == '-') {
     static const char *const own[] = {"--help", "--version", NULL};
     return cli_unknown_option(NULL, cmd, own);

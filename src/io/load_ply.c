@@ -1,6 +1,6 @@
 /*
- * load_points.c — the PLY reader (point clouds, thesis section 2.4, and
- * polygon meshes) and the XYZ text reader.
+ * load_ply.c — the PLY reader: point clouds (thesis section 2.4) and polygon
+ * meshes.
  *
  * Every .ply file comes here, never to Assimp. A PLY whose header declares
  * `face` or `tristrips` records loads as a triangle mesh; one with vertices
@@ -15,147 +15,24 @@
  * against the vertex count, and every refusal names the file and the place
  * (line number in text, record index and byte offset in binary).
  *
- * Both readers load the whole file into memory with one fread (files are at
+ * The reader loads the whole file into memory with one fread (files are at
  * most a few hundred MB) and parse from the buffer; the buffer is NUL
  * terminated so strtod can never run past its end.
  */
-#include "internal.h"
+#include "text_scan.h"
 
-#include <ctype.h>
 #include <errno.h>
-#include <math.h>
 #include <stdint.h>
-#include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
 
-/* Coordinates beyond this are not measurements but damage (a shifted binary
- * record read as float gives values like 1e38). */
-#define ABSURD_COORDINATE 1e30
 /* A real PLY header is a few hundred bytes; this bounds the header scan of a
  * file that only starts with "ply". */
 #define PLY_MAX_HEADER (1u << 20)
 /* Triangles reserved before reading a mesh's faces; the array grows past
  * this as needed. */
 #define PLY_FIRST_TRIANGLES (1u << 22)
-/* Below this many records (vertices, faces) progress is not worth reporting. */
-#define PROGRESS_MIN_RECORDS 65536u
-
-/* ------------------------------------------------------------------------ */
-/* Shared helpers                                                            */
-/* ------------------------------------------------------------------------ */
-
-static int is_blank(char c) {
-  return c == ' ' || c == '\t';
-}
-
-/* Copies at most 24 characters of [s, e) into out for a message, replacing
- * control bytes so that binary junk never ends up in a one-line message. */
-static const char *quote_token(char *out, size_t out_size, const char *s, const char *e) {
-  size_t n = 0;
-  while (s < e && n + 4 < out_size && n < 24) {
-    unsigned char c = (unsigned char)*s++;
-    out[n++] = (c < 0x20 || c == 0x7f) ? '?' : (char)c;
-  }
-  if (s < e && n + 4 <= out_size) {
-    memcpy(out + n, "...", 3);
-    n += 3;
-  }
-  out[n] = '\0';
-  return out;
-}
-
-bbc_result bbc__read_whole_file(const char *path, char **data, size_t *size, bbc_error *err) {
-  *data = NULL;
-  *size = 0;
-  FILE *f = fopen(path, "rb");
-  if (!f) return bbc__fail(err, BBC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-  if (fseeko(f, 0, SEEK_END) != 0) {
-    int e = errno;
-    fclose(f);
-    return bbc__fail(err, BBC_ERROR_IO, "%s: cannot seek: %s", path, strerror(e));
-  }
-  off_t end = ftello(f);
-  if (end < 0 || fseeko(f, 0, SEEK_SET) != 0) {
-    int e = errno;
-    fclose(f);
-    return bbc__fail(err, BBC_ERROR_IO, "%s: cannot determine the file size: %s", path,
-                     strerror(e));
-  }
-  if ((uintmax_t)end >= (uintmax_t)SIZE_MAX) {
-    fclose(f);
-    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: file is too large to load (%jd bytes)",
-                     path, (intmax_t)end);
-  }
-  size_t n = (size_t)end;
-  char *buf = malloc(n + 1);
-  if (!buf) {
-    fclose(f);
-    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory reading %zu bytes", path, n);
-  }
-  size_t got = n ? fread(buf, 1, n, f) : 0;
-  int read_error = ferror(f);
-  int e = errno;
-  fclose(f);
-  if (got != n) {
-    free(buf);
-    if (read_error)
-      return bbc__fail(err, BBC_ERROR_IO, "%s: read failed after %zu of %zu bytes: %s", path, got,
-                       n, strerror(e));
-    return bbc__fail(err, BBC_ERROR_IO, "%s: file shrank while reading (%zu of %zu bytes)", path,
-                     got, n);
-  }
-  buf[n] = '\0';
-  *data = buf;
-  *size = n;
-  return BBC_OK;
-}
-
-/* Line iterator over a text buffer. Accepts "\n", "\r\n" and a lone "\r"
- * (old Mac files) as line ends. */
-typedef struct text_cursor {
-  const char *p;
-  const char *end;
-  size_t line; /* number of the line last returned, 1-based */
-} text_cursor;
-
-static int next_line(text_cursor *c, const char **ls, const char **le) {
-  if (c->p >= c->end) return 0;
-  const char *q = c->p;
-  while (q < c->end && *q != '\n' && *q != '\r') q++;
-  *ls = c->p;
-  *le = q;
-  if (q < c->end) q += (*q == '\r' && q + 1 < c->end && q[1] == '\n') ? 2 : 1;
-  c->p = q;
-  c->line++;
-  return 1;
-}
-
-/* Parses a number that starts exactly at p and must end at a blank, at the
- * line end `le`, or (comma_ok) at a comma. Returns the position after it, or
- * NULL when the field is not a number. strtod gets full double precision;
- * it could skip leading white space across a line break, which the first test
- * rules out. "nan" and "inf" parse as numbers and are refused later with a
- * clearer message than "not a number". */
-static const char *scan_number(const char *p, const char *le, int comma_ok, double *out) {
-  if (p >= le || isspace((unsigned char)*p)) return NULL;
-  char *q;
-  double v = strtod(p, &q);
-  if (q == p || q > le) return NULL;
-  if (q < le && !is_blank(*q) && !(comma_ok && *q == ',')) return NULL;
-  *out = v;
-  return q;
-}
-
-/* End of the field starting at p (for quoting it in messages). */
-static const char *field_end(const char *p, const char *le, int comma_ok) {
-  while (p < le && !is_blank(*p) && !(comma_ok && *p == ',')) p++;
-  return p;
-}
-
-static int coordinate_ok(double v) {
-  return isfinite(v) && fabs(v) <= ABSURD_COORDINATE;
-}
 
 /* ------------------------------------------------------------------------ */
 /* PLY header                                                                */
@@ -386,13 +263,13 @@ static bbc_result ply_parse_header(const char *path, const char *buf, size_t siz
         h->format = PLY_BINARY_BE;
       else {
         r = bbc__fail(err, BBC_ERROR_CORRUPT, "%s: PLY header line %zu: unknown format '%s'", path,
-                      c.line, quote_token(q, sizeof q, t[1].s, t[1].s + t[1].n));
+                      c.line, bbc__quote_token(q, sizeof q, t[1].s, t[1].s + t[1].n));
         goto fail;
       }
       if (!tok_is(t[2], "1.0") && !tok_is(t[2], "1")) {
         r = bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
                       "%s: PLY header line %zu: version '%s' is not supported (only 1.0)", path,
-                      c.line, quote_token(q, sizeof q, t[2].s, t[2].s + t[2].n));
+                      c.line, bbc__quote_token(q, sizeof q, t[2].s, t[2].s + t[2].n));
         goto fail;
       }
       have_format = 1;
@@ -420,7 +297,7 @@ static bbc_result ply_parse_header(const char *path, const char *buf, size_t siz
       if (ply_find_element(h, e->name) != e) {
         r = bbc__fail(err, BBC_ERROR_CORRUPT,
                       "%s: PLY header line %zu: element '%s' is declared twice", path, c.line,
-                      quote_token(q, sizeof q, t[1].s, t[1].s + t[1].n));
+                      bbc__quote_token(q, sizeof q, t[1].s, t[1].s + t[1].n));
         goto fail;
       }
       e->count = count;
@@ -447,7 +324,7 @@ static bbc_result ply_parse_header(const char *path, const char *buf, size_t siz
         token bad = p.count_type == PLY_NONE ? t[2] : t[3];
         if (p.count_type == PLY_NONE || p.type == PLY_NONE) {
           r = bbc__fail(err, BBC_ERROR_CORRUPT, "%s: PLY header line %zu: unknown type '%s'", path,
-                        c.line, quote_token(q, sizeof q, bad.s, bad.s + bad.n));
+                        c.line, bbc__quote_token(q, sizeof q, bad.s, bad.s + bad.n));
           goto fail;
         }
         if (!ply_type_is_integer(p.count_type)) {
@@ -468,7 +345,7 @@ static bbc_result ply_parse_header(const char *path, const char *buf, size_t siz
         p.type = ply_type_from_token(t[1]);
         if (p.type == PLY_NONE) {
           r = bbc__fail(err, BBC_ERROR_CORRUPT, "%s: PLY header line %zu: unknown type '%s'", path,
-                        c.line, quote_token(q, sizeof q, t[1].s, t[1].s + t[1].n));
+                        c.line, bbc__quote_token(q, sizeof q, t[1].s, t[1].s + t[1].n));
           goto fail;
         }
         name = t[2];
@@ -501,11 +378,11 @@ static bbc_result ply_parse_header(const char *path, const char *buf, size_t siz
       r = bbc__fail(err, BBC_ERROR_CORRUPT,
                     "%s: PLY header line %zu starts with a number ('%s'): the header has no "
                     "end_header line before the data",
-                    path, c.line, quote_token(q, sizeof q, t[0].s, t[0].s + t[0].n));
+                    path, c.line, bbc__quote_token(q, sizeof q, t[0].s, t[0].s + t[0].n));
       goto fail;
     } else {
       r = bbc__fail(err, BBC_ERROR_CORRUPT, "%s: PLY header line %zu: unknown keyword '%s'", path,
-                    c.line, quote_token(q, sizeof q, t[0].s, t[0].s + t[0].n));
+                    c.line, bbc__quote_token(q, sizeof q, t[0].s, t[0].s + t[0].n));
       goto fail;
     }
   }
@@ -1253,7 +1130,7 @@ static bbc_result ply_ascii_record(const char *path, const ply_element *e, uint6
       return bbc__fail(err, BBC_ERROR_CORRUPT,
                        "%s: line %zu: %s %llu: value '%s' of property '%s' is not a number", path,
                        line, e->name, (unsigned long long)index,
-                       quote_token(q, sizeof q, p, field_end(p, le, 0)), pr->name);
+                       bbc__quote_token(q, sizeof q, p, field_end(p, le, 0)), pr->name);
     if (pr->count_type == PLY_NONE) {
       if (vals) vals[k] = v;
       p = next;
@@ -1263,7 +1140,7 @@ static bbc_result ply_ascii_record(const char *path, const ply_element *e, uint6
       return bbc__fail(err, BBC_ERROR_CORRUPT,
                        "%s: line %zu: %s %llu: list length '%s' of '%s' is not a valid count", path,
                        line, e->name, (unsigned long long)index,
-                       quote_token(q, sizeof q, p, field_end(p, le, 0)), pr->name);
+                       bbc__quote_token(q, sizeof q, p, field_end(p, le, 0)), pr->name);
     p = next;
     ply_list *out = list && k == list->prop ? list : NULL;
     /* Items are bounded by the line length, so a huge count cannot loop long
@@ -1281,7 +1158,7 @@ static bbc_result ply_ascii_record(const char *path, const ply_element *e, uint6
         return bbc__fail(err, BBC_ERROR_CORRUPT,
                          "%s: line %zu: %s %llu: item '%s' of list '%s' is not a number", path,
                          line, e->name, (unsigned long long)index,
-                         quote_token(q, sizeof q, p, field_end(p, le, 0)), pr->name);
+                         bbc__quote_token(q, sizeof q, p, field_end(p, le, 0)), pr->name);
       p = next;
       if (out) {
         if (!ply_list_reserve(out, out->count + 1))
@@ -1296,7 +1173,7 @@ static bbc_result ply_ascii_record(const char *path, const ply_element *e, uint6
                      "%s: line %zu: %s %llu has more values than the %zu properties the header "
                      "declares ('%s' is extra)",
                      path, line, e->name, (unsigned long long)index, e->prop_count,
-                     quote_token(q, sizeof q, p, field_end(p, le, 0)));
+                     bbc__quote_token(q, sizeof q, p, field_end(p, le, 0)));
   return BBC_OK;
 }
 
@@ -1368,7 +1245,7 @@ static bbc_result ply_read_ascii(ply_reader *pp, const ply_header *h, const char
       r = bbc__fail(err, BBC_ERROR_CORRUPT,
                     "%s: line %zu: unexpected data '%s' after the last element the header "
                     "declares; the header's counts are wrong or the file is damaged",
-                    path, c.line, quote_token(q, sizeof q, ls, field_end(ls, le, 0)));
+                    path, c.line, bbc__quote_token(q, sizeof q, ls, field_end(ls, le, 0)));
       goto done;
     }
   }
@@ -1462,8 +1339,8 @@ oom:
  * header names a TextureFile), and group 0, named after the file's stem
  * ("bunny" for "scans/bunny.ply") so that the group says where the geometry
  * came from, as OBJ groups do. */
-static bbc_result ply_finish_mesh(ply_reader *pp, const ply_header *h, const bbc_load_options *opt,
-                                  bbc_error *err) {
+static bbc_result ply_bbc__finish_loaded(ply_reader *pp, const ply_header *h,
+                                         const bbc_load_options *opt, bbc_error *err) {
   bbc_mesh *m = pp->mesh;
   size_t n = m->triangle_count ? m->triangle_count : 1;
   if (m->triangle_count && m->triangle_count < pp->triangle_cap) {
@@ -1493,27 +1370,6 @@ static bbc_result ply_finish_mesh(ply_reader *pp, const ply_header *h, const bbc
   return BBC_OK;
 oom:
   return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", pp->path);
-}
-
-/* ------------------------------------------------------------------------ */
-/* Loader entry points                                                       */
-/* ------------------------------------------------------------------------ */
-
-/* Runs bbc_mesh_finalize, reports dropped triangles and the end of the
- * stage; frees on error. */
-static bbc_result finish_mesh(bbc_mesh *mesh, const bbc_load_options *options, const char *path,
-                              bbc_error *err) {
-  const bbc_callbacks *cb = options ? &options->callbacks : NULL;
-  bbc_result r = bbc_mesh_finalize(mesh, options ? options->compute_normals : 1, path, err);
-  if (r != BBC_OK) {
-    bbc_mesh_free(mesh);
-    return r;
-  }
-  if (mesh->kind == BBC_MESH_TRIANGLES && mesh->dropped_degenerate)
-    bbc__log(cb, BBC_LOG_WARNING, "%s: dropped %zu zero-area triangles", path,
-             mesh->dropped_degenerate);
-  bbc__progress(cb, "load", 1.0);
-  return BBC_OK;
 }
 
 bbc_result bbc__load_ply(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
@@ -1573,7 +1429,7 @@ bbc_result bbc__load_ply(const char *path, const bbc_load_options *options, bbc_
   free(buf);
   buf = NULL;
   if (pp.is_mesh) {
-    r = ply_finish_mesh(&pp, &h, options, err);
+    r = ply_bbc__finish_loaded(&pp, &h, options, err);
     if (r != BBC_OK) goto fail;
   } else {
     ply_finish_colors(&pp);
@@ -1584,144 +1440,12 @@ bbc_result bbc__load_ply(const char *path, const bbc_load_options *options, bbc_
   free(pp.raw_colors);
   free(pp.list.items);
   ply_header_free(&h);
-  return finish_mesh(mesh, options, path, err);
+  return bbc__finish_loaded(mesh, options, path, err);
 
 fail:
   free(pp.raw_colors);
   free(pp.list.items);
   ply_header_free(&h);
-  free(buf);
-  bbc_mesh_free(mesh);
-  return r;
-}
-
-/* ------------------------------------------------------------------------ */
-/* XYZ text                                                                  */
-/* ------------------------------------------------------------------------ */
-
-/* Skips the separator between two fields: blanks with at most one comma. */
-static const char *skip_separator(const char *p, const char *le) {
-  while (p < le && is_blank(*p)) p++;
-  if (p < le && *p == ',') {
-    p++;
-    while (p < le && is_blank(*p)) p++;
-  }
-  return p;
-}
-
-bbc_result bbc__load_xyz_points(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
-                                bbc_error *err) {
-  const bbc_callbacks *cb = options ? &options->callbacks : NULL;
-  memset(mesh, 0, sizeof *mesh);
-  bbc_result r = bbc__check_input_file(path, err);
-  if (r != BBC_OK) return r;
-  char *buf;
-  size_t size;
-  r = bbc__read_whole_file(path, &buf, &size, err);
-  if (r != BBC_OK) return r;
-
-  /* A NUL byte near the start means a binary file with the wrong extension;
-   * say so instead of complaining about its first "line". */
-  const char *nul = memchr(buf, '\0', size < 65536 ? size : 65536);
-  if (nul) {
-    size_t offset = (size_t)(nul - buf);
-    free(buf);
-    return bbc__fail(err, BBC_ERROR_CORRUPT,
-                     "%s: contains binary data (a zero byte at offset %zu); an XYZ file is text",
-                     path, offset);
-  }
-
-  /* Every point has a line of its own, so the line count bounds the number
-   * of points (one quick pass); the array shrinks to fit at the end. */
-  size_t cap = 1;
-  for (size_t i = 0; i < size; i++) cap += buf[i] == '\n' || buf[i] == '\r';
-  if (cap > SIZE_MAX / (3 * sizeof(double))) {
-    free(buf);
-    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: file is too large", path);
-  }
-  mesh->kind = BBC_MESH_POINTS;
-  mesh->positions = malloc(cap * 3 * sizeof(double));
-  if (!mesh->positions) {
-    free(buf);
-    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory for up to %zu points", path,
-                     cap);
-  }
-
-  text_cursor c = {buf, buf + size, 0};
-  if (size >= 3 && memcmp(buf, "\xEF\xBB\xBF", 3) == 0) c.p += 3; /* UTF-8 byte order mark */
-  const char *ls, *le;
-  size_t n = 0, header_line = 0;
-  size_t next_report = size / 8, report = size >= 4u * 1024 * 1024;
-  char q[40];
-  while (next_line(&c, &ls, &le)) {
-    const char *p = ls;
-    while (p < le && is_blank(*p)) p++;
-    if (p == le || *p == '#' || (*p == '/' && p + 1 < le && p[1] == '/')) continue;
-    double v[3];
-    int k = 0;
-    for (; k < 3; k++) {
-      if (k > 0) {
-        p = skip_separator(p, le);
-        if (p >= le) break;
-      }
-      const char *next = scan_number(p, le, 1, &v[k]);
-      if (!next) {
-        /* Words before the first point are a column header ("x y z i"). */
-        if (k == 0 && n == 0 && header_line == 0) {
-          header_line = c.line;
-          break;
-        }
-        r = bbc__fail(err, BBC_ERROR_CORRUPT,
-                      "%s: line %zu: field %d ('%s') is not a number; expected \"x y z\"", path,
-                      c.line, k + 1, quote_token(q, sizeof q, p, field_end(p, le, 1)));
-        goto fail;
-      }
-      p = next;
-    }
-    if (header_line == c.line) continue;
-    /* Leica PTS (routed here too) starts with a line holding the point count. */
-    if (k == 1 && n == 0 && header_line == 0 && v[0] >= 0 && v[0] == floor(v[0])) {
-      header_line = c.line;
-      continue;
-    }
-    if (k < 3) {
-      r = bbc__fail(err, BBC_ERROR_CORRUPT,
-                    "%s: line %zu has %d number%s; a point needs three (x y z)", path, c.line, k,
-                    k == 1 ? "" : "s");
-      goto fail;
-    }
-    for (int j = 0; j < 3; j++)
-      if (!coordinate_ok(v[j])) {
-        r = bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
-                      "%s: line %zu: point %zu has a non-finite or absurd coordinate (%g)", path,
-                      c.line, n, v[j]);
-        goto fail;
-      }
-    if (n == cap) { /* cannot happen given the bound; kept as a guard */
-      r = bbc__fail(err, BBC_ERROR_CORRUPT, "%s: line %zu: more points than expected", path,
-                    c.line);
-      goto fail;
-    }
-    memcpy(mesh->positions + 3 * n, v, sizeof v);
-    n++;
-    if (report && (size_t)(c.p - buf) >= next_report) {
-      bbc__progress(cb, "load", 0.9 * (double)(c.p - buf) / (double)size);
-      next_report += size / 8;
-    }
-  }
-  free(buf);
-  buf = NULL;
-  if (n == 0) {
-    r = bbc__fail(err, BBC_ERROR_EMPTY,
-                  "%s: no points: the file has only comments, blank lines or a header", path);
-    goto fail;
-  }
-  double *shrunk = realloc(mesh->positions, n * 3 * sizeof(double));
-  if (shrunk) mesh->positions = shrunk;
-  mesh->vertex_count = n;
-  return finish_mesh(mesh, options, path, err);
-
-fail:
   free(buf);
   bbc_mesh_free(mesh);
   return r;

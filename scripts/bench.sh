@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # bench.sh — benchmarks: tree generator and model loading, medians of runs,
-# peak memory. Writes bench/results/latest.md and latest.json; then the
-# forest engine's (scripts/bench_forest.sh: bench/results/forest.md, .json).
+# peak memory. Writes bench/results/latest.md and latest.json; then point
+# clouds' (scripts/bench_points.sh: points.md, .json) and the forest engine's
+# (scripts/bench_forest.sh: bench/results/forest.md, .json).
 set -euo pipefail
 build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -202,5 +203,7 @@ PY
 mv "$json" "$res/latest.json"
 mv "$res/latest.md.tmp.$$" "$res/latest.md"
 cat "$res/latest.md"
+# Point clouds (bench/results/points.md, .json).
+"$root/scripts/bench_points.sh" "$build"
 # The forest engine at scale: its own files (bench/results/forest.md, .json).
 "$root/scripts/bench_forest.sh" "$build"

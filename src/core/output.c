@@ -291,6 +291,8 @@ bbc_result bbc_session_report(const bbc_session *s, const char *out, const char 
   cJSON_AddStringToObject(o, "model", s->model_path);
   if (cloud_path) cJSON_AddStringToObject(o, "output", cloud_path);
   cJSON_AddNumberToObject(o, "model_triangles", (double)s->model.triangle_count);
+  if (s->model.kind == BBC_MESH_POINTS)
+    cJSON_AddNumberToObject(o, "model_points", (double)s->model.vertex_count);
   cJSON_AddNumberToObject(o, "model_radius", s->model.radius);
   char *params = params_json_text(&lods[0]->params);
   cJSON_AddItemToObject(o, "parameters", cJSON_Parse(params));

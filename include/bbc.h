@@ -854,7 +854,8 @@ typedef struct bbc_view {
   double half_extent;    /* half the image side, model units, > 0 */
   int lighting;          /* 1 = Lambert shading from a light over the viewer's
                           * left shoulder (two-sided); 0 = unlit colours */
-  float point_size_px;   /* point clouds: square splat edge in pixels (>= 1) */
+  float point_size_px;   /* point clouds: splat width in pixels (>= 1) */
+  int point_round;       /* point clouds: round splats (pointsmooth), else squares */
   uint8_t background[4]; /* RGBA written where nothing covers a pixel */
   /* Baking (all optional, zero = off): */
   double half_extent_y;        /* > 0: the image shows 2 half_extent x 2 half_extent_y
@@ -957,6 +958,11 @@ typedef struct bbc_eval_options {
                      * labelled with the view's coverage ratio over its
                      * block IoU */
   int sheet_views;  /* rows of the sheet, spread over the views (0 = 8) */
+  /* A point cloud as the original is splatted as step 3 splats it: pointsize
+   * pixels of a 256-pixel picture of its bounding sphere, round with
+   * pointsmooth (defaults 3.5, 1). */
+  double point_size;
+  int point_smooth;
 } bbc_eval_options;
 
 void bbc_eval_options_default(bbc_eval_options *options);

@@ -334,9 +334,12 @@ static void bake_one(const bbc_mesh *m, const bbc_planeset *set, const bbc_param
   bk.mips = mips;
   bk.mip_bias = ss == 4 ? 2 : 0;
   if (points) {
-    /* 2.4: splats `pointsize` texels wide on a billboard of texres texels
-     * (so their cover does not change with the resolution), ss samples a texel */
-    double size = prm->point_size * (double)prm->texres / 256.0 * ss;
+    /* 2.4: splats `pointsize` pixels wide on a 256-pixel picture of the
+     * whole model (its bounding sphere), in this billboard's texels (adapted
+     * to the texture: the cover does not change with the resolution), ss
+     * samples a texel */
+    double texel = cb->tex_width > 0 ? b->width / cb->tex_width : 1;
+    double size = prm->point_size * (2 * m->radius / 256.0) / (texel > 0 ? texel : 1) * ss;
     r = bbc__render_splats(m, faces, cb->face_count, &v, &bk, size, prm->point_smooth, &out->err);
   } else {
     r = bbc__render_bake(m, faces, cb->face_count, &v, &bk, &out->err);

@@ -23,6 +23,8 @@ void bbc_eval_options_default(bbc_eval_options *o) {
   o->side_elevation_deg = 30;
   o->light[1] = 1;
   o->ambient = 1;
+  o->point_size = 3.5;
+  o->point_smooth = 1;
 }
 
 void bbc_eval_result_free(bbc_eval_result *r) {
@@ -53,7 +55,7 @@ static void frame_view(const double *dir, int up_axis, const double *lo, const d
   if (o->lighting) memcpy(v->light, o->light, sizeof v->light);
   v->light_gain = gain;
   v->ambient = o->lighting && o->ambient;
-  v->point_size_px = 2.0f;
+  v->point_round = o->point_smooth;
   /* background (0, 0, 0, 0): alpha tells coverage */
 }
 
@@ -236,6 +238,10 @@ bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_
       ev->side = fabs(ev->elevation_deg) <= o.side_elevation_deg + 1e-9; /* "within" */
       bbc_view v;
       frame_view(dir, up, lo, hi, &o, gain, &v);
+      /* a point cloud splatted as step 3 splats it: pointsize pixels of a
+       * 256-pixel picture of the whole model (its bounding sphere) */
+      v.point_size_px =
+          (float)(o.point_size * (2 * orig->radius / 256.0) * (o.size / (2 * v.half_extent)));
       bbc_error e;
       if (bbc_render_ortho(orig, &v, &a, &e) != BBC_OK ||
           bbc_render_ortho(other, &v, &b, &e) != BBC_OK) {

@@ -338,6 +338,8 @@ static void draw_point(const bbc_mesh *m, size_t v, const camera *cam, const bbc
   if (m->colors) memcpy(rgb, m->colors + 4 * v, 3);
   for (int y = y0 < 0 ? 0 : y0; y <= y1 && y < img->height; y++)
     for (int x = x0 < 0 ? 0 : x0; x <= x1 && x < img->width; x++) {
+      double dx = x + 0.5 - s[0], dy = y + 0.5 - s[1];
+      if (view->point_round && x1 > x0 && dx * dx + dy * dy > half * half) continue;
       size_t pi = (size_t)y * img->width + x;
       if ((float)s[2] >= depth[pi]) continue;
       depth[pi] = (float)s[2];

@@ -141,6 +141,8 @@ int cmd_eval(cli *c, int argc, char **argv) {
   }
   o.lighting = lit;
   o.ambient = c->params.viewer_ambient;
+  o.point_size = c->params.point_size;
+  o.point_smooth = c->params.point_smooth;
   o.side_elevation_deg = side;
   bbc_params_light_direction(&c->params, o.light);
   bbc_image sheet = {0, 0, NULL};

@@ -58,6 +58,9 @@ double bbc__now_s(void);
  * caller's may change); callbacks cleared. */
 void bbc__planes_options_copy(bbc_planes_options *dst, char text[3][4096],
                               const bbc_planes_options *src);
+/* The eigenvector of the smallest eigenvalue of a symmetric 3 x 3 matrix
+ * (cyclic Jacobi; `a` is overwritten): the normal of least spread. */
+void bbc__smallest_eigenvector(double a[3][3], double out[3]);
 /* The options a grid's step 1 ran with. */
 const bbc_planes_options *bbc__grid_options(const bbc_grid *grid);
 

@@ -19,42 +19,6 @@
 #include <omp.h>
 #endif
 
-/* Eigenvector of the smallest eigenvalue of a symmetric 3 x 3 matrix
- * (cyclic Jacobi rotations). */
-static void smallest_eigenvector(double a[3][3], double out[3]) {
-  double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  for (int sweep = 0; sweep < 24; sweep++) {
-    double off = fabs(a[0][1]) + fabs(a[0][2]) + fabs(a[1][2]);
-    if (off < 1e-15 * (fabs(a[0][0]) + fabs(a[1][1]) + fabs(a[2][2]) + 1e-300)) break;
-    for (int p = 0; p < 2; p++)
-      for (int q = p + 1; q < 3; q++) {
-        if (fabs(a[p][q]) < 1e-300) continue;
-        double theta = (a[q][q] - a[p][p]) / (2 * a[p][q]);
-        double t = (theta >= 0 ? 1 : -1) / (fabs(theta) + sqrt(theta * theta + 1));
-        double c = 1 / sqrt(t * t + 1), s = t * c;
-        for (int k = 0; k < 3; k++) { /* a = J^T a J */
-          double akp = a[k][p], akq = a[k][q];
-          a[k][p] = c * akp - s * akq;
-          a[k][q] = s * akp + c * akq;
-        }
-        for (int k = 0; k < 3; k++) {
-          double apk = a[p][k], aqk = a[q][k];
-          a[p][k] = c * apk - s * aqk;
-          a[q][k] = s * apk + c * aqk;
-        }
-        for (int k = 0; k < 3; k++) {
-          double vkp = v[k][p], vkq = v[k][q];
-          v[k][p] = c * vkp - s * vkq;
-          v[k][q] = s * vkp + c * vkq;
-        }
-      }
-  }
-  int m = 0;
-  for (int i = 1; i < 3; i++)
-    if (a[i][i] < a[m][m]) m = i;
-  for (int k = 0; k < 3; k++) out[k] = v[k][m];
-}
-
 typedef struct cell_key {
   uint64_t key;
   uint32_t point;
@@ -162,7 +126,7 @@ bbc_result bbc_point_normals(const bbc_mesh *m, int threads, float *normals, bbc
     for (int a = 0; a < 3; a++)
       for (int b = 0; b < 3; b++) cov[a][b] = ss[a][b] / cnt - s[a] * s[b] / ((double)cnt * cnt);
     double nv[3];
-    smallest_eigenvector(cov, nv);
+    bbc__smallest_eigenvector(cov, nv);
     double l = sqrt(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]);
     for (int k = 0; k < 3; k++) o[k] = (float)(l > 0 ? nv[k] / l : 0);
   }

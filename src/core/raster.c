@@ -339,7 +339,8 @@ static void draw_point(const bbc_mesh *m, size_t v, const camera *cam, const bbc
   for (int y = y0 < 0 ? 0 : y0; y <= y1 && y < img->height; y++)
     for (int x = x0 < 0 ? 0 : x0; x <= x1 && x < img->width; x++) {
       double dx = x + 0.5 - s[0], dy = y + 0.5 - s[1];
-      if (view->point_round && x1 > x0 && dx * dx + dy * dy > half * half) continue;
+      int under = x == (int)floor(s[0]) && y == (int)floor(s[1]);
+      if (view->point_round && !under && dx * dx + dy * dy > half * half) continue;
       size_t pi = (size_t)y * img->width + x;
       if ((float)s[2] >= depth[pi]) continue;
       depth[pi] = (float)s[2];
@@ -512,10 +513,11 @@ bbc_result bbc__render_splats(const bbc_mesh *m, const uint32_t *points, size_t 
     if (y1 < y0) y1 = y0;
     for (int y = y0 < 0 ? 0 : y0; y <= y1 && y < bake->height; y++)
       for (int x = x0 < 0 ? 0 : x0; x <= x1 && x < bake->width; x++) {
-        /* round splats: pixel centres within the disc (a one-pixel splat
-         * always keeps its pixel) */
+        /* round splats: pixel centres within the disc, and always the pixel
+         * under the point (a small splat between pixel centres keeps one) */
         double dx = x + 0.5 - s[0], dy = y + 0.5 - s[1];
-        if (smooth && x1 > x0 && dx * dx + dy * dy > r2) continue;
+        int under = x == (int)floor(s[0]) && y == (int)floor(s[1]);
+        if (smooth && !under && dx * dx + dy * dy > r2) continue;
         size_t pi = (size_t)y * bake->width + x;
         float z = (float)s[2];
         if (z < depth[pi]) { /* front: the point nearest the viewer */

@@ -113,8 +113,7 @@ int bbc__dual_posttweak(const dual_face *faces, const uint32_t *which, size_t co
   return 1;
 }
 
-/* Smallest-eigenvalue eigenvector of a symmetric 3x3 matrix (cyclic Jacobi). */
-static void smallest_eigenvector(double a[3][3], double v_out[3]) {
+void bbc__smallest_eigenvector(double a[3][3], double v_out[3]) {
   double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   for (int sweep = 0; sweep < 50; sweep++) {
     double off = fabs(a[0][1]) + fabs(a[0][2]) + fabs(a[1][2]);
@@ -172,7 +171,7 @@ int bbc__dual_fit_plane(const dual_face *faces, const uint32_t *which, size_t co
     }
   }
   double e[3];
-  smallest_eigenvector(cov, e);
+  bbc__smallest_eigenvector(cov, e);
   double l = sqrt(dot3(e, e));
   if (!(l > 0)) return 0;
   for (int k = 0; k < 3; k++) e[k] /= l;

@@ -734,6 +734,43 @@ static void test_viewer(void **state) {
   for (int m = 0; m < 9; m++) free(img[m]);
 }
 
+/* bbcgen sample: points on a model's surface as binary PLY with colours,
+ * the same bytes for the same seed, read back as a point cloud. */
+static void test_sample(void **state) {
+  (void)state;
+  char path[1024], args[4096], a[1200], b[1200];
+  tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
+  if (!tu_have_file(path)) skip();
+  char *out, *err;
+  for (int k = 0; k < 2; k++) {
+    snprintf(args, sizeof args, "sample '%s' -o s%d.ply --points 5000 --seed 7 -q", path, k);
+    if (run_in(args, "", &out, &err)) fail_msg("%s", err);
+    free(out);
+    free(err);
+  }
+  snprintf(a, sizeof a, "%s/s0.ply", tu_dir);
+  snprintf(b, sizeof b, "%s/s1.ply", tu_dir);
+  size_t na, nb;
+  unsigned char *ta = tu_read_file(a, &na), *tb = tu_read_file(b, &nb);
+  assert_non_null(ta);
+  assert_non_null(tb);
+  assert_int_equal(na, nb);
+  assert_memory_equal(ta, tb, na);
+  free(ta);
+  free(tb);
+  bbc_mesh m;
+  bbc_error e;
+  assert_int_equal(bbc_mesh_load(a, NULL, &m, &e), BBC_OK);
+  assert_int_equal(m.kind, BBC_MESH_POINTS);
+  assert_int_equal(m.vertex_count, 5000);
+  assert_non_null(m.colors);
+  bbc_mesh_free(&m);
+  assert_int_equal(run_in("sample x.obj -o y.txt", "", &out, &err), 1);
+  assert_non_null(strstr(err, "usage"));
+  free(out);
+  free(err);
+}
+
 /* Every command's errors in a batch file: the message names file:line and
  * the batch stops with a non-zero status. */
 static void test_exec_errors(void **state) {
@@ -1271,6 +1308,7 @@ int main(void) {
       cmocka_unit_test(test_viewer),
       cmocka_unit_test(test_debug_views),
       cmocka_unit_test(test_exec_errors),
+      cmocka_unit_test(test_sample),
       cmocka_unit_test(test_cloud_command),
       cmocka_unit_test(test_hand_epsilon_kept),
       cmocka_unit_test(test_suggestions),

@@ -90,7 +90,9 @@ static void print_help(FILE *out) {
           "      Print every parameter's current value (the thesis's `setup`).\n"
           "  bbcgen --help | --version\n"
           "\n"
-          "Not implemented yet (see README, Status): point clouds in steps 2 and 3.\n"
+          "Point clouds (PLY without faces, XYZ, VRML PointSet) go through the same\n"
+          "steps: points splatted onto the billboards (pointsize, pointsmooth,\n"
+          "pointskip, pointnormals; README, Point clouds).\n"
           "\n"
           "Options for every command:\n"
           "  --set NAME=VALUE   set a parameter (repeatable), e.g. --set epsilon=6\n"
@@ -193,9 +195,10 @@ int main(int argc, char **argv) {
     if (near)
       cli_error("unknown command '%s' (did you mean bbcgen %s?)", cmd, near);
     else
-      cli_error("unknown command '%s', and no model file of that name (commands: info, tree, "
-                "render, planes, eval, baseline, exec, view, setup; try bbcgen --help)",
-                cmd);
+      cli_error(
+          "unknown command '%s', and no model file of that name (commands: info, sample, tree, "
+          "render, planes, eval, baseline, exec, view, setup; try bbcgen --help)",
+          cmd);
     return EXIT_USAGE;
   }
   /* Anything else is a model: the whole pipeline. */

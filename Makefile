@@ -3,6 +3,7 @@
 #   make test     release build + sanitizer build, all tests in both
 #   make demo     generate the built-in tree and show what the toolkit does
 #   make bench    benchmarks (writes bench/results/)
+#   make fuzz     libFuzzer harnesses, FUZZ_SECONDS each (default 60; clang)
 #   make install  library, header, pkg-config file and tools (PREFIX=/usr/local)
 BUILD      ?= build
 ASAN_BUILD ?= build-asan
@@ -15,7 +16,7 @@ fresh_cache = if [ -f $(1)/CMakeCache.txt ] && [ ! -f $(1)/Makefile ]; then \
   echo "$(1): removing the cache of an interrupted configure" >&2; \
   rm -rf $(1)/CMakeCache.txt $(1)/CMakeFiles; fi
 
-.PHONY: all setup configure build test test-release test-asan demo bench install format \
+.PHONY: all setup configure build test test-release test-asan demo bench fuzz install format \
         format-check clean
 
 all: build
@@ -64,6 +65,10 @@ demo: build
 
 bench: build
 	@scripts/bench.sh $(BUILD)
+
+fuzz:
+	@scripts/setup.sh fuzz
+	@scripts/fuzz.sh
 
 install: build
 	cmake --install $(BUILD) --prefix $(PREFIX)

@@ -226,6 +226,13 @@ typedef struct bbc_load_options {
 
 void bbc_load_options_default(bbc_load_options *options);
 
+/* A model from bytes in memory (the project's own readers: PLY, XYZ/PTS/TXT
+ * and VRML, chosen by the extension of `name`, which names it in messages;
+ * others are BBC_ERROR_UNSUPPORTED_FORMAT), finished as bbc_mesh_load
+ * finishes a file. For embedding, and for the fuzzers. */
+bbc_result bbc_mesh_load_memory(const char *name, const void *data, size_t size,
+                                const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err);
+
 /* Loads a model (through Assimp: OBJ+MTL, 3DS, glTF/GLB, AC3D, FBX,
  * COLLADA, ...; PLY with the library's own reader: a mesh when it has faces,
  * a point cloud otherwise) or a point cloud in XYZ text. Node

@@ -3,18 +3,20 @@
 # installs the missing ones (non-interactively) when run as root; otherwise
 # prints the exact command to run and fails. Fast when everything is present.
 #
-#   scripts/setup.sh [build|test|all]    (default: all)
+#   scripts/setup.sh [build|test|all|fuzz]    (default: all)
 set -euo pipefail
 
 what=${1:-all}
 # (each list on one line: scripts/fresh_machine.sh reads them)
 build_pkgs=(build-essential cmake pkg-config libassimp-dev libstb-dev libcjson-dev libmeshoptimizer-dev libepoxy-dev libglfw3-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libedit-dev)
 test_pkgs=(libcmocka-dev clang-format nodejs gltfpack assimp-utils parallel xvfb xauth time)
+fuzz_pkgs=(clang libclang-rt-14-dev libomp-14-dev)
 
 case "$what" in
   build) pkgs=("${build_pkgs[@]}") ;;
   test|all) pkgs=("${build_pkgs[@]}" "${test_pkgs[@]}") ;;
-  *) echo "setup.sh: unknown target '$what' (build, test or all)" >&2; exit 2 ;;
+  fuzz) pkgs=("${build_pkgs[@]}" "${fuzz_pkgs[@]}") ;;
+  *) echo "setup.sh: unknown target '$what' (build, test, all or fuzz)" >&2; exit 2 ;;
 esac
 
 missing=()
@@ -23,7 +25,7 @@ for p in "${pkgs[@]}"; do
   if ! grep -q "^$p ii" <<<"$status"; then missing+=("$p"); fi
 done
 # npm: part of some nodejs builds (NodeSource), a package of its own in Debian.
-if [ "$what" != build ] && ! command -v npm > /dev/null; then missing+=(npm); fi
+if { [ "$what" = test ] || [ "$what" = all ]; } && ! command -v npm > /dev/null; then missing+=(npm); fi
 [ ${#missing[@]} -eq 0 ] && exit 0
 
 cmd="apt-get install -y --no-install-recommends ${missing[*]}"

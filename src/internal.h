@@ -135,6 +135,15 @@ bbc_result bbc__load_ply(const char *path, const bbc_load_options *options, bbc_
 /* Point clouds in XYZ text (.xyz, .pts, .txt); same contract. */
 bbc_result bbc__load_xyz_points(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
                                 bbc_error *err);
+/* The same readers on a file's bytes already in memory: `buf` holds `size`
+ * bytes and a NUL after them, is taken over (freed) by the call; `path`
+ * names the input in messages (and, for PLY, where its textures are). */
+bbc_result bbc__parse_vrml(const char *path, char *buf, size_t size,
+                           const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err);
+bbc_result bbc__parse_ply(const char *path, char *buf, size_t size, const bbc_load_options *options,
+                          bbc_mesh *mesh, bbc_error *err);
+bbc_result bbc__parse_xyz(const char *path, char *buf, size_t size, const bbc_load_options *options,
+                          bbc_mesh *mesh, bbc_error *err);
 
 /* ---- baking (src/core/raster.c) ------------------------------------------
  * One rasterization of `faces` (indices into mesh triangles; all when NULL)

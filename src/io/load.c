@@ -2,6 +2,7 @@
 #include "internal.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* Georeferenced coordinates (a centre beyond 10,000 units, e.g. UTM metres)
@@ -70,4 +71,48 @@ bbc_result bbc_mesh_load(const char *path, const bbc_load_options *options, bbc_
     recentre(mesh);
   }
   return r;
+}
+
+bbc_result bbc_mesh_load_memory(const char *name, const void *data, size_t size,
+                                const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err) {
+  bbc_load_options defaults;
+  if (!options) {
+    bbc_load_options_default(&defaults);
+    options = &defaults;
+  }
+  memset(mesh, 0, sizeof *mesh);
+  if (err) {
+    err->code = BBC_OK;
+    err->message[0] = 0;
+  }
+  if (!name) name = "(memory)";
+  char ext[16];
+  bbc__path_extension(name, ext, sizeof ext);
+  int ply = !strcmp(ext, "ply"), wrl = !strcmp(ext, "wrl") || !strcmp(ext, "vrml"),
+      xyz = !strcmp(ext, "xyz") || !strcmp(ext, "pts") || !strcmp(ext, "txt");
+  if (!ply && !wrl && !xyz)
+    return bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
+                     "%s: from memory the project's own readers only (.ply, .xyz, .pts, .txt, "
+                     ".wrl)",
+                     name);
+  char *buf = malloc(size + 1);
+  if (!buf) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
+  if (size) memcpy(buf, data, size);
+  buf[size] = 0;
+  bbc_result r;
+  if (ply) {
+    r = bbc__parse_ply(name, buf, size, options, mesh, err);
+  } else if (xyz) {
+    r = bbc__parse_xyz(name, buf, size, options, mesh, err);
+  } else {
+    r = bbc__parse_vrml(name, buf, size, options, mesh, err);
+    if (r == BBC_OK) r = bbc_mesh_finalize(mesh, options->compute_normals, name, err);
+  }
+  if (r != BBC_OK) {
+    bbc_mesh_free(mesh);
+    return r;
+  }
+  mesh->no_mipmaps = options->no_mipmaps;
+  recentre(mesh);
+  return BBC_OK;
 }

@@ -1339,8 +1339,8 @@ oom:
  * header names a TextureFile), and group 0, named after the file's stem
  * ("bunny" for "scans/bunny.ply") so that the group says where the geometry
  * came from, as OBJ groups do. */
-static bbc_result ply_bbc__finish_loaded(ply_reader *pp, const ply_header *h,
-                                         const bbc_load_options *opt, bbc_error *err) {
+static bbc_result ply_finish_mesh(ply_reader *pp, const ply_header *h, const bbc_load_options *opt,
+                                  bbc_error *err) {
   bbc_mesh *m = pp->mesh;
   size_t n = m->triangle_count ? m->triangle_count : 1;
   if (m->triangle_count && m->triangle_count < pp->triangle_cap) {
@@ -1379,7 +1379,6 @@ bbc_result bbc__load_ply(const char *path, const bbc_load_options *options, bbc_
     bbc_load_options_default(&defaults);
     options = &defaults;
   }
-  const bbc_callbacks *cb = &options->callbacks;
   memset(mesh, 0, sizeof *mesh);
   bbc_result r = bbc__check_input_file(path, err);
   if (r != BBC_OK) return r;
@@ -1387,7 +1386,19 @@ bbc_result bbc__load_ply(const char *path, const bbc_load_options *options, bbc_
   size_t size;
   r = bbc__read_whole_file(path, &buf, &size, err);
   if (r != BBC_OK) return r;
+  return bbc__parse_ply(path, buf, size, options, mesh, err);
+}
 
+bbc_result bbc__parse_ply(const char *path, char *buf, size_t size, const bbc_load_options *options,
+                          bbc_mesh *mesh, bbc_error *err) {
+  bbc_load_options defaults;
+  if (!options) {
+    bbc_load_options_default(&defaults);
+    options = &defaults;
+  }
+  const bbc_callbacks *cb = &options->callbacks;
+  memset(mesh, 0, sizeof *mesh);
+  bbc_result r;
   ply_header h;
   r = ply_parse_header(path, buf, size, &h, err);
   if (r != BBC_OK) {
@@ -1429,7 +1440,7 @@ bbc_result bbc__load_ply(const char *path, const bbc_load_options *options, bbc_
   free(buf);
   buf = NULL;
   if (pp.is_mesh) {
-    r = ply_bbc__finish_loaded(&pp, &h, options, err);
+    r = ply_finish_mesh(&pp, &h, options, err);
     if (r != BBC_OK) goto fail;
   } else {
     ply_finish_colors(&pp);

@@ -22,7 +22,6 @@ static const char *skip_separator(const char *p, const char *le) {
 
 bbc_result bbc__load_xyz_points(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
                                 bbc_error *err) {
-  const bbc_callbacks *cb = options ? &options->callbacks : NULL;
   memset(mesh, 0, sizeof *mesh);
   bbc_result r = bbc__check_input_file(path, err);
   if (r != BBC_OK) return r;
@@ -30,7 +29,14 @@ bbc_result bbc__load_xyz_points(const char *path, const bbc_load_options *option
   size_t size;
   r = bbc__read_whole_file(path, &buf, &size, err);
   if (r != BBC_OK) return r;
+  return bbc__parse_xyz(path, buf, size, options, mesh, err);
+}
 
+bbc_result bbc__parse_xyz(const char *path, char *buf, size_t size, const bbc_load_options *options,
+                          bbc_mesh *mesh, bbc_error *err) {
+  const bbc_callbacks *cb = options ? &options->callbacks : NULL;
+  memset(mesh, 0, sizeof *mesh);
+  bbc_result r = BBC_OK;
   /* A NUL byte near the start means a binary file with the wrong extension;
    * say so instead of complaining about its first "line". */
   const char *nul = memchr(buf, '\0', size < 65536 ? size : 65536);
@@ -62,6 +68,7 @@ bbc_result bbc__load_xyz_points(const char *path, const bbc_load_options *option
   if (size >= 3 && memcmp(buf, "\xEF\xBB\xBF", 3) == 0) c.p += 3; /* UTF-8 byte order mark */
   const char *ls, *le;
   size_t n = 0, header_line = 0;
+  double pts_count = -1; /* Leica PTS: the count its first line gives */
   size_t next_report = size / 8, report = size >= 4u * 1024 * 1024;
   char q[40];
   while (next_line(&c, &ls, &le)) {
@@ -93,6 +100,7 @@ bbc_result bbc__load_xyz_points(const char *path, const bbc_load_options *option
     /* Leica PTS (routed here too) starts with a line holding the point count. */
     if (k == 1 && n == 0 && header_line == 0 && v[0] >= 0 && v[0] == floor(v[0])) {
       header_line = c.line;
+      pts_count = v[0];
       continue;
     }
     if (k < 3) {
@@ -125,6 +133,12 @@ bbc_result bbc__load_xyz_points(const char *path, const bbc_load_options *option
   if (n == 0) {
     r = bbc__fail(err, BBC_ERROR_EMPTY,
                   "%s: no points: the file has only comments, blank lines or a header", path);
+    goto fail;
+  }
+  if (pts_count >= 0 && pts_count != (double)n) { /* truncated, or not a count */
+    r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                  "%s: line %zu gives %.0f points, the file holds %zu: truncated or damaged", path,
+                  header_line, pts_count, n);
     goto fail;
   }
   double *shrunk = realloc(mesh->positions, n * 3 * sizeof(double));

@@ -1,0 +1,7 @@
+/* fuzz_wrl.c — libFuzzer harness: the .wrl reader (see fuzz_load.h). */
+#include "fuzz_load.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+  return bbc_fuzz_load("fuzz.wrl", data, size);
+}

@@ -226,10 +226,11 @@ typedef struct bbc_load_options {
 
 void bbc_load_options_default(bbc_load_options *options);
 
-/* A model from bytes in memory (the project's own readers: PLY, XYZ/PTS/TXT
- * and VRML, chosen by the extension of `name`, which names it in messages;
- * others are BBC_ERROR_UNSUPPORTED_FORMAT), finished as bbc_mesh_load
- * finishes a file. For embedding, and for the fuzzers. */
+/* A model from bytes in memory, the reader chosen by the extension of
+ * `name` (which names it in messages): the project's own for PLY,
+ * XYZ/PTS/TXT and VRML, Assimp's for the rest (with no other files: an
+ * OBJ's MTL or a .gltf's buffers are not found; .glb is whole), finished as
+ * bbc_mesh_load finishes a file. For embedding, and for the fuzzers. */
 bbc_result bbc_mesh_load_memory(const char *name, const void *data, size_t size,
                                 const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err);
 

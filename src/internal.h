@@ -144,6 +144,10 @@ bbc_result bbc__parse_ply(const char *path, char *buf, size_t size, const bbc_lo
                           bbc_mesh *mesh, bbc_error *err);
 bbc_result bbc__parse_xyz(const char *path, char *buf, size_t size, const bbc_load_options *options,
                           bbc_mesh *mesh, bbc_error *err);
+/* A model Assimp reads, from memory (`name`'s extension is its format hint;
+ * no other files: an OBJ's MTL, a glTF's buffers are not found). */
+bbc_result bbc__load_assimp_memory(const char *name, const void *data, size_t size,
+                                   const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err);
 
 /* ---- baking (src/core/raster.c) ------------------------------------------
  * One rasterization of `faces` (indices into mesh triangles; all when NULL)

@@ -44,7 +44,8 @@ static bbc_result feed(const char *format, const char *name, const void *data, s
   return r;
 }
 
-static const char *const k_formats[] = {"ply", "xyz", "wrl", "forest_map", "forest_model"};
+static const char *const k_formats[] = {"ply",          "xyz", "wrl", "forest_map",
+                                        "forest_model", "obj", "3ds", "glb"};
 
 static void test_replay(void **state) {
   (void)state;

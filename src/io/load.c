@@ -90,11 +90,17 @@ bbc_result bbc_mesh_load_memory(const char *name, const void *data, size_t size,
   bbc__path_extension(name, ext, sizeof ext);
   int ply = !strcmp(ext, "ply"), wrl = !strcmp(ext, "wrl") || !strcmp(ext, "vrml"),
       xyz = !strcmp(ext, "xyz") || !strcmp(ext, "pts") || !strcmp(ext, "txt");
-  if (!ply && !wrl && !xyz)
-    return bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
-                     "%s: from memory the project's own readers only (.ply, .xyz, .pts, .txt, "
-                     ".wrl)",
-                     name);
+  if (!ply && !wrl && !xyz) { /* Assimp's formats, then our mesh building */
+    bbc_result r = bbc__load_assimp_memory(name, data, size, options, mesh, err);
+    if (r == BBC_OK) r = bbc_mesh_finalize(mesh, options->compute_normals, name, err);
+    if (r != BBC_OK) {
+      bbc_mesh_free(mesh);
+      return r;
+    }
+    mesh->no_mipmaps = options->no_mipmaps;
+    recentre(mesh);
+    return BBC_OK;
+  }
   char *buf = malloc(size + 1);
   if (!buf) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
   if (size) memcpy(buf, data, size);

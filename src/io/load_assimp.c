@@ -465,9 +465,16 @@ static bbc_result classify_assimp_error(const char *path, const char *msg) {
 /* Assimp's OBJ reader turns "nan" into zeros in some positions and shifts
  * the following numbers, so damaged coordinates would slip through as
  * plausible geometry. Check every `v` line's numbers before importing. */
+static bbc_result check_obj_stream(FILE *f, const char *path, bbc_error *err);
+
 static bbc_result check_obj_vertices(const char *path, bbc_error *err) {
   FILE *f = fopen(path, "rb");
   if (!f) return BBC_OK; /* Assimp reports the open error */
+  return check_obj_stream(f, path, err);
+}
+
+/* The same over an open stream (closed here). */
+static bbc_result check_obj_stream(FILE *f, const char *path, bbc_error *err) {
   char *line = NULL;
   size_t cap = 0;
   ssize_t n;
@@ -498,6 +505,14 @@ static bbc_result check_obj_vertices(const char *path, bbc_error *err) {
   return r;
 }
 
+/* Points and lines are no surfaces: Assimp sorts them into their own meshes,
+ * which add_mesh skips and counts. */
+static const unsigned k_flags =
+    aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_JoinIdenticalVertices;
+
+static bbc_result from_scene(const char *path, const struct aiScene *sc,
+                             const bbc_load_options *opt, bbc_mesh *mesh, bbc_error *err);
+
 bbc_result bbc__load_assimp(const char *path, const bbc_load_options *opt, bbc_mesh *mesh,
                             bbc_error *err) {
   bbc__progress(&opt->callbacks, "load", 0.0);
@@ -508,11 +523,36 @@ bbc_result bbc__load_assimp(const char *path, const bbc_load_options *opt, bbc_m
     if (cr != BBC_OK) return cr;
   }
   struct aiPropertyStore *props = aiCreatePropertyStore();
-  /* Points and lines are no surfaces: Assimp sorts them into their own meshes,
-   * which add_mesh skips and counts. */
-  unsigned flags = aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_JoinIdenticalVertices;
-  const struct aiScene *sc = aiImportFileExWithProperties(path, flags, NULL, props);
+  const struct aiScene *sc = aiImportFileExWithProperties(path, k_flags, NULL, props);
   aiReleasePropertyStore(props);
+  return from_scene(path, sc, opt, mesh, err);
+}
+
+bbc_result bbc__load_assimp_memory(const char *name, const void *data, size_t size,
+                                   const bbc_load_options *opt, bbc_mesh *mesh, bbc_error *err) {
+  bbc__progress(&opt->callbacks, "load", 0.0);
+  char ext[16];
+  bbc__path_extension(name, ext, sizeof ext);
+  if (!strcmp(ext, "obj") && size) {
+    FILE *f = fmemopen((void *)data, size, "rb");
+    if (f) {
+      bbc_result cr = check_obj_stream(f, name, err);
+      if (cr != BBC_OK) return cr;
+    }
+  }
+  /* Assimp aborts on an empty buffer (an assertion, found by fuzz_obj) */
+  if (size == 0) return bbc__fail(err, BBC_ERROR_EMPTY, "%s: empty (0 bytes)", name);
+  if (size > UINT_MAX) return bbc__fail(err, BBC_ERROR_OUT_OF_RANGE, "%s: too large", name);
+  struct aiPropertyStore *props = aiCreatePropertyStore();
+  const struct aiScene *sc =
+      aiImportFileFromMemoryWithProperties((const char *)data, (unsigned)size, k_flags, ext, props);
+  aiReleasePropertyStore(props);
+  return from_scene(name, sc, opt, mesh, err);
+}
+
+/* The scene Assimp read (NULL: its error) as our mesh; releases it. */
+static bbc_result from_scene(const char *path, const struct aiScene *sc,
+                             const bbc_load_options *opt, bbc_mesh *mesh, bbc_error *err) {
   if (!sc) {
     const char *msg = aiGetErrorString();
     if (!msg || !*msg) msg = "unknown reason";

@@ -374,6 +374,7 @@ typedef struct builder {
   char folder[4096];
   int load_textures;
   size_t skipped; /* geometry nodes other than IndexedFaceSet and PointSet */
+  size_t visits;  /* nodes walked: USE can repeat a subtree, even inside itself */
   /* PointSets (Appendix A: a point cloud is one node with point and color) */
   double *pts;
   uint8_t *cols;
@@ -583,8 +584,15 @@ static void mul(const double *a, const double *b, double *o) { /* 3 x 4 affine *
   memcpy(o, r, sizeof r);
 }
 
+/* Nodes walked at most: a scene that USEs a group inside itself (found by
+ * fuzz_wrl) or nests many instances would otherwise take exponential time. */
+#define MAX_VISITS 2000000u
+
 static int walk(builder *b, const vnode *n, const double *xf, int depth) {
   if (!n || depth > MAX_DEPTH) return 1;
+  if (++b->visits > MAX_VISITS)
+    return fail(b->p, BBC_ERROR_CORRUPT,
+                "more than 2,000,000 node instances (USE inside itself, or nested too often)");
   const char *t = n->type;
   if (!strcmp(t, "Shape")) {
     const vnode *g = child(n, "geometry");

@@ -127,17 +127,11 @@ bbc_result bbc__read_whole_file(const char *path, char **data, size_t *size, bbc
 int bbc__is_bmp_rle(const uint8_t *data, size_t size);
 bbc_result bbc__bmp_rle_decode(const uint8_t *data, size_t size, const char *name, bbc_image *image,
                                bbc_error *err);
-/* VRML 2.0 / VRML97 meshes (src/io/load_vrml.c); the caller finalizes. */
-bbc_result bbc__load_vrml(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
-                          bbc_error *err);
-bbc_result bbc__load_ply(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
-                         bbc_error *err);
-/* Point clouds in XYZ text (.xyz, .pts, .txt); same contract. */
-bbc_result bbc__load_xyz_points(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
-                                bbc_error *err);
-/* The same readers on a file's bytes already in memory: `buf` holds `size`
- * bytes and a NUL after them, is taken over (freed) by the call; `path`
- * names the input in messages (and, for PLY, where its textures are). */
+/* The readers we own (src/io/load_vrml.c, load_ply.c, load_xyz.c), on a
+ * file's bytes in memory: `buf` holds `size` bytes and a NUL after them and
+ * is taken over (freed) by the call; `path` names the input in messages
+ * (and, for PLY, where its textures are). PLY and XYZ finish the mesh
+ * themselves; the caller finalizes a VRML mesh (bbc_mesh_load does). */
 bbc_result bbc__parse_vrml(const char *path, char *buf, size_t size,
                            const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err);
 bbc_result bbc__parse_ply(const char *path, char *buf, size_t size, const bbc_load_options *options,

@@ -22,6 +22,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
 /* ---- helpers ------------------------------------------------------------ */
@@ -713,10 +714,15 @@ static void test_missing_file(void **state) {
   bbc_error err;
   assert_int_equal(load(path, &m, &err), BBC_ERROR_NOT_FOUND);
   snprintf(path, sizeof path, "%s/absent.ply", f->dir);
-  assert_int_equal(bbc__load_ply(path, NULL, &m, &err), BBC_ERROR_NOT_FOUND);
+  assert_int_equal(bbc_mesh_load(path, NULL, &m, &err), BBC_ERROR_NOT_FOUND);
   assert_int_equal(load(path, &m, &err), BBC_ERROR_NOT_FOUND);
-  assert_int_equal(bbc__load_ply(f->dir, NULL, &m, &err), BBC_ERROR_NOT_A_FILE);
-  assert_int_equal(bbc__load_xyz_points(f->dir, NULL, &m, &err), BBC_ERROR_NOT_A_FILE);
+  /* folders named like a PLY and an XYZ file */
+  snprintf(path, sizeof path, "%s/folder.ply", f->dir);
+  assert_int_equal(mkdir(path, 0777), 0);
+  assert_int_equal(bbc_mesh_load(path, NULL, &m, &err), BBC_ERROR_NOT_A_FILE);
+  snprintf(path, sizeof path, "%s/folder.xyz", f->dir);
+  assert_int_equal(mkdir(path, 0777), 0);
+  assert_int_equal(bbc_mesh_load(path, NULL, &m, &err), BBC_ERROR_NOT_A_FILE);
 }
 
 /* ---- hand-made PLY meshes ------------------------------------------------ */

@@ -246,27 +246,27 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
           penalty[s][r] += lp[s][r];
         }
     }
-  }
+  } else { /* triangles: a sub-direction per thread, every face of the set */
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) num_threads(nt) if (n > 512)
 #endif
-  for (int s = 0; s < ND * ND; s++) {
-    if (n && c->faces[set[0]].point) continue; /* done above */
-    for (int r = 0; r < NR; r++) contrib[s][r] = penalty[s][r] = 0;
-    if (!valid_dir[s]) continue;
-    const dual_dir *dd = &dirs[s];
-    for (size_t i = 0; i < n; i++) {
-      const dual_face *f = &c->faces[set[i]];
-      double lo, hi;
-      if (!dual_face_range(f, dd, c->eps, &lo, &hi)) continue;
-      double proj = dual_projected_area(f, dd->n) * c->g->scale;
-      for (int r = 0; r < NR; r++) {
-        double r0 = b->r0 - 2 * dr + r * dr, r1 = r0 + dr;
-        if (hi < r0 || lo - c->eps > r1) continue;
-        int64_t cc, pp;
-        dual_range_density(lo, hi, c->eps, proj, r0, r1, &cc, &pp);
-        contrib[s][r] += cc;
-        penalty[s][r] += pp;
+    for (int s = 0; s < ND * ND; s++) {
+      for (int r = 0; r < NR; r++) contrib[s][r] = penalty[s][r] = 0;
+      if (!valid_dir[s]) continue;
+      const dual_dir *dd = &dirs[s];
+      for (size_t i = 0; i < n; i++) {
+        const dual_face *f = &c->faces[set[i]];
+        double lo, hi;
+        if (!dual_face_range(f, dd, c->eps, &lo, &hi)) continue;
+        double proj = dual_projected_area(f, dd->n) * c->g->scale;
+        for (int r = 0; r < NR; r++) {
+          double r0 = b->r0 - 2 * dr + r * dr, r1 = r0 + dr;
+          if (hi < r0 || lo - c->eps > r1) continue;
+          int64_t cc, pp;
+          dual_range_density(lo, hi, c->eps, proj, r0, r1, &cc, &pp);
+          contrib[s][r] += cc;
+          penalty[s][r] += pp;
+        }
       }
     }
   }

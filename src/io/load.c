@@ -26,8 +26,11 @@ static void recentre(bbc_mesh *m) {
   }
 }
 
-bbc_result bbc_mesh_load(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
-                         bbc_error *err) {
+/* The readers we own (PLY, XYZ/PTS/TXT, VRML) parse a NUL-terminated buffer
+ * (the whole file read at once, or a copy of the caller's bytes); the rest
+ * goes to Assimp. Either way the mesh is then finished alike. */
+static bbc_result load_any(const char *name, const void *data, size_t size, int from_memory,
+                           const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err) {
   bbc_load_options defaults;
   if (!options) {
     bbc_load_options_default(&defaults);
@@ -38,81 +41,42 @@ bbc_result bbc_mesh_load(const char *path, const bbc_load_options *options, bbc_
     err->code = BBC_OK;
     err->message[0] = 0;
   }
-  bbc_result r = bbc__check_input_file(path, err);
+  bbc_result r = from_memory ? BBC_OK : bbc__check_input_file(name, err);
   if (r != BBC_OK) return r;
-
-  char ext[16];
-  bbc__path_extension(path, ext, sizeof ext);
-  /* Point clouds and PLY have their own readers, which finish the mesh
-   * themselves. Every .ply goes to ours, mesh or point cloud: Assimp would
-   * drop the points, accept damaged binary bodies without complaint, read
-   * out-of-range face indices from uninitialised memory, and it never
-   * returns on a header without end_header. */
-  if (!strcmp(ext, "xyz") || !strcmp(ext, "pts") || !strcmp(ext, "txt"))
-    r = bbc__load_xyz_points(path, options, mesh, err);
-  else if (!strcmp(ext, "ply"))
-    r = bbc__load_ply(path, options, mesh, err);
-  else {
-    /* VRML: the project's reader (Debian's Assimp has no VRML importer). */
-    if (!strcmp(ext, "wrl") || !strcmp(ext, "vrml"))
-      r = bbc__load_vrml(path, options, mesh, err);
-    else
-      r = bbc__load_assimp(path, options, mesh, err);
-    if (r == BBC_OK) r = bbc_mesh_finalize(mesh, options->compute_normals, path, err);
-    if (r == BBC_OK && mesh->dropped_degenerate)
-      bbc__log(&options->callbacks, BBC_LOG_WARNING, "%s: dropped %zu zero-area triangles", path,
-               mesh->dropped_degenerate);
-    bbc__progress(&options->callbacks, "load", 1.0);
-  }
-  if (r != BBC_OK)
-    bbc_mesh_free(mesh);
-  else {
-    mesh->no_mipmaps = options->no_mipmaps;
-    recentre(mesh);
-  }
-  return r;
-}
-
-bbc_result bbc_mesh_load_memory(const char *name, const void *data, size_t size,
-                                const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err) {
-  bbc_load_options defaults;
-  if (!options) {
-    bbc_load_options_default(&defaults);
-    options = &defaults;
-  }
-  memset(mesh, 0, sizeof *mesh);
-  if (err) {
-    err->code = BBC_OK;
-    err->message[0] = 0;
-  }
-  if (!name) name = "(memory)";
   char ext[16];
   bbc__path_extension(name, ext, sizeof ext);
+  /* Every .ply goes to our reader, mesh or point cloud: Assimp would drop
+   * the points, accept damaged binary bodies without complaint, read
+   * out-of-range face indices from uninitialised memory, and it never
+   * returns on a header without end_header. VRML: Debian's Assimp has no
+   * VRML importer. */
   int ply = !strcmp(ext, "ply"), wrl = !strcmp(ext, "wrl") || !strcmp(ext, "vrml"),
       xyz = !strcmp(ext, "xyz") || !strcmp(ext, "pts") || !strcmp(ext, "txt");
-  if (!ply && !wrl && !xyz) { /* Assimp's formats, then our mesh building */
-    bbc_result r = bbc__load_assimp_memory(name, data, size, options, mesh, err);
-    if (r == BBC_OK) r = bbc_mesh_finalize(mesh, options->compute_normals, name, err);
-    if (r != BBC_OK) {
-      bbc_mesh_free(mesh);
+  if (ply || wrl || xyz) {
+    char *buf = NULL;
+    size_t n = size;
+    if (from_memory) {
+      buf = malloc(size + 1);
+      if (!buf) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
+      if (size) memcpy(buf, data, size);
+      buf[size] = 0;
+    } else if ((r = bbc__read_whole_file(name, &buf, &n, err)) != BBC_OK) {
       return r;
     }
-    mesh->no_mipmaps = options->no_mipmaps;
-    recentre(mesh);
-    return BBC_OK;
-  }
-  char *buf = malloc(size + 1);
-  if (!buf) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
-  if (size) memcpy(buf, data, size);
-  buf[size] = 0;
-  bbc_result r;
-  if (ply) {
-    r = bbc__parse_ply(name, buf, size, options, mesh, err);
-  } else if (xyz) {
-    r = bbc__parse_xyz(name, buf, size, options, mesh, err);
+    /* the PLY and XYZ parsers finish the mesh themselves */
+    r = ply   ? bbc__parse_ply(name, buf, n, options, mesh, err)
+        : xyz ? bbc__parse_xyz(name, buf, n, options, mesh, err)
+              : bbc__parse_vrml(name, buf, n, options, mesh, err);
   } else {
-    r = bbc__parse_vrml(name, buf, size, options, mesh, err);
+    r = from_memory ? bbc__load_assimp_memory(name, data, size, options, mesh, err)
+                    : bbc__load_assimp(name, options, mesh, err);
+  }
+  if (!ply && !xyz) {
     if (r == BBC_OK) r = bbc_mesh_finalize(mesh, options->compute_normals, name, err);
+    if (r == BBC_OK && mesh->dropped_degenerate)
+      bbc__log(&options->callbacks, BBC_LOG_WARNING, "%s: dropped %zu zero-area triangles", name,
+               mesh->dropped_degenerate);
+    bbc__progress(&options->callbacks, "load", 1.0);
   }
   if (r != BBC_OK) {
     bbc_mesh_free(mesh);
@@ -121,4 +85,14 @@ bbc_result bbc_mesh_load_memory(const char *name, const void *data, size_t size,
   mesh->no_mipmaps = options->no_mipmaps;
   recentre(mesh);
   return BBC_OK;
+}
+
+bbc_result bbc_mesh_load(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
+                         bbc_error *err) {
+  return load_any(path, NULL, 0, 0, options, mesh, err);
+}
+
+bbc_result bbc_mesh_load_memory(const char *name, const void *data, size_t size,
+                                const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err) {
+  return load_any(name ? name : "(memory)", data, size, 1, options, mesh, err);
 }

@@ -1372,23 +1372,6 @@ oom:
   return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", pp->path);
 }
 
-bbc_result bbc__load_ply(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
-                         bbc_error *err) {
-  bbc_load_options defaults;
-  if (!options) {
-    bbc_load_options_default(&defaults);
-    options = &defaults;
-  }
-  memset(mesh, 0, sizeof *mesh);
-  bbc_result r = bbc__check_input_file(path, err);
-  if (r != BBC_OK) return r;
-  char *buf;
-  size_t size;
-  r = bbc__read_whole_file(path, &buf, &size, err);
-  if (r != BBC_OK) return r;
-  return bbc__parse_ply(path, buf, size, options, mesh, err);
-}
-
 bbc_result bbc__parse_ply(const char *path, char *buf, size_t size, const bbc_load_options *options,
                           bbc_mesh *mesh, bbc_error *err) {
   bbc_load_options defaults;

@@ -636,15 +636,6 @@ static int walk(builder *b, const vnode *n, const double *xf, int depth) {
   return 1;
 }
 
-bbc_result bbc__load_vrml(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
-                          bbc_error *err) {
-  char *text = NULL;
-  size_t n = 0;
-  bbc_result rr = bbc__read_whole_file(path, &text, &n, err);
-  if (rr != BBC_OK) return rr;
-  return bbc__parse_vrml(path, text, n, options, mesh, err);
-}
-
 bbc_result bbc__parse_vrml(const char *path, char *text, size_t n, const bbc_load_options *options,
                            bbc_mesh *mesh, bbc_error *err) {
   if (n < 15 || strncmp(text, "#VRML V2.0", 10)) {

@@ -20,18 +20,6 @@ static const char *skip_separator(const char *p, const char *le) {
   return p;
 }
 
-bbc_result bbc__load_xyz_points(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
-                                bbc_error *err) {
-  memset(mesh, 0, sizeof *mesh);
-  bbc_result r = bbc__check_input_file(path, err);
-  if (r != BBC_OK) return r;
-  char *buf;
-  size_t size;
-  r = bbc__read_whole_file(path, &buf, &size, err);
-  if (r != BBC_OK) return r;
-  return bbc__parse_xyz(path, buf, size, options, mesh, err);
-}
-
 bbc_result bbc__parse_xyz(const char *path, char *buf, size_t size, const bbc_load_options *options,
                           bbc_mesh *mesh, bbc_error *err) {
   const bbc_callbacks *cb = options ? &options->callbacks : NULL;

@@ -1149,6 +1149,70 @@ const bbc_grid *bbc_session_grid_get(const bbc_session *session);
 const bbc_planeset *bbc_session_planeset(const bbc_session *session);
 const bbc_cloud *bbc_session_result(const bbc_session *session);
 
+/* ---- the command language (Appendix A's batch files and prompt) -------- */
+/* One command per line, words separated by blanks, '#' starting a comment
+ * line. The library parses; the caller (bbcgen's batch files and prompt)
+ * runs the commands on a session. */
+typedef enum bbc_command_kind {
+  BBC_COMMAND_NONE = 0, /* no command: the end of the text */
+  BBC_COMMAND_LOAD,     /* load FILE [nocg] [nomip] */
+  BBC_COMMAND_SET,      /* set [PART.]NAME VALUE */
+  BBC_COMMAND_SPLIT,    /* split auto|none|names|geometry, split trunk=P / foliage=P */
+  BBC_COMMAND_BBC1,
+  BBC_COMMAND_BBC2,
+  BBC_COMMAND_BBC3,
+  BBC_COMMAND_BBC,
+  BBC_COMMAND_PLANES,  /* planes [OUT.json] */
+  BBC_COMMAND_SHADE,   /* shade N [AMBIENT] */
+  BBC_COMMAND_SAVE,    /* save [DIR] */
+  BBC_COMMAND_SETUP,   /* print the parameters */
+  BBC_COMMAND_EXEC,    /* exec FILE */
+  BBC_COMMAND_BBCLOAD, /* bbcload FILE */
+  BBC_COMMAND_SHOW,    /* show model|bbc [KEYS] */
+  BBC_COMMAND_HELP,    /* help [COMMAND] */
+  BBC_COMMAND_CLS,
+  BBC_COMMAND_QUIT, /* q, quit */
+  BBC_COMMAND_KIND_COUNT
+} bbc_command_kind;
+
+typedef struct bbc_command_info {
+  bbc_command_kind kind;
+  const char *name, *args, *what; /* "load", "FILE [nocg] [nomip]", a line of help */
+} bbc_command_info;
+size_t bbc_command_count(void);
+const bbc_command_info *bbc_command_at(size_t i); /* i < bbc_command_count(), help's order */
+const bbc_command_info *bbc_command_find(const char *name); /* NULL: no such command */
+
+#define BBC_COMMAND_LINE_MAX 4096 /* characters of a line, its end excluded */
+typedef struct bbc_command {
+  bbc_command_kind kind;
+  int line;                        /* 1-based line of the text (bbc_script_next) */
+  char arg[BBC_COMMAND_LINE_MAX];  /* the first argument ("" when none) */
+  char rest[BBC_COMMAND_LINE_MAX]; /* what follows it, trimmed ("" when nothing) */
+  /* parsed where the command has them */
+  int nomip;            /* load */
+  char part[64];        /* set PART.NAME: the part ("" for every part) */
+  char name[64];        /* set: the parameter as written (bbc_param_find checks it) */
+  bbc_split_mode split; /* split: a mode, or BBC_SPLIT_PATTERNS with trunk_side */
+  int trunk_side;       /* split trunk=P (1) or foliage=P (0): the patterns in `rest` */
+  int shade_voxels;     /* shade: 0..512 */
+  double shade_ambient; /* shade: 0..1, 0 when not given */
+  int show_bbc;         /* show: 0 model, 1 bbc; keys in `rest` */
+} bbc_command;
+
+/* Parses one line (no line break in it). An empty or comment line gives
+ * kind BBC_COMMAND_NONE. Errors (BBC_ERROR_INVALID_ARGUMENT): an unknown
+ * command, a missing or malformed argument, a NUL byte, a line too long;
+ * the message names the command. */
+bbc_result bbc_command_parse(const char *line, size_t length, bbc_command *cmd, bbc_error *err);
+/* The next command of a text (a batch file in memory, `size` bytes) from
+ * `*pos` on, blank and comment lines skipped; `*pos` and `*line` (the last
+ * line read, 1-based) move past it. kind BBC_COMMAND_NONE at the end. An
+ * error is bbc_command_parse's, with "NAME:LINE: " first (`name`: the
+ * file's name in messages). */
+bbc_result bbc_script_next(const char *text, size_t size, const char *name, size_t *pos, int *line,
+                           bbc_command *cmd, bbc_error *err);
+
 /* ---- forest: map and model description files (thesis Appendix B) ------ */
 /* The forest engine's text files, as the thesis's "Perfect Motion manual"
  * defines them: whitespace-separated words, a command's arguments wherever

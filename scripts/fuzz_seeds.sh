@@ -7,7 +7,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 data="$root/../shared/data"
 dir=${1:?usage: fuzz_seeds.sh DIR}
-for h in fuzz_ply fuzz_xyz fuzz_wrl fuzz_forest_map fuzz_forest_model fuzz_obj fuzz_3ds fuzz_glb; do
+for h in fuzz_ply fuzz_xyz fuzz_wrl fuzz_forest_map fuzz_forest_model fuzz_batch fuzz_scene fuzz_obj fuzz_3ds fuzz_glb; do
   mkdir -p "$dir/$h/seeds"
 done
 seed() { # HARNESS NAME < content
@@ -35,6 +35,8 @@ printf '3\n1 2 3\n4 5 6\n7 8 9\n' | seed fuzz_xyz counted.pts
 printf '#VRML V2.0 utf8\nDEF T Transform { translation 1 2 3 rotation 0 1 0 1.57 scale 2 2 2 children [\n Shape { appearance Appearance { material Material { diffuseColor 1 0 0 } texture ImageTexture { url "t.png" } }\n geometry IndexedFaceSet { coord Coordinate { point [ 0 0 0, 1 0 0, 0 1 0 ] } coordIndex [ 0 1 2 -1 ] texCoord TextureCoordinate { point [ 0 0, 1 0, 0 1 ] } texCoordIndex [ 0 1 2 -1 ] solid FALSE } }\n Shape { geometry PointSet { coord Coordinate { point [ 0 0 0, 1 1 1 ] } color Color { color [ 1 0 0, 0 1 0 ] } } }\n] }\nUSE T\nLOD { level [ Group { children [] } ] }\n' | seed fuzz_wrl scene.wrl
 printf "' a map with every command of Appendix B\nhmap terrain.png\nhmapfilter 2 3\ncolmap colour.png\nheightscale 10.0\nstretch 2.0\nlight 1 -2 0.5\nfarclip 400\nroetger 12.5\nskymap sky/clouds\nwaterheight 15.5\nfog 100 900\nnumobjs 38001\nobject2d house.txt 1.5 1 100 200 0 90 0 -0.5\nrndtree tupelo.txt 1.0 20000 1 1 0 0 0 0\nrndtree2 foliage.wrl \"stem file.wrl\" 0.8 18000 0 1 -90 0 0 0.25\n" | seed fuzz_forest_map every.txt
 printf "fade 250\n' a shadow\nshadowrad 5.2\nshadowcutoff 2.0\nLOD\n(\n    file1 tree.3ds displaylist lighting\n    min 0\n    max 1000\n)\nLOD\n(\n    file1 treefoliage.wrl displaylist\n    file2 treetrunk.wrl displaylist\n    min 1000\n    max 5000\n)\n" | seed fuzz_forest_model thesis.txt
+printf '# every command of Appendix A once\nload tree.obj nocg nomip\nset epsilon 5.5\nset trunk.texres 64\nset foliage.prelight off\nsplit auto\nsplit trunk=bark*,stem\nsplit foliage=leaf?\nbbc1\nbbc2\nbbc3\nbbc\nplanes out.json\nshade 64 0.3\nshade 0\nsave trees\nsetup\nexec other.bbc\nbbcload cloud.wrl\nshow model F1 Tab\nshow bbc\nhelp load\nhelp\ncls\nq\nquit\n' | seed fuzz_batch every.bbc
+printf 'load a.wrl\r\n\tset   maxplanes  32 \r\n#set x\n\n  bbc\n' | seed fuzz_batch crlf.bbc
 # the demo's maps and models when `make demo` has made them
 for f in "$root"/build/demo/forest/*.txt; do
   [ -f "$f" ] || continue

@@ -143,6 +143,19 @@ bbc_result bbc__parse_xyz(const char *path, char *buf, size_t size, const bbc_lo
 bbc_result bbc__load_assimp_memory(const char *name, const void *data, size_t size,
                                    const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err);
 
+/* What every load ends with (src/io/load.c): the mesh finalized (when
+ * `finalize`: the readers other than PLY and XYZ), freed when `r` or the
+ * finishing fails, else moved near 0. Returns the result. */
+bbc_result bbc__load_finish(const char *name, bbc_result r, int finalize,
+                            const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err);
+/* Our code after Assimp on a scene the caller built (the fuzzer of our mesh
+ * building, fuzz/fuzz_scene.c): materials, textures (embedded ones decoded
+ * from memory), nodes, meshes, then bbc__load_finish; the scene stays the
+ * caller's. */
+struct aiScene;
+bbc_result bbc__load_assimp_scene(const char *name, const struct aiScene *scene,
+                                  const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err);
+
 /* ---- baking (src/core/raster.c) ------------------------------------------
  * One rasterization of `faces` (indices into mesh triangles; all when NULL)
  * for a billboard seen along view->direction (= minus the plane's normal),

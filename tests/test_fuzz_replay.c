@@ -35,6 +35,17 @@ static bbc_result feed(const char *format, const char *name, const void *data, s
     if (r == BBC_OK) bbc_forest_model_free(&model);
     return r;
   }
+  if (!strcmp(format, "batch")) { /* as bbcgen exec reads a batch file */
+    bbc_command *k = malloc(sizeof *k);
+    if (!k) return BBC_ERROR_OUT_OF_MEMORY;
+    size_t pos = 0;
+    int line = 0;
+    bbc_result r;
+    do r = bbc_script_next(data, size, name, &pos, &line, k, err);
+    while (r == BBC_OK && k->kind != BBC_COMMAND_NONE);
+    free(k);
+    return r;
+  }
   bbc_load_options o;
   bbc_load_options_default(&o);
   o.load_textures = 0;
@@ -44,8 +55,8 @@ static bbc_result feed(const char *format, const char *name, const void *data, s
   return r;
 }
 
-static const char *const k_formats[] = {"ply",          "xyz", "wrl", "forest_map",
-                                        "forest_model", "obj", "3ds", "glb"};
+static const char *const k_formats[] = {"ply",   "xyz", "wrl", "forest_map", "forest_model",
+                                        "batch", "obj", "3ds", "glb"};
 
 static void test_replay(void **state) {
   (void)state;
@@ -129,6 +140,22 @@ static void test_hostile_per_format(void **state) {
   const char huge_model[] = "LOD\n(\n file1 t.wrl\n min 0\n max 1e999\n)\n";
   refused("forest_model", "huge_model.txt", huge_model, sizeof huge_model - 1);
   refused("forest_model", "garbage_model.txt", garbage, sizeof garbage);
+  /* batch files: a command cut before its argument, a line longer than any
+   * command, binary; the error names file and line */
+  const char trunc_batch[] = "load tree.obj\nset epsilon 5\nset epsilon";
+  refused("batch", "trunc.bbc", trunc_batch, sizeof trunc_batch - 1);
+  bbc_error err;
+  if (feed("batch", "trunc.bbc", trunc_batch, sizeof trunc_batch - 1, &err) == BBC_OK ||
+      !strstr(err.message, "trunc.bbc:3: "))
+    fail_msg("the batch error does not name line 3: %s", err.message);
+  size_t huge_n = 3 * BBC_COMMAND_LINE_MAX;
+  char *huge_batch = malloc(huge_n);
+  assert_non_null(huge_batch);
+  memcpy(huge_batch, "set epsilon ", 12);
+  memset(huge_batch + 12, '5', huge_n - 12);
+  refused("batch", "huge.bbc", huge_batch, huge_n);
+  free(huge_batch);
+  refused("batch", "garbage.bbc", garbage, sizeof garbage);
 }
 
 int main(void) {

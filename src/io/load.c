@@ -71,7 +71,12 @@ static bbc_result load_any(const char *name, const void *data, size_t size, int 
     r = from_memory ? bbc__load_assimp_memory(name, data, size, options, mesh, err)
                     : bbc__load_assimp(name, options, mesh, err);
   }
-  if (!ply && !xyz) {
+  return bbc__load_finish(name, r, !ply && !xyz, options, mesh, err);
+}
+
+bbc_result bbc__load_finish(const char *name, bbc_result r, int finalize,
+                            const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err) {
+  if (finalize) {
     if (r == BBC_OK) r = bbc_mesh_finalize(mesh, options->compute_normals, name, err);
     if (r == BBC_OK && mesh->dropped_degenerate)
       bbc__log(&options->callbacks, BBC_LOG_WARNING, "%s: dropped %zu zero-area triangles", name,

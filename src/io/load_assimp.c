@@ -550,6 +550,9 @@ bbc_result bbc__load_assimp_memory(const char *name, const void *data, size_t si
   return from_scene(name, sc, opt, mesh, err);
 }
 
+static bbc_result convert(const char *path, const struct aiScene *sc, const bbc_load_options *opt,
+                          bbc_mesh *mesh, bbc_error *err);
+
 /* The scene Assimp read (NULL: its error) as our mesh; releases it. */
 static bbc_result from_scene(const char *path, const struct aiScene *sc,
                              const bbc_load_options *opt, bbc_mesh *mesh, bbc_error *err) {
@@ -558,6 +561,26 @@ static bbc_result from_scene(const char *path, const struct aiScene *sc,
     if (!msg || !*msg) msg = "unknown reason";
     return bbc__fail(err, classify_assimp_error(path, msg), "%s: cannot read model: %s", path, msg);
   }
+  bbc_result r = convert(path, sc, opt, mesh, err);
+  aiReleaseImport(sc);
+  return r;
+}
+
+bbc_result bbc__load_assimp_scene(const char *name, const struct aiScene *scene,
+                                  const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err) {
+  bbc_load_options defaults;
+  if (!options) {
+    bbc_load_options_default(&defaults);
+    options = &defaults;
+  }
+  memset(mesh, 0, sizeof *mesh);
+  bbc_result r = convert(name, scene, options, mesh, err);
+  return bbc__load_finish(name, r, 1, options, mesh, err);
+}
+
+/* The scene as our mesh (the scene is left as it is). */
+static bbc_result convert(const char *path, const struct aiScene *sc, const bbc_load_options *opt,
+                          bbc_mesh *mesh, bbc_error *err) {
   bbc__progress(&opt->callbacks, "load", 0.6);
   loader L;
   memset(&L, 0, sizeof L);
@@ -578,7 +601,6 @@ static bbc_result from_scene(const char *path, const struct aiScene *sc,
       r = bbc__fail(err, BBC_ERROR_NOT_FOUND, "%s: no node named *_LOD%d (no such level of detail)",
                     path, opt->lod_node - 1);
   }
-  aiReleaseImport(sc);
   if (r != BBC_OK) return r;
   if (mesh->triangle_count == 0)
     return bbc__fail(err, BBC_ERROR_EMPTY, "%s: the file contains no triangles%s", path,

@@ -65,32 +65,6 @@ typedef struct batch {
   int quit;
 } batch;
 
-static const struct {
-  const char *name, *args, *what;
-} k_commands[] = {
-    {"load", "FILE [nocg] [nomip]",
-     "the model (it stays where it is); nomip: its textures without mipmaps"},
-    {"set", "NAME VALUE", "a parameter (PART.NAME for one part: trunk, foliage)"},
-    {"split", "MODE",
-     "trunk and foliage: auto, none, names, geometry, trunk=PATTERNS, foliage=..."},
-    {"bbc1", "", "step 1: the dual grid and its density (kept for bbc2)"},
-    {"bbc2", "", "step 2 on the kept grid: the planes (kept for bbc3)"},
-    {"bbc3", "", "step 3 on the kept planes (after texturing changes only)"},
-    {"bbc", "", "steps 1 to 3"},
-    {"planes", "[OUT.json]", "steps 1 and 2, the planes as JSON"},
-    {"shade", "N [AMBIENT]", "voxel shadowing for the next step 3 (0 = off)"},
-    {"save", "[DIR]", "the cloud as VRML into vrml97models/[DIR/]MODEL/MODEL_eX.XX_texN.../"},
-    {"setup", "", "print every parameter"},
-    {"exec", "FILE", "run a batch file"},
-    {"bbcload", "FILE", "a saved cloud, shown by show model to compare with the model"},
-    {"show", "model|bbc [KEYS]",
-     "a window: the model, rectangles, cloud; or the grid's domains, density, faces (Esc returns)"},
-    {"help", "[COMMAND]", "the commands, or one"},
-    {"cls", "", "clear the screen"},
-    {"quit", "", "stop (also q)"},
-};
-#define COMMAND_COUNT (sizeof k_commands / sizeof k_commands[0])
-
 static int exec_file(cli *c, batch *b, const char *file);
 
 /* After bbc or bbc3: what save names the folder by, the computed cloud
@@ -101,100 +75,86 @@ static void made_cloud(const cli *c, batch *b, int step3_only) {
 }
 
 static void help(const char *which) {
-  for (size_t i = 0; i < COMMAND_COUNT; i++)
-    if (!which || !strcmp(which, k_commands[i].name))
-      printf("  %-7s %-19s %s\n", k_commands[i].name, k_commands[i].args, k_commands[i].what);
+  const bbc_command_info *only = which && *which ? bbc_command_find(which) : NULL;
+  for (size_t i = 0; i < bbc_command_count(); i++) {
+    const bbc_command_info *k = bbc_command_at(i);
+    if (!only || only == k) printf("  %-7s %-19s %s\n", k->name, k->args, k->what);
+  }
 }
 
-/* One command line (already trimmed, not empty). In a batch file every
- * error names file:line (cli_location, set by exec_file). */
-static int exec_command(cli *c, batch *b, char *s) {
-  char *cmd = strtok(s, " \t");
-  char *a1 = strtok(NULL, " \t");
-  char *a2 = strtok(NULL, "");
-  if (a2) a2 = trim(a2);
+/* One parsed command (bbc_command_parse has checked its words). In a batch
+ * file every error names file:line (cli_location, set by exec_file). */
+static int run_command(cli *c, batch *b, bbc_command *k) {
+  const char *a1 = k->arg[0] ? k->arg : NULL, *a2 = k->rest[0] ? k->rest : NULL;
   int rc = EXIT_OK;
-  if (!strcmp(cmd, "q") || !strcmp(cmd, "quit")) {
+  switch (k->kind) {
+  case BBC_COMMAND_NONE:
+    break;
+  case BBC_COMMAND_QUIT:
     b->quit = 1;
-  } else if (!strcmp(cmd, "load")) {
-    if (!a1) goto missing;
+    break;
+  case BBC_COMMAND_LOAD: {
     /* Appendix A: load FILE [nocg] [nomip]. nocg (the model stays where it
      * is, not moved to its centre of gravity) is how models always load
      * here; nomip: the model's textures without mipmaps (baking, viewer). */
     bbc_load_options lo;
     cli_load_options(c, &lo);
-    for (char *w = a2 ? strtok(a2, " \t") : NULL; w; w = strtok(NULL, " \t")) {
-      if (!strcmp(w, "nomip")) {
-        lo.no_mipmaps = 1;
-      } else if (strcmp(w, "nocg")) {
-        cli_error("load: '%s' is not a flag (load FILE [nocg] [nomip])", w);
-        return EXIT_USAGE;
-      }
-    }
+    lo.no_mipmaps |= k->nomip;
     bbc_error e;
     if (bbc_session_load(b->sess, a1, &lo, &e) != BBC_OK) return cli_fail(&e, 0);
     snprintf(b->model, sizeof b->model, "%s", a1);
-  } else if (!strcmp(cmd, "set")) {
-    if (!a1 || !a2) goto missing;
-    const char *dot = strchr(a1, '.'), *name = dot ? dot + 1 : a1;
-    if (!bbc_param_find(name)) {
+    break;
+  }
+  case BBC_COMMAND_SET: {
+    if (!bbc_param_find(k->name)) {
       const char *list[128];
       size_t n = 0;
       for (size_t i = 0; i < bbc_param_count() && n < 127; i++) list[n++] = bbc_param_at(i)->name;
       list[n] = NULL;
-      const char *near = cli_closest(name, list);
-      cli_error("set: no parameter '%s'%s%s%s (setup lists them)", name,
+      const char *near = cli_closest(k->name, list);
+      cli_error("set: no parameter '%s'%s%s%s (setup lists them)", k->name,
                 near ? " (did you mean " : "", near ? near : "", near ? "?)" : "");
       return EXIT_USAGE;
     }
-    char assignment[512];
+    char assignment[2 * BBC_COMMAND_LINE_MAX + 2];
     snprintf(assignment, sizeof assignment, "%s=%s", a1, a2);
     char *fake[2] = {"--set", assignment};
     int i = 0;
-    int k = cli_common_option(c, 2, fake, &i);
-    if (k == 0) cli_error("bad set command");
-    if (k != 1) rc = EXIT_USAGE;
-  } else if (!strcmp(cmd, "split")) {
-    if (!a1) goto missing;
-    if (!strncmp(a1, "trunk=", 6) || !strncmp(a1, "foliage=", 8)) {
-      int t = a1[0] == 't';
-      snprintf(b->pattern[t], sizeof b->pattern[t], "%s", strchr(a1, '=') + 1);
-      char opt[16];
-      snprintf(opt, sizeof opt, "--%s", t ? "trunk" : "foliage");
-      char *fake[2] = {opt, b->pattern[t]};
-      int i = 0;
-      if (!b->pattern[t][0]) {
-        cli_error("split %s= needs patterns", t ? "trunk" : "foliage");
-        rc = EXIT_USAGE;
-      } else if (cli_common_option(c, 2, fake, &i) != 1) {
-        cli_error("bad split command");
-        rc = EXIT_USAGE;
-      }
+    int r = cli_common_option(c, 2, fake, &i);
+    if (r == 0) cli_error("bad set command");
+    if (r != 1) rc = EXIT_USAGE;
+    break;
+  }
+  case BBC_COMMAND_SPLIT: {
+    static const char *const modes[] = {"auto", "none", "names", "geometry"};
+    char *fake[2] = {"--split", (char *)""};
+    if (k->split == BBC_SPLIT_PATTERNS) {
+      int t = k->trunk_side;
+      snprintf(b->pattern[t], sizeof b->pattern[t], "%s", k->rest);
+      fake[0] = t ? "--trunk" : "--foliage";
+      fake[1] = b->pattern[t];
     } else {
-      char *fake[2] = {"--split", a1};
-      int i = 0;
-      if (cli_common_option(c, 2, fake, &i) != 1) {
-        cli_error("bad split command");
-        rc = EXIT_USAGE;
-      }
+      fake[1] = (char *)modes[k->split];
     }
-  } else if (!strcmp(cmd, "setup")) {
+    int i = 0;
+    if (cli_common_option(c, 2, fake, &i) != 1) {
+      cli_error("bad split command");
+      rc = EXIT_USAGE;
+    }
+    break;
+  }
+  case BBC_COMMAND_SETUP: {
     char *fake[1] = {"setup"};
     rc = cmd_setup(c, 1, fake);
-  } else if (!strcmp(cmd, "help")) {
-    if (a1 && !strcmp(a1, "q")) a1 = "quit";
-    int known = !a1;
-    for (size_t i = 0; a1 && i < COMMAND_COUNT; i++) known |= !strcmp(a1, k_commands[i].name);
-    if (!known) {
-      cli_error("help: no command '%s' (help lists them)", a1);
-      rc = EXIT_USAGE;
-    } else {
-      help(a1);
-    }
-  } else if (!strcmp(cmd, "cls")) {
+    break;
+  }
+  case BBC_COMMAND_HELP:
+    help(a1);
+    break;
+  case BBC_COMMAND_CLS:
     if (isatty(1)) fputs("\033[H\033[2J", stdout);
-  } else if (!strcmp(cmd, "exec")) {
-    if (!a1) goto missing;
+    break;
+  case BBC_COMMAND_EXEC:
     if (b->depth >= 8) {
       cli_error("exec %s: batch files nested more than 8 deep", a1);
       rc = EXIT_USAGE;
@@ -203,7 +163,8 @@ static int exec_command(cli *c, batch *b, char *s) {
       rc = exec_file(c, b, a1);
       b->depth--;
     }
-  } else if (!strcmp(cmd, "bbc1")) {
+    break;
+  case BBC_COMMAND_BBC1: {
     if (!b->model[0]) goto noload;
     bbc_planes_options po;
     if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
@@ -211,10 +172,13 @@ static int exec_command(cli *c, batch *b, char *s) {
     double t0 = cli_now();
     if (bbc_session_grid(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
     cli_info(c, "step 1: the grid in %.2f s (bbc2 finds the planes on it)", cli_now() - t0);
-  } else if (!strcmp(cmd, "planes")) {
+    break;
+  }
+  case BBC_COMMAND_PLANES:
     if (!b->model[0]) goto noload;
     rc = run_planes(c, b->model, a1);
-  } else if (!strcmp(cmd, "bbc2")) {
+    break;
+  case BBC_COMMAND_BBC2: {
     if (!b->model[0]) goto noload;
     bbc_planes_options po;
     if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
@@ -234,7 +198,9 @@ static int exec_command(cli *c, batch *b, char *s) {
     debug_views_end();
     if (r != BBC_OK) return cli_fail_in(b->model, &e, 0);
     session_info(c, b->sess, 0, 1);
-  } else if (!strcmp(cmd, "bbc3")) {
+    break;
+  }
+  case BBC_COMMAND_BBC3: {
     if (!b->model[0]) goto noload;
     bbc_planes_options po;
     if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
@@ -253,7 +219,9 @@ static int exec_command(cli *c, batch *b, char *s) {
     bbc_error e;
     if (bbc_session_cloud(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
     made_cloud(c, b, 1);
-  } else if (!strcmp(cmd, "bbc")) {
+    break;
+  }
+  case BBC_COMMAND_BBC: {
     if (!b->model[0]) goto noload;
     bbc_planes_options po;
     if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
@@ -263,38 +231,30 @@ static int exec_command(cli *c, batch *b, char *s) {
     debug_views_end();
     if (r != BBC_OK) return cli_fail_in(b->model, &e, 0);
     made_cloud(c, b, 0);
-  } else if (!strcmp(cmd, "shade")) {
-    if (!a1) goto missing;
-    char *e1, *e2 = NULL;
-    long n = strtol(a1, &e1, 10);
-    double amb = a2 ? strtod(a2, &e2) : 0;
-    if (*e1 || n < 0 || n > 512 || (a2 && (*e2 || !(amb >= 0 && amb <= 1)))) {
-      cli_error("shade NUMVOXELS [AMBIENT]: voxels 0..512, ambient 0..1");
-      return EXIT_USAGE;
-    }
-    c->params.shade_voxels = (int)n;
-    c->params.shade_ambient = amb > 0 ? amb : 0.4;
-  } else if (!strcmp(cmd, "save")) {
-    const bbc_cloud *cloud = bbc_session_result(b->sess);
-    if (!cloud) {
+    break;
+  }
+  case BBC_COMMAND_SHADE:
+    c->params.shade_voxels = k->shade_voxels;
+    c->params.shade_ambient = k->shade_ambient > 0 ? k->shade_ambient : 0.4;
+    break;
+  case BBC_COMMAND_SAVE:
+    if (!bbc_session_result(b->sess)) {
       cli_error("save needs a Billboard Cloud: run bbc or bbc3 first");
       return EXIT_USAGE;
     }
     rc = session_save(c, b->sess, a1);
-  } else if (!strcmp(cmd, "show")) {
+    break;
+  case BBC_COMMAND_SHOW: {
     /* show model|bbc [KEYS...]: the window; keys script it (tests) */
-    if (!a1 || (strcmp(a1, "model") && strcmp(a1, "bbc"))) {
-      cli_error("show %s: expected show model or show bbc", a1 ? a1 : "needs model or bbc:");
-      return EXIT_USAGE;
-    }
     if (!b->model[0]) goto noload;
     bbc_cloud wrap; /* a loaded cloud: its mesh, no rectangles */
     memset(&wrap, 0, sizeof wrap);
     wrap.mesh = b->loaded;
     const bbc_cloud *cl = b->show_loaded ? &wrap : bbc_session_result(b->sess);
-    rc = show_window(c, b->sess, cl, a1[0] == 'b', a2);
-  } else if (!strcmp(cmd, "bbcload")) {
-    if (!a1) goto missing;
+    rc = show_window(c, b->sess, cl, k->show_bbc, a2);
+    break;
+  }
+  case BBC_COMMAND_BBCLOAD: {
     bbc_load_options lo;
     cli_load_options(c, &lo);
     bbc_mesh m;
@@ -305,17 +265,36 @@ static int exec_command(cli *c, batch *b, char *s) {
     b->show_loaded = 1;
     cli_info(c, "bbcload %s: %zu triangles; show model shows it as the cloud", a1,
              m.triangle_count);
-  } else {
-    cli_error("'%s' is not a command (help lists them)", cmd);
-    rc = EXIT_USAGE;
+    break;
+  }
+  default:
+    break;
   }
   return rc;
-missing:
-  cli_error("%s needs %s", cmd, !strcmp(cmd, "set") ? "NAME VALUE" : "an argument");
-  return EXIT_USAGE;
 noload:
-  cli_error("%s before load", cmd);
+  for (size_t i = 0; i < bbc_command_count(); i++)
+    if (bbc_command_at(i)->kind == k->kind) cli_error("%s before load", bbc_command_at(i)->name);
   return EXIT_USAGE;
+}
+
+/* One line typed at the prompt (trimmed, not empty). */
+static int exec_command(cli *c, batch *b, const char *s) {
+  bbc_command *k = malloc(sizeof *k);
+  if (!k) {
+    cli_error("out of memory");
+    return EXIT_RESOURCES;
+  }
+  bbc_error e;
+  k->line = 0;
+  int rc;
+  if (bbc_command_parse(s, strlen(s), k, &e) != BBC_OK) {
+    cli_error("%s", e.message);
+    rc = EXIT_USAGE;
+  } else {
+    rc = run_command(c, b, k);
+  }
+  free(k);
+  return rc;
 }
 
 /* A batch file: stops at its first error (or quit). */
@@ -325,25 +304,64 @@ static int exec_file(cli *c, batch *b, const char *file) {
     cli_error("%s: is a folder, not a batch file", file);
     return EXIT_INPUT;
   }
-  FILE *f = fopen(file, "r");
+  FILE *f = fopen(file, "rb");
   if (!f) {
     cli_error("%s: cannot open batch file", file);
     return EXIT_INPUT;
   }
-  char line[4096];
-  int lineno = 0, rc = EXIT_OK;
-  while (rc == EXIT_OK && !b->quit && fgets(line, sizeof line, f)) {
-    lineno++;
-    char *s = trim(line);
-    if (!*s || *s == '#') continue;
+  /* the whole file (batch files are small: 64 MiB at most) */
+  size_t size = 0, cap = 0;
+  char *text = NULL;
+  int rc = EXIT_OK;
+  for (;;) {
+    if (size == cap) {
+      size_t ncap = cap ? cap * 2 : 65536;
+      char *t = ncap <= ((size_t)64 << 20) ? realloc(text, ncap) : NULL;
+      if (!t) {
+        cli_error("%s: %s", file,
+                  ncap > ((size_t)64 << 20) ? "not a batch file (over 64 MiB)" : "out of memory");
+        rc = ncap > ((size_t)64 << 20) ? EXIT_INPUT : EXIT_RESOURCES;
+        break;
+      }
+      text = t;
+      cap = ncap;
+    }
+    size_t got = fread(text + size, 1, cap - size, f);
+    size += got;
+    if (!got) break;
+  }
+  if (rc == EXIT_OK && ferror(f)) {
+    cli_error("%s: cannot read batch file", file);
+    rc = EXIT_INPUT;
+  }
+  fclose(f);
+  bbc_command *k = rc == EXIT_OK ? malloc(sizeof *k) : NULL;
+  if (rc == EXIT_OK && !k) {
+    cli_error("out of memory");
+    rc = EXIT_RESOURCES;
+  }
+  size_t pos = 0;
+  int lineno = 0;
+  while (rc == EXIT_OK && !b->quit) {
+    bbc_error e;
+    if (bbc_script_next(text, size, file, &pos, &lineno, k, &e) != BBC_OK) {
+      const char *outer = cli_location;
+      cli_location = NULL; /* the message names file:line */
+      cli_error("%s", e.message);
+      cli_location = outer;
+      rc = EXIT_USAGE;
+      break;
+    }
+    if (k->kind == BBC_COMMAND_NONE) break;
     char loc[4200];
     snprintf(loc, sizeof loc, "%s:%d: ", file, lineno);
     const char *outer = cli_location;
     cli_location = loc;
-    rc = exec_command(c, b, s);
+    rc = run_command(c, b, k);
     cli_location = outer;
   }
-  fclose(f);
+  free(k);
+  free(text);
   return rc;
 }
 
@@ -392,8 +410,8 @@ static char *complete_word(const char *text, int state, int params) {
       if (!strncmp(name, text, n)) return strdup(name);
     }
   } else {
-    while (i < COMMAND_COUNT) {
-      const char *name = k_commands[i++].name;
+    while (i < bbc_command_count()) {
+      const char *name = bbc_command_at(i++)->name;
       if (!strncmp(name, text, n)) return strdup(name);
     }
   }

@@ -685,7 +685,8 @@ typedef struct bbc_grid_view_options {
   bbc_grid_view_kind kind;
   size_t part; /* index of the part (bbc_grid_part_count) */
   size_t face; /* the selected face: an index within the part */
-  int vertex;  /* continuous views: -1 the face's domain, 0-2 one vertex's (F6) */
+  int vertex;  /* continuous views: -1 the face's domain, 0-2 (0-3 for a face of four
+                * vertices) one vertex's (F6) */
   int volume;  /* continuous views: lines across the domain between its sheets (F7) */
 } bbc_grid_view_options;
 /* The grid at the epsilon of the planes step 2 returned last (else as
@@ -695,8 +696,11 @@ bbc_result bbc_grid_view(const bbc_grid *grid, const bbc_grid_view_options *opti
 size_t bbc_grid_part_count(const bbc_grid *grid);
 const char *bbc_grid_part_name(const bbc_grid *grid, size_t part); /* NULL: no such part */
 size_t bbc_grid_part_faces(const bbc_grid *grid, size_t part);
-/* The mesh triangle of a part's face, -1 when there is none. */
+/* The mesh triangle of a part's face, -1 when there is none (a face of
+ * four vertices, two coplanar triangles sharing an edge: the first). */
 int64_t bbc_grid_face_triangle(const bbc_grid *grid, size_t part, size_t face);
+/* Its vertices: 3, or 4 for two triangles taken as one face; 0 when none. */
+int bbc_grid_face_vertex_count(const bbc_grid *grid, size_t part, size_t face);
 /* The part's face of the largest area (the views' first selection). */
 size_t bbc_grid_largest_face(const bbc_grid *grid, size_t part);
 /* The part's epsilon in model units in the views' grid. */

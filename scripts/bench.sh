@@ -207,3 +207,6 @@ cat "$res/latest.md"
 "$root/scripts/bench_points.sh" "$build"
 # The forest engine at scale: its own files (bench/results/forest.md, .json).
 "$root/scripts/bench_forest.sh" "$build"
+# The generator's speed per stage against an older release, in the same run
+# (bench/results/speed.md, .json).
+"$root/scripts/bench_speed.sh" "$build"

@@ -77,7 +77,7 @@ size_t bbc__dual_cluster(const dual_face *faces, const uint32_t *which, size_t c
         const double *e = dirs[dir];
         double cp = f->c[0] * e[0] + f->c[1] * e[1] + f->c[2] * e[2];
         double lo = cp, hi = cp;
-        for (int j = 0; j < 3; j++) {
+        for (int j = 0; j < f->nv; j++) {
           double x = cp + f->d[j][0] * e[0] + f->d[j][1] * e[1] + f->d[j][2] * e[2];
           lo = fmin(lo, x);
           hi = fmax(hi, x);

@@ -35,15 +35,17 @@
 
 /* One triangle of a part, in the grid frame. */
 typedef struct dual_face {
-  double c[3];         /* centroid */
-  double d[3][3];      /* vertex offsets from the centroid */
-  double n[3];         /* unit normal */
-  double area;         /* model units squared */
-  double c_len;        /* |c| */
-  double d_max;        /* max |d_i| */
-  uint32_t mesh_index; /* triangle index in the mesh (a point cloud: the point's) */
-  int point;           /* a point of a point cloud (thesis 2.4): c the point, d and n
-                        * zero, area its weight (1): it counts, it has no area */
+  double c[3];          /* centroid (of the vertices) */
+  double d[4][3];       /* vertex offsets from the centroid; a triangle's d[3] is d[0] */
+  double n[3];          /* unit normal */
+  double area;          /* model units squared */
+  double c_len;         /* |c| */
+  double d_max;         /* max |d_i| */
+  uint32_t mesh_index;  /* triangle index in the mesh (a point cloud: the point's) */
+  uint32_t mesh_index2; /* a quad's second triangle, else UINT32_MAX */
+  int nv;               /* vertices: 3, or 4 for two coplanar triangles sharing an edge */
+  int point;            /* a point of a point cloud (thesis 2.4): c the point, d and n
+                         * zero, area its weight (1): it counts, it has no area */
 } dual_face;
 
 /* A box of plane space: theta x phi x rho ranges (radians, model units). */
@@ -106,13 +108,40 @@ static inline int dual_face_range(const dual_face *f, const dual_dir *dir, doubl
   double a0 = f->d[0][0] * n[0] + f->d[0][1] * n[1] + f->d[0][2] * n[2];
   double a1 = f->d[1][0] * n[0] + f->d[1][1] * n[1] + f->d[1][2] * n[2];
   double a2 = f->d[2][0] * n[0] + f->d[2][1] * n[1] + f->d[2][2] * n[2];
-  double amax = dual_max(a0, dual_max(a1, a2)), amin = dual_min(a0, dual_min(a1, a2));
+  double a3 = f->d[3][0] * n[0] + f->d[3][1] * n[1] + f->d[3][2] * n[2];
+  double amax = dual_max(dual_max(a0, a3), dual_max(a1, a2));
+  double amin = dual_min(dual_min(a0, a3), dual_min(a1, a2));
   double slack = 1e-12 * (f->c_len + f->d_max + eps);
   if (amax - amin - 2 * f->d_max * dir->radius > 2 * eps + slack) return 0;
   double w = (f->c_len + f->d_max) * dir->radius + eps + slack;
   *lo = cc + amax - w;
   *hi = cc + amin + w;
   return 1;
+}
+
+/* dual_face_range for m directions at once, given as structure-of-arrays
+ * (nx, ny, nz, radius) so that the loop vectorises: ok[q] is 1 where the
+ * face can be valid, [lo[q], hi[q]] its range there. Same arithmetic. */
+static inline void dual_face_ranges(const dual_face *f, const double *nx, const double *ny,
+                                    const double *nz, const double *rad, size_t m, double eps,
+                                    double *lo, double *hi, double *ok) {
+  const double cx = f->c[0], cy = f->c[1], cz = f->c[2];
+  const double(*dd)[3] = f->d;
+  const double slack = 1e-12 * (f->c_len + f->d_max + eps), wlen = f->c_len + f->d_max;
+  for (size_t q = 0; q < m; q++) {
+    double x = nx[q], y = ny[q], z = nz[q];
+    double cc = cx * x + cy * y + cz * z;
+    double a0 = dd[0][0] * x + dd[0][1] * y + dd[0][2] * z;
+    double a1 = dd[1][0] * x + dd[1][1] * y + dd[1][2] * z;
+    double a2 = dd[2][0] * x + dd[2][1] * y + dd[2][2] * z;
+    double a3 = dd[3][0] * x + dd[3][1] * y + dd[3][2] * z;
+    double amax = dual_max(dual_max(a0, a3), dual_max(a1, a2));
+    double amin = dual_min(dual_min(a0, a3), dual_min(a1, a2));
+    double w = wlen * rad[q] + eps + slack;
+    ok[q] = amax - amin - 2 * f->d_max * rad[q] <= 2 * eps + slack;
+    lo[q] = cc + amax - w;
+    hi[q] = cc + amin + w;
+  }
 }
 
 /* Exact validity: every vertex within eps of the plane n . x = rho. */
@@ -178,9 +207,17 @@ static inline void dual_point_frame(const dual_frame *fr, const double p[3], dou
  * `normals`, 3 a point, may be NULL: unoriented points). */
 bbc_result bbc__dual_points_build(const bbc_mesh *mesh, const uint32_t *idx, size_t count,
                                   const double center[3], const float *normals, dual_face **out);
-/* Prepares the faces of a part: `tris` lists mesh triangle indices. */
+/* Prepares the faces of a part: `tris` lists mesh triangle indices; one
+ * face a triangle. */
 bbc_result bbc__dual_faces_build(const bbc_mesh *mesh, const uint32_t *tris, size_t count,
                                  const double center[3], dual_face **out);
+/* The same with two triangles that share an edge and lie in one plane (a
+ * quad split by the file or by Assimp: leaf cards, branch segments) as one
+ * face of four vertices, valid for a plane when all four are: about half
+ * the faces for steps 1 and 2 to handle. Pairs are taken in the order of
+ * `tris`; *out_count gets the number of faces. */
+bbc_result bbc__dual_faces_build_merged(const bbc_mesh *mesh, const uint32_t *tris, size_t count,
+                                        const double center[3], dual_face **out, size_t *out_count);
 
 bbc_result bbc__dual_grid_init(dual_grid *g, int res_deg, double eps, double radius, int up_axis,
                                double total_area, int threads);

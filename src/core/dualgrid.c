@@ -69,7 +69,7 @@ void bbc__dual_dir_of_box(const dual_frame *f, const dual_box *b, dual_dir *out)
 int bbc__dual_face_valid(const dual_face *f, const double n[3], double rho, double eps) {
   double cc = f->c[0] * n[0] + f->c[1] * n[1] + f->c[2] * n[2] - rho;
   double tol = eps * (1 + 1e-12);
-  for (int i = 0; i < 3; i++) {
+  for (int i = 0; i < f->nv; i++) {
     double dist = cc + f->d[i][0] * n[0] + f->d[i][1] * n[1] + f->d[i][2] * n[2];
     if (fabs(dist) > tol) return 0;
   }
@@ -85,6 +85,8 @@ bbc_result bbc__dual_points_build(const bbc_mesh *m, const uint32_t *idx, size_t
     for (int k = 0; k < 3; k++) f->c[k] = m->positions[3 * (size_t)idx[i] + k] - center[k];
     f->area = 1;
     f->point = 1;
+    f->nv = 3;
+    f->mesh_index2 = UINT32_MAX;
     f->c_len = sqrt(f->c[0] * f->c[0] + f->c[1] * f->c[1] + f->c[2] * f->c[2]);
     f->mesh_index = idx[i];
     if (normals)
@@ -127,9 +129,138 @@ bbc_result bbc__dual_faces_build(const bbc_mesh *m, const uint32_t *tris, size_t
     for (int k = 0; k < 3; k++) f->n[k] = l > 0 ? cr[k] / l : 0;
     f->c_len = sqrt(f->c[0] * f->c[0] + f->c[1] * f->c[1] + f->c[2] * f->c[2]);
     f->mesh_index = t;
+    f->mesh_index2 = UINT32_MAX;
+    f->nv = 3;
+    memcpy(f->d[3], f->d[0], sizeof f->d[3]);
     f->point = 0;
   }
   *out = fs;
+  return BBC_OK;
+}
+
+/* An edge's two first triangles (positions in `tris`), by its vertices. */
+typedef struct edge_slot {
+  uint64_t key; /* (min vertex + 1) << 32 | max vertex; 0 = empty */
+  uint32_t t1, t2;
+} edge_slot;
+
+static uint64_t edge_key(uint32_t a, uint32_t b) {
+  return a < b ? ((uint64_t)a + 1) << 32 | b : ((uint64_t)b + 1) << 32 | a;
+}
+
+static edge_slot *edge_find(edge_slot *tab, size_t mask, uint64_t key) {
+  uint64_t h = key * 0x9E3779B97F4A7C15ull;
+  size_t i = (size_t)(h >> 20) & mask;
+  while (tab[i].key && tab[i].key != key) i = (i + 1) & mask;
+  return &tab[i];
+}
+
+bbc_result bbc__dual_faces_build_merged(const bbc_mesh *m, const uint32_t *tris, size_t count,
+                                        const double center[3], dual_face **out,
+                                        size_t *out_count) {
+  dual_face *tf;
+  bbc_result r = bbc__dual_faces_build(m, tris, count, center, &tf);
+  if (r != BBC_OK) return r;
+  size_t cap = 16;
+  while (cap < 3 * count) cap *= 2;
+  edge_slot *tab = calloc(cap, sizeof *tab);
+  uint32_t *mate = malloc((count ? count : 1) * sizeof *mate);
+  if (!tab || !mate) {
+    free(tab);
+    free(mate);
+    free(tf);
+    return BBC_ERROR_OUT_OF_MEMORY;
+  }
+  for (size_t i = 0; i < count; i++) {
+    mate[i] = UINT32_MAX;
+    const uint32_t *ix = m->indices + 3 * (size_t)tris[i];
+    for (int e = 0; e < 3; e++) {
+      edge_slot *sl = edge_find(tab, cap - 1, edge_key(ix[e], ix[(e + 1) % 3]));
+      if (!sl->key) {
+        sl->key = edge_key(ix[e], ix[(e + 1) % 3]);
+        sl->t1 = (uint32_t)i;
+        sl->t2 = UINT32_MAX;
+      } else if (sl->t2 == UINT32_MAX && sl->t1 != i) {
+        sl->t2 = (uint32_t)i;
+      }
+    }
+  }
+  /* Pairs in order: a triangle and the first unpaired neighbour across one
+   * of its edges (taken in order) that lies in its plane, facing the same
+   * way, the edge run in opposite directions. */
+  size_t nf = 0;
+  for (size_t i = 0; i < count; i++) {
+    if (mate[i] != UINT32_MAX) continue;
+    nf++;
+    const uint32_t *ix = m->indices + 3 * (size_t)tris[i];
+    for (int e = 0; e < 3 && mate[i] == UINT32_MAX; e++) {
+      const edge_slot *sl = edge_find(tab, cap - 1, edge_key(ix[e], ix[(e + 1) % 3]));
+      uint32_t j = sl->t1 == i ? sl->t2 : sl->t1;
+      if (j == UINT32_MAX || j <= i || mate[j] != UINT32_MAX) continue;
+      const dual_face *a = &tf[i], *b = &tf[j];
+      if (!(a->area > 0) || !(b->area > 0)) continue;
+      if (a->n[0] * b->n[0] + a->n[1] * b->n[1] + a->n[2] * b->n[2] < 1 - 1e-6) continue;
+      const uint32_t *jx = m->indices + 3 * (size_t)tris[j];
+      int opposite = 0;
+      for (int k = 0; k < 3; k++) opposite |= jx[k] == ix[(e + 1) % 3] && jx[(k + 1) % 3] == ix[e];
+      if (!opposite) continue;
+      mate[i] = (uint32_t)j;
+      mate[j] = (uint32_t)i;
+    }
+  }
+  free(tab);
+  dual_face *fs = malloc((nf ? nf : 1) * sizeof *fs);
+  if (!fs) {
+    free(mate);
+    free(tf);
+    return BBC_ERROR_OUT_OF_MEMORY;
+  }
+  size_t k = 0;
+  for (size_t i = 0; i < count; i++) {
+    if (mate[i] != UINT32_MAX && mate[i] < i) continue; /* the second of a pair */
+    dual_face *f = &fs[k++];
+    if (mate[i] == UINT32_MAX) {
+      *f = tf[i];
+      continue;
+    }
+    const dual_face *a = &tf[i], *b = &tf[mate[i]];
+    /* the four corners: the first triangle's, then the second's apex */
+    const uint32_t *ix = m->indices + 3 * (size_t)tris[i];
+    const uint32_t *jx = m->indices + 3 * (size_t)tris[mate[i]];
+    int apex = 0;
+    for (int q = 0; q < 3; q++)
+      if (jx[q] != ix[0] && jx[q] != ix[1] && jx[q] != ix[2]) apex = q;
+    double v[4][3];
+    for (int q = 0; q < 3; q++)
+      for (int c = 0; c < 3; c++) v[q][c] = a->c[c] + a->d[q][c];
+    for (int c = 0; c < 3; c++) v[3][c] = b->c[c] + b->d[apex][c];
+    memset(f, 0, sizeof *f);
+    for (int c = 0; c < 3; c++) f->c[c] = (v[0][c] + v[1][c] + v[2][c] + v[3][c]) / 4.0;
+    for (int q = 0; q < 4; q++) {
+      double l2 = 0;
+      for (int c = 0; c < 3; c++) {
+        f->d[q][c] = v[q][c] - f->c[c];
+        l2 += f->d[q][c] * f->d[q][c];
+      }
+      if (l2 > f->d_max * f->d_max) f->d_max = sqrt(l2);
+    }
+    double nn[3], l = 0;
+    for (int c = 0; c < 3; c++) {
+      nn[c] = a->area * a->n[c] + b->area * b->n[c];
+      l += nn[c] * nn[c];
+    }
+    l = sqrt(l);
+    for (int c = 0; c < 3; c++) f->n[c] = l > 0 ? nn[c] / l : a->n[c];
+    f->area = a->area + b->area;
+    f->c_len = sqrt(f->c[0] * f->c[0] + f->c[1] * f->c[1] + f->c[2] * f->c[2]);
+    f->mesh_index = a->mesh_index;
+    f->mesh_index2 = b->mesh_index;
+    f->nv = 4;
+  }
+  free(mate);
+  free(tf);
+  *out = fs;
+  *out_count = nf;
   return BBC_OK;
 }
 
@@ -211,25 +342,27 @@ void bbc__dual_grid_cell_box(const dual_grid *g, size_t dir, int k, dual_box *b)
 
 /* Adds a face's share (range [lo, hi], fixed-point projected area proj) to
  * one direction column. Cells inside [lo, hi] get the full share; only the
- * two end cells and the penalty cells below lo need fractions. */
-static void scatter(dual_grid *g, size_t dir, double lo, double hi, double proj, int sign) {
-  double rmin = g->rho_min, res = g->rho_res, inv = 1.0 / res;
-  int k0 = (int)floor((lo - g->eps - rmin) * inv), k1 = (int)floor((hi - rmin) * inv);
+ * two end cells and the penalty cells below lo need fractions (those of
+ * dual_range_density, with the density per unit of rho computed once). */
+static inline void scatter(dual_grid *g, size_t dir, double lo, double hi, double proj, int sign) {
+  const double rmin = g->rho_min, res = g->rho_res, inv = 1.0 / res, eps = g->eps;
+  int k0 = (int)floor((lo - eps - rmin) * inv), k1 = (int)floor((hi - rmin) * inv);
   if (k0 < 0) k0 = 0;
   if (k1 > g->n_rho - 1) k1 = g->n_rho - 1;
   if (k0 > k1) return;
   int64_t *cc = g->contrib + dir * (size_t)g->n_rho, *pp = g->penalty + dir * (size_t)g->n_rho;
-  int64_t full = (int64_t)(proj + 0.5);
+  const int64_t full = (int64_t)(proj + 0.5);
+  const double per = proj * inv, lo_eps = lo - eps;
   for (int k = k0; k <= k1; k++) {
     double r0 = rmin + k * res, r1 = r0 + res;
     if (r0 >= lo && r1 <= hi) {
       cc[k] += sign * full;
       continue;
     }
-    int64_t c, p;
-    dual_range_density(lo, hi, g->eps, proj, r0, r1, &c, &p);
-    cc[k] += sign * c;
-    pp[k] += sign * p;
+    double c = dual_min(hi, r1) - dual_max(lo, r0);
+    double p = dual_min(lo, r1) - dual_max(lo_eps, r0);
+    if (c > 0) cc[k] += sign * (int64_t)(per * c + 0.5);
+    if (p > 0) pp[k] += sign * (int64_t)(per * p + 0.5);
   }
 }
 
@@ -298,10 +431,7 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
       double eps = g->eps, scale = g->scale;
       for (size_t f = 0; f < count; f++) {
         const dual_face *fc = &faces[which ? which[f] : f];
-        const double cx = fc->c[0], cy = fc->c[1], cz = fc->c[2];
-        const double(*dd)[3] = fc->d;
-        double slack = 1e-12 * (fc->c_len + fc->d_max + eps);
-        double wlen = fc->c_len + fc->d_max, parea = fc->area * scale;
+        double parea = fc->area * scale;
         if (fc->point) { /* 2.4.2: a point's exact range over each direction box */
           double pa, pb, pc;
           dual_point_frame(&g->frame, fc->c, &pa, &pb, &pc);
@@ -316,22 +446,14 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
                           ? parea * fabs(fc->n[0] * nx[q] + fc->n[1] * ny[q] + fc->n[2] * nz[q])
                           : parea;
           }
-        } else
-          /* Range pass (same arithmetic as dual_face_range). */
+        } else {
+          /* Range pass (dual_face_range's arithmetic), then the shares. */
+          dual_face_ranges(fc, nx, ny, nz, rad, m, eps, lo, hi, ok);
           for (size_t q = 0; q < m; q++) {
-            double x = nx[q], y = ny[q], z = nz[q];
-            double cc = cx * x + cy * y + cz * z;
-            double a0 = dd[0][0] * x + dd[0][1] * y + dd[0][2] * z;
-            double a1 = dd[1][0] * x + dd[1][1] * y + dd[1][2] * z;
-            double a2 = dd[2][0] * x + dd[2][1] * y + dd[2][2] * z;
-            double amax = dual_max(a0, dual_max(a1, a2)), amin = dual_min(a0, dual_min(a1, a2));
-            double w = wlen * rad[q] + eps + slack;
-            ok[q] = amax - amin - 2 * fc->d_max * rad[q] <= 2 * eps + slack;
-            lo[q] = cc + amax - w;
-            hi[q] = cc + amin + w;
-            double pn = fc->n[0] * x + fc->n[1] * y + fc->n[2] * z;
+            double pn = fc->n[0] * nx[q] + fc->n[1] * ny[q] + fc->n[2] * nz[q];
             proj[q] = parea * (pn < 0 ? -pn : pn);
           }
+        }
         /* Scatter pass: the direction and its opposite. */
         for (size_t q = 0; q < m; q++) {
           if (ok[q] == 0 || proj[q] <= 0) continue;

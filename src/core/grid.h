@@ -12,7 +12,8 @@ typedef struct grid_part {
   const bbc_params *params; /* into grid->options */
   uint32_t *tris;           /* mesh triangles of the part */
   size_t n;
-  dual_face *faces;
+  dual_face *faces; /* its faces: a triangle, two coplanar ones, or a point */
+  size_t nf;
   double center[3], radius, total_area;
 } grid_part;
 

@@ -208,7 +208,7 @@ static bbc_result level_at(bbc_grid *g, const bbc_planes_options *o, double scal
       for (size_t q = 0; q < 2; q++) bbc__dual_grid_free(&L->g[q]);
       return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 1: out of memory for the grid");
     }
-    bbc__dual_grid_accumulate(&L->g[pi], gp->faces, NULL, gp->n, +1, &cb);
+    bbc__dual_grid_accumulate(&L->g[pi], gp->faces, NULL, gp->nf, +1, &cb);
     bbc__progress(&cb, "grid", 1.0);
     L->step1_s[pi] = bbc__now_s() - t0;
     if (bbc__cancelled(&cb)) {
@@ -289,9 +289,10 @@ bbc_result bbc_grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc
         }
       }
     }
-    bbc_result rb = points
-                        ? bbc__dual_points_build(mesh, gp->tris, n, gp->center, normals, &gp->faces)
-                        : bbc__dual_faces_build(mesh, gp->tris, n, gp->center, &gp->faces);
+    gp->nf = n;
+    bbc_result rb =
+        points ? bbc__dual_points_build(mesh, gp->tris, n, gp->center, normals, &gp->faces)
+               : bbc__dual_faces_build_merged(mesh, gp->tris, n, gp->center, &gp->faces, &gp->nf);
     if (normals && normals != mesh->normals) free(normals);
     if (rb != BBC_OK)
       r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory for the grid");
@@ -362,7 +363,7 @@ static bbc_result select_once(bbc_grid *g, const bbc_planes_options *o, double s
     }
     double t1 = bbc__now_s();
     select_result sr;
-    r = bbc__select_planes(gp->faces, gp->n, &work, p, pr->epsilon_abs, gp->radius, &cb, &sr);
+    r = bbc__select_planes(gp->faces, gp->nf, &work, p, pr->epsilon_abs, gp->radius, &cb, &sr);
     pr->step2_s = bbc__now_s() - t1;
     bbc__dual_grid_free(&work);
     if (r == BBC_ERROR_CANCELLED) {
@@ -390,8 +391,20 @@ static bbc_result select_once(bbc_grid *g, const bbc_planes_options *o, double s
       if (pl.mother >= 0) pl.mother += (int32_t)base;
       planes[base + k] = pl;
     }
-    for (size_t i = 0; i < gp->n; i++)
-      set->face_plane[gp->tris[i]] = (uint32_t)(base + sr.face_plane[i]);
+    /* faces to mesh triangles (a face of four vertices is two); a plane's
+     * face count is its triangles' */
+    for (size_t k = 0; k < sr.plane_count; k++)
+      if (planes[base + k].kind != BBC_PLANE_CARDBOARD) planes[base + k].face_count = 0;
+    for (size_t i = 0; i < gp->nf; i++) {
+      const dual_face *f = &gp->faces[i];
+      uint32_t pl = (uint32_t)(base + sr.face_plane[i]);
+      set->face_plane[f->mesh_index] = pl;
+      planes[pl].face_count++;
+      if (f->mesh_index2 != UINT32_MAX) {
+        set->face_plane[f->mesh_index2] = pl;
+        planes[pl].face_count++;
+      }
+    }
     set->plane_count += sr.plane_count;
     pr->plane_count = sr.plane_count;
     bbc__select_result_free(&sr);

@@ -46,11 +46,18 @@ typedef struct ctx {
  * and the faces earlier planes simplified. */
 static void debug_event(ctx *c, int level, int step, const uint32_t *set, size_t n) {
   if (!c->ev_faces || c->p->debug < level) return;
-  for (size_t i = 0; i < n; i++) c->ev_faces[i] = c->faces[set[i]].mesh_index;
-  size_t nd = 0;
-  for (size_t f = 0; f < c->nf; f++)
-    if (c->assigned[f] == 1) c->ev_done[nd++] = c->faces[f].mesh_index;
-  bbc_debug_event e = {level, "", c->out->plane_count, step, c->ev_faces, n, c->ev_done, nd};
+  size_t ns = 0, nd = 0; /* mesh triangles: a quad's two */
+  for (size_t i = 0; i < n; i++) {
+    const dual_face *f = &c->faces[set[i]];
+    c->ev_faces[ns++] = f->mesh_index;
+    if (f->mesh_index2 != UINT32_MAX) c->ev_faces[ns++] = f->mesh_index2;
+  }
+  for (size_t k = 0; k < c->nf; k++)
+    if (c->assigned[k] == 1) {
+      c->ev_done[nd++] = c->faces[k].mesh_index;
+      if (c->faces[k].mesh_index2 != UINT32_MAX) c->ev_done[nd++] = c->faces[k].mesh_index2;
+    }
+  bbc_debug_event e = {level, "", c->out->plane_count, step, c->ev_faces, ns, c->ev_done, nd};
   c->cb->debug(c->cb->user, &e);
 }
 
@@ -246,28 +253,61 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
           penalty[s][r] += lp[s][r];
         }
     }
-  } else { /* triangles: a sub-direction per thread, every face of the set */
-#ifdef _OPENMP
-#pragma omp parallel for schedule(static) num_threads(nt) if (n > 512)
-#endif
+  } else {
+    /* Triangles: each face read once for the 36 sub-directions (their
+     * ranges in one pass over structure-of-arrays copies, which
+     * vectorises), chunks of faces per thread, integer sums (the same
+     * whatever the split). A sub-direction per thread streaming every face
+     * 36 times made memory the bottleneck on large sets. */
+    double nx[ND * ND], ny[ND * ND], nz[ND * ND], rad[ND * ND];
     for (int s = 0; s < ND * ND; s++) {
-      for (int r = 0; r < NR; r++) contrib[s][r] = penalty[s][r] = 0;
-      if (!valid_dir[s]) continue;
-      const dual_dir *dd = &dirs[s];
+      nx[s] = valid_dir[s] ? dirs[s].n[0] : 0;
+      ny[s] = valid_dir[s] ? dirs[s].n[1] : 0;
+      nz[s] = valid_dir[s] ? dirs[s].n[2] : 0;
+      rad[s] = valid_dir[s] ? dirs[s].radius : 0;
+    }
+    memset(contrib, 0, sizeof contrib);
+    memset(penalty, 0, sizeof penalty);
+    const double eps = c->eps, scale = c->g->scale, rbase = b->r0 - 2 * dr;
+#ifdef _OPENMP
+#pragma omp parallel num_threads(nt) if (n > 512)
+#endif
+    {
+      int64_t lc[ND * ND][NR], lp[ND * ND][NR];
+      double lo[ND * ND], hi[ND * ND], proj[ND * ND], ok[ND * ND];
+      memset(lc, 0, sizeof lc);
+      memset(lp, 0, sizeof lp);
+#ifdef _OPENMP
+#pragma omp for schedule(static)
+#endif
       for (size_t i = 0; i < n; i++) {
         const dual_face *f = &c->faces[set[i]];
-        double lo, hi;
-        if (!dual_face_range(f, dd, c->eps, &lo, &hi)) continue;
-        double proj = dual_projected_area(f, dd->n) * c->g->scale;
-        for (int r = 0; r < NR; r++) {
-          double r0 = b->r0 - 2 * dr + r * dr, r1 = r0 + dr;
-          if (hi < r0 || lo - c->eps > r1) continue;
-          int64_t cc, pp;
-          dual_range_density(lo, hi, c->eps, proj, r0, r1, &cc, &pp);
-          contrib[s][r] += cc;
-          penalty[s][r] += pp;
+        /* the arithmetic of dual_face_range and dual_projected_area */
+        dual_face_ranges(f, nx, ny, nz, rad, ND * ND, eps, lo, hi, ok);
+        for (int s = 0; s < ND * ND; s++) {
+          double pn = f->n[0] * nx[s] + f->n[1] * ny[s] + f->n[2] * nz[s];
+          proj[s] = f->area * (pn < 0 ? -pn : pn) * scale;
+        }
+        for (int s = 0; s < ND * ND; s++) {
+          if (!valid_dir[s] || ok[s] == 0) continue;
+          for (int r = 0; r < NR; r++) {
+            double r0 = rbase + r * dr, r1 = r0 + dr;
+            if (hi[s] < r0 || lo[s] - eps > r1) continue;
+            int64_t cc, pp;
+            dual_range_density(lo[s], hi[s], eps, proj[s], r0, r1, &cc, &pp);
+            lc[s][r] += cc;
+            lp[s][r] += pp;
+          }
         }
       }
+#ifdef _OPENMP
+#pragma omp critical(bbc_refine_faces)
+#endif
+      for (int s = 0; s < ND * ND; s++)
+        for (int r = 0; r < NR; r++) {
+          contrib[s][r] += lc[s][r];
+          penalty[s][r] += lp[s][r];
+        }
     }
   }
   double best_d = 0;
@@ -512,7 +552,7 @@ static bbc_result add_cardboard(ctx *c, const found_plane *mother, const uint32_
     for (size_t i = 0; i < n; i++) {
       const dual_face *f = &c->faces[set[i]];
       if (bbc__dual_face_valid(f, cand.n, cand.rho, c->eps)) {
-        cnt++;
+        cnt += f->mesh_index2 != UINT32_MAX ? 2 : 1; /* mesh triangles */
         area += dual_projected_area(f, cand.n);
       }
     }
@@ -702,8 +742,8 @@ bbc_result bbc__select_planes(const dual_face *faces, size_t nf, dual_grid *g, c
   out->face_plane = malloc((nf ? nf : 1) * sizeof *out->face_plane);
   bbc_result r = BBC_OK;
   if (p->debug > 0 && cb && cb->debug) {
-    c.ev_faces = malloc((nf ? nf : 1) * sizeof *c.ev_faces);
-    c.ev_done = malloc((nf ? nf : 1) * sizeof *c.ev_done);
+    c.ev_faces = malloc((nf ? 2 * nf : 1) * sizeof *c.ev_faces);
+    c.ev_done = malloc((nf ? 2 * nf : 1) * sizeof *c.ev_done);
     if (!c.ev_faces || !c.ev_done) r = BBC_ERROR_OUT_OF_MEMORY;
   }
   if (!c.assigned || !c.flag || !c.scratch || !c.label || !set || !set0 || !cand0 || !cand ||

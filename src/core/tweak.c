@@ -26,7 +26,7 @@ int bbc__dual_coplanar(const dual_face *faces, const uint32_t *which, size_t cou
     double cr[3] = {f->n[1] * n0[2] - f->n[2] * n0[1], f->n[2] * n0[0] - f->n[0] * n0[2],
                     f->n[0] * n0[1] - f->n[1] * n0[0]};
     if (dot3(cr, cr) > 1e-12) return 0;
-    for (int j = 0; j < 3; j++) {
+    for (int j = 0; j < f->nv; j++) {
       double v[3] = {f->c[0] + f->d[j][0], f->c[1] + f->d[j][1], f->c[2] + f->d[j][2]};
       if (fabs(dot3(n0, v) - r0) > tol) return 0;
     }
@@ -163,11 +163,12 @@ int bbc__dual_fit_plane(const dual_face *faces, const uint32_t *which, size_t co
   double cov[3][3] = {{0}};
   for (size_t i = 0; i < count; i++) {
     const dual_face *f = &faces[which[i]];
-    for (int j = 0; j < 3; j++) {
+    double wv = f->nv == 3 ? f->area : f->area * 0.75; /* the face's weight over its vertices */
+    for (int j = 0; j < f->nv; j++) {
       double p[3] = {f->c[0] + f->d[j][0] - m[0], f->c[1] + f->d[j][1] - m[1],
                      f->c[2] + f->d[j][2] - m[2]};
       for (int a = 0; a < 3; a++)
-        for (int b = 0; b < 3; b++) cov[a][b] += f->area * p[a] * p[b];
+        for (int b = 0; b < 3; b++) cov[a][b] += wv * p[a] * p[b];
     }
   }
   double e[3];
@@ -229,7 +230,7 @@ void bbc__dual_min_rect(const dual_face *faces, const uint32_t *which, size_t co
   double la = sqrt(dot3(a, a));
   for (int k = 0; k < 3; k++) a[k] /= la;
   double b[3] = {n[1] * a[2] - n[2] * a[1], n[2] * a[0] - n[0] * a[2], n[0] * a[1] - n[1] * a[0]};
-  size_t np = 3 * count;
+  size_t np = 4 * count;
   pt2 *p = malloc((np ? np : 1) * sizeof *p);
   pt2 *h = malloc((2 * np + 2) * sizeof *h);
   if (!p || !h || count == 0) {
@@ -240,12 +241,13 @@ void bbc__dual_min_rect(const dual_face *faces, const uint32_t *which, size_t co
     min_uv[0] = min_uv[1] = max_uv[0] = max_uv[1] = 0;
     return;
   }
+  np = 0;
   for (size_t i = 0; i < count; i++) {
     const dual_face *f = &faces[which[i]];
-    for (int j = 0; j < 3; j++) {
+    for (int j = 0; j < f->nv; j++) {
       double v[3] = {f->c[0] + f->d[j][0], f->c[1] + f->d[j][1], f->c[2] + f->d[j][2]};
-      p[3 * i + j].x = dot3(v, a);
-      p[3 * i + j].y = dot3(v, b);
+      p[np].x = dot3(v, a);
+      p[np++].y = dot3(v, b);
     }
   }
   size_t hn = convex_hull(p, np, h);

@@ -156,8 +156,8 @@ static void discrete_domain(builder *b, const grid_frame *f, const dual_face *fa
  * or one vertex's. 0 when empty. */
 static int exact_range(const dual_face *face, int vertex, const double n[3], double eps, double *lo,
                        double *hi) {
-  double a[3];
-  for (int v = 0; v < 3; v++) {
+  double a[4]; /* a triangle's fourth is its first */
+  for (int v = 0; v < 4; v++) {
     a[v] = 0;
     for (int k = 0; k < 3; k++) a[v] += (face->c[k] + face->d[v][k]) * n[k];
   }
@@ -166,8 +166,8 @@ static int exact_range(const dual_face *face, int vertex, const double n[3], dou
     *hi = a[vertex] + eps;
     return 1;
   }
-  *lo = fmax(a[0], fmax(a[1], a[2])) - eps;
-  *hi = fmin(a[0], fmin(a[1], a[2])) + eps;
+  *lo = fmax(fmax(a[0], a[3]), fmax(a[1], a[2])) - eps;
+  *hi = fmin(fmin(a[0], a[3]), fmin(a[1], a[2])) + eps;
   return *lo <= *hi;
 }
 
@@ -269,18 +269,23 @@ const char *bbc_grid_part_name(const bbc_grid *g, size_t part) {
 }
 
 size_t bbc_grid_part_faces(const bbc_grid *g, size_t part) {
-  return part < g->part_count ? g->part[part].n : 0;
+  return part < g->part_count ? g->part[part].nf : 0;
 }
 
 int64_t bbc_grid_face_triangle(const bbc_grid *g, size_t part, size_t face) {
-  if (part >= g->part_count || face >= g->part[part].n) return -1;
-  return g->part[part].tris[face];
+  if (part >= g->part_count || face >= g->part[part].nf) return -1;
+  return g->part[part].faces[face].mesh_index;
+}
+
+int bbc_grid_face_vertex_count(const bbc_grid *g, size_t part, size_t face) {
+  if (part >= g->part_count || face >= g->part[part].nf) return 0;
+  return g->part[part].faces[face].nv;
 }
 
 size_t bbc_grid_largest_face(const bbc_grid *g, size_t part) {
   size_t best = 0;
   if (part >= g->part_count) return 0;
-  for (size_t i = 1; i < g->part[part].n; i++)
+  for (size_t i = 1; i < g->part[part].nf; i++)
     if (g->part[part].faces[i].area > g->part[part].faces[best].area) best = i;
   return best;
 }
@@ -297,12 +302,12 @@ bbc_result bbc_grid_view(const bbc_grid *grid, const bbc_grid_view_options *o, b
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "the grid has no part %zu with faces",
                      o->part);
   const grid_part *gp = &grid->part[o->part];
-  if (o->face >= gp->n)
+  if (o->face >= gp->nf)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "part %s has %zu faces, not face %zu",
-                     gp->name, gp->n, o->face);
-  if (o->vertex < -1 || o->vertex > 2)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "vertex %d: -1 (the face) or 0 to 2",
-                     o->vertex);
+                     gp->name, gp->nf, o->face);
+  if (o->vertex < -1 || o->vertex > gp->faces[o->face].nv - 1)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "vertex %d: -1 (the face) or 0 to %d",
+                     o->vertex, gp->faces[o->face].nv - 1);
   grid_frame f;
   f.g = &grid->levels[grid->current].g[o->part];
   f.rho_max = f.g->rho_min + f.g->n_rho * f.g->rho_res;

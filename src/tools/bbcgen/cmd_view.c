@@ -99,7 +99,7 @@ static int bbc_geometry_for(bbcgl_viewer *v, const bbc_session *s, int mode, con
 /* "1".."3" or "all" (F6's choices) -> -1..2; -2 on error. */
 static int parse_vertex(const char *t) {
   if (!strcmp(t, "all")) return -1;
-  if (t[0] >= '1' && t[0] <= '3' && !t[1]) return t[0] - '1';
+  if (t[0] >= '1' && t[0] <= '4' && !t[1]) return t[0] - '1';
   return -2;
 }
 
@@ -123,7 +123,8 @@ int cmd_view(cli *c, int argc, char **argv) {
       if ((face = cli_parse_count("--face", argv[++i], 1LL << 40)) < 0) return EXIT_USAGE;
     } else if (!strcmp(a, "--vertex") && has) {
       if ((vertex = parse_vertex(argv[++i])) < -1) {
-        cli_error("view: --vertex %s: expected 1, 2, 3 or all", argv[i]);
+        cli_error("view: --vertex %s: expected 1, 2, 3, 4 (a face of four vertices) or all",
+                  argv[i]);
         return EXIT_USAGE;
       }
     } else if (!strcmp(a, "--volume")) {
@@ -375,9 +376,10 @@ static void show_key(show_state *s, int key) {
   case GLFW_KEY_F5:
     s->view.lighting = !s->view.lighting;
     break;
-  case GLFW_KEY_F6: /* the face's domain, then its first, second, third vertex's */
+  case GLFW_KEY_F6: /* the face's domain, then each of its vertices' */
     if (s->bbc) {
-      s->pick.vertex = s->pick.vertex >= 2 ? -1 : s->pick.vertex + 1;
+      int nv = bbc_grid_face_vertex_count(s->grid, s->pick.part, s->pick.face);
+      s->pick.vertex = s->pick.vertex >= nv - 1 ? -1 : s->pick.vertex + 1;
       s->changed = 1;
     }
     break;

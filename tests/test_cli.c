@@ -603,7 +603,27 @@ static void test_viewer(void **state) {
   for (int m = 0; m < 9; m++) {
     snprintf(args, sizeof args, "view '%s' --mode %s --size 96 --texres 32 -q --screenshot v%d.png",
              path, modes[m], m);
+    /* The ASan build: GCC 12's LeakSanitizer crashes at exit on the dynamic
+     * TLS that Mesa's libEGL_mesa (loaded by libglvnd) leaves in the main
+     * thread ("Tracer caught signal 11"; in the input view only, and only
+     * in some builds' memory layouts), so that one run goes without the
+     * leak check; the other eight views, which run the same code and more,
+     * keep it. */
+    const char *asan = getenv("ASAN_OPTIONS");
+    char *saved = asan ? strdup(asan) : NULL;
+    if (m == 0) {
+      char opts[1024];
+      snprintf(opts, sizeof opts, "%s%sdetect_leaks=0", asan ? asan : "", asan ? ":" : "");
+      setenv("ASAN_OPTIONS", opts, 1);
+    }
     int rc = run_in(args, "", &out, &err);
+    if (m == 0) {
+      if (saved)
+        setenv("ASAN_OPTIONS", saved, 1);
+      else
+        unsetenv("ASAN_OPTIONS");
+    }
+    free(saved);
     if (rc == 6 && !getenv("CI")) { /* no OpenGL here (never under CI) */
       fprintf(stderr, "no OpenGL: viewer test skipped: %s\n", err);
       free(out);

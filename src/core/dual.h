@@ -122,9 +122,10 @@ static inline int dual_face_range(const dual_face *f, const dual_dir *dir, doubl
 /* dual_face_range for m directions at once, given as structure-of-arrays
  * (nx, ny, nz, radius) so that the loop vectorises: ok[q] is 1 where the
  * face can be valid, [lo[q], hi[q]] its range there. Same arithmetic. */
-static inline void dual_face_ranges(const dual_face *f, const double *nx, const double *ny,
-                                    const double *nz, const double *rad, size_t m, double eps,
-                                    double *lo, double *hi, double *ok) {
+static inline void dual_face_ranges(const dual_face *f, const double *restrict nx,
+                                    const double *restrict ny, const double *restrict nz,
+                                    const double *restrict rad, size_t m, double eps,
+                                    double *restrict lo, double *restrict hi, double *restrict ok) {
   const double cx = f->c[0], cy = f->c[1], cz = f->c[2];
   const double(*dd)[3] = f->d;
   const double slack = 1e-12 * (f->c_len + f->d_max + eps), wlen = f->c_len + f->d_max;

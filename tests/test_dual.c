@@ -7,6 +7,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -14,8 +15,11 @@
 
 /* Random triangles in a ball of radius 10, sizes from tiny to large, made
  * into dual faces by the library's own dual_faces_build (grid centre at the
- * origin). */
-static dual_face *random_faces(size_t n, uint64_t seed) {
+ * origin). With `quads`, every other pair of triangles is a planar
+ * parallelogram split along a diagonal, and the faces are built by
+ * dual_faces_build_merged (those pairs become faces of four vertices);
+ * *count gets the number of faces. */
+static dual_face *random_faces(size_t n, uint64_t seed, int quads, size_t *count) {
   bbc__rng r = {seed};
   bbc_mesh m;
   memset(&m, 0, sizeof m);
@@ -27,6 +31,29 @@ static dual_face *random_faces(size_t n, uint64_t seed) {
   for (size_t i = 0; i < n; i++) {
     double size = i % 3 == 0 ? 0.05 : (i % 3 == 1 ? 0.5 : 3.0);
     double c[3] = {bbc__rng_range(&r, -7, 7), bbc__rng_range(&r, -7, 7), bbc__rng_range(&r, -7, 7)};
+    if (quads && i % 4 == 0 && i + 1 < n) {
+      /* corners c, c + a, c + a + b, c + b; triangles (0 1 2) and (0 2 3) */
+      double a[3], b[3], q[4][3];
+      for (int k = 0; k < 3; k++) {
+        a[k] = bbc__rng_range(&r, -size, size);
+        b[k] = bbc__rng_range(&r, -size, size);
+      }
+      for (int k = 0; k < 3; k++) {
+        q[0][k] = c[k];
+        q[1][k] = c[k] + a[k];
+        q[2][k] = c[k] + a[k] + b[k];
+        q[3][k] = c[k] + b[k];
+      }
+      for (int j = 0; j < 4; j++)
+        for (int k = 0; k < 3; k++) m.positions[9 * i + 3 * j + k] = q[j][k];
+      const uint32_t v = (uint32_t)(3 * i);
+      const uint32_t ix[6] = {v, v + 1, v + 2, v, v + 2, v + 3};
+      memcpy(m.indices + 3 * i, ix, sizeof ix);
+      tris[i] = (uint32_t)i;
+      tris[i + 1] = (uint32_t)(i + 1);
+      i++;
+      continue;
+    }
     for (int j = 0; j < 3; j++) {
       for (int k = 0; k < 3; k++)
         m.positions[9 * i + 3 * j + k] = c[k] + bbc__rng_range(&r, -size, size);
@@ -36,7 +63,11 @@ static dual_face *random_faces(size_t n, uint64_t seed) {
   }
   const double origin[3] = {0, 0, 0};
   dual_face *f = NULL;
-  assert_int_equal(bbc__dual_faces_build(&m, tris, n, origin, &f), BBC_OK);
+  *count = n;
+  if (quads)
+    assert_int_equal(bbc__dual_faces_build_merged(&m, tris, n, origin, &f, count), BBC_OK);
+  else
+    assert_int_equal(bbc__dual_faces_build(&m, tris, n, origin, &f), BBC_OK);
   free(m.positions);
   free(m.indices);
   free(tris);
@@ -56,10 +87,10 @@ static void angles(const dual_frame *fr, const double n[3], double *theta, doubl
  * contains the plane's direction (grid cells of several sizes, and random
  * sub-boxes as the refinement makes them) must report the face simply valid
  * with the plane's rho inside [lo, hi]. */
-static void test_simple_validity_never_misses(void **state) {
-  (void)state;
-  const size_t nf = 3000;
-  dual_face *faces = random_faces(nf, 7);
+static void never_misses(int quads) {
+  size_t nf;
+  dual_face *faces = random_faces(3000, 7, quads, &nf);
+  if (quads) assert_true(nf < 3000 * 7 / 8); /* a quarter of the triangles pair up */
   bbc__rng r = {99};
   size_t checked = 0;
   for (int up = 0; up < 3; up++) {
@@ -77,7 +108,7 @@ static void test_simple_validity_never_misses(void **state) {
         double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         for (int k = 0; k < 3; k++) n[k] /= l;
         double vmax = -1e300, vmin = 1e300;
-        for (int j = 0; j < 3; j++) {
+        for (int j = 0; j < f->nv; j++) {
           double v = 0;
           for (int k = 0; k < 3; k++) v += (f->c[k] + f->d[j][k]) * n[k];
           vmax = v > vmax ? v : vmax;
@@ -103,7 +134,7 @@ static void test_simple_validity_never_misses(void **state) {
           }
           dual_dir d;
           bbc__dual_dir_of_box(&fr, &b, &d);
-          double lo, hi;
+          double lo = 0, hi = 0;
           if (!dual_face_range(f, &d, eps, &lo, &hi))
             fail_msg("face %zu: a valid plane's box reported empty (res %d)", i, res);
           if (rho < lo || rho > hi)
@@ -117,6 +148,55 @@ static void test_simple_validity_never_misses(void **state) {
   free(faces);
 }
 
+static void test_simple_validity_never_misses(void **state) {
+  (void)state;
+  never_misses(0);
+}
+
+/* The same for faces of four vertices (two coplanar triangles). */
+static void test_simple_validity_never_misses_quads(void **state) {
+  (void)state;
+  never_misses(1);
+}
+
+/* Which triangles become one face: a planar quad does, a bent one, a pair
+ * facing opposite ways and a lone triangle do not; the face keeps both
+ * triangles, its four corners, the summed area. */
+static void test_merged_faces(void **state) {
+  (void)state;
+  const double p[][3] = {{0, 0, 0}, {1, 0, 0},  {1, 1, 0}, {0, 1, 0}, /* flat quad: 0 1 2, 0 2 3 */
+                         {3, 0, 0}, {4, 0, 0},  {4, 1, 0}, {3, 1, 0.5}, /* bent: 4 5 6, 4 6 7 */
+                         {6, 0, 0}, {7, 0, 0},  {7, 1, 0}, {6, 1, 0}, /* flipped: 8 9 10, 8 11 10 */
+                         {9, 0, 0}, {10, 0, 0}, {9, 1, 0}};           /* lone: 12 13 14 */
+  const uint32_t ix[] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7, 8, 9, 10, 8, 11, 10, 12, 13, 14};
+  bbc_mesh m;
+  memset(&m, 0, sizeof m);
+  m.vertex_count = 15;
+  m.triangle_count = 7;
+  m.positions = (double *)p;
+  m.indices = (uint32_t *)ix;
+  uint32_t tris[7] = {0, 1, 2, 3, 4, 5, 6};
+  const double origin[3] = {0, 0, 0};
+  dual_face *f = NULL;
+  size_t n = 0;
+  assert_int_equal(bbc__dual_faces_build_merged(&m, tris, 7, origin, &f, &n), BBC_OK);
+  assert_int_equal(n, 6);
+  assert_int_equal(f[0].nv, 4);
+  assert_int_equal(f[0].mesh_index, 0);
+  assert_int_equal(f[0].mesh_index2, 1);
+  assert_true(fabs(f[0].area - 1.0) < 1e-12);
+  for (int j = 0; j < 4; j++) /* the corners: the first triangle's, then the apex */
+    for (int k = 0; k < 3; k++) assert_true(fabs(f[0].c[k] + f[0].d[j][k] - p[j][k]) < 1e-12);
+  const double z[3] = {0, 0, 1};
+  assert_true(bbc__dual_face_valid(&f[0], z, 0.0, 1e-9));
+  for (size_t i = 1; i < n; i++) {
+    assert_int_equal(f[i].nv, 3);
+    assert_int_equal(f[i].mesh_index, i + 1);
+    assert_int_equal(f[i].mesh_index2, UINT32_MAX);
+  }
+  free(f);
+}
+
 static int grids_equal(const dual_grid *a, const dual_grid *b) {
   size_t n = (size_t)a->n_theta * a->n_phi * a->n_rho;
   return !memcmp(a->contrib, b->contrib, n * sizeof *a->contrib) &&
@@ -127,8 +207,8 @@ static int grids_equal(const dual_grid *a, const dual_grid *b) {
  * subsets leaves exactly zero; 1 and 2 threads build identical grids. */
 static void test_density_exact_and_thread_independent(void **state) {
   (void)state;
-  const size_t nf = 2000;
-  dual_face *faces = random_faces(nf, 11);
+  size_t nf; /* triangles and faces of four vertices */
+  dual_face *faces = random_faces(2000, 11, 1, &nf);
   double area = 0;
   for (size_t i = 0; i < nf; i++) area += faces[i].area;
   dual_grid g1, g2;
@@ -162,6 +242,8 @@ static void test_density_exact_and_thread_independent(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_simple_validity_never_misses),
+      cmocka_unit_test(test_simple_validity_never_misses_quads),
+      cmocka_unit_test(test_merged_faces),
       cmocka_unit_test(test_density_exact_and_thread_independent),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

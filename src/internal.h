@@ -151,7 +151,7 @@ bbc_result bbc__load_finish(const char *name, bbc_result r, int finalize,
 /* Our code after Assimp on a scene the caller built (the fuzzer of our mesh
  * building, fuzz/fuzz_scene.c): materials, textures (embedded ones decoded
  * from memory), nodes, meshes, then bbc__load_finish; the scene stays the
- * caller's. */
+ * caller's; `options` may not be NULL. */
 struct aiScene;
 bbc_result bbc__load_assimp_scene(const char *name, const struct aiScene *scene,
                                   const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err);

@@ -390,14 +390,7 @@ static void test_exec_batch(void **state) {
   char a[1024], b[1024];
   snprintf(a, sizeof a, "%s/batch.json", tu_dir);
   snprintf(b, sizeof b, "%s/flags.json", tu_dir);
-  size_t na, nb;
-  unsigned char *ta = tu_read_file(a, &na), *tb = tu_read_file(b, &nb);
-  assert_non_null(ta);
-  assert_non_null(tb);
-  assert_int_equal(na, nb);
-  assert_memory_equal(ta, tb, na);
-  free(ta);
-  free(tb);
+  assert_true(tu_same_file(a, b)); /* byte for byte */
   free(bf);
   bf = tu_write_file(tu_dir, "bad.bbc", "set epsilon 5\nfrobnicate\n", 25);
   snprintf(args, sizeof args, "exec '%s'", bf);
@@ -785,14 +778,7 @@ static void test_sample(void **state) {
   }
   snprintf(a, sizeof a, "%s/s0.ply", tu_dir);
   snprintf(b, sizeof b, "%s/s1.ply", tu_dir);
-  size_t na, nb;
-  unsigned char *ta = tu_read_file(a, &na), *tb = tu_read_file(b, &nb);
-  assert_non_null(ta);
-  assert_non_null(tb);
-  assert_int_equal(na, nb);
-  assert_memory_equal(ta, tb, na);
-  free(ta);
-  free(tb);
+  assert_true(tu_same_file(a, b)); /* byte for byte */
   bbc_mesh m;
   bbc_error e;
   assert_int_equal(bbc_mesh_load(a, NULL, &m, &e), BBC_OK);

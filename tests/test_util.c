@@ -72,6 +72,15 @@ unsigned char *tu_read_file(const char *path, size_t *size) {
   return buf;
 }
 
+int tu_same_file(const char *a, const char *b) {
+  size_t na = 0, nb = 0;
+  unsigned char *ta = tu_read_file(a, &na), *tb = tu_read_file(b, &nb);
+  int same = ta && tb && na == nb && (na == 0 || !memcmp(ta, tb, na));
+  free(ta);
+  free(tb);
+  return same;
+}
+
 void tu_remove_dir(const char *dir) {
   DIR *d = opendir(dir);
   if (!d) return;

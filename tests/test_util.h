@@ -15,6 +15,8 @@ char *tu_make_temp_dir(void);
 char *tu_write_file(const char *dir, const char *name, const void *data, size_t size);
 /* Reads a whole file; NULL when it cannot. *size receives its length. */
 unsigned char *tu_read_file(const char *path, size_t *size);
+/* 1 when both files can be read and are the same byte for byte. */
+int tu_same_file(const char *a, const char *b);
 /* Removes a folder and everything in it (one level deep is enough here). */
 void tu_remove_dir(const char *dir);
 

@@ -96,6 +96,28 @@ bbc_result bbc__dual_points_build(const bbc_mesh *m, const uint32_t *idx, size_t
   return BBC_OK;
 }
 
+/* A face's corners v[nv] (relative to the grid's centre): c their mean,
+ * d each one's offset from it (a triangle's d[3] repeats d[0]), d_max the
+ * largest offset. */
+static void set_corners(dual_face *f, const double (*v)[3], int nv) {
+  for (int k = 0; k < 3; k++) {
+    double sum = v[0][k];
+    for (int j = 1; j < nv; j++) sum += v[j][k];
+    f->c[k] = sum / nv;
+  }
+  f->d_max = 0;
+  for (int j = 0; j < nv; j++) {
+    double l2 = 0;
+    for (int k = 0; k < 3; k++) {
+      f->d[j][k] = v[j][k] - f->c[k];
+      l2 += f->d[j][k] * f->d[j][k];
+    }
+    if (l2 > f->d_max * f->d_max) f->d_max = sqrt(l2);
+  }
+  if (nv == 3) memcpy(f->d[3], f->d[0], sizeof f->d[3]);
+  f->nv = nv;
+}
+
 bbc_result bbc__dual_faces_build(const bbc_mesh *m, const uint32_t *tris, size_t count,
                                  const double center[3], dual_face **out) {
   dual_face *fs = malloc((count ? count : 1) * sizeof *fs);
@@ -107,16 +129,7 @@ bbc_result bbc__dual_faces_build(const bbc_mesh *m, const uint32_t *tris, size_t
     double v[3][3];
     for (int j = 0; j < 3; j++)
       for (int k = 0; k < 3; k++) v[j][k] = m->positions[3 * ix[j] + k] - center[k];
-    for (int k = 0; k < 3; k++) f->c[k] = (v[0][k] + v[1][k] + v[2][k]) / 3.0;
-    f->d_max = 0;
-    for (int j = 0; j < 3; j++) {
-      double l2 = 0;
-      for (int k = 0; k < 3; k++) {
-        f->d[j][k] = v[j][k] - f->c[k];
-        l2 += f->d[j][k] * f->d[j][k];
-      }
-      if (l2 > f->d_max * f->d_max) f->d_max = sqrt(l2);
-    }
+    set_corners(f, (const double(*)[3])v, 3);
     double e1[3], e2[3];
     for (int k = 0; k < 3; k++) {
       e1[k] = v[1][k] - v[0][k];
@@ -130,8 +143,6 @@ bbc_result bbc__dual_faces_build(const bbc_mesh *m, const uint32_t *tris, size_t
     f->c_len = sqrt(f->c[0] * f->c[0] + f->c[1] * f->c[1] + f->c[2] * f->c[2]);
     f->mesh_index = t;
     f->mesh_index2 = UINT32_MAX;
-    f->nv = 3;
-    memcpy(f->d[3], f->d[0], sizeof f->d[3]);
     f->point = 0;
   }
   *out = fs;
@@ -230,20 +241,12 @@ bbc_result bbc__dual_faces_build_merged(const bbc_mesh *m, const uint32_t *tris,
     int apex = 0;
     for (int q = 0; q < 3; q++)
       if (jx[q] != ix[0] && jx[q] != ix[1] && jx[q] != ix[2]) apex = q;
+    const uint32_t corner[4] = {ix[0], ix[1], ix[2], jx[apex]};
     double v[4][3];
-    for (int q = 0; q < 3; q++)
-      for (int c = 0; c < 3; c++) v[q][c] = a->c[c] + a->d[q][c];
-    for (int c = 0; c < 3; c++) v[3][c] = b->c[c] + b->d[apex][c];
+    for (int q = 0; q < 4; q++)
+      for (int c = 0; c < 3; c++) v[q][c] = m->positions[3 * (size_t)corner[q] + c] - center[c];
     memset(f, 0, sizeof *f);
-    for (int c = 0; c < 3; c++) f->c[c] = (v[0][c] + v[1][c] + v[2][c] + v[3][c]) / 4.0;
-    for (int q = 0; q < 4; q++) {
-      double l2 = 0;
-      for (int c = 0; c < 3; c++) {
-        f->d[q][c] = v[q][c] - f->c[c];
-        l2 += f->d[q][c] * f->d[q][c];
-      }
-      if (l2 > f->d_max * f->d_max) f->d_max = sqrt(l2);
-    }
+    set_corners(f, (const double(*)[3])v, 4);
     double nn[3], l = 0;
     for (int c = 0; c < 3; c++) {
       nn[c] = a->area * a->n[c] + b->area * b->n[c];
@@ -255,7 +258,6 @@ bbc_result bbc__dual_faces_build_merged(const bbc_mesh *m, const uint32_t *tris,
     f->c_len = sqrt(f->c[0] * f->c[0] + f->c[1] * f->c[1] + f->c[2] * f->c[2]);
     f->mesh_index = a->mesh_index;
     f->mesh_index2 = b->mesh_index;
-    f->nv = 4;
   }
   free(mate);
   free(tf);

@@ -202,6 +202,39 @@ static void point_subcells(const ctx *c, const dual_face *f, const dual_box *b,
   }
 }
 
+/* The 36 sub-directions of a refinement step as structure-of-arrays (0
+ * where a sub-direction lies beyond a pole), for dual_face_ranges. */
+typedef struct subdirs {
+  double nx[36], ny[36], nz[36], rad[36];
+} subdirs;
+
+/* A face's shares of the 36 x 6 subcells: the arithmetic of dual_face_range
+ * (over all 36 at once, vectorised) and dual_projected_area, then
+ * dual_range_density for each slice the range reaches. */
+static inline void face_subcells(const ctx *c, const dual_face *f, const dual_box *b,
+                                 const subdirs *sd, const int *valid_dir, int64_t (*contrib)[6],
+                                 int64_t (*penalty)[6]) {
+  const double eps = c->eps, scale = c->g->scale, dr = 0.5 * (b->r1 - b->r0);
+  const double rbase = b->r0 - 2 * dr;
+  double lo[36], hi[36], proj[36], ok[36];
+  dual_face_ranges(f, sd->nx, sd->ny, sd->nz, sd->rad, 36, eps, lo, hi, ok);
+  for (int s = 0; s < 36; s++) {
+    double pn = f->n[0] * sd->nx[s] + f->n[1] * sd->ny[s] + f->n[2] * sd->nz[s];
+    proj[s] = f->area * (pn < 0 ? -pn : pn) * scale;
+  }
+  for (int s = 0; s < 36; s++) {
+    if (!valid_dir[s] || ok[s] == 0) continue;
+    for (int r = 0; r < 6; r++) {
+      double r0 = rbase + r * dr, r1 = r0 + dr;
+      if (hi[s] < r0 || lo[s] - eps > r1) continue;
+      int64_t cc, pp;
+      dual_range_density(lo[s], hi[s], eps, proj[s], r0, r1, &cc, &pp);
+      contrib[s][r] += cc;
+      penalty[s][r] += pp;
+    }
+  }
+}
+
 /* One refinement step: the densest of the 216 subcells of box b and its 26
  * neighbours, from the faces of set. Returns 0 when none has density > 0. */
 static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n, dual_box *best) {
@@ -223,92 +256,46 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
       valid_dir[s] = sb.p0 >= -M_PI / 2 - 1e-12 && sb.p1 <= M_PI / 2 + 1e-12;
       if (valid_dir[s]) bbc__dual_dir_of_box(&c->g->frame, &sb, &dirs[s]);
     }
+  /* Each face (or point) read once for the 36 sub-directions, chunks of the
+   * set per thread, integer sums (the same whatever the split). A
+   * sub-direction per thread streaming the set 36 times made memory the
+   * bottleneck on large sets. A part is all points or all triangles. */
+  int points = n && c->faces[set[0]].point;
+  subdirs sd;
+  for (int s = 0; s < ND * ND; s++) {
+    sd.nx[s] = valid_dir[s] ? dirs[s].n[0] : 0;
+    sd.ny[s] = valid_dir[s] ? dirs[s].n[1] : 0;
+    sd.nz[s] = valid_dir[s] ? dirs[s].n[2] : 0;
+    sd.rad[s] = valid_dir[s] ? dirs[s].radius : 0;
+  }
+  memset(contrib, 0, sizeof contrib);
+  memset(penalty, 0, sizeof penalty);
   int nt = thread_count(c);
   (void)nt;
-  if (n && c->faces[set[0]].point) {
-    /* Points (a part is all points or all triangles): each point read once
-     * for the 36 sub-directions, chunks of points per thread, integer sums
-     * (the same whatever the split). Streaming the points once per
-     * sub-direction instead made memory the bottleneck at millions. */
-    memset(contrib, 0, sizeof contrib);
-    memset(penalty, 0, sizeof penalty);
 #ifdef _OPENMP
-#pragma omp parallel num_threads(nt) if (n > 4096)
+#pragma omp parallel num_threads(nt) if (n > (points ? 4096u : 512u))
 #endif
-    {
-      int64_t lc[ND * ND][NR], lp[ND * ND][NR];
-      memset(lc, 0, sizeof lc);
-      memset(lp, 0, sizeof lp);
+  {
+    int64_t lc[ND * ND][NR], lp[ND * ND][NR];
+    memset(lc, 0, sizeof lc);
+    memset(lp, 0, sizeof lp);
 #ifdef _OPENMP
 #pragma omp for schedule(static)
 #endif
-      for (size_t i = 0; i < n; i++)
+    for (size_t i = 0; i < n; i++) {
+      if (points)
         point_subcells(c, &c->faces[set[i]], b, dirs, valid_dir, lc, lp);
-#ifdef _OPENMP
-#pragma omp critical(bbc_refine_points)
-#endif
-      for (int s = 0; s < ND * ND; s++)
-        for (int r = 0; r < NR; r++) {
-          contrib[s][r] += lc[s][r];
-          penalty[s][r] += lp[s][r];
-        }
+      else
+        face_subcells(c, &c->faces[set[i]], b, &sd, valid_dir, lc, lp);
     }
-  } else {
-    /* Triangles: each face read once for the 36 sub-directions (their
-     * ranges in one pass over structure-of-arrays copies, which
-     * vectorises), chunks of faces per thread, integer sums (the same
-     * whatever the split). A sub-direction per thread streaming every face
-     * 36 times made memory the bottleneck on large sets. */
-    double nx[ND * ND], ny[ND * ND], nz[ND * ND], rad[ND * ND];
-    for (int s = 0; s < ND * ND; s++) {
-      nx[s] = valid_dir[s] ? dirs[s].n[0] : 0;
-      ny[s] = valid_dir[s] ? dirs[s].n[1] : 0;
-      nz[s] = valid_dir[s] ? dirs[s].n[2] : 0;
-      rad[s] = valid_dir[s] ? dirs[s].radius : 0;
-    }
-    memset(contrib, 0, sizeof contrib);
-    memset(penalty, 0, sizeof penalty);
-    const double eps = c->eps, scale = c->g->scale, rbase = b->r0 - 2 * dr;
 #ifdef _OPENMP
-#pragma omp parallel num_threads(nt) if (n > 512)
+#pragma omp critical(bbc_refine_sum)
 #endif
-    {
-      int64_t lc[ND * ND][NR], lp[ND * ND][NR];
-      double lo[ND * ND], hi[ND * ND], proj[ND * ND], ok[ND * ND];
-      memset(lc, 0, sizeof lc);
-      memset(lp, 0, sizeof lp);
-#ifdef _OPENMP
-#pragma omp for schedule(static)
-#endif
-      for (size_t i = 0; i < n; i++) {
-        const dual_face *f = &c->faces[set[i]];
-        /* the arithmetic of dual_face_range and dual_projected_area */
-        dual_face_ranges(f, nx, ny, nz, rad, ND * ND, eps, lo, hi, ok);
-        for (int s = 0; s < ND * ND; s++) {
-          double pn = f->n[0] * nx[s] + f->n[1] * ny[s] + f->n[2] * nz[s];
-          proj[s] = f->area * (pn < 0 ? -pn : pn) * scale;
-        }
-        for (int s = 0; s < ND * ND; s++) {
-          if (!valid_dir[s] || ok[s] == 0) continue;
-          for (int r = 0; r < NR; r++) {
-            double r0 = rbase + r * dr, r1 = r0 + dr;
-            if (hi[s] < r0 || lo[s] - eps > r1) continue;
-            int64_t cc, pp;
-            dual_range_density(lo[s], hi[s], eps, proj[s], r0, r1, &cc, &pp);
-            lc[s][r] += cc;
-            lp[s][r] += pp;
-          }
-        }
+    for (int s = 0; s < ND * ND; s++)
+      for (int r = 0; r < NR; r++) {
+        contrib[s][r] += lc[s][r];
+        penalty[s][r] += lp[s][r];
       }
-#ifdef _OPENMP
-#pragma omp critical(bbc_refine_faces)
-#endif
-      for (int s = 0; s < ND * ND; s++)
-        for (int r = 0; r < NR; r++) {
-          contrib[s][r] += lc[s][r];
-          penalty[s][r] += lp[s][r];
-        }
-    }
   }
   double best_d = 0;
   int found = 0;

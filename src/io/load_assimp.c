@@ -659,11 +659,6 @@ static bbc_result from_scene(const char *path, const struct aiScene *sc,
 
 bbc_result bbc__load_assimp_scene(const char *name, const struct aiScene *scene,
                                   const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err) {
-  bbc_load_options defaults;
-  if (!options) {
-    bbc_load_options_default(&defaults);
-    options = &defaults;
-  }
   memset(mesh, 0, sizeof *mesh);
   bbc_result r = convert(name, scene, options, mesh, err);
   return bbc__load_finish(name, r, 1, options, mesh, err);

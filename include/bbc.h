@@ -887,8 +887,9 @@ typedef struct bbc_view {
   int headlight;             /* with `lighting`: the light at the camera and the
                               * shade |n . v| (no floor), as viewers light a model */
   int ambient;               /* with `lighting`: adds X3D viewers' ambient light,
-                              * 0.2 x mean(Ka) / mean(Kd) x Kd, untextured (Ka 0.2
-                              * when none; a grey Kd: OpenGL's 0.2 x Ka) */
+                              * 0.2 x mean over channels of (Ka / Kd) x Kd,
+                              * untextured (Ka 0.2 when none; a grey Kd:
+                              * OpenGL's 0.2 x Ka) */
 } bbc_view;
 
 /* The factor that makes a model lit by the directional light `light`

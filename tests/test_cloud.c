@@ -830,14 +830,23 @@ static void test_prelight_for_a_lit_viewer(void **state) {
   double g2 = 0;
   if (bbc_light_gain(&q, light, 0, &g2, &err) != BBC_OK) fail_msg("%s", err.message);
   assert_true(g2 > 0.5 && g2 < 1.0);
-  /* The fixed-function ambient: facing the headlight, colour Kd + 0.2 Ka,
-   * and 0.2 x 0.2 when the material has no Ka. */
+  /* The fixed-function ambient, facing the headlight: for a grey Kd colour
+   * Kd + 0.2 Ka, and 0.2 x 0.2 when the material has no Ka (materials 0, 1).
+   * A coloured Kd (2, 3): ambientIntensity is the mean over the channels of Ka / Kd
+   * (view3dscene drew a face-on quad of Kd 0.4 0.3 0.1, Ka 1 0.5 0.2 as 144
+   * 108 36, and of Kd 0.2 0.5 0.8, Ka 0.3 as 59 149 238); the mean Ka over
+   * the mean Kd would give 134 101 34 and 63 156 250. */
   bbc_image img;
   assert_int_equal(bbc_image_alloc(&img, 16, 16), BBC_OK);
-  for (int with_ka = 0; with_ka < 2; with_ka++) {
+  const float kds[4][3] = {
+      {0.5f, 0.5f, 0.5f}, {0.5f, 0.5f, 0.5f}, {0.4f, 0.3f, 0.1f}, {0.2f, 0.5f, 0.8f}};
+  const float kas[4][3] = {{0, 0, 0}, {1, 1, 1}, {1.0f, 0.5f, 0.2f}, {0.3f, 0.3f, 0.3f}};
+  const double want[4][3] = {
+      {137.7, 137.7, 137.7}, {178.5, 178.5, 178.5}, {144, 108, 36}, {59, 149, 238}};
+  for (int c = 0; c < 4; c++) {
     for (int k = 0; k < 3; k++) {
-      mat.base_color[k] = 0.5f;
-      mat.ambient[k] = with_ka ? 1.0f : 0.0f;
+      mat.base_color[k] = kds[c][k];
+      mat.ambient[k] = kas[c][k];
     }
     bbc_view v;
     double down[3] = {0, -1, 0}, upz[3] = {0, 0, 1};
@@ -847,8 +856,9 @@ static void test_prelight_for_a_lit_viewer(void **state) {
     v.ambient = 1;
     if (bbc_render_ortho(&q, &v, &img, &err) != BBC_OK) fail_msg("%s", err.message);
     const uint8_t *px = img.rgba + 4 * (8 * 16 + 8);
-    double want = 255 * (0.5 + (with_ka ? 0.2 : 0.04));
-    if (fabs(px[0] - want) > 1) fail_msg("ambient: %d, expected %.1f", px[0], want);
+    for (int k = 0; k < 3; k++)
+      if (fabs(px[k] - want[c][k]) > 1)
+        fail_msg("ambient, material %d, channel %d: %d, expected %.1f", c, k, px[k], want[c][k]);
   }
   bbc_image_free(&img);
   bbc_mesh_free(&m);

@@ -320,6 +320,14 @@ static void bake_one(const bbc_mesh *m, const bbc_planeset *set, const bbc_param
   v.lighting = prm->prelight;
   memcpy(v.light, light, sizeof v.light);
   v.light_gain = light_gain;
+  if (mask) {
+    /* A stem billboard is seen from the side, within 30 degrees of its
+     * normal (three around the axis): lit as a viewer's headlight shows the
+     * stem from there (bright in the middle, dark at the edges), where the
+     * sun at `lightelev` would darken a vertical stem against the crown. */
+    v.headlight = 1;
+    v.light_gain = 1;
+  }
   v.ambient = prm->viewer_ambient;
   v.vertex_shade = vshade;
   bbc__bake bk;

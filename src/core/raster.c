@@ -230,16 +230,22 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
   int need_normal = view->lighting || (tg->bake && (tg->bake->front_nm || tg->bake->back_nm));
   double gain = view->light_gain > 0 ? view->light_gain : 1.0;
   /* The ambient light of X3D viewers: 0.2 x ambientIntensity x the diffuse
-   * colour, untextured, with ambientIntensity = mean(Ka) / mean(Kd) as they
-   * map an MTL (Ka 0.2 when the material gives none); for a grey Kd this is
+   * colour, untextured, with ambientIntensity the mean over the channels of
+   * Ka / Kd, as view3dscene maps an MTL (measured on flat quads of coloured
+   * Kd and Ka; Ka 0.2 when the material gives none); for a grey Kd this is
    * OpenGL's fixed-function 0.2 x Ka. */
   double amb[3] = {0, 0, 0};
   if (view->lighting && view->ambient && !mat->unlit) {
-    double ka = (mat->ambient[0] + mat->ambient[1] + mat->ambient[2]) / 3;
-    double kd = (mat->base_color[0] + mat->base_color[1] + mat->base_color[2]) / 3;
-    if (!(ka > 0)) ka = 0.2;
-    if (kd > 0)
-      for (int k = 0; k < 3; k++) amb[k] = 0.2 * ka / kd * mat->base_color[k];
+    int given = mat->ambient[0] > 0 || mat->ambient[1] > 0 || mat->ambient[2] > 0;
+    double ai = 0;
+    int n = 0;
+    for (int k = 0; k < 3; k++)
+      if (mat->base_color[k] > 0) {
+        ai += (given ? mat->ambient[k] : 0.2) / mat->base_color[k];
+        n++;
+      }
+    if (n)
+      for (int k = 0; k < 3; k++) amb[k] = 0.2 * ai / n * mat->base_color[k];
   }
 
   double inv_area = 1.0 / area;

@@ -131,6 +131,13 @@ int bbc_image_has_transparency(const bbc_image *image);
  * Alpha Mipmaps": leaves neither thin out nor vanish in the distance). An
  * opaque image gets plain box-filtered levels. */
 bbc_result bbc_image_mipmaps(const bbc_image *base, bbc_image **levels, int *count, bbc_error *err);
+/* Writes `image` with its bbc_image_mipmaps chain as an uncompressed DDS
+ * (RGBA8, every level down to 1 x 1; Microsoft's DirectDraw Surface
+ * layout, which view3dscene and DirectX-style engines read with their mip
+ * levels), atomically. PNG has no place for mip levels: this is how an
+ * alpha-tested atlas keeps its coverage at a distance in viewers that
+ * would otherwise build their own (averaged alpha thins sparse foliage). */
+bbc_result bbc_image_write_dds(const char *path, const bbc_image *image, bbc_error *err);
 
 /* ------------------------------------------------------------------------ */
 /* Meshes and point clouds                                                   */
@@ -398,6 +405,7 @@ typedef struct bbc_params {
   int texres;           /* texres: maximum texture resolution, power of 2 */
   /* output */
   int format; /* format: 0 VRML2.0/Open Inventor mix, 1 VRML97 */
+  int dds;    /* dds: VRML output also carries the atlas as DDS with mip levels */
   /* extensions beyond Appendix A */
   int up_axis;           /* upaxis: the model's up axis, 0 = x, 1 = y, 2 = z
                           * (view-dependent penalty, previews) */
@@ -827,6 +835,11 @@ bbc_result bbc_clouds_share_atlas(bbc_cloud *clouds, size_t count, int max_size,
  * unlit (VRML97 6.4): for prelit clouds. Texture files follow
  * bbc_texture_file_name: <stem>_<material>.png, <stem>_<material>_nm.png. */
 #define BBC_VRML_UNLIT 0x100
+/* format | BBC_VRML_DDS: an alpha-tested colour atlas is also written as
+ * <stem>_<material>.dds (bbc_image_write_dds: mip levels that keep its
+ * coverage) and named first in each url, the PNG second, for VRML readers
+ * without DDS (VRML97 4.5.2: the first location that can be read). */
+#define BBC_VRML_DDS 0x200
 bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, int format,
                                 const char *comment, bbc_error *err);
 

@@ -404,8 +404,8 @@ static void test_exec_batch(void **state) {
 /* Tree_1's saved cloud in vrml97models/A/... and vrml97models/B/... are the
  * same bytes. */
 static void same_saves(const char *a, const char *b) {
-  const char *files[] = {"Tree_1.wrl", "Tree_1_billboards.png"};
-  for (int i = 0; i < 2; i++) {
+  const char *files[] = {"Tree_1.wrl", "Tree_1_billboards.png", "Tree_1_billboards.dds"};
+  for (int i = 0; i < 3; i++) {
     char fa[2048], fb[2048];
     snprintf(fa, sizeof fa, "%s/vrml97models/%s/Tree_1/Tree_1_e6.00_tex32_pl/%s", tu_dir, a,
              files[i]);
@@ -1228,7 +1228,9 @@ static void test_materials_and_texture_names(void **state) {
   snprintf(p, sizeof p, "%s/u.wrl", dir);
   t = (char *)tu_read_file(p, NULL);
   assert_null(strstr(t, "Material {"));
-  assert_non_null(strstr(t, "url \"u_billboards.png\""));
+  /* the DDS with the atlas's mip levels first, the PNG for other readers */
+  assert_non_null(strstr(t, "url [ \"u_billboards.dds\" \"u_billboards.png\" ]"));
+  assert_true(file_exists(dir, "u_billboards.dds"));
   free(t);
   snprintf(p, sizeof p, "%s/l.wrl", dir);
   t = (char *)tu_read_file(p, NULL);

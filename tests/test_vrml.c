@@ -369,6 +369,78 @@ static void test_refused_paths_write_nothing(void **state) {
 /* Read back (src/io/load_vrml.c): both formats (format 0 declares a PROTO
  * for its normal maps) give the cloud's triangles, texture coordinates and
  * atlas; damaged files are refused with file:line. */
+/* BBC_VRML_DDS: the atlas also as a DDS with its mip levels (those of
+ * bbc_image_mipmaps, alpha 0/255), named first in every url; reading the
+ * .wrl back takes the PNG after it. */
+static uint32_t le32(const unsigned char *p) {
+  return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+static void test_dds_mip_levels(void **state) {
+  (void)state;
+  bbc_cloud cl;
+  build_cloud(1, 0, &cl);
+  const bbc_image *atlas = &cl.mesh.textures[0].image;
+  assert_true(bbc_image_has_transparency(atlas));
+  char *dir = sub_dir("dds");
+  char *wrl = path_in(dir, "d.wrl"), *dds = path_in(dir, "d_billboards.dds");
+  bbc_error err;
+  if (bbc_cloud_write_vrml(wrl, &cl, 1 | BBC_VRML_DDS, NULL, &err) != BBC_OK)
+    fail_msg("%s", err.message);
+  char *text = read_text(wrl);
+  assert_int_equal(count(text, "url [ \"d_billboards.dds\" \"d_billboards.png\" ]"), 4);
+  assert_int_equal(count(text, "url"), 4);
+  size_t size = 0;
+  unsigned char *f = tu_read_file(dds, &size);
+  assert_non_null(f);
+  bbc_image *lv = NULL;
+  int n = 0;
+  if (bbc_image_mipmaps(atlas, &lv, &n, &err) != BBC_OK) fail_msg("%s", err.message);
+  int side = atlas->width > atlas->height ? atlas->width : atlas->height, want = 1;
+  while (side > 1) {
+    side /= 2;
+    want++;
+  }
+  assert_int_equal(n + 1, want); /* down to 1 x 1 */
+  size_t total = 128 + (size_t)atlas->width * atlas->height * 4;
+  for (int l = 0; l < n; l++) total += (size_t)lv[l].width * lv[l].height * 4;
+  assert_int_equal(size, total);
+  assert_memory_equal(f, "DDS ", 4);
+  assert_int_equal(le32(f + 4), 124);
+  assert_int_equal(le32(f + 12), atlas->height);
+  assert_int_equal(le32(f + 16), atlas->width);
+  assert_int_equal(le32(f + 28), n + 1);
+  assert_int_equal(le32(f + 80), 0x41); /* RGB with alpha, 32 bits, R lowest */
+  assert_int_equal(le32(f + 88), 32);
+  assert_int_equal(le32(f + 92), 0xff);
+  assert_int_equal(le32(f + 104), 0xff000000u);
+  const unsigned char *px = f + 128;
+  assert_memory_equal(px, atlas->rgba, (size_t)atlas->width * atlas->height * 4);
+  px += (size_t)atlas->width * atlas->height * 4;
+  for (int l = 0; l < n; l++) {
+    size_t bytes = (size_t)lv[l].width * lv[l].height * 4;
+    assert_memory_equal(px, lv[l].rgba, bytes);
+    for (size_t i = 3; i < bytes; i += 4) assert_true(px[i] == 0 || px[i] == 255);
+    px += bytes;
+    bbc_image_free(&lv[l]);
+  }
+  free(lv);
+  bbc_mesh m;
+  if (bbc_mesh_load(wrl, NULL, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  assert_int_equal(m.texture_count, 1);
+  const char *tp = m.textures[0].path;
+  assert_true(strlen(tp) > 16 && !strcmp(tp + strlen(tp) - 16, "d_billboards.png"));
+  assert_int_equal(m.textures[0].image.width, atlas->width);
+  bbc_mesh_free(&m);
+  assert_int_equal(entries(dir), 3); /* .wrl, .png, .dds; no temporary files */
+  free(f);
+  free(text);
+  free(wrl);
+  free(dds);
+  free(dir);
+  bbc_cloud_free(&cl);
+}
+
 static void test_read_back(void **state) {
   (void)state;
   bbc_cloud cl;
@@ -511,6 +583,7 @@ int main(void) {
       cmocka_unit_test(test_refused_paths_write_nothing),
       cmocka_unit_test(test_deterministic),
       cmocka_unit_test(test_read_back),
+      cmocka_unit_test(test_dds_mip_levels),
   };
   return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

@@ -91,6 +91,60 @@ bbc_result bbc_image_write_png(const char *path, const bbc_image *image, bbc_err
   return bbc__atomic_commit(&af, err);
 }
 
+/* Little-endian 32-bit words into a DDS header. */
+static void dds_word(uint8_t *h, int i, uint32_t v) {
+  for (int k = 0; k < 4; k++) h[4 * i + k] = (uint8_t)(v >> (8 * k));
+}
+
+bbc_result bbc_image_write_dds(const char *path, const bbc_image *image, bbc_error *err) {
+  if (!image || !image->rgba || image->width <= 0 || image->height <= 0)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: no image to write", path);
+  bbc_image *levels = NULL;
+  int count = 0;
+  bbc_result r = bbc_image_mipmaps(image, &levels, &count, err);
+  if (r != BBC_OK) return r;
+  /* The header (Microsoft's DDS_HEADER, 124 bytes after the magic): caps,
+   * height, width, pitch, pixel format and mip count are given; RGBA8 as
+   * 32-bit pixels with R in the lowest byte (DDPF_RGB | DDPF_ALPHAPIXELS);
+   * a complex mipmapped texture. */
+  uint8_t h[128];
+  memset(h, 0, sizeof h);
+  memcpy(h, "DDS ", 4);
+  dds_word(h, 1, 124);
+  dds_word(h, 2, 0x1 | 0x2 | 0x4 | 0x8 | 0x1000 | 0x20000);
+  dds_word(h, 3, (uint32_t)image->height);
+  dds_word(h, 4, (uint32_t)image->width);
+  dds_word(h, 5, (uint32_t)image->width * 4);
+  dds_word(h, 7, (uint32_t)count + 1);
+  dds_word(h, 19, 32);         /* DDS_PIXELFORMAT: its size, */
+  dds_word(h, 20, 0x40 | 0x1); /* flags, */
+  dds_word(h, 22, 32);         /* bits per pixel and the masks */
+  dds_word(h, 23, 0x000000ffu);
+  dds_word(h, 24, 0x0000ff00u);
+  dds_word(h, 25, 0x00ff0000u);
+  dds_word(h, 26, 0xff000000u);
+  dds_word(h, 27, 0x8 | 0x1000 | 0x400000);
+  bbc__atomic_file af;
+  r = bbc__atomic_open(&af, path, err);
+  if (r == BBC_OK) {
+    int ok = fwrite(h, 1, sizeof h, af.fp) == sizeof h;
+    for (int l = -1; ok && l < count; l++) {
+      const bbc_image *im = l < 0 ? image : &levels[l];
+      size_t n = (size_t)im->width * im->height * 4;
+      ok = fwrite(im->rgba, 1, n, af.fp) == n;
+    }
+    if (ok) {
+      r = bbc__atomic_commit(&af, err);
+    } else {
+      bbc__atomic_abort(&af);
+      r = bbc__fail(err, BBC_ERROR_IO, "%s: write failed", path);
+    }
+  }
+  for (int l = 0; l < count; l++) bbc_image_free(&levels[l]);
+  free(levels);
+  return r;
+}
+
 int bbc_image_has_transparency(const bbc_image *image) {
   if (!image || !image->rgba) return 0;
   size_t n = (size_t)image->width * (size_t)image->height;

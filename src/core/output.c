@@ -271,8 +271,9 @@ bbc_result bbc_session_write(bbc_session *s, const char *out, const bbc_callback
         r = bbc_mesh_write_obj_ex(path, &lods[k]->cloud.mesh, comment, unlit, err);
       else
         r = bbc_cloud_write_vrml(path, &lods[k]->cloud,
-                                 lods[k]->params.format | (unlit ? BBC_VRML_UNLIT : 0), comment,
-                                 err);
+                                 lods[k]->params.format | (unlit ? BBC_VRML_UNLIT : 0) |
+                                     (lods[k]->params.dds ? BBC_VRML_DDS : 0),
+                                 comment, err);
     }
   }
   s->write_s = bbc__now_s() - t0;

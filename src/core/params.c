@@ -158,6 +158,10 @@ static const param_row k_rows[] = {
       "atlas side: texres becomes the largest that fits one such atlas (0 = texres as set; "
       "at least 64)"},
      INT_FIELD(atlas_max)},
+    {{"dds", BBC_PARAM_BOOL, 0, 1, 1, 0, "extension", "",
+      "VRML output: the atlas also as DDS with binary-alpha mip levels that keep its coverage, "
+      "named first in each url (readers without DDS take the PNG)"},
+     INT_FIELD(dds)},
 };
 
 #define ROW_COUNT (sizeof k_rows / sizeof k_rows[0])

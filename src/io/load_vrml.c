@@ -114,6 +114,13 @@ static void next(parser *p) {
   p->tok[n] = 0;
 }
 
+/* A location ending in .dds (any case). */
+static int is_dds(const char *url) {
+  size_t n = strlen(url);
+  return n >= 4 && url[n - 4] == '.' && (url[n - 3] | 32) == 'd' && (url[n - 2] | 32) == 'd' &&
+         (url[n - 1] | 32) == 's';
+}
+
 static int is_number(const char *t) {
   return (t[0] >= '0' && t[0] <= '9') || t[0] == '-' || t[0] == '+' || t[0] == '.';
 }
@@ -245,8 +252,13 @@ static int parse_field(parser *p, vnode *n, int depth) {
     while (!p->failed && p->kind != T_RBRACK) {
       if (p->kind == T_END) return fail(p, BBC_ERROR_CORRUPT, "a list is not closed with ']'");
       if (p->kind == T_STRING) {
-        if (!f->str && !(f->str = bbc__strdup(p->tok)))
-          return fail(p, BBC_ERROR_OUT_OF_MEMORY, "out of memory");
+        /* The first string, or the next after a DDS (which our image
+         * decoders do not read: bbcgen names the PNG after it). */
+        if (!f->str || is_dds(f->str)) {
+          free(f->str);
+          if (!(f->str = bbc__strdup(p->tok)))
+            return fail(p, BBC_ERROR_OUT_OF_MEMORY, "out of memory");
+        }
         next(p);
       } else if (p->kind == T_WORD && (is_number(p->tok) || !strcmp(p->tok, "TRUE") ||
                                        !strcmp(p->tok, "FALSE") || f->num_count > 0)) {

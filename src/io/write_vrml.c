@@ -1,6 +1,7 @@
 /* write_vrml.c — a Billboard Cloud as VRML (thesis Appendix A, "save"): the
  * .wrl and beside it the colour atlas <stem>.png (and the normal atlas
- * <stem>_nm.png), every file atomic. The whole text is built in memory
+ * <stem>_nm.png; with BBC_VRML_DDS the colour atlas also as <stem>.dds with
+ * its mip levels), every file atomic. The whole text is built in memory
  * first, then the PNGs are written, then the .wrl, so a failure writes
  * nothing and the .wrl never names a missing file. */
 #include "internal.h"
@@ -94,6 +95,7 @@ typedef struct vrml_ctx {
   const bbc_mesh *m;
   const char *stem;
   char col_suffix[200], nm_suffix[200]; /* "_<material>.png", "_<material>_nm.png" */
+  char dds_suffix[200];                 /* "_<material>.dds", "" without DDS */
   int unlit;                            /* no Material: the (prelit) texture shown as it is */
   int nm_nodes; /* format 0 with normal maps: a NormalMap node beside each Shape */
   int solid;    /* one-sided copies (back images) */
@@ -119,7 +121,15 @@ static void put_side(text *t, const vrml_ctx *x, size_t k, int back, size_t base
   /* VRML97 6.4: an Appearance without a material is drawn unlit. */
   if (!x->unlit) put(t, "%s    material Material { diffuseColor 1 1 1 }\n", in);
   put(t, "%s    texture ImageTexture { url ", in);
-  put_url(t, x->stem, x->col_suffix);
+  if (x->dds_suffix[0]) { /* the DDS (its mip levels) first, the PNG for the rest */
+    put(t, "[ ");
+    put_url(t, x->stem, x->dds_suffix);
+    put(t, " ");
+    put_url(t, x->stem, x->col_suffix);
+    put(t, " ]");
+  } else {
+    put_url(t, x->stem, x->col_suffix);
+  }
   put(t, " repeatS FALSE repeatT FALSE }\n");
   put(t, "%s  }\n", in);
   put(t, "%s  geometry IndexedFaceSet {\n", in);
@@ -168,8 +178,8 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
   const char *base_name = strrchr(wrl_path, '/') ? strrchr(wrl_path, '/') + 1 : wrl_path;
   if (strcmp(ext, "wrl") || strlen(base_name) <= 4)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: VRML output must be NAME.wrl", wrl_path);
-  int unlit = (format & BBC_VRML_UNLIT) != 0;
-  format &= ~BBC_VRML_UNLIT;
+  int unlit = (format & BBC_VRML_UNLIT) != 0, dds = (format & BBC_VRML_DDS) != 0;
+  format &= ~(BBC_VRML_UNLIT | BBC_VRML_DDS);
   if (format != 0 && format != 1)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "%s: VRML format must be 0 (VRML 2.0 with extensions) or 1 (VRML97), not %d",
@@ -259,6 +269,10 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
   snprintf(x.col_suffix, sizeof x.col_suffix, "_%s.png", name);
   bbc_texture_file_name(m, 1, name, sizeof name);
   snprintf(x.nm_suffix, sizeof x.nm_suffix, "_%s.png", name);
+  if (dds && bbc_image_has_transparency(&m->textures[0].image)) {
+    bbc_texture_file_name(m, 0, name, sizeof name);
+    snprintf(x.dds_suffix, sizeof x.dds_suffix, "_%s.dds", name);
+  }
   if (x.nm_nodes) {
     put(&t, "# NormalMap: the normal atlas (tangent space) of the Shape beside it; a no-op\n"
             "# for VRML97 readers.\n");
@@ -288,17 +302,30 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
     goto done;
   }
 
-  /* The PNGs first, the .wrl last. */
-  snprintf(png, len + 200, "%s%s%s", dir, stem, x.col_suffix);
-  r = bbc_image_write_png(png, &m->textures[0].image, err);
-  int written = r == BBC_OK;
+  /* The images first (DDS, PNGs), the .wrl last. */
+  int dds_written = 0;
+  if (x.dds_suffix[0]) {
+    snprintf(png, len + 200, "%s%s%s", dir, stem, x.dds_suffix);
+    r = bbc_image_write_dds(png, &m->textures[0].image, err);
+    dds_written = r == BBC_OK;
+  }
+  int written = 0;
+  if (r == BBC_OK) {
+    snprintf(png, len + 200, "%s%s%s", dir, stem, x.col_suffix);
+    r = bbc_image_write_png(png, &m->textures[0].image, err);
+    written = r == BBC_OK;
+  }
   if (r == BBC_OK && nm) {
     snprintf(png, len + 200, "%s%s%s", dir, stem, x.nm_suffix);
     r = bbc_image_write_png(png, nm, err);
     written += r == BBC_OK;
   }
   if (r == BBC_OK) r = bbc_write_file_atomic(wrl_path, t.data, t.size, err);
-  if (r != BBC_OK) { /* a failed write leaves none of its PNGs behind */
+  if (r != BBC_OK) { /* a failed write leaves none of its images behind */
+    if (dds_written) {
+      snprintf(png, len + 200, "%s%s%s", dir, stem, x.dds_suffix);
+      remove(png);
+    }
     if (written >= 1) {
       snprintf(png, len + 200, "%s%s%s", dir, stem, x.col_suffix);
       remove(png);

@@ -195,6 +195,9 @@ typedef struct bbc__bake {
   const bbc__mips *mips;
   int mip_bias; /* levels added: log2 of the pixels per cloud texel (4 samples
                  * per side: 2), so that colours are those of one texel */
+  /* Optional, per triangle of the mesh: the alpha its samples get (255 when
+   * NULL): `pure 2` gives a face crossing n slabs 255 / n in each. */
+  const uint8_t *face_alpha;
 } bbc__bake;
 
 bbc_result bbc__render_bake(const bbc_mesh *mesh, const uint32_t *faces, size_t face_count,

@@ -442,6 +442,64 @@ static void test_cancel(void **state) {
   bbc_mesh_free(&m);
 }
 
+/* pure 0 draws a leaf into every billboard whose slab it crosses, pure 1
+ * into its own plane's only, pure 2 into each with half its coverage:
+ * two planes z = 0 and z = 0.01, a leaf of 8 x 8 texels at z = 0.005
+ * between them (eps 0.02). */
+static void test_pure_split(void **state) {
+  (void)state;
+  const int N = 16;
+  size_t opaque[3][2];
+  for (int pure = 0; pure < 3; pure++) {
+    scene sc;
+    scene_begin(&sc, 4);
+    scene_frame(&sc);
+    const double l0[3] = {0.25, 0.25, 0.005}, l1[3] = {0.75, 0.25, 0.005},
+                 l2[3] = {0.75, 0.75, 0.005}, l3[3] = {0.25, 0.75, 0.005};
+    scene_tri(&sc, l0, l1, l2, 1);
+    scene_tri(&sc, l0, l2, l3, 1);
+    scene_end(&sc, 0.02);
+    bbc_planeset *st = &sc.s;
+    bbc_plane *pl = realloc(st->planes, 2 * sizeof *pl);
+    assert_non_null(pl);
+    st->planes = pl;
+    pl[1] = pl[0];
+    pl[1].d = 0.01;
+    pl[0].face_count = 2; /* the leaf's plane */
+    pl[1].face_count = 2; /* the frame's */
+    st->face_plane[0] = st->face_plane[1] = 1;
+    st->plane_count = 2;
+    st->parts[0].plane_count = 2;
+    bbc_params p;
+    params_for(&p, N, 2);
+    p.pure = pure;
+    p.refine = 0; /* the masks as baked */
+    p.back_images = 0;
+    p.stem = 0;
+    bbc_cloud cl;
+    bbc_error err;
+    if (bbc_cloud_build(&sc.m, &sc.s, &p, NULL, &cl, &err) != BBC_OK) fail_msg("%s", err.message);
+    assert_int_equal(cl.billboard_count, 2);
+    for (int k = 0; k < 2; k++) {
+      const bbc_cloud_billboard *bb = &cl.billboards[k];
+      opaque[pure][k] = 0;
+      for (int ty = 4; ty < 12; ty++)
+        for (int tx = 4; tx < 12; tx++) {
+          const double q[3] = {(tx + 0.5) / N, (ty + 0.5) / N, bb->d};
+          opaque[pure][k] += texel_at(&cl, bb, 0, q)[3] == 255;
+        }
+    }
+    bbc_cloud_free(&cl);
+    scene_free(&sc);
+  }
+  for (int pure = 0; pure < 3; pure++)
+    printf("pure %d: leaf texels opaque %zu + %zu of 64 + 64\n", pure, opaque[pure][0],
+           opaque[pure][1]);
+  assert_int_equal(opaque[0][0] + opaque[0][1], 128);
+  assert_int_equal(opaque[1][0] + opaque[1][1], 64);
+  for (int k = 0; k < 2; k++) assert_true(opaque[2][k] >= 28 && opaque[2][k] <= 36);
+}
+
 static void test_refine_keeps_density(void **state) {
   (void)state;
   bbc_tree_options to;
@@ -870,6 +928,7 @@ int main(void) {
       cmocka_unit_test(test_small_leaf_survives_quality2),
       cmocka_unit_test(test_dither_keeps_density),
       cmocka_unit_test(test_refine_keeps_density),
+      cmocka_unit_test(test_pure_split),
       cmocka_unit_test(test_cancel),
       cmocka_unit_test(test_stem_holds_from_every_side),
       cmocka_unit_test(test_front_and_back),

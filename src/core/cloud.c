@@ -54,15 +54,18 @@ static bbc_result alpha_mask(const bbc_image *img, int k, int dither, unsigned m
     int dir = y % 2 ? -1 : 1;
     for (int i = 0; i < w; i++) {
       int x = dir > 0 ? i : w - 1 - i;
-      unsigned n = 0; /* covered samples */
+      unsigned n = 0, shares = 0; /* covered samples, their alphas (pure 2: shares) */
       for (int j = 0; j < k; j++)
-        for (int q = 0; q < k; q++)
-          n += img->rgba[4 * ((size_t)(y * k + j) * img->width + (x * k + q)) + 3] > 0;
+        for (int q = 0; q < k; q++) {
+          unsigned a = img->rgba[4 * ((size_t)(y * k + j) * img->width + (x * k + q)) + 3];
+          n += a > 0;
+          shares += a;
+        }
       uint8_t on;
       if (!dither) {
         on = n > 0 && n >= min_opaque;
       } else {
-        float v = (float)n / (float)(k * k) + cur[x];
+        float v = (float)shares / (float)(255 * k * k) + cur[x];
         on = n > 0 && v >= 0.5f;
         /* The error goes to the neighbours inside the image, the weights
          * renormalised, so that none leaves over an edge. */
@@ -222,7 +225,7 @@ static size_t slab_faces(const bbc_mesh *m, const bbc_planeset *set, const bbc_p
     if (mask) {
       if (!mask[t]) continue;
     } else {
-      if (pure && set->face_plane[t] != owner) continue;
+      if (pure == 1 && set->face_plane[t] != owner) continue;
       double dmin = INFINITY, dmax = -INFINITY;
       for (int c = 0; c < 3; c++) {
         const double *x = m->positions + 3 * ix[c];
@@ -253,7 +256,7 @@ static size_t slab_points(const bbc_mesh *m, const bbc_planeset *set, const bbc_
     hi[k] = -INFINITY;
   }
   for (size_t v = 0; v < m->vertex_count; v++) {
-    if (pure && set->face_plane[v] != owner) continue;
+    if (pure == 1 && set->face_plane[v] != owner) continue;
     const double *x = m->positions + 3 * v;
     double d = p->normal[0] * x[0] + p->normal[1] * x[1] + p->normal[2] * x[2] - p->d;
     if (d > eps || d < -eps) continue;
@@ -266,13 +269,41 @@ static size_t slab_points(const bbc_mesh *m, const bbc_planeset *set, const bbc_
   return n;
 }
 
+/* pure 2: the alpha each triangle's samples get, 255 / n for a triangle
+ * crossing the slabs of n kept planes, so that its coverage reaches the
+ * images once in all (quality 2's dithering sums the shares). NULL when out
+ * of memory. */
+static uint8_t *face_shares(const bbc_mesh *m, const bbc_planeset *set, const size_t *order,
+                            size_t nk) {
+  uint8_t *share = malloc(m->triangle_count ? m->triangle_count : 1);
+  if (!share) return NULL;
+  for (size_t t = 0; t < m->triangle_count; t++) {
+    const uint32_t *ix = m->indices + 3 * t;
+    unsigned n = 0;
+    for (size_t k = 0; k < nk; k++) {
+      const bbc_plane *p = &set->planes[order[k]];
+      double eps = set->parts[p->part].epsilon_abs, dmin = INFINITY, dmax = -INFINITY;
+      for (int c = 0; c < 3; c++) {
+        const double *x = m->positions + 3 * ix[c];
+        double d = p->normal[0] * x[0] + p->normal[1] * x[1] + p->normal[2] * x[2] - p->d;
+        dmin = fmin(dmin, d);
+        dmax = fmax(dmax, d);
+      }
+      n += !(dmin > eps || dmax < -eps); /* slab_faces' test */
+    }
+    share[t] = (uint8_t)(n > 1 ? (255 + n / 2) / n : 255);
+  }
+  return share;
+}
+
 /* Bakes billboard cb of plane p: the faces crossing its +-eps slab (pure:
  * those of plane `owner`), or with `mask` the faces it marks (a stem
  * billboard, eps its slab). */
 static void bake_one(const bbc_mesh *m, const bbc_planeset *set, const bbc_params *prm,
                      const bbc__mips *mips, const float *vshade, const double *light,
                      double light_gain, const bbc_plane *p, uint32_t owner, double eps,
-                     const uint8_t *mask, bbc_cloud_billboard *cb, uint32_t *faces, baked *out) {
+                     const uint8_t *mask, const uint8_t *share, bbc_cloud_billboard *cb,
+                     uint32_t *faces, baked *out) {
   const bbc_billboard *b = &cb->rect;
   double lo[3], hi[3];
   int points = m->kind == BBC_MESH_POINTS;
@@ -341,6 +372,7 @@ static void bake_one(const bbc_mesh *m, const bbc_planeset *set, const bbc_param
   bk.backface = prm->backface;
   bk.mips = mips;
   bk.mip_bias = ss == 4 ? 2 : 0;
+  bk.face_alpha = mask ? NULL : share; /* a stem billboard draws its faces whole */
   if (points) {
     /* 2.4: splats `pointsize` pixels wide on a 256-pixel picture of the
      * whole model (its bounding sphere), in this billboard's texels (adapted
@@ -584,6 +616,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
   size_t *order = malloc((np ? np : 1) * sizeof *order);
   float *vshade = NULL;
   bbc__mips *mips = NULL;
+  uint8_t *share = NULL; /* pure 2: per triangle, its alpha share */
   bbc_result r = BBC_OK;
   if (!bb || !order) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
   if (r == BBC_OK && given)
@@ -647,6 +680,11 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
     if (prm->prelight && !points) r = bbc_light_gain(m, light, prm->up_axis, &light_gain, err);
     /* Colours as a GPU shows the textures from the billboards' distance. */
     if (r == BBC_OK && !m->no_mipmaps && !points) r = bbc__mips_build(m, &mips, err);
+    /* pure 2: each face's coverage split between the slabs it crosses (only
+     * dithering sums shares; otherwise it acts as pure 0). */
+    if (r == BBC_OK && prm->pure == 2 && prm->quality == 2 && prm->dither && !points &&
+        !(share = face_shares(m, set, order, np_kept)))
+      r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
     int nt = prm->threads;
 #ifdef _OPENMP
     if (nt <= 0) nt = omp_get_max_threads();
@@ -677,11 +715,11 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
           uint32_t owner =
               p->kind == BBC_PLANE_CARDBOARD ? (uint32_t)p->mother : (uint32_t)order[k];
           bake_one(m, set, prm, mips, vshade, light, light_gain, p, owner,
-                   set->parts[p->part].epsilon_abs, NULL, &cl->billboards[k], faces, &bk[k]);
+                   set->parts[p->part].epsilon_abs, NULL, share, &cl->billboards[k], faces, &bk[k]);
         } else {
           size_t i = k - np_kept;
           bake_one(m, set, prm, mips, vshade, light, light_gain, &stem->planes[i], 0, stem->slab[i],
-                   stem->face_mask, &cl->billboards[k], faces, &bk[k]);
+                   stem->face_mask, NULL, &cl->billboards[k], faces, &bk[k]);
         }
 #pragma omp critical(bbc_cloud_progress)
         {
@@ -783,6 +821,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
   free(bb);
   free(order);
   free(vshade);
+  free(share);
   bbc__mips_free(mips, m->texture_count);
   if (r != BBC_OK) bbc_cloud_free(cl);
   return r;

@@ -85,8 +85,9 @@ static const param_row k_rows[] = {
     {{"prelight", BBC_PARAM_BOOL, 0, 1, 1, F3, "billboard", "",
       "lighting while generating textures"},
      INT_FIELD(prelight)},
-    {{"pure", BBC_PARAM_BOOL, 0, 1, 0, F3, "billboard", "",
-      "render only the faces a plane simplifies into its texture (2.2.5)"},
+    {{"pure", BBC_PARAM_INT, 0, 2, 0, F3, "billboard", "",
+      "render only the faces a plane simplifies into its texture (2.2.5); 2 = every face "
+      "crossing the slab, its coverage split between the slabs it crosses (quality 2, dither)"},
      INT_FIELD(pure)},
     {{"quality", BBC_PARAM_INT, 0, 3, 2, F3, "billboard", "",
       "texture quality: 0 fast, 2 supersampling + squashing, 3 supersampling only (1 = 0; "

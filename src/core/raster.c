@@ -308,7 +308,8 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
       shade *= occl;
       uint8_t px4[4] = {to_byte(col[0] * shade + amb[0] * occl),
                         to_byte(col[1] * shade + amb[1] * occl),
-                        to_byte(col[2] * shade + amb[2] * occl), 255};
+                        to_byte(col[2] * shade + amb[2] * occl),
+                        tg->bake && tg->bake->face_alpha ? tg->bake->face_alpha[t] : 255};
       if (tg->sun_lum && front) {
         double s2 = 1.0;
         if (view->lighting && !mat->unlit) s2 = gain * sun_shade(n, tg->sun);

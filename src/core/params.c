@@ -86,7 +86,7 @@ static const param_row k_rows[] = {
       "lighting while generating textures"},
      INT_FIELD(prelight)},
     {{"pure", BBC_PARAM_INT, 0, 2, 0, F3, "billboard", "",
-      "render only the faces a plane simplifies into its texture (2.2.5); 2 = every face "
+      "1 = render only the faces a plane simplifies into its texture (2.2.5); 2 = every face "
       "crossing the slab, its coverage split between the slabs it crosses (quality 2, dither)"},
      INT_FIELD(pure)},
     {{"quality", BBC_PARAM_INT, 0, 3, 2, F3, "billboard", "",

@@ -1142,6 +1142,10 @@ void bbc_session_times(const bbc_session *session, double *load_s, double *write
  * and the epsilon used. Atomic: nothing half-written. */
 bbc_result bbc_session_write(bbc_session *session, const char *path, const bbc_callbacks *callbacks,
                              bbc_error *err);
+/* Takes the output-only parameters of `params` (`format`, `dds`: how a
+ * cloud is written, not what it is) into every level, so that a `set` of
+ * them after the steps acts on the next bbc_session_write/_save. */
+void bbc_session_set_output(bbc_session *session, const bbc_params *params);
 /* The file of level k that bbc_session_write makes for `path`. */
 void bbc_session_output_path(const char *path, size_t k, char *buf, size_t size);
 /* Appendix A's save: the cloud as VRML in

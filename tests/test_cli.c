@@ -490,17 +490,29 @@ static void test_exec_state(void **state) {
     free(bf);
   }
   /* threads and the VRML format change no result, a split as it was changes
-   * nothing, a part's texturing parameter needs step 3 only: bbc3 goes on */
+   * nothing, a part's texturing parameter needs step 3 only: bbc3 goes on;
+   * format and dds set after the steps act on the next save */
   snprintf(text, sizeof text,
-           "load %s\nset texres 16\nbbc\nset threads 1\nset format 1\nsplit auto\n"
-           "set trunk.quality 0\nbbc3\n",
+           "load %s\nset texres 16\nbbc\nset threads 1\nset format 1\nset dds 0\nsplit auto\n"
+           "set trunk.quality 0\nbbc3\nset format 0\nsave free\n",
            path);
   bf = tu_write_file(tu_dir, "free.bbc", text, strlen(text));
   snprintf(args, sizeof args, "exec '%s' -q", bf);
-  assert_int_equal(run(args, &out, &err), 0);
+  assert_int_equal(run_in(args, "", &out, &err), 0); /* in tu_dir: save writes there */
   free(out);
   free(err);
   free(bf);
+  char saved[2048];
+  snprintf(saved, sizeof saved, "%s/vrml97models/free/Tree_1/Tree_1_e6.00_tex16_pl/Tree_1.wrl",
+           tu_dir);
+  char *t = (char *)tu_read_file(saved, NULL);
+  if (!t) fail_msg("missing %s", saved);
+  assert_non_null(strstr(t, "# format 0 (VRML 2.0 with extensions)"));
+  assert_null(strstr(t, ".dds"));
+  free(t);
+  snprintf(saved, sizeof saved,
+           "%s/vrml97models/free/Tree_1/Tree_1_e6.00_tex16_pl/Tree_1_billboards.dds", tu_dir);
+  assert_false(tu_have_file(saved));
 }
 
 /* The prompt: commands line by line, errors reported and the session goes

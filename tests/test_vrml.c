@@ -376,6 +376,10 @@ static uint32_t le32(const unsigned char *p) {
   return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
 }
 
+static void count_texture_warning(void *user, bbc_log_level level, const char *msg) {
+  if (level == BBC_LOG_WARNING && strstr(msg, "cannot be read")) ++*(int *)user;
+}
+
 static void test_dds_mip_levels(void **state) {
   (void)state;
   bbc_cloud cl;
@@ -433,6 +437,23 @@ static void test_dds_mip_levels(void **state) {
   assert_int_equal(m.textures[0].image.width, atlas->width);
   bbc_mesh_free(&m);
   assert_int_equal(entries(dir), 3); /* .wrl, .png, .dds; no temporary files */
+  /* Without the PNG: said once, and the shapes keep their colour (as a
+   * missing map_Kd) instead of drawing an empty texture. */
+  char *png = path_in(dir, "d_billboards.png");
+  assert_int_equal(remove(png), 0);
+  int warnings = 0;
+  bbc_load_options lo;
+  bbc_load_options_default(&lo);
+  lo.callbacks.log = count_texture_warning;
+  lo.callbacks.user = &warnings;
+  if (bbc_mesh_load(wrl, &lo, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  assert_int_equal(warnings, 1);
+  for (size_t i = 0; i < m.material_count; i++) {
+    assert_int_equal(m.materials[i].texture, -1);
+    assert_non_null(m.materials[i].texture_ref);
+  }
+  bbc_mesh_free(&m);
+  free(png);
   free(f);
   free(text);
   free(wrl);

@@ -2,6 +2,7 @@
  * with stb_image_write through an atomic file. */
 #include "internal.h"
 
+#include <errno.h>
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
@@ -136,8 +137,9 @@ bbc_result bbc_image_write_dds(const char *path, const bbc_image *image, bbc_err
     if (ok) {
       r = bbc__atomic_commit(&af, err);
     } else {
+      int e = errno;
       bbc__atomic_abort(&af);
-      r = bbc__fail(err, BBC_ERROR_IO, "%s: write failed", path);
+      r = bbc__fail(err, BBC_ERROR_IO, "%s: write failed: %s", path, strerror(e));
     }
   }
   for (int l = 0; l < count; l++) bbc_image_free(&levels[l]);

@@ -153,6 +153,14 @@ void bbc_session_output_path(const char *out, size_t level, char *buf, size_t n)
   lod_path(out, level, buf, n);
 }
 
+void bbc_session_set_output(bbc_session *s, const bbc_params *p) {
+  for (size_t k = 0; k < bbc_session_level_count(s); k++) {
+    bbc__level *l = bbc__session_level(s, k);
+    l->params.format = p->format;
+    l->params.dds = p->dds;
+  }
+}
+
 bbc_result bbc_session_write(bbc_session *s, const char *out, const bbc_callbacks *cb,
                              bbc_error *err) {
   size_t count = bbc_session_level_count(s);

@@ -189,9 +189,11 @@ int bbc_params_first_step(const bbc_params *a, const bbc_params *b, const char *
     const char *pa = (const char *)a + r->offset, *pb = (const char *)b + r->offset;
     if (!memcmp(pa, pb, r->is_double ? sizeof(double) : sizeof(int))) continue;
     /* results never depend on these: worker threads, the debug views, the
-     * VRML dialect the cloud is written in */
+     * VRML dialect the cloud is written in and whether a DDS goes with it */
     const char *name = r->info.name;
-    if (!strcmp(name, "threads") || !strcmp(name, "debug") || !strcmp(name, "format")) continue;
+    if (!strcmp(name, "threads") || !strcmp(name, "debug") || !strcmp(name, "format") ||
+        !strcmp(name, "dds"))
+      continue;
     int step = r->info.flags & BBC_PARAM_STEP3_ONLY    ? 3
                : r->info.flags & BBC_PARAM_KEEPS_STEP1 ? 2
                                                        : 1;

@@ -385,8 +385,9 @@ typedef struct builder {
   size_t vcap, tcap, mcap, tex_cap; /* vertices, triangles, materials, textures */
   char folder[4096];
   int load_textures;
-  size_t skipped; /* geometry nodes other than IndexedFaceSet and PointSet */
-  size_t visits;  /* nodes walked: USE can repeat a subtree, even inside itself */
+  const bbc_callbacks *cb; /* warnings: a texture that cannot be read */
+  size_t skipped;          /* geometry nodes other than IndexedFaceSet and PointSet */
+  size_t visits;           /* nodes walked: USE can repeat a subtree, even inside itself */
   /* PointSets (Appendix A: a point cloud is one node with point and color) */
   double *pts;
   uint8_t *cols;
@@ -440,7 +441,8 @@ static int texture_index(builder *b, const char *url) {
   else
     snprintf(full, sizeof full, "%s%s%s", b->folder, b->folder[fl - 1] == '/' ? "" : "/", url);
   for (size_t i = 0; i < m->texture_count; i++)
-    if (m->textures[i].path && !strcmp(m->textures[i].path, full)) return (int)i;
+    if (m->textures[i].path && !strcmp(m->textures[i].path, full))
+      return b->load_textures && !m->textures[i].image.rgba ? -1 : (int)i;
   bbc_texture *t = grow(m->textures, &b->tex_cap, m->texture_count + 1, sizeof *t);
   if (!t) return -2;
   m->textures = t;
@@ -451,8 +453,15 @@ static int texture_index(builder *b, const char *url) {
   m->texture_count++;
   if (b->load_textures) {
     bbc_error e;
-    if (bbc_image_load(full, &nt->image, &e) == BBC_OK)
-      nt->has_alpha = bbc_image_has_transparency(&nt->image);
+    if (bbc_image_load(full, &nt->image, &e) != BBC_OK) {
+      /* As for a missing map_Kd: said once, and the shapes keep their
+       * material colour instead of drawing nothing. */
+      bbc__log(b->cb, BBC_LOG_WARNING,
+               "%s: texture '%s' cannot be read (%s); using the base colour", b->p->path, url,
+               e.message);
+      return -1;
+    }
+    nt->has_alpha = bbc_image_has_transparency(&nt->image);
   }
   return (int)(m->texture_count - 1);
 }
@@ -667,6 +676,7 @@ bbc_result bbc__parse_vrml(const char *path, char *text, size_t n, const bbc_loa
   b.p = &p;
   b.m = mesh;
   b.load_textures = options->load_textures;
+  b.cb = &options->callbacks;
   bbc__path_folder(path, b.folder, sizeof b.folder);
   mesh->kind = BBC_MESH_TRIANGLES;
   const double id[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};

@@ -89,6 +89,7 @@ int session_write(const cli *c, bbc_session *s, const char *out) {
     if (!cli_output_ok("-o", path)) return EXIT_OUTPUT;
   }
   bbc_error err;
+  bbc_session_set_output(s, &c->params);
   bbc_result r = bbc_session_write(s, out, &c->callbacks, &err);
   if (r != BBC_OK) return cli_fail(&err, r != BBC_ERROR_INVALID_ARGUMENT);
   wrote(c, s, out);
@@ -98,6 +99,7 @@ int session_write(const cli *c, bbc_session *s, const char *out) {
 int session_save(const cli *c, bbc_session *s, const char *user_dir) {
   char path[4600];
   bbc_error err;
+  bbc_session_set_output(s, &c->params);
   bbc_result r = bbc_session_save(s, user_dir, &c->callbacks, path, sizeof path, &err);
   if (r != BBC_OK) return cli_fail(&err, r != BBC_ERROR_INVALID_ARGUMENT);
   wrote(c, s, path);

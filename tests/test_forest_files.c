@@ -166,6 +166,8 @@ static void test_mistakes_named(void **state) {
   expect_map_error("hmap h.png\n\nfog 900 100\n", "bad.txt:3:", "fog");
   expect_map_error("hmap h.png\nlight 0 0 0\n", "bad.txt:2:", "light");
   expect_map_error("hmap h.png\nforest 3\n", "bad.txt:2:", "unknown command 'forest'");
+  /* a terminal's escape sequence in a binary file is shown, not sent */
+  expect_map_error("hmap h.png\n\033[31mRED 1\n", "bad.txt:2:", "unknown command '\\x1b[31mRED'");
   expect_map_error("hmap h.png\nrndtree t.txt 1 100 2 1 0 0 0 0\n", "bad.txt:2:", "mipmap");
   expect_map_error("hmap h.png\nrndtree t.txt 1 -5 1 1 0 0 0 0\n", "bad.txt:2:", "number of");
   expect_map_error("hmap h.png\nobject2d a.txt 1 1 10 20 0 0 0\n", "end of the file",
@@ -232,6 +234,21 @@ static void test_from_files(void **state) {
   assert_int_equal(bbc_forest_map_load(path, &m, &err), BBC_ERROR_CORRUPT); /* not a map */
   assert_non_null(strstr(err.message, "unknown command 'fade'"));
   remove(path);
+}
+
+/* Runs a shell command whose output goes to `out`; its status in *rc and
+ * that output (malloc'd, NUL-terminated). */
+static char *run_logged(const char *cmd, const char *out, int *rc) {
+  *rc = system(cmd);
+  char *log = calloc(1, 65536);
+  assert_non_null(log);
+  FILE *f = fopen(out, "r");
+  if (f) {
+    size_t n = fread(log, 1, 65535, f);
+    log[n] = 0;
+    fclose(f);
+  }
+  return log;
 }
 
 static void put_file(const char *path, const char *text) {
@@ -322,26 +339,15 @@ static void test_world(void **state) {
   put_file(path, text);
   snprintf(out, sizeof out, "%s/out.txt", dir);
   snprintf(cmd, sizeof cmd, "'%s/forest' --check '%s' > '%s' 2>&1", BBC_BIN_DIR, path, out);
-  int rc = system(cmd);
-  char *log = NULL;
-  FILE *f = fopen(out, "r");
-  if (f) {
-    log = calloc(1, 65536);
-    if (log) fread(log, 1, 65535, f);
-    fclose(f);
-  }
-  assert_non_null(log);
+  int rc;
+  char *log = run_logged(cmd, out, &rc);
   if (rc != 0) fail_msg("forest --check: %s", log);
   assert_non_null(strstr(log, "objects: 501 placed of 501 asked"));
   assert_non_null(strstr(log, "green ground"));
   free(log);
   put_file(path, "hmap h.png\nrndtree tree.txt 1 5 0 1 0 0 0 0\n"
                  "rndtree2 tree.txt stem.wrl 1 5 0 1 0 0 0 0\n");
-  rc = system(cmd);
-  f = fopen(out, "r");
-  log = calloc(1, 65536);
-  if (f && log) fread(log, 1, 65535, f);
-  if (f) fclose(f);
+  log = run_logged(cmd, out, &rc);
   assert_true(rc != 0 && WEXITSTATUS(rc) == 1);
   assert_non_null(strstr(log, "map.txt:3: model 'stem.wrl' not found"));
   assert_non_null(strstr(log, "objects: 10 placed of 10 asked"));
@@ -349,14 +355,25 @@ static void test_world(void **state) {
   /* Drawing a map with a missing model: named, exit 1, nothing drawn. */
   snprintf(cmd, sizeof cmd, "'%s/forest' '%s' --size 32x32 --log '%s/log.txt' > '%s' 2>&1",
            BBC_BIN_DIR, path, dir, out);
-  rc = system(cmd);
+  log = run_logged(cmd, out, &rc);
   assert_int_equal(WEXITSTATUS(rc), 1);
-  f = fopen(out, "r");
-  log = calloc(1, 65536);
-  if (f && log) fread(log, 1, 65535, f);
-  if (f) fclose(f);
   assert_non_null(strstr(log, "stem.wrl"));
   free(log);
+  /* A model whose texture is missing: named with the map's line, a problem. */
+  char tex[256];
+  snprintf(tex, sizeof tex, "%s/leafy.mtl", dir);
+  put_file(tex, "newmtl leaf\nKd 1 1 1\nmap_Kd gone.png\n");
+  snprintf(tex, sizeof tex, "%s/leafy.obj", dir);
+  put_file(tex, "mtllib leafy.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl leaf\nf 1 2 3\n");
+  put_file(path, "hmap h.png\nobject2d leafy.obj 1 1 8 8 0 0 0 0\n");
+  snprintf(cmd, sizeof cmd, "'%s/forest' --check '%s' > '%s' 2>&1", BBC_BIN_DIR, path, out);
+  log = run_logged(cmd, out, &rc);
+  assert_true(rc != 0 && WEXITSTATUS(rc) == 1);
+  if (!strstr(log, "map.txt:2: warning:") || !strstr(log, "gone.png")) fail_msg("%s", log);
+  free(log);
+  remove(tex);
+  snprintf(tex, sizeof tex, "%s/leafy.mtl", dir);
+  remove(tex);
   remove(model);
   remove(house);
   remove(path);

@@ -470,7 +470,7 @@ static void test_read_back(void **state) {
   bbc_error err;
   for (int format = 0; format <= 1; format++) {
     char name[32];
-    snprintf(name, sizeof name, "r%d.wrl", format);
+    snprintf(name, sizeof name, "r %d.wrl", format); /* a space: its url is escaped */
     char *wrl = path_in(dir, name);
     if (bbc_cloud_write_vrml(wrl, &cl, format, NULL, &err) != BBC_OK) fail_msg("%s", err.message);
     bbc_mesh m;

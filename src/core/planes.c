@@ -464,10 +464,12 @@ bbc_result bbc_planes_select(bbc_grid *grid, const bbc_planes_options *o, bbc_pl
       f = pow((double)n / maxp, 1.0 / 1.5);
       f = f < 1.25 ? 1.25 : f > 2 ? 2 : f;
       grown = 1;
-    } else if (minp > 0 && n < (size_t)minp && !grown && scale > 0.2 &&
+    } else if (minp > 0 && n < (size_t)minp && !grown && scale > 0.2 + 1e-9 &&
                (maxp <= 0 || minp <= maxp)) {
-      /* Few planes: a smaller epsilon buys fidelity within the budget. */
+      /* Few planes: a smaller epsilon buys fidelity within the budget, down
+       * to 1/5 of the asked epsilon. */
       f = 1.0 / fmin(2.0, fmax(1.25, pow((double)minp / (double)(n ? n : 1), 1.0 / 1.5)));
+      if (scale * f < 0.2) f = 0.2 / scale;
       best = *set;
       have_best = 1;
     }

@@ -34,6 +34,21 @@ typedef struct lexer {
 
 /* " (the command begins on line N: too few values there?)" when the word
  * that did not fit is on a later line than its command, else "". */
+/* A word for a message: its first 64 bytes, control characters (a terminal's
+ * escape sequences in a binary file) written as \xNN. */
+static const char *shown(const char *w, char *out, size_t size) {
+  size_t n = 0;
+  for (size_t i = 0; w[i] && i < 64 && n + 5 < size; i++) {
+    unsigned char c = (unsigned char)w[i];
+    if (c < 0x20 || c == 0x7f)
+      n += (size_t)snprintf(out + n, size - n, "\\x%02x", c);
+    else
+      out[n++] = (char)c;
+  }
+  out[n] = 0;
+  return out;
+}
+
 static const char *later_line(lexer *lx) {
   lx->hint[0] = '\0';
   if (lx->cmd_line > 0 && lx->word_line > lx->cmd_line)
@@ -241,6 +256,7 @@ bbc_result bbc_forest_map_parse(const char *text, size_t size, const char *name,
   int r;
   while ((r = next_word(&lx, err)) > 0) {
     const char *w = lx.word;
+    char word[5 * 64 + 1];
     lx.cmd_line = lx.word_line;
     int ok = 1;
     if (!strcasecmp(w, "hmap")) {
@@ -296,10 +312,10 @@ bbc_result bbc_forest_map_parse(const char *text, size_t size, const char *name,
       ok = parse_placement(&lx, map, &cap, BBC_FOREST_RNDTREE2, err);
     } else {
       bbc__fail(err, BBC_ERROR_CORRUPT,
-                "%s:%d: unknown command '%.64s' (expected hmap, hmapfilter, colmap, heightscale, "
+                "%s:%d: unknown command '%s' (expected hmap, hmapfilter, colmap, heightscale, "
                 "stretch, light, farclip, roetger, skymap, waterheight, fog, numobjs, object2d, "
                 "rndtree or rndtree2)%s",
-                lx.name, lx.word_line, w,
+                lx.name, lx.word_line, shown(w, word, sizeof word),
                 strtod(w, NULL) != 0 || w[0] == '0' ? ": a number, one value too many for the "
                                                       "command before it?"
                                                     : "");
@@ -402,6 +418,7 @@ bbc_result bbc_forest_model_parse(const char *text, size_t size, const char *nam
   int r;
   while ((r = next_word(&lx, err)) > 0) {
     const char *w = lx.word;
+    char word[5 * 64 + 1];
     lx.cmd_line = lx.word_line;
     int ok = 1;
     if (!strcasecmp(w, "fade")) {
@@ -424,8 +441,8 @@ bbc_result bbc_forest_model_parse(const char *text, size_t size, const char *nam
       ok = 0;
     } else {
       bbc__fail(err, BBC_ERROR_CORRUPT,
-                "%s:%d: unknown command '%.64s' (expected fade, shadowrad, shadowcutoff or LOD)",
-                lx.name, lx.word_line, w);
+                "%s:%d: unknown command '%s' (expected fade, shadowrad, shadowcutoff or LOD)",
+                lx.name, lx.word_line, shown(w, word, sizeof word));
       ok = 0;
     }
     if (!ok) {

@@ -114,6 +114,13 @@ static void next(parser *p) {
   p->tok[n] = 0;
 }
 
+static int hex_digit(char c) {
+  return c >= '0' && c <= '9'   ? c - '0'
+         : c >= 'a' && c <= 'f' ? c - 'a' + 10
+         : c >= 'A' && c <= 'F' ? c - 'A' + 10
+                                : -1;
+}
+
 /* A location ending in .dds (any case). */
 static int is_dds(const char *url) {
   size_t n = strlen(url);
@@ -432,9 +439,26 @@ static int add_points(builder *b, const vnode *ps, const double *xf) {
   return 1;
 }
 
-static int texture_index(builder *b, const char *url) {
+/* A relative URL's path with its %XX escapes decoded (RFC 3986 2.1: VRML97
+ * 4.5.2 takes URLs; bbcgen's writer escapes spaces and the like). */
+static void url_decode(const char *url, char *out, size_t size) {
+  size_t n = 0;
+  for (const char *p = url; *p && n + 1 < size; p++) {
+    int hi, lo;
+    if (*p == '%' && (hi = hex_digit(p[1])) >= 0 && (lo = hex_digit(p[2])) >= 0) {
+      out[n++] = (char)(hi * 16 + lo);
+      p += 2;
+    } else {
+      out[n++] = *p;
+    }
+  }
+  out[n] = 0;
+}
+
+static int texture_index(builder *b, const char *encoded) {
   bbc_mesh *m = b->m;
-  char full[8192];
+  char full[8192], url[4096];
+  url_decode(encoded, url, sizeof url);
   size_t fl = strlen(b->folder);
   if (url[0] == '/' || !fl)
     snprintf(full, sizeof full, "%s", url);

@@ -186,7 +186,11 @@ int cli_common_option(cli *c, int argc, char **argv, int *i) {
       return 1;
     }
     if (bbc_params_set_assignment(&c->params, v, &err) != BBC_OK) {
-      cli_error("%s", err.message);
+      char name[64];
+      snprintf(name, sizeof name, "%.*s", (int)(eq ? (size_t)(eq - v) : strlen(v)), v);
+      const char *near = bbc_param_find(name) ? NULL : cli_closest_param(name);
+      cli_error("%s%s%s%s", err.message, near ? " (did you mean " : "", near ? near : "",
+                near ? "?)" : "");
       return -1;
     }
     note_explicit(c, v);
@@ -226,6 +230,14 @@ static int edit_distance(const char *a, const char *b) {
       d[i][j] = v;
     }
   return d[n][m];
+}
+
+const char *cli_closest_param(const char *name) {
+  const char *list[128];
+  size_t n = 0;
+  for (size_t i = 0; i < bbc_param_count() && n < 127; i++) list[n++] = bbc_param_at(i)->name;
+  list[n] = NULL;
+  return cli_closest(name, list);
 }
 
 const char *cli_closest(const char *word, const char *const *candidates) {

@@ -67,6 +67,8 @@ int cli_common_option(cli *c, int argc, char **argv, int *i);
 /* The closest of `candidates` (NULL-terminated) to `word`, ignoring case
  * and leading dashes, when it is close enough to be a typo; else NULL. */
 const char *cli_closest(const char *word, const char *const *candidates);
+/* The parameter whose name is closest to a misspelt one, or NULL. */
+const char *cli_closest_param(const char *name);
 /* Prints "<cmd>: unknown option 'X' (did you mean --Y?)": Y from the
  * command's own options (`own`, NULL-terminated, may be NULL), the options
  * every command takes and --<parameter>; "(try bbcgen --help)" when none is

@@ -107,11 +107,7 @@ static int run_command(cli *c, batch *b, bbc_command *k) {
   }
   case BBC_COMMAND_SET: {
     if (!bbc_param_find(k->name)) {
-      const char *list[128];
-      size_t n = 0;
-      for (size_t i = 0; i < bbc_param_count() && n < 127; i++) list[n++] = bbc_param_at(i)->name;
-      list[n] = NULL;
-      const char *near = cli_closest(k->name, list);
+      const char *near = cli_closest_param(k->name);
       cli_error("set: no parameter '%s'%s%s%s (setup lists them)", k->name,
                 near ? " (did you mean " : "", near ? near : "", near ? "?)" : "");
       return EXIT_USAGE;

@@ -78,6 +78,7 @@ int cmd_planes(cli *c, int argc, char **argv) {
 }
 
 int run_planes(const cli *c, const char *path, const char *json_path) {
+  if (json_path && !cli_output_ok("--json", json_path)) return EXIT_OUTPUT;
   bbc_planes_options po;
   if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
   bbc_load_options lo;

@@ -85,6 +85,12 @@ int cmd_render(cli *c, int argc, char **argv) {
     cli_error("render: usage: bbcgen render MODEL -o OUT.png [--size PX] [--up y|z]");
     return EXIT_USAGE;
   }
+  size_t n = strlen(out);
+  if (n < 5 || strcmp(out + n - 4, ".png")) {
+    cli_error("render: the output must be a .png file, not '%s'", out);
+    return EXIT_USAGE;
+  }
+  if (!cli_output_ok("-o", out)) return EXIT_OUTPUT;
   bbc_load_options opt;
   cli_load_options(c, &opt);
   bbc_mesh m;

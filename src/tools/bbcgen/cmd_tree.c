@@ -60,6 +60,7 @@ int cmd_tree(cli *c, int argc, char **argv) {
     cli_error("tree: the output must be an .obj file (OBJ + MTL + PNG), not '%s'", out);
     return EXIT_USAGE;
   }
+  if (!cli_output_ok("-o", out)) return EXIT_OUTPUT;
   bbc_mesh m;
   bbc_error err;
   double t0 = cli_now();

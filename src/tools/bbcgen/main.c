@@ -40,7 +40,7 @@ static void print_help(FILE *out) {
           "      Species: oak (default), pine, birch, bush; airy ones: larch (sparse\n"
           "      needles on thin twigs), weeping (hanging twigs), winter (leafless oak);\n"
           "      and palm (a leaning stem and arching fronds).\n"
-          "      Leaves: number of leaf quads.\n"
+          "      Leaves: number of leaf quads (0: the species' default).\n"
           "  bbcgen render MODEL -o OUT.png [--size PX] [--up y|z] [--unlit]\n"
           "      Software render (no GPU) from the front, the side and above.\n"
           "  bbcgen planes MODEL [PARAMETER OPTIONS] [--json OUT.json]\n"

@@ -31,7 +31,8 @@ static void usage(FILE *f) {
           "  forest --check MAP\n"
           "      Reads MAP and every model description file it names, builds the map's\n"
           "      world and checks that every file it needs is there and reads (each 3D\n"
-          "      model once). Prints a summary; every problem as FILE:LINE: what is wrong.\n"
+          "      model once, with its textures). Prints a summary; every problem as\n"
+          "      FILE:LINE: what is wrong.\n"
           "      Exit status 0 when the map is whole, 1 when something is wrong.\n"
           "  forest --demo-terrain DIR [--terrain-size N] [--seed S]\n"
           "                       [--terrain-kind hills|islands]\n"
@@ -100,11 +101,17 @@ static int model_reads(const char *where, int line, const char *name, const char
   }
   bbc_load_options lo;
   bbc_load_options_default(&lo);
-  lo.load_textures = 0;
+  scene_load_note note = {where, line, NULL, 0}; /* its textures are files it needs too */
+  lo.callbacks.log = scene_load_warning;
+  lo.callbacks.user = &note;
   bbc_mesh m;
   bbc_error err;
   if (bbc_mesh_load(path, &lo, &m, &err) != BBC_OK) {
     fprintf(stderr, "%s:%d: model '%s': %s\n", where, line, name, err.message);
+    return 0;
+  }
+  if (note.warnings) {
+    bbc_mesh_free(&m);
     return 0;
   }
   printf("    %s: %zu triangles\n", name, m.triangle_count);

@@ -13,6 +13,14 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+void scene_load_warning(void *user, bbc_log_level level, const char *message) {
+  scene_load_note *n = user;
+  if (level != BBC_LOG_WARNING) return;
+  n->warnings++;
+  fprintf(stderr, "forest: %s:%d: warning: %s\n", n->where, n->line, message);
+  if (n->log) fprintf(n->log, "%s:%d: warning: %s\n", n->where, n->line, message);
+}
+
 void scene_join(const char *folder, const char *name, char *out, size_t n) {
   size_t lf = name[0] == '/' || !folder[0] ? 0 : strlen(folder), ln = strlen(name);
   if (lf + 1 + ln + 1 > n) { /* too long: an empty name, which then is not found */
@@ -93,6 +101,9 @@ static long find_mesh(scene *s, const char *path, int lod_node, FILE *log, int p
   bbc_load_options lo;
   bbc_load_options_default(&lo);
   lo.lod_node = lod_node;
+  scene_load_note note = {where, line, log, 0};
+  lo.callbacks.log = scene_load_warning;
+  lo.callbacks.user = &note;
   bbc_error err;
   if (progress) fprintf(stderr, "forest: loading %s\n", path);
   bbc_result r = bbc_mesh_load(path, &lo, &m->mesh, &err);

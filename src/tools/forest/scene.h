@@ -66,6 +66,16 @@ void scene_free(scene *s);
  * "" when too long), the folder of a path ("." when none), whether a
  * regular file is there, whether a name is a 3D model by its extension
  * (else a model description file). */
+/* What loading a 3D file warns about (a texture missing or unreadable),
+ * said with the map line that asked for the file: a bbc_callbacks.log. */
+typedef struct scene_load_note {
+  const char *where;
+  int line;
+  FILE *log; /* also written here when not NULL */
+  int warnings;
+} scene_load_note;
+void scene_load_warning(void *user, bbc_log_level level, const char *message);
+
 void scene_join(const char *folder, const char *name, char *out, size_t n);
 void scene_folder_of(const char *path, char *out, size_t n);
 int scene_file_exists(const char *path);

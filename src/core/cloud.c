@@ -543,6 +543,42 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
                               const bbc_params *prm, const bbc_callbacks *cbk, bbc_cloud *cl,
                               bbc_error *err, int atlas_limit);
 
+/* Whether the images of billboards `rects` at `texres` (sized as build_inner
+ * sizes them: quality 3 keeps its samples, `scale` 4) pack into one
+ * limit x limit atlas; blank images stand in for them. */
+static int atlas_fits(const bbc_billboard *rects, size_t n, int texres, int sides, int scale,
+                      int limit) {
+  double longest = 0;
+  for (size_t i = 0; i < n; i++) longest = fmax(longest, fmax(rects[i].width, rects[i].height));
+  double texel = longest / texres;
+  size_t count = (size_t)sides * n, biggest = 0;
+  bbc_image *imgs = calloc(count ? count : 1, sizeof *imgs);
+  bbc_atlas_rect *where = calloc(count ? count : 1, sizeof *where);
+  int ok = imgs && where;
+  for (size_t i = 0; ok && i < n; i++) {
+    int w = floor_pow2(texel > 0 ? rects[i].width / texel : 1);
+    int h = floor_pow2(texel > 0 ? rects[i].height / texel : 1);
+    w = (w < 4 ? 4 : w) * scale;
+    h = (h < 4 ? 4 : h) * scale;
+    for (int s = 0; s < sides; s++) {
+      imgs[s * n + i].width = w;
+      imgs[s * n + i].height = h;
+    }
+    if ((size_t)w * h > biggest) biggest = (size_t)w * h;
+  }
+  uint8_t *blank = ok ? calloc(biggest ? biggest * 4 : 4, 1) : NULL;
+  ok = ok && blank;
+  for (size_t i = 0; ok && i < count; i++) imgs[i].rgba = blank;
+  bbc_image atlas = {0, 0, NULL};
+  bbc_error quiet;
+  ok = ok && bbc_atlas_pack(imgs, count, 2, limit, &atlas, where, &quiet) == BBC_OK;
+  bbc_image_free(&atlas);
+  free(blank);
+  free(where);
+  free(imgs);
+  return ok;
+}
+
 bbc_result bbc__cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
                                   const bbc_billboard *given, const bbc_params *prm,
                                   const bbc_callbacks *cbk, bbc_cloud *cl, bbc_error *err) {
@@ -566,8 +602,9 @@ bbc_result bbc__cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
     bbc__stem_free(&stem);
     return r;
   }
-  /* atlasmax: the largest texres whose images fill about 70 % of the atlas
-   * (packing loses the rest), then halved while they do not fit. */
+  /* atlasmax: the largest texres whose images the packer fits in one
+   * limit x limit atlas (tried on blank images of their sizes before any
+   * baking), then halved while the baked ones do not fit (they do). */
   int limit = floor_pow2(prm->atlas_max < 64 ? 64 : prm->atlas_max); /* below 64: 64 */
   size_t np = set->plane_count, nk = 0;
   bbc_billboard *bb = calloc(np ? np : 1, sizeof *bb);
@@ -580,11 +617,14 @@ bbc_result bbc__cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
   for (size_t i = 0; r == BBC_OK && i < np; i++)
     if (plane_kept(m, set, i, prm)) kept[nk++] = bb[i];
   for (size_t i = 0; r == BBC_OK && i < stem.count; i++) kept[nk++] = stem.rects[i];
-  int texres = 4;
-  size_t per = (size_t)(prm->back_images ? 2 : 1) * (prm->quality == 3 ? 16 : 1);
-  for (int t = 4; r == BBC_OK && nk && t <= 8192; t *= 2)
-    if ((double)bbc__cloud_texels(kept, nk, t, 1) * (double)per <= 0.7 * limit * (double)limit)
+  int texres = 4, sides = prm->back_images ? 2 : 1, scale = prm->quality == 3 ? 4 : 1;
+  size_t per = (size_t)sides * (size_t)(scale * scale);
+  for (int t = 8192; r == BBC_OK && nk && t > 4; t /= 2)
+    if ((double)bbc__cloud_texels(kept, nk, t, 1) * (double)per <= (double)limit * limit &&
+        atlas_fits(kept, nk, t, sides, scale, limit)) {
       texres = t;
+      break;
+    }
   bbc_params p2 = *prm;
   while (r == BBC_OK) {
     p2.texres = texres;

@@ -1200,6 +1200,20 @@ static void test_suggestions(void **state) {
 /* atlasmax: the largest texres whose images the packer fits, not the one
  * that fills 70 % (the ez-tree oak at epsilon 5: 128 fills 79 % of one
  * 1024 x 1024 atlas, where the 70 % rule took 64). */
+/* A part's parameters for a part the model does not have are said. */
+static void test_unknown_part(void **state) {
+  (void)state;
+  char path[1024], args[4096];
+  tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
+  if (!tu_have_file(path)) skip();
+  snprintf(args, sizeof args, "planes '%s' --set bogus.epsilon=8", path);
+  char *out, *err;
+  assert_int_equal(run(args, &out, &err), 0);
+  if (!strstr(err, "parameters for part 'bogus' are not used")) fail_msg("%s", err);
+  free(out);
+  free(err);
+}
+
 static void test_atlas_budget(void **state) {
   (void)state;
   char path[1024], args[4096];
@@ -1379,6 +1393,7 @@ int main(void) {
       cmocka_unit_test(test_suggestions),
       cmocka_unit_test(test_materials_and_texture_names),
       cmocka_unit_test(test_atlas_budget),
+      cmocka_unit_test(test_unknown_part),
       cmocka_unit_test(test_brightness),
   };
   return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);

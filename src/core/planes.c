@@ -254,6 +254,17 @@ bbc_result bbc_grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc
     r = bbc_split_parts(mesh, &split, g->face_part, &g->part_count, names, g->split_why,
                         sizeof g->split_why, err);
   }
+  /* A part's parameters for a part the model does not have: said. */
+  for (size_t i = 0; r == BBC_OK && i < o->part_override_count; i++) {
+    int used = 0;
+    for (size_t pi = 0; pi < g->part_count; pi++)
+      used |= !strcasecmp(o->part_overrides[i].part, names[pi]);
+    if (!used)
+      bbc__log(&o->callbacks, BBC_LOG_WARNING,
+               "parameters for part '%s' are not used: the model's parts are %s%s%s",
+               o->part_overrides[i].part, names[0], g->part_count > 1 ? " and " : "",
+               g->part_count > 1 ? names[1] : "");
+  }
   for (size_t pi = 0; r == BBC_OK && pi < g->part_count; pi++) {
     grid_part *gp = &g->part[pi];
     snprintf(gp->name, sizeof gp->name, "%s", names[pi]);

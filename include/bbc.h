@@ -1283,6 +1283,8 @@ typedef struct bbc_forest_map {
   size_t numobjs;
   size_t placement_count; /* object2d, rndtree, rndtree2 lines in order */
   bbc_forest_placement *placements;
+  char *name;                              /* the map file's name, as parsed */
+  int hmap_line, colmap_line, skymap_line; /* where those commands are (0: not given) */
 } bbc_forest_map;
 
 /* The defaults above, nothing placed. */

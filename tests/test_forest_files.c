@@ -371,6 +371,12 @@ static void test_world(void **state) {
   assert_true(rc != 0 && WEXITSTATUS(rc) == 1);
   if (!strstr(log, "map.txt:2: warning:") || !strstr(log, "gone.png")) fail_msg("%s", log);
   free(log);
+  /* A map file a command names but that is not there: named with its line. */
+  put_file(path, "' a heightmap that is not there\nhmap gone.png\n");
+  log = run_logged(cmd, out, &rc);
+  assert_true(rc != 0 && WEXITSTATUS(rc) == 1);
+  if (!strstr(log, "map.txt:2: ") || !strstr(log, "gone.png")) fail_msg("%s", log);
+  free(log);
   remove(tex);
   snprintf(tex, sizeof tex, "%s/leafy.mtl", dir);
   remove(tex);

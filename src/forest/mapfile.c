@@ -178,6 +178,7 @@ void bbc_forest_map_free(bbc_forest_map *map) {
   free(map->hmap);
   free(map->colmap);
   free(map->skymap);
+  free(map->name);
   for (size_t i = 0; i < map->placement_count; i++) {
     free(map->placements[i].file);
     free(map->placements[i].file2);
@@ -261,6 +262,7 @@ bbc_result bbc_forest_map_parse(const char *text, size_t size, const char *name,
     int ok = 1;
     if (!strcasecmp(w, "hmap")) {
       ok = need_string(&lx, "hmap", "the heightmap image file", &map->hmap, err);
+      map->hmap_line = lx.cmd_line;
     } else if (!strcasecmp(w, "hmapfilter")) {
       long a = 0, b = 0;
       ok = need_long(&lx, "hmapfilter", "the filter radius", 0, 64, &a, err) &&
@@ -269,6 +271,7 @@ bbc_result bbc_forest_map_parse(const char *text, size_t size, const char *name,
       map->hmap_filter_passes = (int)b;
     } else if (!strcasecmp(w, "colmap")) {
       ok = need_string(&lx, "colmap", "the colour map image file", &map->colmap, err);
+      map->colmap_line = lx.cmd_line;
     } else if (!strcasecmp(w, "heightscale")) {
       ok = need_real(&lx, "heightscale", "the vertical scale", &map->heightscale, err) &&
            check(&lx, map->heightscale > 0, "the vertical scale must be > 0", "heightscale", err);
@@ -290,6 +293,7 @@ bbc_result bbc_forest_map_parse(const char *text, size_t size, const char *name,
            check(&lx, map->roetger > 0, "the terrain detail factor must be > 0", "roetger", err);
     } else if (!strcasecmp(w, "skymap")) {
       ok = need_string(&lx, "skymap", "the sky box's file stem", &map->skymap, err);
+      map->skymap_line = lx.cmd_line;
     } else if (!strcasecmp(w, "waterheight")) {
       ok = need_real(&lx, "waterheight", "the water level", &map->water_height, err);
       map->has_water = 1;
@@ -334,6 +338,11 @@ bbc_result bbc_forest_map_parse(const char *text, size_t size, const char *name,
     bbc_forest_map_free(map);
     return bbc__fail(err, BBC_ERROR_CORRUPT, "%s: no heightmap: a map needs 'hmap <file>'",
                      lx.name);
+  }
+  map->name = bbc__strdup(lx.name);
+  if (!map->name) {
+    bbc_forest_map_free(map);
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", lx.name);
   }
   return BBC_OK;
 }

@@ -140,10 +140,31 @@ int bbc_forest_world_green(const bbc_forest_world *w, double x, double z) {
   return p[1] > 70 && 3 * (int)p[0] < 2 * (int)p[1];
 }
 
-bbc_result bbc_forest_world_build(const bbc_forest_map *map, const char *folder,
-                                  bbc_forest_world *w, bbc_error *err) {
+/* A failure of the map's command at `line` (0: of the map as a whole):
+ * "MAP:LINE: " before what went wrong. */
+static bbc_result at_line(const bbc_forest_map *map, int line, bbc_result r, bbc_error *err) {
+  if (err && map->name) {
+    char prefix[320];
+    if (line > 0)
+      snprintf(prefix, sizeof prefix, "%.256s:%d: ", map->name, line);
+    else
+      snprintf(prefix, sizeof prefix, "%.256s: ", map->name);
+    size_t pl = strlen(prefix), ml = strlen(err->message), cap = sizeof err->message - 1;
+    if (pl + ml > cap) ml = cap - pl; /* pl <= 320 < cap */
+    memmove(err->message + pl, err->message, ml);
+    memcpy(err->message, prefix, pl);
+    err->message[pl + ml] = 0;
+  }
+  return r;
+}
+
+/* bbc_forest_world_build; *line: the map line of the command being served
+ * (hmap, then colmap, then 0 for the placements). */
+static bbc_result world_build(const bbc_forest_map *map, const char *folder, bbc_forest_world *w,
+                              bbc_error *err, int *line) {
   memset(w, 0, sizeof *w);
   char path[4096];
+  *line = map->hmap_line;
   resolve(folder, map->hmap, path, sizeof path);
   float *raw = NULL;
   int rw = 0, rh = 0, bits = 8;
@@ -181,6 +202,7 @@ bbc_result bbc_forest_world_build(const bbc_forest_map *map, const char *folder,
   w->spacing = map->stretch;
   /* The colour map: (2^n)^2 = one texel per terrain square. */
   if (map->colmap) {
+    *line = map->colmap_line;
     resolve(folder, map->colmap, path, sizeof path);
     bbc_image c;
     r = bbc_image_load(path, &c, err);
@@ -210,6 +232,7 @@ bbc_result bbc_forest_world_build(const bbc_forest_map *map, const char *folder,
       bbc_image_free(&c);
     }
   }
+  *line = 0;
   w->green_fraction = 1.0;
   if (w->colour.rgba) {
     size_t g = 0, nt = (size_t)w->colour.width * w->colour.height;
@@ -265,4 +288,11 @@ bbc_result bbc_forest_world_build(const bbc_forest_map *map, const char *folder,
     if (placed < p->count) w->placements_short++;
   }
   return BBC_OK;
+}
+
+bbc_result bbc_forest_world_build(const bbc_forest_map *map, const char *folder,
+                                  bbc_forest_world *w, bbc_error *err) {
+  int line = 0;
+  bbc_result r = world_build(map, folder, w, err, &line);
+  return r == BBC_OK ? r : at_line(map, line, r, err);
 }

@@ -410,9 +410,17 @@ int main(int argc, char **argv) {
       char name[4200], path[8400];
       snprintf(name, sizeof name, "%s_%s.tga", map.skymap, side[s]);
       scene_join(folder, name, path, sizeof path);
+      bbc_image img;
+      bbc_error e;
       if (!scene_file_exists(path)) {
-        fprintf(stderr, "%s: sky image '%s' not found\n", map_path, name);
+        fprintf(stderr, "forest: %s:%d: skymap: sky image '%s' not found\n", map_path,
+                map.skymap_line, name);
         bad++;
+      } else if (bbc_image_load(path, &img, &e) != BBC_OK) {
+        fprintf(stderr, "forest: %s:%d: skymap: %s\n", map_path, map.skymap_line, e.message);
+        bad++;
+      } else {
+        bbc_image_free(&img);
       }
     }
   }

@@ -286,7 +286,7 @@ int scene_load(scene *s, const char *map_path, FILE *log, int progress) {
   }
   if (progress) fprintf(stderr, "forest: building the terrain and placing objects\n");
   if (bbc_forest_world_build(&s->map, s->folder, &s->world, &err) != BBC_OK) {
-    fprintf(stderr, "forest: %s: %s\n", map_path, err.message);
+    fprintf(stderr, "forest: %s\n", err.message); /* "MAP:LINE: ..." */
     return 0;
   }
   if (log && s->world.note[0]) fprintf(log, "note: %s\n", s->world.note);
@@ -343,12 +343,13 @@ int scene_load(scene *s, const char *map_path, FILE *log, int progress) {
       snprintf(name, sizeof name, "%s_%s.tga", s->map.skymap, side[i]);
       scene_join(s->folder, name, path, sizeof path);
       if (bbc_image_load(path, &s->sky[i], &err) != BBC_OK) {
-        fprintf(stderr, "%s: skymap: %s\n", map_path, err.message);
+        fprintf(stderr, "forest: %s:%d: skymap: %s\n", map_path, s->map.skymap_line, err.message);
         return 0;
       }
       if (s->sky[i].width != s->sky[i].height || s->sky[i].width != s->sky[0].width) {
-        fprintf(stderr, "%s: skymap: %s is %d x %d; the six images must be square and alike\n",
-                map_path, name, s->sky[i].width, s->sky[i].height);
+        fprintf(stderr,
+                "forest: %s:%d: skymap: %s is %d x %d; the six images must be square and alike\n",
+                map_path, s->map.skymap_line, name, s->sky[i].width, s->sky[i].height);
         return 0;
       }
     }

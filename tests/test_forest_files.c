@@ -173,7 +173,7 @@ static void test_mistakes_named(void **state) {
   expect_map_error("hmap h.png\nobject2d a.txt 1 1 10 20 0 0 0\n", "end of the file",
                    "additional altitude");
   expect_map_error("hmap h.png\nobject2d a.txt 0 1 10 20 0 0 0 0\n", "bad.txt:2:", "scale");
-  expect_map_error("hmap h.png\nhmapfilter 2\n", "hmapfilter", "end of the file");
+  expect_map_error("hmap h.png\nhmapfilter 2\n", "bad.txt:2: hmapfilter", "end of the file");
   expect_map_error("hmap \"h.png\n", "bad.txt:1:", "quoted");
   expect_map_error("colmap c.png\n", "no heightmap", NULL);
   expect_map_error("hmap h.png\nnumobjs 1e12\n", "bad.txt:2:", "numobjs");

@@ -111,8 +111,9 @@ static int need_word(lexer *lx, const char *cmd, const char *what, bbc_error *er
   int r = next_word(lx, err);
   if (r < 0) return 0;
   if (r == 0) {
+    /* named at the line the command begins on: the file ended within it */
     bbc__fail(err, BBC_ERROR_CORRUPT, "%s:%d: %s: expected %s, found the end of the file", lx->name,
-              lx->line, cmd, what);
+              lx->cmd_line > 0 ? lx->cmd_line : lx->line, cmd, what);
     return 0;
   }
   return 1;

@@ -305,7 +305,7 @@ int main(int argc, char **argv) {
       char *end;
       long n = strtol(v, &end, 10);
       if (*end || n < 1 || n > 10000000) {
-        fprintf(stderr, "forest: --frames %s: expected a number of frames (1 or more)\n", v);
+        fprintf(stderr, "forest: --frames %s: expected a number of frames (1 to 10,000,000)\n", v);
         return 2;
       }
       o.frames = (int)n;

@@ -498,7 +498,12 @@ int run(scene *s, const run_options *o, FILE *log) {
         draw_frame(&st, ctx, r, fps, &res, t);
         if (!screenshot(ctx, tok + 5)) status = 1;
         bbcgl_context_end(ctx);
-      } else if (end != tok && end[0] == 'f' && end[1] == '\0' && nframes > 0) {
+      } else if (end != tok && end[0] == 'f' && end[1] == '\0' &&
+                 (nframes < 1 || nframes > 10000000)) {
+        fprintf(stderr, "forest: --keys: %s: frames from 1 to 10,000,000\n", tok);
+        status = 2;
+        break;
+      } else if (end != tok && end[0] == 'f' && end[1] == '\0') {
         for (long i = 0; i < nframes && !st.quit; i++) {
           if (win) glfwPollEvents();
           move(&st, script_dt);

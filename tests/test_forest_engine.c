@@ -446,6 +446,14 @@ static void test_positions(void **state) {
   snprintf(path, sizeof path, "%s/bad.txt", dir);
   assert_int_equal(bbc_forest_positions_read(path, &cams, &n, &err), BBC_ERROR_CORRUPT);
   assert_non_null(strstr(err.message, "bad.txt:2"));
+  /* comments, as in map files */
+  const char *cm = "' the ridge\n1 2 3 4 5\n  # and the lake\n6 7 8 9 10\n";
+  free(tu_write_file(dir, "cm.txt", cm, strlen(cm)));
+  snprintf(path, sizeof path, "%s/cm.txt", dir);
+  assert_int_equal(bbc_forest_positions_read(path, &cams, &n, &err), BBC_OK);
+  assert_int_equal(n, 2);
+  assert_true(fabs(cams[1].pos[0] - 6) < 1e-9);
+  free(cams);
   tu_remove_dir(dir);
   free(dir);
 }

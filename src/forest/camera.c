@@ -87,8 +87,11 @@ bbc_result bbc_forest_positions_read(const char *path, bbc_forest_camera **cams,
     char extra;
     int n = sscanf(p, "%lf %lf %lf %lf %lf %c", &c.pos[0], &c.pos[1], &c.pos[2], &c.yaw, &c.pitch,
                    &extra);
-    if (n == 5 && fabs(c.pos[0]) <= 1e7 && fabs(c.pos[1]) <= 1e7 && fabs(c.pos[2]) <= 1e7 &&
-        fabs(c.yaw) <= 36000 && fabs(c.pitch) <= 89) {
+    const char *first = p + strspn(p, " \t");
+    if (*first == '\'' || *first == '#') {
+      /* a comment, as in map files (') or in shell-style files (#) */
+    } else if (n == 5 && fabs(c.pos[0]) <= 1e7 && fabs(c.pos[1]) <= 1e7 && fabs(c.pos[2]) <= 1e7 &&
+               fabs(c.yaw) <= 36000 && fabs(c.pitch) <= 89) {
       (*cams)[(*count)++] = c;
     } else if (strspn(p, " \t\r") != strlen(p)) {
       free(*cams);

@@ -5,6 +5,7 @@
 
 #include <locale.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -122,6 +123,58 @@ static void print_help(FILE *out) {
                "  7 interrupted (Ctrl-C during a step at the prompt)\n");
 }
 
+/* `bbcgen COMMAND --help`: that command's lines of the help (its usage
+ * blocks), the options every command takes, the parameters for the commands
+ * that run steps, and the exit codes; the whole help when COMMAND has no
+ * block of its own (the cloud: `bbcgen MODEL -o OUT --help`). */
+static void print_command_help(const char *cmd) {
+  char *text = NULL;
+  size_t size = 0;
+  FILE *mem = open_memstream(&text, &size);
+  if (!mem) {
+    print_help(stdout);
+    return;
+  }
+  print_help(mem);
+  fclose(mem);
+  char head[64];
+  snprintf(head, sizeof head, "  bbcgen %s ", cmd);
+  size_t hl = strlen(head);
+  int found = 0;
+  for (const char *p = text; *p;) {
+    const char *nl = strchr(p, '\n');
+    size_t n = nl ? (size_t)(nl - p) + 1 : strlen(p);
+    if (!strncmp(p, head, hl) || (!strncmp(p, head, hl - 1) && p[hl - 1] == '\n')) {
+      if (!found) printf("Usage:\n");
+      found = 1;
+      /* the block: its first line and the indented ones after it */
+      const char *q = p;
+      do {
+        const char *e = strchr(q, '\n');
+        size_t m = e ? (size_t)(e - q) + 1 : strlen(q);
+        fwrite(q, 1, m, stdout);
+        q += m;
+      } while (*q && !strncmp(q, "   ", 3));
+      p = q;
+      continue;
+    }
+    p += n;
+  }
+  if (!found) {
+    fputs(text, stdout);
+  } else {
+    const char *common = strstr(text, "\nOptions for every command:");
+    const char *params = strstr(text, "\nParameters");
+    const char *codes = strstr(text, "\nExit codes:");
+    int steps = !strcmp(cmd, "planes") || !strcmp(cmd, "view") || !strcmp(cmd, "setup") ||
+                !strcmp(cmd, "baseline");
+    if (common) fwrite(common, 1, (size_t)((params ? params : codes) - common), stdout);
+    if (steps && params && codes) fwrite(params, 1, (size_t)(codes - params), stdout);
+    if (codes) fputs(codes, stdout);
+  }
+  free(text);
+}
+
 int main(int argc, char **argv) {
   /* Numbers in text formats and JSON must never get a decimal comma. */
   setlocale(LC_ALL, "C");
@@ -165,10 +218,10 @@ int main(int argc, char **argv) {
     printf("bbcgen %s\n", BBC_VERSION_STRING);
     return EXIT_OK;
   }
-  /* `bbcgen COMMAND --help` answers too. */
+  /* `bbcgen COMMAND --help` answers too, with that command's part. */
   for (int i = 2; i < argc; i++)
     if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-      print_help(stdout);
+      print_command_help(cmd);
       return EXIT_OK;
     }
   if (!strcmp(cmd, "info")) return cmd_info(&c, argc - 1, argv + 1);

@@ -74,6 +74,8 @@ void bbc__path_extension(const char *path, char *ext, size_t ext_size);
 
 /* Folder part of `path` including the trailing '/', or "" when none. */
 void bbc__path_folder(const char *path, char *folder, size_t folder_size);
+/* 1 when `path` is a regular file. */
+int bbc__file_exists(const char *path);
 
 /* ---- atomic output files -------------------------------------------------
  * Writes go to a temporary file in the destination folder; commit renames it

@@ -359,8 +359,38 @@ static void test_raster_coverage(void **state) {
   bbc_mesh_free(&m);
 }
 
+/* An OBJ whose mtllib is not beside it: said with its line (Assimp says
+ * nothing and the materials come out grey); one that is there: nothing. */
+static void test_missing_mtllib(void **state) {
+  (void)state;
+  char *dir = tu_make_temp_dir();
+  const char *obj = "# made by test_load\nmtllib gone.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  char *path = tu_write_file(dir, "m.obj", obj, strlen(obj));
+  bbc_load_options opt;
+  bbc_load_options_default(&opt);
+  log_capture cap;
+  memset(&cap, 0, sizeof cap);
+  opt.callbacks.log = capture_log;
+  opt.callbacks.user = &cap;
+  bbc_mesh m;
+  bbc_error err;
+  if (bbc_mesh_load(path, &opt, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  bbc_mesh_free(&m);
+  assert_int_equal(cap.warnings, 1);
+  if (!strstr(cap.last, "m.obj:2: material library 'gone.mtl' not found")) fail_msg("%s", cap.last);
+  free(tu_write_file(dir, "gone.mtl", "newmtl a\nKd 1 0 0\n", 19));
+  memset(&cap, 0, sizeof cap);
+  if (bbc_mesh_load(path, &opt, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  bbc_mesh_free(&m);
+  assert_int_equal(cap.warnings, 0);
+  free(path);
+  tu_remove_dir(dir);
+  free(dir);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_missing_mtllib),
       cmocka_unit_test(test_pine),
       cmocka_unit_test(test_cat_3ds),
       cmocka_unit_test(test_h60_ac3d_texture),

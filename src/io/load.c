@@ -26,6 +26,47 @@ static void recentre(bbc_mesh *m) {
   }
 }
 
+/* An OBJ whose `mtllib` names no file beside it loads with grey materials
+ * (Assimp says nothing): said, as a missing map_Kd is. Only the first 64 KB
+ * are looked at (exporters write mtllib at the top). */
+static void check_mtllib(const char *path, const bbc_load_options *options) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return;
+  char buf[65537];
+  size_t n = fread(buf, 1, sizeof buf - 1, f);
+  fclose(f);
+  buf[n] = 0;
+  char folder[4096];
+  bbc__path_folder(path, folder, sizeof folder);
+  int line = 1;
+  for (char *p = buf; p && *p; line++) {
+    char *nl = strchr(p, '\n');
+    if (nl) *nl = 0;
+    char *q = p + strspn(p, " \t");
+    if (!strncmp(q, "mtllib", 6) && (q[6] == ' ' || q[6] == '\t')) {
+      char name[1024];
+      snprintf(name, sizeof name, "%s", q + 6 + strspn(q + 6, " \t"));
+      size_t len = strlen(name);
+      while (len && (name[len - 1] == '\r' || name[len - 1] == ' ' || name[len - 1] == '\t'))
+        name[--len] = 0;
+      /* the whole rest of the line (names with spaces), else any of its words */
+      char full[5200];
+      snprintf(full, sizeof full, "%s%s", folder, name);
+      int found = len && bbc__file_exists(full);
+      for (char *w = strtok(name, " \t"); !found && w; w = strtok(NULL, " \t")) {
+        snprintf(full, sizeof full, "%s%s", folder, w);
+        found = bbc__file_exists(full);
+      }
+      if (len && !found)
+        bbc__log(&options->callbacks, BBC_LOG_WARNING,
+                 "%s:%d: material library '%s' not found beside the model; its materials get "
+                 "a plain grey",
+                 path, line, q + 6 + strspn(q + 6, " \t"));
+    }
+    p = nl ? nl + 1 : NULL;
+  }
+}
+
 /* The readers we own (PLY, XYZ/PTS/TXT, VRML) parse a NUL-terminated buffer
  * (the whole file read at once, or a copy of the caller's bytes); the rest
  * goes to Assimp. Either way the mesh is then finished alike. */
@@ -70,6 +111,7 @@ static bbc_result load_any(const char *name, const void *data, size_t size, int 
   } else {
     r = from_memory ? bbc__load_assimp_memory(name, data, size, options, mesh, err)
                     : bbc__load_assimp(name, options, mesh, err);
+    if (r == BBC_OK && !from_memory && !strcmp(ext, "obj")) check_mtllib(name, options);
   }
   return bbc__load_finish(name, r, !ply && !xyz, options, mesh, err);
 }

@@ -308,7 +308,7 @@ static bbc_result walk(loader *L, const struct aiNode *node, const struct aiMatr
 
 /* ---- materials and textures --------------------------------------------- */
 
-static int file_exists(const char *p) {
+int bbc__file_exists(const char *p) {
   struct stat st;
   return stat(p, &st) == 0 && S_ISREG(st.st_mode);
 }
@@ -325,7 +325,7 @@ static int resolve_texture(const char *model_path, const char *ref, char *out, s
   char dir[1024];
   bbc__path_folder(model_path, dir, sizeof dir);
   const char *base = strrchr(r, '/') ? strrchr(r, '/') + 1 : r;
-  if (r[0] == '/' && file_exists(r)) {
+  if (r[0] == '/' && bbc__file_exists(r)) {
     snprintf(out, n, "%s", r);
     return 1;
   }
@@ -336,7 +336,7 @@ static int resolve_texture(const char *model_path, const char *ref, char *out, s
       "", "", "textures/", "Textures/", "../textures/", "../Textures/"};
   for (size_t i = 0; i < sizeof k_folders / sizeof k_folders[0]; i++) {
     int w = snprintf(out, n, "%s%s%s", dir, k_folders[i], i == 0 ? rel : base);
-    if (w > 0 && (size_t)w < n && file_exists(out)) return 1;
+    if (w > 0 && (size_t)w < n && bbc__file_exists(out)) return 1;
   }
   return 0;
 }

@@ -549,6 +549,7 @@ int run(scene *s, const run_options *o, FILE *log) {
       bbcgl_context_end(ctx);
       ready_s = now_s() - o->start_s;
     }
+    if (st.quit) frames = 0; /* esc in a key script ends the run there */
     for (size_t i = 0; i < frames; i++) {
       if (path_count) {
         double u = frames > 1 ? (double)i / (frames - 1) * (path_count - 1) : 0;
@@ -584,7 +585,9 @@ int run(scene *s, const run_options *o, FILE *log) {
       if (o->progress && frames > 1) fprintf(stderr, "\rforest: frame %zu of %zu", i + 1, frames);
     }
     if (o->progress && frames > 1) fprintf(stderr, "\n");
-    if (o->bench) {
+    if (o->bench && frames == 0) {
+      printf("frames=0 (esc in the key script)\n");
+    } else if (o->bench) {
       double *sorted = malloc(frames * sizeof *sorted), med[4], p95[4];
       size_t k95 = (size_t)ceil(0.95 * frames) - 1;
       for (int q = 0; q < 4 && sorted; q++) {

@@ -1,6 +1,7 @@
 /* forest — the forest engine of the thesis (Perfect Motion, Appendix B):
  * command line, `--check`, and the log; loading is scene.c, the frame loop
  * and the controls run.c, the drawing src/gl/. */
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -218,6 +219,14 @@ static int demo_terrain(const char *dir, int size, uint32_t seed, bbc_forest_dem
   bbc_error err;
   if (bbc_forest_demo_terrain(size, seed, kind, &h, &c, &water, &err) != BBC_OK) {
     fprintf(stderr, "forest: %s\n", err.message);
+    return 1;
+  }
+  /* the folder itself when it is not there (its parent must be) */
+  if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
+    fprintf(stderr, "forest: --demo-terrain %s: cannot create the folder: %s\n", dir,
+            strerror(errno));
+    bbc_image_free(&h);
+    bbc_image_free(&c);
     return 1;
   }
   char p1[4200], p2[4200];

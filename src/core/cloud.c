@@ -209,6 +209,19 @@ static void outline(const bbc_billboard *b, const double lo[3], const double hi[
   memcpy(cb->corners, p, (size_t)n * sizeof p[0]);
 }
 
+/* Whether triangle t crosses plane p's +-eps slab. */
+static int crosses_slab(const bbc_mesh *m, size_t t, const bbc_plane *p, double eps) {
+  const uint32_t *ix = m->indices + 3 * t;
+  double dmin = INFINITY, dmax = -INFINITY;
+  for (int c = 0; c < 3; c++) {
+    const double *x = m->positions + 3 * ix[c];
+    double d = p->normal[0] * x[0] + p->normal[1] * x[1] + p->normal[2] * x[2] - p->d;
+    dmin = fmin(dmin, d);
+    dmax = fmax(dmax, d);
+  }
+  return !(dmin > eps || dmax < -eps);
+}
+
 /* Faces drawn into a billboard: those crossing the +-eps slab (or, pure,
  * its plane's own), or with `mask` those it marks (a stem billboard), and
  * their bounds. Returns the count. */
@@ -226,14 +239,7 @@ static size_t slab_faces(const bbc_mesh *m, const bbc_planeset *set, const bbc_p
       if (!mask[t]) continue;
     } else {
       if (pure == 1 && set->face_plane[t] != owner) continue;
-      double dmin = INFINITY, dmax = -INFINITY;
-      for (int c = 0; c < 3; c++) {
-        const double *x = m->positions + 3 * ix[c];
-        double d = p->normal[0] * x[0] + p->normal[1] * x[1] + p->normal[2] * x[2] - p->d;
-        dmin = fmin(dmin, d);
-        dmax = fmax(dmax, d);
-      }
-      if (dmin > eps || dmax < -eps) continue;
+      if (!crosses_slab(m, t, p, eps)) continue;
     }
     faces[n++] = (uint32_t)t;
     for (int c = 0; c < 3; c++)
@@ -278,18 +284,10 @@ static uint8_t *face_shares(const bbc_mesh *m, const bbc_planeset *set, const si
   uint8_t *share = malloc(m->triangle_count ? m->triangle_count : 1);
   if (!share) return NULL;
   for (size_t t = 0; t < m->triangle_count; t++) {
-    const uint32_t *ix = m->indices + 3 * t;
     unsigned n = 0;
     for (size_t k = 0; k < nk; k++) {
       const bbc_plane *p = &set->planes[order[k]];
-      double eps = set->parts[p->part].epsilon_abs, dmin = INFINITY, dmax = -INFINITY;
-      for (int c = 0; c < 3; c++) {
-        const double *x = m->positions + 3 * ix[c];
-        double d = p->normal[0] * x[0] + p->normal[1] * x[1] + p->normal[2] * x[2] - p->d;
-        dmin = fmin(dmin, d);
-        dmax = fmax(dmax, d);
-      }
-      n += !(dmin > eps || dmax < -eps); /* slab_faces' test */
+      n += (unsigned)crosses_slab(m, t, p, set->parts[p->part].epsilon_abs);
     }
     share[t] = (uint8_t)(n > 1 ? (255 + n / 2) / n : 255);
   }
@@ -506,15 +504,30 @@ static bbc_result build_mesh(const bbc_planeset *set, const bbc_params *prm, bbc
 
 /* Texels of all images of billboards rects[n] at texture resolution texres
  * (the sizing rule of bbc_cloud_build). */
-size_t bbc__cloud_texels(const bbc_billboard *rects, size_t n, int texres, int sides) {
+/* A billboard's texture at `texel` model units a texel: powers of two, at
+ * least 4 (build_inner's sizes, which the atlas budget predicts). */
+static void tex_size(const bbc_billboard *r, double texel, int *w, int *h) {
+  *w = floor_pow2(texel > 0 ? r->width / texel : 1);
+  *h = floor_pow2(texel > 0 ? r->height / texel : 1);
+  if (*w < 4) *w = 4;
+  if (*h < 4) *h = 4;
+}
+
+/* Model units a texel at `texres` for billboards `rects`: the longest side
+ * gets texres texels. */
+static double texel_of(const bbc_billboard *rects, size_t n, int texres) {
   double longest = 0;
   for (size_t i = 0; i < n; i++) longest = fmax(longest, fmax(rects[i].width, rects[i].height));
-  double texel = longest / texres;
+  return longest / texres;
+}
+
+size_t bbc__cloud_texels(const bbc_billboard *rects, size_t n, int texres, int sides) {
+  double texel = texel_of(rects, n, texres);
   size_t total = 0;
   for (size_t i = 0; i < n; i++) {
-    int w = floor_pow2(texel > 0 ? rects[i].width / texel : 1);
-    int h = floor_pow2(texel > 0 ? rects[i].height / texel : 1);
-    total += (size_t)(w < 4 ? 4 : w) * (size_t)(h < 4 ? 4 : h);
+    int w, h;
+    tex_size(&rects[i], texel, &w, &h);
+    total += (size_t)w * (size_t)h;
   }
   return total * (size_t)sides;
 }
@@ -548,18 +561,16 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
  * limit x limit atlas; blank images stand in for them. */
 static int atlas_fits(const bbc_billboard *rects, size_t n, int texres, int sides, int scale,
                       int limit) {
-  double longest = 0;
-  for (size_t i = 0; i < n; i++) longest = fmax(longest, fmax(rects[i].width, rects[i].height));
-  double texel = longest / texres;
+  double texel = texel_of(rects, n, texres);
   size_t count = (size_t)sides * n, biggest = 0;
   bbc_image *imgs = calloc(count ? count : 1, sizeof *imgs);
   bbc_atlas_rect *where = calloc(count ? count : 1, sizeof *where);
   int ok = imgs && where;
   for (size_t i = 0; ok && i < n; i++) {
-    int w = floor_pow2(texel > 0 ? rects[i].width / texel : 1);
-    int h = floor_pow2(texel > 0 ? rects[i].height / texel : 1);
-    w = (w < 4 ? 4 : w) * scale;
-    h = (h < 4 ? 4 : h) * scale;
+    int w, h;
+    tex_size(&rects[i], texel, &w, &h);
+    w *= scale;
+    h *= scale;
     for (int s = 0; s < sides; s++) {
       imgs[s * n + i].width = w;
       imgs[s * n + i].height = h;
@@ -706,10 +717,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
       cb->part = p->part;
       memcpy(cb->normal, p->normal, sizeof cb->normal);
       cb->d = p->d;
-      cb->tex_width = floor_pow2(texel > 0 ? cb->rect.width / texel : 1);
-      cb->tex_height = floor_pow2(texel > 0 ? cb->rect.height / texel : 1);
-      if (cb->tex_width < 4) cb->tex_width = 4;
-      if (cb->tex_height < 4) cb->tex_height = 4;
+      tex_size(&cb->rect, texel, &cb->tex_width, &cb->tex_height);
     }
     double light[3];
     bbc_params_light_direction(prm, light);

@@ -267,12 +267,10 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
   char name[160];
   bbc_texture_file_name(m, 0, name, sizeof name);
   snprintf(x.col_suffix, sizeof x.col_suffix, "_%s.png", name);
+  if (dds && bbc_image_has_transparency(&m->textures[0].image))
+    snprintf(x.dds_suffix, sizeof x.dds_suffix, "_%s.dds", name);
   bbc_texture_file_name(m, 1, name, sizeof name);
   snprintf(x.nm_suffix, sizeof x.nm_suffix, "_%s.png", name);
-  if (dds && bbc_image_has_transparency(&m->textures[0].image)) {
-    bbc_texture_file_name(m, 0, name, sizeof name);
-    snprintf(x.dds_suffix, sizeof x.dds_suffix, "_%s.dds", name);
-  }
   if (x.nm_nodes) {
     put(&t, "# NormalMap: the normal atlas (tangent space) of the Shape beside it; a no-op\n"
             "# for VRML97 readers.\n");

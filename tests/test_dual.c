@@ -239,12 +239,60 @@ static void test_density_exact_and_thread_independent(void **state) {
   free(faces);
 }
 
+/* The grid's fixed-point density against the direct formula in doubles:
+ * each face adds its projected area times the fraction of a cell that its
+ * range [lo, hi] covers, and as penalty the fraction that [lo - eps, lo]
+ * covers (thesis Fig. 2-14, 2-15); over both members of each pair of
+ * opposite directions. Rounding: positions to 2^-DUAL_FX of a cell (a
+ * face's weight times that, for each of its four kinks) and 2 units. */
+static void test_density_matches_direct_formula(void **state) {
+  (void)state;
+  size_t nf;
+  dual_face *faces = random_faces(300, 5, 1, &nf);
+  double area = 0;
+  for (size_t i = 0; i < nf; i++) area += faces[i].area;
+  dual_grid g;
+  assert_int_equal(bbc__dual_grid_init(&g, 9, 0.6, 13, 1, area, 2), BBC_OK);
+  bbc__dual_grid_accumulate(&g, faces, NULL, nf, +1, NULL);
+  size_t nd = (size_t)g.n_theta * g.n_phi, ncell = nd * g.n_rho;
+  double *rc = calloc(ncell, sizeof *rc), *rp = calloc(ncell, sizeof *rp);
+  double *touch = calloc(ncell, sizeof *touch); /* the tolerance */
+  for (size_t d = 0; d < nd; d++)
+    for (size_t i = 0; i < nf; i++) {
+      double lo, hi;
+      if (!dual_face_range(&faces[i], &g.dirs[d], g.eps, &lo, &hi)) continue;
+      double w = dual_projected_area(&faces[i], g.dirs[d].n) * g.scale;
+      for (int k = 0; k < g.n_rho; k++) {
+        double r0 = g.rho_min + k * g.rho_res, r1 = r0 + g.rho_res;
+        double c = fmin(hi, r1) - fmax(lo, r0), p = fmin(lo, r1) - fmax(lo - g.eps, r0);
+        size_t cell = d * g.n_rho + k;
+        if (c > 0) rc[cell] += w * c / g.rho_res;
+        if (p > 0) rp[cell] += w * p / g.rho_res;
+        if (c > -1e-9 || p > -1e-9) touch[cell] += 2 + 4 * w / (double)(1 << DUAL_FX);
+      }
+    }
+  size_t nonzero = 0;
+  for (size_t c = 0; c < ncell; c++) {
+    double tol = touch[c] + 1;
+    assert_true(fabs((double)g.contrib[c] - rc[c]) <= tol);
+    assert_true(fabs((double)g.penalty[c] - rp[c]) <= tol);
+    nonzero += rc[c] > 1e6;
+  }
+  assert_true(nonzero > ncell / 10);
+  free(rc);
+  free(rp);
+  free(touch);
+  bbc__dual_grid_free(&g);
+  free(faces);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_simple_validity_never_misses),
       cmocka_unit_test(test_simple_validity_never_misses_quads),
       cmocka_unit_test(test_merged_faces),
       cmocka_unit_test(test_density_exact_and_thread_independent),
+      cmocka_unit_test(test_density_matches_direct_formula),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

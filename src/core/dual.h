@@ -25,6 +25,7 @@
 #include "internal.h"
 
 #include <math.h>
+#include <string.h>
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -231,19 +232,60 @@ bbc_result bbc__dual_grid_copy(dual_grid *dst, const dual_grid *src);
 void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint32_t *which,
                                size_t count, int sign, const bbc_callbacks *cb);
 
-/* Fixed-point contribution and penalty of a face range [lo, hi] over a rho
- * box [r0, r1]: weighted by the fraction of the box's rho extent covered
- * (Fig. 2-15). The penalty range is [lo - eps, lo]: planes just below the
- * valid range barely miss the face that lies in front of them (2.1.7,
- * Fig. 2-14). Values are >= 0, so rounding is +0.5 and truncation. */
-static inline void dual_range_density(double lo, double hi, double eps, double proj_fixed,
-                                      double r0, double r1, int64_t *contrib,
-                                      int64_t *penalty_unit) {
-  double k = proj_fixed / (r1 - r0);
-  double c = dual_min(hi, r1) - dual_max(lo, r0);
-  double p = dual_min(lo, r1) - dual_max(lo - eps, r0);
-  *contrib = c > 0 ? (int64_t)(k * c + 0.5) : 0;
-  *penalty_unit = p > 0 ? (int64_t)(k * p + 0.5) : 0;
+/* Density along rho in fixed point (steps 1 and 2). A face's range
+ * [lo, hi] over a column of n rho cells adds to each cell w x the fraction
+ * of the cell that [lo, hi] covers (its contribution) and w x the fraction
+ * that [lo - eps, lo] covers (its penalty: planes just below the valid
+ * range barely miss the face that lies in front of them; thesis 2.1.7,
+ * Fig. 2-14, 2-15). Positions are counted in cells, to 2^-DUAL_FX of a
+ * cell, and a range is two kinks: w x max(0, min(1, k + 1 - X)) added to
+ * every cell k for a range starting at X, the same subtracted where it
+ * ends. Ranges are added to a column in difference form (d[k] = value[k] -
+ * value[k - 1], n + 2 entries so that no write needs a test), two writes a
+ * kink whatever the range's length; dual_diff_fold adds it up. Integer
+ * sums: removing a face subtracts exactly what adding it added, in any
+ * order. */
+#define DUAL_FX 20
+
+/* Adds w x max(0, min(1, k + 1 - X / 2^DUAL_FX)) to every cell k of a
+ * column in difference form; 0 <= X <= n 2^DUAL_FX. w may be negative. */
+static inline void dual_kink(int64_t *d, int64_t X, int64_t w) {
+  int64_t k = X >> DUAL_FX;
+  int64_t f = ((k + 1) << DUAL_FX) - X; /* (0, 1] of a cell */
+  int64_t part = ((w < 0 ? -w : w) * f) >> DUAL_FX;
+  if (w < 0) part = -part;
+  d[k] += part;
+  d[k + 1] += w - part;
+}
+
+static inline double dual_clamp(double x, double top) {
+  return x > 0 ? (x < top ? x : top) : 0;
+}
+
+/* The shares of a range over a column of n cells in difference form: its
+ * contribution at d[0..n+1], its penalty at d[stride..stride+n+1]. x and y
+ * are the range's ends and e is eps, in cells from the column's lower end;
+ * w the face's fixed-point projected area, negative to remove it. */
+static inline void dual_column_add(int64_t *d, size_t stride, int n, double x, double y, double e,
+                                   int64_t w) {
+  const double top = n, one = (double)((int64_t)1 << DUAL_FX);
+  if (!(y > 0) || !(x < top)) return; /* the range misses the column */
+  int64_t L = (int64_t)(dual_clamp(x, top) * one), H = (int64_t)(dual_clamp(y, top) * one);
+  int64_t P = (int64_t)(dual_clamp(x - e, top) * one);
+  dual_kink(d, L, w);
+  dual_kink(d, H, -w);
+  dual_kink(d + stride, P, w);
+  dual_kink(d + stride, L, -w);
+}
+
+/* Adds a column in difference form (n cells) to `out` and clears it. */
+static inline void dual_diff_fold(int64_t *d, int n, int64_t *out) {
+  int64_t run = 0;
+  for (int k = 0; k < n; k++) {
+    run += d[k];
+    out[k] += run;
+  }
+  memset(d, 0, (size_t)(n + 2) * sizeof *d);
 }
 
 /* Box of grid cell (dir index, k). */

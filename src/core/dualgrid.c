@@ -342,32 +342,6 @@ void bbc__dual_grid_cell_box(const dual_grid *g, size_t dir, int k, dual_box *b)
   b->r1 = b->r0 + g->rho_res;
 }
 
-/* Adds a face's share (range [lo, hi], fixed-point projected area proj) to
- * one direction column. Cells inside [lo, hi] get the full share; only the
- * two end cells and the penalty cells below lo need fractions (those of
- * dual_range_density, with the density per unit of rho computed once). */
-static inline void scatter(dual_grid *g, size_t dir, double lo, double hi, double proj, int sign) {
-  const double rmin = g->rho_min, res = g->rho_res, inv = 1.0 / res, eps = g->eps;
-  int k0 = (int)floor((lo - eps - rmin) * inv), k1 = (int)floor((hi - rmin) * inv);
-  if (k0 < 0) k0 = 0;
-  if (k1 > g->n_rho - 1) k1 = g->n_rho - 1;
-  if (k0 > k1) return;
-  int64_t *cc = g->contrib + dir * (size_t)g->n_rho, *pp = g->penalty + dir * (size_t)g->n_rho;
-  const int64_t full = (int64_t)(proj + 0.5);
-  const double per = proj * inv, lo_eps = lo - eps;
-  for (int k = k0; k <= k1; k++) {
-    double r0 = rmin + k * res, r1 = r0 + res;
-    if (r0 >= lo && r1 <= hi) {
-      cc[k] += sign * full;
-      continue;
-    }
-    double c = dual_min(hi, r1) - dual_max(lo, r0);
-    double p = dual_min(lo, r1) - dual_max(lo_eps, r0);
-    if (c > 0) cc[k] += sign * (int64_t)(per * c + 0.5);
-    if (p > 0) pp[k] += sign * (int64_t)(per * p + 0.5);
-  }
-}
-
 void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint32_t *which,
                                size_t count, int sign, const bbc_callbacks *cb) {
   /* Directions come in opposite pairs: (i, j) and (i + n_theta/2, n_phi-1-j)
@@ -399,7 +373,8 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
      * pass below vectorises. */
     double *buf = malloc(nb * 17 * sizeof *buf);
     size_t *dir_a = malloc(nb * 2 * sizeof *dir_a);
-    if (buf && dir_a) {
+    int64_t *diff = calloc(nb * 4 * ((size_t)g->n_rho + 2), sizeof *diff);
+    if (buf && dir_a && diff) {
       double *nx = buf, *ny = buf + nb, *nz = buf + 2 * nb, *rad = buf + 3 * nb;
       double *lo = buf + 4 * nb, *hi = buf + 5 * nb, *proj = buf + 6 * nb, *ok = buf + 7 * nb;
       double *tr = buf + 9 * nb; /* the directions' boxes for points: 8 a direction */
@@ -431,6 +406,11 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
       }
       size_t m = p1 - p0, step = count / 50 + 1;
       double eps = g->eps, scale = g->scale;
+      const int nr = g->n_rho;
+      const double rmin = g->rho_min, inv = 1.0 / g->rho_res, e = eps * inv;
+      /* This block's columns in difference form (contribution, then
+       * penalty) while the faces are added; folded into the grid after. */
+      const size_t st = (size_t)nr + 2;
       for (size_t f = 0; f < count; f++) {
         const dual_face *fc = &faces[which ? which[f] : f];
         double parea = fc->area * scale;
@@ -456,15 +436,27 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
             proj[q] = parea * (pn < 0 ? -pn : pn);
           }
         }
-        /* Scatter pass: the direction and its opposite. */
+        /* Scatter pass: the direction and its opposite (the range of -n
+         * is [-hi, -lo]), positions in cells from the column's lower end. */
         for (size_t q = 0; q < m; q++) {
-          if (ok[q] == 0 || proj[q] <= 0) continue;
-          if (hi[q] >= g->rho_min) scatter(g, dir_a[q], lo[q], hi[q], proj[q], sign);
-          if (-lo[q] >= g->rho_min) scatter(g, dir_b[q], -hi[q], -lo[q], proj[q], sign);
+          if (ok[q] == 0 || !(proj[q] > 0)) continue;
+          int64_t w = sign * (int64_t)(proj[q] + 0.5);
+          dual_column_add(diff + 4 * st * q, st, nr, (lo[q] - rmin) * inv, (hi[q] - rmin) * inv, e,
+                          w);
+          dual_column_add(diff + 4 * st * q + 2 * st, st, nr, (-hi[q] - rmin) * inv,
+                          (-lo[q] - rmin) * inv, e, w);
         }
         if (tid == 0 && cb && f % step == 0) bbc__progress(cb, "grid", (double)f / count);
       }
+      for (size_t q = 0; q < m; q++) {
+        int64_t *d = diff + 4 * st * q;
+        dual_diff_fold(d, nr, g->contrib + dir_a[q] * (size_t)nr);
+        dual_diff_fold(d + st, nr, g->penalty + dir_a[q] * (size_t)nr);
+        dual_diff_fold(d + 2 * st, nr, g->contrib + dir_b[q] * (size_t)nr);
+        dual_diff_fold(d + 3 * st, nr, g->penalty + dir_b[q] * (size_t)nr);
+      }
     }
+    free(diff);
     free(buf);
     free(dir_a);
   }

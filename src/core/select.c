@@ -208,14 +208,14 @@ typedef struct subdirs {
   double nx[36], ny[36], nz[36], rad[36];
 } subdirs;
 
-/* A face's shares of the 36 x 6 subcells: the arithmetic of dual_face_range
- * (over all 36 at once, vectorised) and dual_projected_area, then
- * dual_range_density for each slice the range reaches. */
+/* A face's shares of the 36 x 6 subcells: the arithmetic of
+ * dual_face_range (over all 36 at once, vectorised) and
+ * dual_projected_area, then dual_column_add over the six rho slices, into
+ * columns in difference form (diff[s]: contribution, then penalty). */
 static inline void face_subcells(const ctx *c, const dual_face *f, const dual_box *b,
-                                 const subdirs *sd, const int *valid_dir, int64_t (*contrib)[6],
-                                 int64_t (*penalty)[6]) {
+                                 const subdirs *sd, const int *valid_dir, int64_t (*diff)[16]) {
   const double eps = c->eps, scale = c->g->scale, dr = 0.5 * (b->r1 - b->r0);
-  const double rbase = b->r0 - 2 * dr;
+  const double rbase = b->r0 - 2 * dr, inv = 1.0 / dr, e = eps * inv;
   double lo[36], hi[36], proj[36], ok[36];
   dual_face_ranges(f, sd->nx, sd->ny, sd->nz, sd->rad, 36, eps, lo, hi, ok);
   for (int s = 0; s < 36; s++) {
@@ -223,15 +223,9 @@ static inline void face_subcells(const ctx *c, const dual_face *f, const dual_bo
     proj[s] = f->area * (pn < 0 ? -pn : pn) * scale;
   }
   for (int s = 0; s < 36; s++) {
-    if (!valid_dir[s] || ok[s] == 0) continue;
-    for (int r = 0; r < 6; r++) {
-      double r0 = rbase + r * dr, r1 = r0 + dr;
-      if (hi[s] < r0 || lo[s] - eps > r1) continue;
-      int64_t cc, pp;
-      dual_range_density(lo[s], hi[s], eps, proj[s], r0, r1, &cc, &pp);
-      contrib[s][r] += cc;
-      penalty[s][r] += pp;
-    }
+    if (!valid_dir[s] || ok[s] == 0 || !(proj[s] > 0)) continue;
+    dual_column_add(diff[s], 8, 6, (lo[s] - rbase) * inv, (hi[s] - rbase) * inv, e,
+                    (int64_t)(proj[s] + 0.5));
   }
 }
 
@@ -276,9 +270,10 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
 #pragma omp parallel num_threads(nt) if (n > (points ? 4096u : 512u))
 #endif
   {
-    int64_t lc[ND * ND][NR], lp[ND * ND][NR];
+    int64_t lc[ND * ND][NR], lp[ND * ND][NR], diff[ND * ND][2 * (NR + 2)];
     memset(lc, 0, sizeof lc);
     memset(lp, 0, sizeof lp);
+    memset(diff, 0, sizeof diff);
 #ifdef _OPENMP
 #pragma omp for schedule(static)
 #endif
@@ -286,8 +281,13 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
       if (points)
         point_subcells(c, &c->faces[set[i]], b, dirs, valid_dir, lc, lp);
       else
-        face_subcells(c, &c->faces[set[i]], b, &sd, valid_dir, lc, lp);
+        face_subcells(c, &c->faces[set[i]], b, &sd, valid_dir, diff);
     }
+    if (!points)
+      for (int s = 0; s < ND * ND; s++) {
+        dual_diff_fold(diff[s], NR, lc[s]);
+        dual_diff_fold(diff[s] + 8, NR, lp[s]);
+      }
 #ifdef _OPENMP
 #pragma omp critical(bbc_refine_sum)
 #endif

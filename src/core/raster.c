@@ -191,13 +191,18 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
   if (view->depth_max > view->depth_min &&
       !slab_bounds(a, b, c, view->depth_min, view->depth_max, &minx, &maxx, &miny, &maxy))
     return; /* no part of it inside the slab */
-  int x0 = (int)floor(minx - 0.5), x1 = (int)ceil(maxx - 0.5);
-  int y0 = (int)floor(miny - 0.5), y1 = (int)ceil(maxy - 0.5);
-  if (x0 < 0) x0 = 0;
-  if (y0 < 0) y0 = 0;
-  if (x1 > tg->width - 1) x1 = tg->width - 1;
-  if (y1 > tg->height - 1) y1 = tg->height - 1;
-  if (x0 > x1 || y0 > y1) return;
+  /* The pixels whose centres (x + 0.5) can lie within the bounds; the
+   * margin, far above the rounding of the edge functions at these sizes,
+   * keeps every pixel the exact test below would take. Most faces of a
+   * detailed model cover no pixel centre at all and end here. */
+  const double margin = 1e-6;
+  double bx0 = ceil(minx - 0.5 - margin), bx1 = floor(maxx - 0.5 + margin);
+  double by0 = ceil(miny - 0.5 - margin), by1 = floor(maxy - 0.5 + margin);
+  if (!(bx0 <= bx1 && by0 <= by1) || bx1 < 0 || by1 < 0 || bx0 > tg->width - 1 ||
+      by0 > tg->height - 1)
+    return;
+  int x0 = bx0 < 0 ? 0 : (int)bx0, x1 = bx1 > tg->width - 1 ? tg->width - 1 : (int)bx1;
+  int y0 = by0 < 0 ? 0 : (int)by0, y1 = by1 > tg->height - 1 ? tg->height - 1 : (int)by1;
 
   int tl0 = is_top_left(b[0], b[1], c[0], c[1]);
   int tl1 = is_top_left(c[0], c[1], a[0], a[1]);
@@ -253,20 +258,21 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
   const double *E0[3] = {b, c, a}, *E1[3] = {c, a, b};
   for (int y = y0; y <= y1; y++) {
     double py = y + 0.5;
-    /* The row's span where every edge function can be >= 0, widened by a
-     * pixel for rounding; the exact test below decides each pixel. */
+    /* The row's span where every edge function can be >= 0, widened for
+     * rounding (the margin, and the error of eb over the slope: a nearly
+     * horizontal edge); the exact test below decides each pixel. */
     double lo = x0, hi = x1;
     for (int k = 0; k < 3; k++) {
       double ea = -(E1[k][1] - E0[k][1]);
-      double eb = (E1[k][0] - E0[k][0]) * (py - E0[k][1]) + (E1[k][1] - E0[k][1]) * E0[k][0];
+      double t1 = (E1[k][0] - E0[k][0]) * (py - E0[k][1]), t2 = (E1[k][1] - E0[k][1]) * E0[k][0];
+      double eb = t1 + t2;
       if (ea > 1e-12)
-        lo = fmax(lo, -eb / ea - 0.5 - 1.0);
+        lo = fmax(lo, ceil(-eb / ea - 0.5 - margin - 1e-13 * (fabs(t1) + fabs(t2)) / ea));
       else if (ea < -1e-12)
-        hi = fmin(hi, -eb / ea - 0.5 + 1.0);
+        hi = fmin(hi, floor(-eb / ea - 0.5 + margin - 1e-13 * (fabs(t1) + fabs(t2)) / ea));
     }
-    int xs = lo > x0 ? (int)floor(lo) : x0, xe = hi < x1 ? (int)ceil(hi) : x1;
-    if (xs < x0) xs = x0;
-    if (xe > x1) xe = x1;
+    if (!(lo <= hi)) continue;
+    int xs = (int)lo, xe = (int)hi;
     for (int x = xs; x <= xe; x++) {
       double px = x + 0.5;
       /* Edge functions: w0 opposite a, etc. */

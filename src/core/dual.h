@@ -242,21 +242,10 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
  * every cell k for a range starting at X, the same subtracted where it
  * ends. Ranges are added to a column in difference form (d[k] = value[k] -
  * value[k - 1], n + 2 entries so that no write needs a test), two writes a
- * kink whatever the range's length; dual_diff_fold adds it up. Integer
- * sums: removing a face subtracts exactly what adding it added, in any
- * order. */
+ * kink whatever the range's length; dual_diff_fold adds it up, or
+ * subtracts it. Integer sums: removing a face subtracts exactly what adding
+ * it added, in any order. */
 #define DUAL_FX 20
-
-/* Adds w x max(0, min(1, k + 1 - X / 2^DUAL_FX)) to every cell k of a
- * column in difference form; 0 <= X <= n 2^DUAL_FX. w may be negative. */
-static inline void dual_kink(int64_t *d, int64_t X, int64_t w) {
-  int64_t k = X >> DUAL_FX;
-  int64_t f = ((k + 1) << DUAL_FX) - X; /* (0, 1] of a cell */
-  int64_t part = ((w < 0 ? -w : w) * f) >> DUAL_FX;
-  if (w < 0) part = -part;
-  d[k] += part;
-  d[k + 1] += w - part;
-}
 
 static inline double dual_clamp(double x, double top) {
   return x > 0 ? (x < top ? x : top) : 0;
@@ -265,25 +254,39 @@ static inline double dual_clamp(double x, double top) {
 /* The shares of a range over a column of n cells in difference form: its
  * contribution at d[0..n+1], its penalty at d[stride..stride+n+1]. x and y
  * are the range's ends and e is eps, in cells from the column's lower end;
- * w the face's fixed-point projected area, negative to remove it. */
+ * w > 0 the face's fixed-point projected area. A kink at X (in 2^-DUAL_FX
+ * of a cell) adds its part w x (the fraction of X's cell above X) to that
+ * cell, and w less that part to the next (in difference form: w to every
+ * cell above); the range's start is such a kink in the contribution and
+ * its end one subtracted, the penalty's from x - e to x the same. */
 static inline void dual_column_add(int64_t *d, size_t stride, int n, double x, double y, double e,
                                    int64_t w) {
   const double top = n, one = (double)((int64_t)1 << DUAL_FX);
   if (!(y > 0) || !(x < top)) return; /* the range misses the column */
   int64_t L = (int64_t)(dual_clamp(x, top) * one), H = (int64_t)(dual_clamp(y, top) * one);
   int64_t P = (int64_t)(dual_clamp(x - e, top) * one);
-  dual_kink(d, L, w);
-  dual_kink(d, H, -w);
-  dual_kink(d + stride, P, w);
-  dual_kink(d + stride, L, -w);
+  int64_t kl = L >> DUAL_FX, kh = H >> DUAL_FX, kp = P >> DUAL_FX;
+  int64_t pl = (w * (((kl + 1) << DUAL_FX) - L)) >> DUAL_FX;
+  int64_t ph = (w * (((kh + 1) << DUAL_FX) - H)) >> DUAL_FX;
+  int64_t pp = (w * (((kp + 1) << DUAL_FX) - P)) >> DUAL_FX;
+  int64_t *c = d, *p = d + stride;
+  c[kl] += pl;
+  c[kl + 1] += w - pl;
+  c[kh] -= ph;
+  c[kh + 1] -= w - ph;
+  p[kp] += pp;
+  p[kp + 1] += w - pp;
+  p[kl] -= pl;
+  p[kl + 1] -= w - pl;
 }
 
-/* Adds a column in difference form (n cells) to `out` and clears it. */
-static inline void dual_diff_fold(int64_t *d, int n, int64_t *out) {
+/* Adds sign x a column in difference form (n cells) to `out`, and clears
+ * it. */
+static inline void dual_diff_fold(int64_t *d, int n, int sign, int64_t *out) {
   int64_t run = 0;
   for (int k = 0; k < n; k++) {
     run += d[k];
-    out[k] += run;
+    out[k] += sign * run;
   }
   memset(d, 0, (size_t)(n + 2) * sizeof *d);
 }

@@ -404,56 +404,69 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
         dir_a[q - p0] = a;
         dir_b[q - p0] = b;
       }
-      size_t m = p1 - p0, step = count / 50 + 1;
+      size_t m = p1 - p0;
       double eps = g->eps, scale = g->scale;
       const int nr = g->n_rho;
       const double rmin = g->rho_min, inv = 1.0 / g->rho_res, e = eps * inv;
       /* This block's columns in difference form (contribution, then
        * penalty) while the faces are added; folded into the grid after. */
       const size_t st = (size_t)nr + 2;
-      for (size_t f = 0; f < count; f++) {
-        const dual_face *fc = &faces[which ? which[f] : f];
-        double parea = fc->area * scale;
-        if (fc->point) { /* 2.4.2: a point's exact range over each direction box */
-          double pa, pb, pc;
-          dual_point_frame(&g->frame, fc->c, &pa, &pb, &pc);
-          int oriented = fc->n[0] != 0 || fc->n[1] != 0 || fc->n[2] != 0;
-          for (size_t q = 0; q < m; q++) {
-            double mn, mx;
-            dual_point_extremes(pa, pb, pc, (const dual_box_trig *)(tr + 8 * q), &mn, &mx);
-            lo[q] = mn - eps;
-            hi[q] = mx + eps;
-            ok[q] = 1;
-            proj[q] = oriented
-                          ? parea * fabs(fc->n[0] * nx[q] + fc->n[1] * ny[q] + fc->n[2] * nz[q])
-                          : parea;
-          }
-        } else {
-          /* Range pass (dual_face_range's arithmetic), then the shares. */
-          dual_face_ranges(fc, nx, ny, nz, rad, m, eps, lo, hi, ok);
-          for (size_t q = 0; q < m; q++) {
-            double pn = fc->n[0] * nx[q] + fc->n[1] * ny[q] + fc->n[2] * nz[q];
-            proj[q] = parea * (pn < 0 ? -pn : pn);
+      /* Tiles: a chunk of faces over a block of directions whose columns
+       * stay in the first-level cache, the chunk's faces in the second. A
+       * pass of every face over all the thread's columns instead streamed
+       * them from the second level for every face. */
+      size_t qblock = 16384 / (4 * st * sizeof *diff);
+      if (qblock < 1) qblock = 1;
+      for (size_t f0 = 0; f0 < count; f0 += 256) {
+        size_t f1 = count - f0 > 256 ? f0 + 256 : count;
+        for (size_t q0 = 0; q0 < m; q0 += qblock) {
+          size_t q1 = m - q0 > qblock ? q0 + qblock : m, mq = q1 - q0;
+          for (size_t f = f0; f < f1; f++) {
+            const dual_face *fc = &faces[which ? which[f] : f];
+            double parea = fc->area * scale;
+            if (fc->point) { /* 2.4.2: a point's exact range over each direction box */
+              double pa, pb, pc;
+              dual_point_frame(&g->frame, fc->c, &pa, &pb, &pc);
+              int oriented = fc->n[0] != 0 || fc->n[1] != 0 || fc->n[2] != 0;
+              for (size_t q = q0; q < q1; q++) {
+                double mn, mx;
+                dual_point_extremes(pa, pb, pc, (const dual_box_trig *)(tr + 8 * q), &mn, &mx);
+                lo[q] = mn - eps;
+                hi[q] = mx + eps;
+                ok[q] = 1;
+                proj[q] = oriented ? parea * fabs(fc->n[0] * nx[q] + fc->n[1] * ny[q] +
+                                                  fc->n[2] * nz[q])
+                                   : parea;
+              }
+            } else {
+              /* Range pass (dual_face_range's arithmetic), then the shares. */
+              dual_face_ranges(fc, nx + q0, ny + q0, nz + q0, rad + q0, mq, eps, lo + q0, hi + q0,
+                               ok + q0);
+              for (size_t q = q0; q < q1; q++) {
+                double pn = fc->n[0] * nx[q] + fc->n[1] * ny[q] + fc->n[2] * nz[q];
+                proj[q] = parea * (pn < 0 ? -pn : pn);
+              }
+            }
+            /* Scatter pass: the direction and its opposite (the range of -n
+             * is [-hi, -lo]), positions in cells from the column's lower end. */
+            for (size_t q = q0; q < q1; q++) {
+              if (ok[q] == 0 || !(proj[q] > 0)) continue;
+              int64_t w = (int64_t)(proj[q] + 0.5);
+              int64_t *d = diff + 4 * st * q;
+              dual_column_add(d, st, nr, (lo[q] - rmin) * inv, (hi[q] - rmin) * inv, e, w);
+              dual_column_add(d + 2 * st, st, nr, (-hi[q] - rmin) * inv, (-lo[q] - rmin) * inv, e,
+                              w);
+            }
           }
         }
-        /* Scatter pass: the direction and its opposite (the range of -n
-         * is [-hi, -lo]), positions in cells from the column's lower end. */
-        for (size_t q = 0; q < m; q++) {
-          if (ok[q] == 0 || !(proj[q] > 0)) continue;
-          int64_t w = sign * (int64_t)(proj[q] + 0.5);
-          dual_column_add(diff + 4 * st * q, st, nr, (lo[q] - rmin) * inv, (hi[q] - rmin) * inv, e,
-                          w);
-          dual_column_add(diff + 4 * st * q + 2 * st, st, nr, (-hi[q] - rmin) * inv,
-                          (-lo[q] - rmin) * inv, e, w);
-        }
-        if (tid == 0 && cb && f % step == 0) bbc__progress(cb, "grid", (double)f / count);
+        if (tid == 0 && cb) bbc__progress(cb, "grid", (double)f1 / count);
       }
       for (size_t q = 0; q < m; q++) {
         int64_t *d = diff + 4 * st * q;
-        dual_diff_fold(d, nr, g->contrib + dir_a[q] * (size_t)nr);
-        dual_diff_fold(d + st, nr, g->penalty + dir_a[q] * (size_t)nr);
-        dual_diff_fold(d + 2 * st, nr, g->contrib + dir_b[q] * (size_t)nr);
-        dual_diff_fold(d + 3 * st, nr, g->penalty + dir_b[q] * (size_t)nr);
+        dual_diff_fold(d, nr, sign, g->contrib + dir_a[q] * (size_t)nr);
+        dual_diff_fold(d + st, nr, sign, g->penalty + dir_a[q] * (size_t)nr);
+        dual_diff_fold(d + 2 * st, nr, sign, g->contrib + dir_b[q] * (size_t)nr);
+        dual_diff_fold(d + 3 * st, nr, sign, g->penalty + dir_b[q] * (size_t)nr);
       }
     }
     free(diff);

@@ -285,8 +285,8 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
     }
     if (!points)
       for (int s = 0; s < ND * ND; s++) {
-        dual_diff_fold(diff[s], NR, lc[s]);
-        dual_diff_fold(diff[s] + 8, NR, lp[s]);
+        dual_diff_fold(diff[s], NR, 1, lc[s]);
+        dual_diff_fold(diff[s] + 8, NR, 1, lp[s]);
       }
 #ifdef _OPENMP
 #pragma omp critical(bbc_refine_sum)

@@ -434,9 +434,9 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
                 lo[q] = mn - eps;
                 hi[q] = mx + eps;
                 ok[q] = 1;
-                proj[q] = oriented ? parea * fabs(fc->n[0] * nx[q] + fc->n[1] * ny[q] +
-                                                  fc->n[2] * nz[q])
-                                   : parea;
+                proj[q] = oriented
+                              ? parea * fabs(fc->n[0] * nx[q] + fc->n[1] * ny[q] + fc->n[2] * nz[q])
+                              : parea;
               }
             } else {
               /* Range pass (dual_face_range's arithmetic), then the shares. */

@@ -14,8 +14,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <stb/stb_image_write.h>
-
 /* ---- growable byte buffer ------------------------------------------------ */
 
 typedef struct gbuf {
@@ -157,10 +155,6 @@ static void gbuf_f32(gbuf *b, float v) {
   uint32_t u;
   memcpy(&u, &v, 4);
   gbuf_u32(b, u); /* little-endian whatever the host */
-}
-
-static void png_to_gbuf(void *ctx, void *data, int size) {
-  if (size > 0) gbuf_append(ctx, data, (size_t)size);
 }
 
 /* ---- a minimal JSON syntax check for extras_json ------------------------- */
@@ -438,13 +432,9 @@ static bbc_result put_mesh(const char *path, const bbc_mesh *m, int binary, cons
     image_src[*n_images] = im;
     mo->images_written++;
     gbuf png = {0};
-    if (!stbi_write_png_to_func(png_to_gbuf, &png, im->width, im->height, 4, im->rgba,
-                                im->width * 4) ||
-        png.oom) {
-      free(png.data);
-      return bbc__fail(err, png.oom ? BBC_ERROR_OUT_OF_MEMORY : BBC_ERROR_IO,
-                       "%s: cannot encode texture %zu as PNG", path, t);
-    }
+    bbc_result pr = bbc__png_encode(im, &png.data, &png.size);
+    png.cap = png.size;
+    if (pr != BBC_OK) return bbc__fail(err, pr, "%s: cannot encode texture %zu as PNG", path, t);
     mo->tex_gltf[t] = (int)*n_images;
     /* <stem>_<material>[_nm].png, made unique within the file. */
     char name[160];

@@ -342,6 +342,72 @@ void bbc__dual_grid_cell_box(const dual_grid *g, size_t dir, int k, dual_box *b)
   b->r1 = b->r0 + g->rho_res;
 }
 
+/* One thread's block of direction pairs: their directions as
+ * structure-of-arrays (so that the range pass vectorises), their grid
+ * columns, and the same columns in difference form while faces are added
+ * (contribution and penalty of a, then of b). */
+typedef struct pair_block {
+  size_t m;                    /* pairs */
+  double *nx, *ny, *nz, *rad;  /* centre normals and chord radii */
+  double *lo, *hi, *proj, *ok; /* one face's ranges, shares and validity */
+  double *tr;                  /* the boxes' trigonometry for points, 8 a pair */
+  size_t *dir_a, *dir_b;       /* the pair's two directions */
+  int64_t *diff;               /* 4 columns of n_rho + 2 a pair */
+} pair_block;
+
+/* Faces [f0, f1) of `which` (or of faces) into a block's columns: blocks
+ * of directions whose columns stay in the first-level cache. */
+static BBC__CLONES void add_faces(const dual_grid *g, const dual_face *faces, const uint32_t *which,
+                                  size_t f0, size_t f1, pair_block *blk) {
+  const size_t m = blk->m, st = (size_t)g->n_rho + 2;
+  const double eps = g->eps, scale = g->scale;
+  const int nr = g->n_rho;
+  const double rmin = g->rho_min, inv = 1.0 / g->rho_res, e = eps * inv;
+  const double *nx = blk->nx, *ny = blk->ny, *nz = blk->nz, *rad = blk->rad, *tr = blk->tr;
+  double *lo = blk->lo, *hi = blk->hi, *proj = blk->proj, *ok = blk->ok;
+  int64_t *diff = blk->diff;
+  size_t qblock = 16384 / (4 * st * sizeof *diff);
+  if (qblock < 1) qblock = 1;
+  for (size_t q0 = 0; q0 < m; q0 += qblock) {
+    size_t q1 = m - q0 > qblock ? q0 + qblock : m, mq = q1 - q0;
+    for (size_t f = f0; f < f1; f++) {
+      const dual_face *fc = &faces[which ? which[f] : f];
+      double parea = fc->area * scale;
+      if (fc->point) { /* 2.4.2: a point's exact range over each direction box */
+        double pa, pb, pc;
+        dual_point_frame(&g->frame, fc->c, &pa, &pb, &pc);
+        int oriented = fc->n[0] != 0 || fc->n[1] != 0 || fc->n[2] != 0;
+        for (size_t q = q0; q < q1; q++) {
+          double mn, mx;
+          dual_point_extremes(pa, pb, pc, (const dual_box_trig *)(tr + 8 * q), &mn, &mx);
+          lo[q] = mn - eps;
+          hi[q] = mx + eps;
+          ok[q] = 1;
+          proj[q] = oriented ? parea * fabs(fc->n[0] * nx[q] + fc->n[1] * ny[q] + fc->n[2] * nz[q])
+                             : parea;
+        }
+      } else {
+        /* Range pass (dual_face_range's arithmetic), then the shares. */
+        dual_face_ranges(fc, nx + q0, ny + q0, nz + q0, rad + q0, mq, eps, lo + q0, hi + q0,
+                         ok + q0);
+        for (size_t q = q0; q < q1; q++) {
+          double pn = fc->n[0] * nx[q] + fc->n[1] * ny[q] + fc->n[2] * nz[q];
+          proj[q] = parea * (pn < 0 ? -pn : pn);
+        }
+      }
+      /* Scatter pass: the direction and its opposite (the range of -n
+       * is [-hi, -lo]), positions in cells from the column's lower end. */
+      for (size_t q = q0; q < q1; q++) {
+        if (ok[q] == 0 || !(proj[q] > 0)) continue;
+        int64_t w = (int64_t)(proj[q] + 0.5);
+        int64_t *d = diff + 4 * st * q;
+        dual_column_add(d, st, nr, (lo[q] - rmin) * inv, (hi[q] - rmin) * inv, e, w);
+        dual_column_add(d + 2 * st, st, nr, (-hi[q] - rmin) * inv, (-lo[q] - rmin) * inv, e, w);
+      }
+    }
+  }
+}
+
 void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint32_t *which,
                                size_t count, int sign, const bbc_callbacks *cb) {
   /* Directions come in opposite pairs: (i, j) and (i + n_theta/2, n_phi-1-j)
@@ -405,62 +471,14 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
         dir_b[q - p0] = b;
       }
       size_t m = p1 - p0;
-      double eps = g->eps, scale = g->scale;
-      const int nr = g->n_rho;
-      const double rmin = g->rho_min, inv = 1.0 / g->rho_res, e = eps * inv;
-      /* This block's columns in difference form (contribution, then
-       * penalty) while the faces are added; folded into the grid after. */
-      const size_t st = (size_t)nr + 2;
-      /* Tiles: a chunk of faces over a block of directions whose columns
-       * stay in the first-level cache, the chunk's faces in the second. A
-       * pass of every face over all the thread's columns instead streamed
-       * them from the second level for every face. */
-      size_t qblock = 16384 / (4 * st * sizeof *diff);
-      if (qblock < 1) qblock = 1;
+      pair_block blk = {m, nx, ny, nz, rad, lo, hi, proj, ok, tr, dir_a, dir_b, diff};
       for (size_t f0 = 0; f0 < count; f0 += 256) {
         size_t f1 = count - f0 > 256 ? f0 + 256 : count;
-        for (size_t q0 = 0; q0 < m; q0 += qblock) {
-          size_t q1 = m - q0 > qblock ? q0 + qblock : m, mq = q1 - q0;
-          for (size_t f = f0; f < f1; f++) {
-            const dual_face *fc = &faces[which ? which[f] : f];
-            double parea = fc->area * scale;
-            if (fc->point) { /* 2.4.2: a point's exact range over each direction box */
-              double pa, pb, pc;
-              dual_point_frame(&g->frame, fc->c, &pa, &pb, &pc);
-              int oriented = fc->n[0] != 0 || fc->n[1] != 0 || fc->n[2] != 0;
-              for (size_t q = q0; q < q1; q++) {
-                double mn, mx;
-                dual_point_extremes(pa, pb, pc, (const dual_box_trig *)(tr + 8 * q), &mn, &mx);
-                lo[q] = mn - eps;
-                hi[q] = mx + eps;
-                ok[q] = 1;
-                proj[q] = oriented
-                              ? parea * fabs(fc->n[0] * nx[q] + fc->n[1] * ny[q] + fc->n[2] * nz[q])
-                              : parea;
-              }
-            } else {
-              /* Range pass (dual_face_range's arithmetic), then the shares. */
-              dual_face_ranges(fc, nx + q0, ny + q0, nz + q0, rad + q0, mq, eps, lo + q0, hi + q0,
-                               ok + q0);
-              for (size_t q = q0; q < q1; q++) {
-                double pn = fc->n[0] * nx[q] + fc->n[1] * ny[q] + fc->n[2] * nz[q];
-                proj[q] = parea * (pn < 0 ? -pn : pn);
-              }
-            }
-            /* Scatter pass: the direction and its opposite (the range of -n
-             * is [-hi, -lo]), positions in cells from the column's lower end. */
-            for (size_t q = q0; q < q1; q++) {
-              if (ok[q] == 0 || !(proj[q] > 0)) continue;
-              int64_t w = (int64_t)(proj[q] + 0.5);
-              int64_t *d = diff + 4 * st * q;
-              dual_column_add(d, st, nr, (lo[q] - rmin) * inv, (hi[q] - rmin) * inv, e, w);
-              dual_column_add(d + 2 * st, st, nr, (-hi[q] - rmin) * inv, (-lo[q] - rmin) * inv, e,
-                              w);
-            }
-          }
-        }
+        add_faces(g, faces, which, f0, f1, &blk);
         if (tid == 0 && cb) bbc__progress(cb, "grid", (double)f1 / count);
       }
+      const int nr = g->n_rho;
+      const size_t st = (size_t)nr + 2;
       for (size_t q = 0; q < m; q++) {
         int64_t *d = diff + 4 * st * q;
         dual_diff_fold(d, nr, sign, g->contrib + dir_a[q] * (size_t)nr);

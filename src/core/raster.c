@@ -159,7 +159,7 @@ static double sun_shade(const double *n, const double *l) {
   return 0.35 + 0.65 * fabs(n[0] * l[0] + n[1] * l[1] + n[2] * l[2]);
 }
 
-static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
+static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
   const camera *cam = tg->cam;
   const bbc_view *view = tg->view;
   const uint32_t *ix = m->indices + 3 * t;
@@ -188,7 +188,9 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
   const double *a = s[order[0]], *b = s[order[1]], *c = s[order[2]];
   double minx = fmin(a[0], fmin(b[0], c[0])), maxx = fmax(a[0], fmax(b[0], c[0]));
   double miny = fmin(a[1], fmin(b[1], c[1])), maxy = fmax(a[1], fmax(b[1], c[1]));
-  if (view->depth_max > view->depth_min &&
+  int inside = a[2] >= view->depth_min && a[2] <= view->depth_max && b[2] >= view->depth_min &&
+               b[2] <= view->depth_max && c[2] >= view->depth_min && c[2] <= view->depth_max;
+  if (view->depth_max > view->depth_min && !inside &&
       !slab_bounds(a, b, c, view->depth_min, view->depth_max, &minx, &maxx, &miny, &maxy))
     return; /* no part of it inside the slab */
   /* The pixels whose centres (x + 0.5) can lie within the bounds; the
@@ -291,12 +293,13 @@ static void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
         continue; /* outside the slab: the triangle is clipped there */
       double col[4] = {mat->base_color[0], mat->base_color[1], mat->base_color[2],
                        mat->base_color[3]};
-      if (tex) {
+      if (tex) { /* the alpha test first (the base level), then the colour */
         float u = (float)(l0 * uv[0][0] + l1 * uv[1][0] + l2 * uv[2][0]);
         float v = (float)(l0 * uv[0][1] + l1 * uv[1][1] + l2 * uv[2][1]);
+        col[3] *= sample(tex, u, v)[3] / 255.0;
+        if (col[3] < 0.5) continue;
         const uint8_t *tx = sample(tex_rgb, u, v);
         for (int k = 0; k < 3; k++) col[k] *= tx[k] / 255.0;
-        col[3] *= (tex_rgb == tex ? tx : sample(tex, u, v))[3] / 255.0;
       }
       if (col[3] < 0.5) continue; /* alpha test */
       double n[3] = {0, 0, 1};

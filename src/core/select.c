@@ -229,6 +229,13 @@ static inline void face_subcells(const ctx *c, const dual_face *f, const dual_bo
   }
 }
 
+/* face_subcells for n faces of a set. */
+static BBC__CLONES void faces_subcells(const ctx *c, const uint32_t *set, size_t n,
+                                       const dual_box *b, const subdirs *sd, const int *valid_dir,
+                                       int64_t (*diff)[16]) {
+  for (size_t i = 0; i < n; i++) face_subcells(c, &c->faces[set[i]], b, sd, valid_dir, diff);
+}
+
 /* One refinement step: the densest of the 216 subcells of box b and its 26
  * neighbours, from the faces of set. Returns 0 when none has density > 0. */
 static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n, dual_box *best) {
@@ -274,15 +281,17 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
     memset(lc, 0, sizeof lc);
     memset(lp, 0, sizeof lp);
     memset(diff, 0, sizeof diff);
+    int tid = 0, tn = 1;
 #ifdef _OPENMP
-#pragma omp for schedule(static)
+    tid = omp_get_thread_num();
+    tn = omp_get_num_threads();
 #endif
-    for (size_t i = 0; i < n; i++) {
-      if (points)
+    size_t i0 = n * (size_t)tid / (size_t)tn, i1 = n * (size_t)(tid + 1) / (size_t)tn;
+    if (points)
+      for (size_t i = i0; i < i1; i++)
         point_subcells(c, &c->faces[set[i]], b, dirs, valid_dir, lc, lp);
-      else
-        face_subcells(c, &c->faces[set[i]], b, &sd, valid_dir, diff);
-    }
+    else
+      faces_subcells(c, set + i0, i1 - i0, b, &sd, valid_dir, diff);
     if (!points)
       for (int s = 0; s < ND * ND; s++) {
         dual_diff_fold(diff[s], NR, 1, lc[s]);

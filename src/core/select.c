@@ -208,32 +208,29 @@ typedef struct subdirs {
   double nx[36], ny[36], nz[36], rad[36];
 } subdirs;
 
-/* A face's shares of the 36 x 6 subcells: the arithmetic of
- * dual_face_range (over all 36 at once, vectorised) and
+/* The shares of n faces of a set in the 36 x 6 subcells: for each face
+ * the arithmetic of dual_face_range (over all 36 at once, vectorised) and
  * dual_projected_area, then dual_column_add over the six rho slices, into
  * columns in difference form (diff[s]: contribution, then penalty). */
-static inline void face_subcells(const ctx *c, const dual_face *f, const dual_box *b,
-                                 const subdirs *sd, const int *valid_dir, int64_t (*diff)[16]) {
-  const double eps = c->eps, scale = c->g->scale, dr = 0.5 * (b->r1 - b->r0);
-  const double rbase = b->r0 - 2 * dr, inv = 1.0 / dr, e = eps * inv;
-  double lo[36], hi[36], proj[36], ok[36];
-  dual_face_ranges(f, sd->nx, sd->ny, sd->nz, sd->rad, 36, eps, lo, hi, ok);
-  for (int s = 0; s < 36; s++) {
-    double pn = f->n[0] * sd->nx[s] + f->n[1] * sd->ny[s] + f->n[2] * sd->nz[s];
-    proj[s] = f->area * (pn < 0 ? -pn : pn) * scale;
-  }
-  for (int s = 0; s < 36; s++) {
-    if (!valid_dir[s] || ok[s] == 0 || !(proj[s] > 0)) continue;
-    dual_column_add(diff[s], 8, 6, (lo[s] - rbase) * inv, (hi[s] - rbase) * inv, e,
-                    (int64_t)(proj[s] + 0.5));
-  }
-}
-
-/* face_subcells for n faces of a set. */
 static BBC__CLONES void faces_subcells(const ctx *c, const uint32_t *set, size_t n,
                                        const dual_box *b, const subdirs *sd, const int *valid_dir,
                                        int64_t (*diff)[16]) {
-  for (size_t i = 0; i < n; i++) face_subcells(c, &c->faces[set[i]], b, sd, valid_dir, diff);
+  const double eps = c->eps, scale = c->g->scale, dr = 0.5 * (b->r1 - b->r0);
+  const double rbase = b->r0 - 2 * dr, inv = 1.0 / dr, e = eps * inv;
+  double lo[36], hi[36], proj[36], ok[36];
+  for (size_t i = 0; i < n; i++) {
+    const dual_face *f = &c->faces[set[i]];
+    dual_face_ranges(f, sd->nx, sd->ny, sd->nz, sd->rad, 36, eps, lo, hi, ok);
+    for (int s = 0; s < 36; s++) {
+      double pn = f->n[0] * sd->nx[s] + f->n[1] * sd->ny[s] + f->n[2] * sd->nz[s];
+      proj[s] = f->area * (pn < 0 ? -pn : pn) * scale;
+    }
+    for (int s = 0; s < 36; s++) {
+      if (!valid_dir[s] || ok[s] == 0 || !(proj[s] > 0)) continue;
+      dual_column_add(diff[s], 8, 6, (lo[s] - rbase) * inv, (hi[s] - rbase) * inv, e,
+                      (int64_t)(proj[s] + 0.5));
+    }
+  }
 }
 
 /* One refinement step: the densest of the 216 subcells of box b and its 26

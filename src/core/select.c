@@ -826,8 +826,19 @@ bbc_result bbc__select_planes(const dual_face *faces, size_t nf, dual_grid *g, c
     }
     c.remaining -= n;
     if (p->cardboard && (r = add_cardboard(&c, &fp, set, n, area, index)) != BBC_OK) break;
-    /* Grid update: exactly reverse the simplified faces' density (2.1.8). */
-    bbc__dual_grid_accumulate(g, faces, set, n, -1, NULL);
+    /* Grid update: exactly reverse the simplified faces' density (2.1.8);
+     * or, when fewer faces remain than were simplified, the grid anew from
+     * those that remain (the same integer sums, less work). */
+    if (c.remaining >= n) {
+      bbc__dual_grid_accumulate(g, faces, set, n, -1, NULL);
+    } else if (c.remaining > 0) {
+      size_t k = 0, ncell = (size_t)g->n_theta * g->n_phi * g->n_rho;
+      for (size_t f = 0; f < nf; f++)
+        if (!c.assigned[f]) work[k++] = (uint32_t)f;
+      memset(g->contrib, 0, ncell * sizeof *g->contrib);
+      memset(g->penalty, 0, ncell * sizeof *g->penalty);
+      bbc__dual_grid_accumulate(g, faces, work, k, +1, NULL);
+    }
     bbc__progress(cb, "select", 1.0 - (double)c.remaining / (double)nf);
     if (bbc__cancelled(cb)) {
       r = BBC_ERROR_CANCELLED;

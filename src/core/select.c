@@ -208,18 +208,57 @@ typedef struct subdirs {
   double nx[36], ny[36], nz[36], rad[36];
 } subdirs;
 
+/* What holds for every valid sub-direction s of a refinement step: its
+ * centre normal n_s lies within chord distance `d` of `nu`, its radius is
+ * at least `rmin`; the six rho slices run from rbase to rtop. */
+typedef struct subdir_bound {
+  double nu[3], d, rmin, rbase, rtop;
+} subdir_bound;
+
+/* 1 when a face's shares are certainly whole in every slice of every valid
+ * sub-direction, without penalty: dual_face_range's range (the same
+ * formula, bounded over the sub-directions through nu, d and rmin, with a
+ * margin far above its rounding) holds the six slices, and the face's
+ * normal keeps its sign against every n_s. Then its share in each slice of
+ * s is its projected area, sign x area x (n_f . n_s): linear in n_s, so the
+ * faces of a set sum to one vector. Most faces are so in the later steps,
+ * whose boxes are small against epsilon. */
+static inline int whole_in_subcells(const dual_face *f, const subdir_bound *u, double eps) {
+  const double *n = u->nu;
+  double cu = f->c[0] * n[0] + f->c[1] * n[1] + f->c[2] * n[2];
+  double amax = -HUGE_VAL, amin = HUGE_VAL;
+  for (int i = 0; i < 4; i++) {
+    double a = f->d[i][0] * n[0] + f->d[i][1] * n[1] + f->d[i][2] * n[2];
+    amax = a > amax ? a : amax;
+    amin = a < amin ? a : amin;
+  }
+  double pu = f->n[0] * n[0] + f->n[1] * n[1] + f->n[2] * n[2];
+  double scale = f->c_len + f->d_max + eps, slack = 1e-12 * scale, m = 1e-9 * scale;
+  double wl = f->c_len + f->d_max, spread = u->d - u->rmin;
+  return amax - amin + 2 * f->d_max * spread <= 2 * eps + slack - m &&
+         cu + amax + wl * spread - eps - slack <= u->rbase - m &&
+         cu + amin - wl * spread + eps + slack >= u->rtop + m && fabs(pu) > u->d + 1e-9;
+}
+
 /* The shares of n faces of a set in the 36 x 6 subcells: for each face
  * the arithmetic of dual_face_range (over all 36 at once, vectorised) and
  * dual_projected_area, then dual_column_add over the six rho slices, into
- * columns in difference form (diff[s]: contribution, then penalty). */
+ * columns in difference form (diff[s]: contribution, then penalty); a face
+ * whole in every subcell (whole_in_subcells) only into agg, the sum of its
+ * signed area vectors in fixed point. */
 static BBC__CLONES void faces_subcells(const ctx *c, const uint32_t *set, size_t n,
                                        const dual_box *b, const subdirs *sd, const int *valid_dir,
-                                       int64_t (*diff)[16]) {
+                                       const subdir_bound *u, int64_t (*diff)[16], int64_t agg[3]) {
   const double eps = c->eps, scale = c->g->scale, dr = 0.5 * (b->r1 - b->r0);
   const double rbase = b->r0 - 2 * dr, inv = 1.0 / dr, e = eps * inv;
   double lo[36], hi[36], proj[36], ok[36];
   for (size_t i = 0; i < n; i++) {
     const dual_face *f = &c->faces[set[i]];
+    if (f->area > 0 && whole_in_subcells(f, u, eps)) {
+      double sg = f->n[0] * u->nu[0] + f->n[1] * u->nu[1] + f->n[2] * u->nu[2] > 0 ? 1 : -1;
+      for (int k = 0; k < 3; k++) agg[k] += (int64_t)floor(sg * f->area * scale * f->n[k] + 0.5);
+      continue;
+    }
     dual_face_ranges(f, sd->nx, sd->ny, sd->nz, sd->rad, 36, eps, lo, hi, ok);
     for (int s = 0; s < 36; s++) {
       double pn = f->n[0] * sd->nx[s] + f->n[1] * sd->ny[s] + f->n[2] * sd->nz[s];
@@ -268,13 +307,28 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
   }
   memset(contrib, 0, sizeof contrib);
   memset(penalty, 0, sizeof penalty);
+  /* The bound of every valid sub-direction, for whole_in_subcells. */
+  subdir_bound u = {{0, 0, 0}, 0, HUGE_VAL, b->r0 - 2 * dr, b->r0 + 4 * dr};
+  for (int s = 0; s < ND * ND; s++)
+    if (valid_dir[s])
+      for (int k = 0; k < 3; k++) u.nu[k] += dirs[s].n[k];
+  double ul = sqrt(u.nu[0] * u.nu[0] + u.nu[1] * u.nu[1] + u.nu[2] * u.nu[2]);
+  for (int k = 0; k < 3; k++) u.nu[k] = ul > 0 ? u.nu[k] / ul : 0;
+  for (int s = 0; s < ND * ND; s++) {
+    if (!valid_dir[s]) continue;
+    double dx = dirs[s].n[0] - u.nu[0], dy = dirs[s].n[1] - u.nu[1], dz = dirs[s].n[2] - u.nu[2];
+    u.d = fmax(u.d, sqrt(dx * dx + dy * dy + dz * dz));
+    u.rmin = fmin(u.rmin, dirs[s].radius);
+  }
+  u.d = u.d * (1 + 1e-9) + 1e-12;
+  int64_t agg[3] = {0, 0, 0};
   int nt = thread_count(c);
   (void)nt;
 #ifdef _OPENMP
 #pragma omp parallel num_threads(nt) if (n > (points ? 4096u : 512u))
 #endif
   {
-    int64_t lc[ND * ND][NR], lp[ND * ND][NR], diff[ND * ND][2 * (NR + 2)];
+    int64_t lc[ND * ND][NR], lp[ND * ND][NR], diff[ND * ND][2 * (NR + 2)], la[3] = {0, 0, 0};
     memset(lc, 0, sizeof lc);
     memset(lp, 0, sizeof lp);
     memset(diff, 0, sizeof diff);
@@ -288,7 +342,7 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
       for (size_t i = i0; i < i1; i++)
         point_subcells(c, &c->faces[set[i]], b, dirs, valid_dir, lc, lp);
     else
-      faces_subcells(c, set + i0, i1 - i0, b, &sd, valid_dir, diff);
+      faces_subcells(c, set + i0, i1 - i0, b, &sd, valid_dir, &u, diff, la);
     if (!points)
       for (int s = 0; s < ND * ND; s++) {
         dual_diff_fold(diff[s], NR, 1, lc[s]);
@@ -297,11 +351,23 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
 #ifdef _OPENMP
 #pragma omp critical(bbc_refine_sum)
 #endif
-    for (int s = 0; s < ND * ND; s++)
-      for (int r = 0; r < NR; r++) {
-        contrib[s][r] += lc[s][r];
-        penalty[s][r] += lp[s][r];
-      }
+    {
+      for (int s = 0; s < ND * ND; s++)
+        for (int r = 0; r < NR; r++) {
+          contrib[s][r] += lc[s][r];
+          penalty[s][r] += lp[s][r];
+        }
+      for (int k = 0; k < 3; k++) agg[k] += la[k];
+    }
+  }
+  /* The faces whole in every subcell: their summed area vector, the same
+   * share in each slice of a sub-direction. */
+  for (int s = 0; s < ND * ND; s++) {
+    if (!valid_dir[s]) continue;
+    double w = (double)agg[0] * dirs[s].n[0] + (double)agg[1] * dirs[s].n[1] +
+               (double)agg[2] * dirs[s].n[2];
+    int64_t wi = w > 0 ? (int64_t)(w + 0.5) : 0;
+    for (int r = 0; r < NR; r++) contrib[s][r] += wi;
   }
   double best_d = 0;
   int found = 0;

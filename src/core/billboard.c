@@ -15,59 +15,70 @@ bbc_result bbc_billboards_compute(const bbc_mesh *mesh, const bbc_planeset *set,
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "billboards: the plane set has %zu faces, the model %zu %s", nf, have,
                      points ? "points" : "triangles");
-  uint32_t *all = malloc((nf ? nf : 1) * sizeof *all),
-           *which = malloc((nf ? nf : 1) * sizeof *which);
+  uint32_t *all = malloc((nf ? nf : 1) * sizeof *all);
   dual_face *faces = NULL;
   const double origin[3] = {0, 0, 0};
   for (size_t t = 0; all && t < nf; t++) all[t] = (uint32_t)t;
-  if (!all || !which ||
-      (points ? bbc__dual_points_build(mesh, all, nf, origin, NULL, &faces)
-              : bbc__dual_faces_build(mesh, all, nf, origin, &faces)) != BBC_OK) {
+  if (!all || (points ? bbc__dual_points_build(mesh, all, nf, origin, NULL, &faces)
+                      : bbc__dual_faces_build(mesh, all, nf, origin, &faces)) != BBC_OK) {
     free(all);
-    free(which);
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "billboards: out of memory");
   }
-  for (size_t i = 0; i < np; i++) {
-    const bbc_plane *p = &set->planes[i];
-    /* Its faces: the assigned ones, or for a cardboard plane its mother's
-     * faces valid for it. */
-    uint32_t owner = p->kind == BBC_PLANE_CARDBOARD ? (uint32_t)p->mother : (uint32_t)i;
-    double eps = set->parts[p->part].epsilon_abs;
-    size_t n = 0;
-    for (size_t t = 0; t < nf; t++) {
-      if (set->face_plane[t] != owner) continue;
-      if (p->kind == BBC_PLANE_CARDBOARD && !bbc__dual_face_valid(&faces[t], p->normal, p->d, eps))
-        continue;
-      which[n++] = (uint32_t)t;
+  int oom = 0;
+  /* The planes are independent: one each, a face list per thread. */
+#pragma omp parallel
+  {
+    uint32_t *which = malloc((nf ? nf : 1) * sizeof *which);
+    if (!which) {
+#pragma omp atomic write
+      oom = 1;
     }
-    bbc_billboard *b = &out[i];
-    memset(b, 0, sizeof *b);
-    b->plane = (uint32_t)i;
-    double mn[2], mx[2];
-    bbc__dual_min_rect(faces, which, n, p->normal, b->u, b->w, mn, mx);
-    double width = mx[0] - mn[0], height = mx[1] - mn[1];
-    if (height > width) { /* longer side along u; u x w stays the normal */
-      double u[3], w[3];
-      for (int k = 0; k < 3; k++) {
-        u[k] = b->w[k];
-        w[k] = -b->u[k];
+#pragma omp for schedule(dynamic, 1)
+    for (size_t i = 0; i < np; i++) {
+      if (!which) continue;
+      const bbc_plane *p = &set->planes[i];
+      /* Its faces: the assigned ones, or for a cardboard plane its mother's
+       * faces valid for it. */
+      uint32_t owner = p->kind == BBC_PLANE_CARDBOARD ? (uint32_t)p->mother : (uint32_t)i;
+      double eps = set->parts[p->part].epsilon_abs;
+      size_t n = 0;
+      for (size_t t = 0; t < nf; t++) {
+        if (set->face_plane[t] != owner) continue;
+        if (p->kind == BBC_PLANE_CARDBOARD &&
+            !bbc__dual_face_valid(&faces[t], p->normal, p->d, eps))
+          continue;
+        which[n++] = (uint32_t)t;
       }
-      double m0 = mn[1], m1 = -mx[0];
-      memcpy(b->u, u, sizeof u);
-      memcpy(b->w, w, sizeof w);
-      mn[0] = m0;
-      mn[1] = m1;
-      double t = width;
-      width = height;
-      height = t;
+      bbc_billboard *b = &out[i];
+      memset(b, 0, sizeof *b);
+      b->plane = (uint32_t)i;
+      double mn[2], mx[2];
+      bbc__dual_min_rect(faces, which, n, p->normal, b->u, b->w, mn, mx);
+      double width = mx[0] - mn[0], height = mx[1] - mn[1];
+      if (height > width) { /* longer side along u; u x w stays the normal */
+        double u[3], w[3];
+        for (int k = 0; k < 3; k++) {
+          u[k] = b->w[k];
+          w[k] = -b->u[k];
+        }
+        double m0 = mn[1], m1 = -mx[0];
+        memcpy(b->u, u, sizeof u);
+        memcpy(b->w, w, sizeof w);
+        mn[0] = m0;
+        mn[1] = m1;
+        double t = width;
+        width = height;
+        height = t;
+      }
+      b->width = width;
+      b->height = height;
+      for (int k = 0; k < 3; k++)
+        b->origin[k] = p->d * p->normal[k] + mn[0] * b->u[k] + mn[1] * b->w[k];
     }
-    b->width = width;
-    b->height = height;
-    for (int k = 0; k < 3; k++)
-      b->origin[k] = p->d * p->normal[k] + mn[0] * b->u[k] + mn[1] * b->w[k];
+    free(which);
   }
   free(faces);
   free(all);
-  free(which);
+  if (oom) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "billboards: out of memory");
   return BBC_OK;
 }

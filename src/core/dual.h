@@ -240,25 +240,28 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
  * Fig. 2-14, 2-15). Positions are counted in cells, to 2^-DUAL_FX of a
  * cell, and a range is two kinks: w x max(0, min(1, k + 1 - X)) added to
  * every cell k for a range starting at X, the same subtracted where it
- * ends. Ranges are added to a column in difference form (d[k] = value[k] -
- * value[k - 1], n + 2 entries so that no write needs a test), two writes a
- * kink whatever the range's length; dual_diff_fold adds it up, or
- * subtracts it. Integer sums: removing a face subtracts exactly what adding
- * it added, in any order. */
+ * ends. Kinks are kept in difference form (d[k] = value[k] - value[k -
+ * 1], n + 2 entries so that no write needs a test), two writes a kink
+ * whatever the range's length; dual_kinks_fold adds them up, or subtracts
+ * them. Integer sums: removing a face subtracts exactly what adding it
+ * added, in any order. */
 #define DUAL_FX 20
 
 static inline double dual_clamp(double x, double top) {
   return x > 0 ? (x < top ? x : top) : 0;
 }
 
-/* The shares of a range over a column of n cells in difference form: its
- * contribution at d[0..n+1], its penalty at d[stride..stride+n+1]. x and y
- * are the range's ends and e is eps, in cells from the column's lower end;
- * w > 0 the face's fixed-point projected area. A kink at X (in 2^-DUAL_FX
- * of a cell) adds its part w x (the fraction of X's cell above X) to that
- * cell, and w less that part to the next (in difference form: w to every
- * cell above); the range's start is such a kink in the contribution and
- * its end one subtracted, the penalty's from x - e to x the same. */
+/* The shares of a range over a column of n cells, as kinks in difference
+ * form: d[0..n+1] the kinks where ranges start, d[stride..] where they end,
+ * d[2 stride..] where their penalties start (a penalty ends where its
+ * range starts); dual_kinks_fold makes contribution and penalty of them.
+ * Three arrays so that no two writes of one range meet at one address (a
+ * range's end cell is often the cell after its start's). x and y are the
+ * range's ends and e is eps, in cells from the column's lower end; w > 0
+ * the face's fixed-point projected area. A kink at X (in 2^-DUAL_FX of a
+ * cell) adds its part w x (the fraction of X's cell above X) to that cell
+ * and w less that part to the next: in difference form, w to every cell
+ * above. */
 static inline void dual_column_add(int64_t *d, size_t stride, int n, double x, double y, double e,
                                    int64_t w) {
   const double top = n, one = (double)((int64_t)1 << DUAL_FX);
@@ -269,26 +272,31 @@ static inline void dual_column_add(int64_t *d, size_t stride, int n, double x, d
   int64_t pl = (w * (((kl + 1) << DUAL_FX) - L)) >> DUAL_FX;
   int64_t ph = (w * (((kh + 1) << DUAL_FX) - H)) >> DUAL_FX;
   int64_t pp = (w * (((kp + 1) << DUAL_FX) - P)) >> DUAL_FX;
-  int64_t *c = d, *p = d + stride;
-  c[kl] += pl;
-  c[kl + 1] += w - pl;
-  c[kh] -= ph;
-  c[kh + 1] -= w - ph;
-  p[kp] += pp;
-  p[kp + 1] += w - pp;
-  p[kl] -= pl;
-  p[kl + 1] -= w - pl;
+  int64_t *ks = d, *ke = d + stride, *kq = d + 2 * stride;
+  ks[kl] += pl;
+  ks[kl + 1] += w - pl;
+  ke[kh] += ph;
+  ke[kh + 1] += w - ph;
+  kq[kp] += pp;
+  kq[kp + 1] += w - pp;
 }
 
-/* Adds sign x a column in difference form (n cells) to `out`, and clears
- * it. */
-static inline void dual_diff_fold(int64_t *d, int n, int sign, int64_t *out) {
-  int64_t run = 0;
+/* Adds sign x the contribution (starts less ends) and the penalty
+ * (penalty starts less starts) of a column's kinks (n cells, three arrays
+ * `stride` apart) to contrib and penalty, and clears the kinks. */
+static inline void dual_kinks_fold(int64_t *d, size_t stride, int n, int sign, int64_t *contrib,
+                                   int64_t *penalty) {
+  int64_t s = 0, e = 0, q = 0;
   for (int k = 0; k < n; k++) {
-    run += d[k];
-    out[k] += sign * run;
+    s += d[k];
+    e += d[stride + k];
+    q += d[2 * stride + k];
+    contrib[k] += sign * (s - e);
+    penalty[k] += sign * (q - s);
   }
   memset(d, 0, (size_t)(n + 2) * sizeof *d);
+  memset(d + stride, 0, (size_t)(n + 2) * sizeof *d);
+  memset(d + 2 * stride, 0, (size_t)(n + 2) * sizeof *d);
 }
 
 /* Box of grid cell (dir index, k). */

@@ -366,7 +366,7 @@ static BBC__CLONES void add_faces(const dual_grid *g, const dual_face *faces, co
   const double *nx = blk->nx, *ny = blk->ny, *nz = blk->nz, *rad = blk->rad, *tr = blk->tr;
   double *lo = blk->lo, *hi = blk->hi, *proj = blk->proj, *ok = blk->ok;
   int64_t *diff = blk->diff;
-  size_t qblock = 16384 / (4 * st * sizeof *diff);
+  size_t qblock = 16384 / (6 * st * sizeof *diff);
   if (qblock < 1) qblock = 1;
   for (size_t q0 = 0; q0 < m; q0 += qblock) {
     size_t q1 = m - q0 > qblock ? q0 + qblock : m, mq = q1 - q0;
@@ -400,9 +400,9 @@ static BBC__CLONES void add_faces(const dual_grid *g, const dual_face *faces, co
       for (size_t q = q0; q < q1; q++) {
         if (ok[q] == 0 || !(proj[q] > 0)) continue;
         int64_t w = (int64_t)(proj[q] + 0.5);
-        int64_t *d = diff + 4 * st * q;
+        int64_t *d = diff + 6 * st * q;
         dual_column_add(d, st, nr, (lo[q] - rmin) * inv, (hi[q] - rmin) * inv, e, w);
-        dual_column_add(d + 2 * st, st, nr, (-hi[q] - rmin) * inv, (-lo[q] - rmin) * inv, e, w);
+        dual_column_add(d + 3 * st, st, nr, (-hi[q] - rmin) * inv, (-lo[q] - rmin) * inv, e, w);
       }
     }
   }
@@ -439,7 +439,7 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
      * pass below vectorises. */
     double *buf = malloc(nb * 17 * sizeof *buf);
     size_t *dir_a = malloc(nb * 2 * sizeof *dir_a);
-    int64_t *diff = calloc(nb * 4 * ((size_t)g->n_rho + 2), sizeof *diff);
+    int64_t *diff = calloc(nb * 6 * ((size_t)g->n_rho + 2), sizeof *diff);
     if (buf && dir_a && diff) {
       double *nx = buf, *ny = buf + nb, *nz = buf + 2 * nb, *rad = buf + 3 * nb;
       double *lo = buf + 4 * nb, *hi = buf + 5 * nb, *proj = buf + 6 * nb, *ok = buf + 7 * nb;
@@ -480,11 +480,11 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
       const int nr = g->n_rho;
       const size_t st = (size_t)nr + 2;
       for (size_t q = 0; q < m; q++) {
-        int64_t *d = diff + 4 * st * q;
-        dual_diff_fold(d, nr, sign, g->contrib + dir_a[q] * (size_t)nr);
-        dual_diff_fold(d + st, nr, sign, g->penalty + dir_a[q] * (size_t)nr);
-        dual_diff_fold(d + 2 * st, nr, sign, g->contrib + dir_b[q] * (size_t)nr);
-        dual_diff_fold(d + 3 * st, nr, sign, g->penalty + dir_b[q] * (size_t)nr);
+        int64_t *d = diff + 6 * st * q;
+        dual_kinks_fold(d, st, nr, sign, g->contrib + dir_a[q] * (size_t)nr,
+                        g->penalty + dir_a[q] * (size_t)nr);
+        dual_kinks_fold(d + 3 * st, st, nr, sign, g->contrib + dir_b[q] * (size_t)nr,
+                        g->penalty + dir_b[q] * (size_t)nr);
       }
     }
     free(diff);

@@ -243,12 +243,12 @@ static inline int whole_in_subcells(const dual_face *f, const subdir_bound *u, d
 /* The shares of n faces of a set in the 36 x 6 subcells: for each face
  * the arithmetic of dual_face_range (over all 36 at once, vectorised) and
  * dual_projected_area, then dual_column_add over the six rho slices, into
- * columns in difference form (diff[s]: contribution, then penalty); a face
+ * kink arrays (diff[s]: dual_column_add's three); a face
  * whole in every subcell (whole_in_subcells) only into agg, the sum of its
  * signed area vectors in fixed point. */
 static BBC__CLONES void faces_subcells(const ctx *c, const uint32_t *set, size_t n,
                                        const dual_box *b, const subdirs *sd, const int *valid_dir,
-                                       const subdir_bound *u, int64_t (*diff)[16], int64_t agg[3]) {
+                                       const subdir_bound *u, int64_t (*diff)[24], int64_t agg[3]) {
   const double eps = c->eps, scale = c->g->scale, dr = 0.5 * (b->r1 - b->r0);
   const double rbase = b->r0 - 2 * dr, inv = 1.0 / dr, e = eps * inv;
   double lo[36], hi[36], proj[36], ok[36];
@@ -328,7 +328,7 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
 #pragma omp parallel num_threads(nt) if (n > (points ? 4096u : 512u))
 #endif
   {
-    int64_t lc[ND * ND][NR], lp[ND * ND][NR], diff[ND * ND][2 * (NR + 2)], la[3] = {0, 0, 0};
+    int64_t lc[ND * ND][NR], lp[ND * ND][NR], diff[ND * ND][3 * (NR + 2)], la[3] = {0, 0, 0};
     memset(lc, 0, sizeof lc);
     memset(lp, 0, sizeof lp);
     memset(diff, 0, sizeof diff);
@@ -344,10 +344,7 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
     else
       faces_subcells(c, set + i0, i1 - i0, b, &sd, valid_dir, &u, diff, la);
     if (!points)
-      for (int s = 0; s < ND * ND; s++) {
-        dual_diff_fold(diff[s], NR, 1, lc[s]);
-        dual_diff_fold(diff[s] + 8, NR, 1, lp[s]);
-      }
+      for (int s = 0; s < ND * ND; s++) dual_kinks_fold(diff[s], NR + 2, NR, 1, lc[s], lp[s]);
 #ifdef _OPENMP
 #pragma omp critical(bbc_refine_sum)
 #endif

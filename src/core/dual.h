@@ -130,6 +130,23 @@ static inline void dual_face_ranges(const dual_face *f, const double *restrict n
   const double cx = f->c[0], cy = f->c[1], cz = f->c[2];
   const double(*dd)[3] = f->d;
   const double slack = 1e-12 * (f->c_len + f->d_max + eps), wlen = f->c_len + f->d_max;
+  const double dm2 = 2 * f->d_max, lim = 2 * eps + slack;
+  if (f->nv == 3) { /* d[3] repeats d[0]: the same extremes without it */
+    for (size_t q = 0; q < m; q++) {
+      double x = nx[q], y = ny[q], z = nz[q];
+      double cc = cx * x + cy * y + cz * z;
+      double a0 = dd[0][0] * x + dd[0][1] * y + dd[0][2] * z;
+      double a1 = dd[1][0] * x + dd[1][1] * y + dd[1][2] * z;
+      double a2 = dd[2][0] * x + dd[2][1] * y + dd[2][2] * z;
+      double amax = dual_max(a0, dual_max(a1, a2));
+      double amin = dual_min(a0, dual_min(a1, a2));
+      double w = wlen * rad[q] + eps + slack;
+      ok[q] = amax - amin - dm2 * rad[q] <= lim;
+      lo[q] = cc + amax - w;
+      hi[q] = cc + amin + w;
+    }
+    return;
+  }
   for (size_t q = 0; q < m; q++) {
     double x = nx[q], y = ny[q], z = nz[q];
     double cc = cx * x + cy * y + cz * z;
@@ -140,7 +157,7 @@ static inline void dual_face_ranges(const dual_face *f, const double *restrict n
     double amax = dual_max(dual_max(a0, a3), dual_max(a1, a2));
     double amin = dual_min(dual_min(a0, a3), dual_min(a1, a2));
     double w = wlen * rad[q] + eps + slack;
-    ok[q] = amax - amin - 2 * f->d_max * rad[q] <= 2 * eps + slack;
+    ok[q] = amax - amin - dm2 * rad[q] <= lim;
     lo[q] = cc + amax - w;
     hi[q] = cc + amin + w;
   }

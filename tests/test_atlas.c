@@ -12,6 +12,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "bbc.h"
 #include "internal.h"
 #include "test_util.h"
@@ -415,8 +419,8 @@ static void test_invalid_arguments(void **state) {
 static void test_png_roundtrip(void **state) {
   (void)state;
   bbc__rng rng = {99};
-  const int sizes[][2] = {{37, 23}, {64, 64}, {1, 1}, {1, 50}, {50, 1}};
-  for (int c = 0; c < 5; c++) {
+  const int sizes[][2] = {{37, 23}, {64, 64}, {1, 1}, {1, 50}, {50, 1}, {700, 501}};
+  for (int c = 0; c < 6; c++) {
     bbc_image im;
     int w = sizes[c][0], h = sizes[c][1];
     if (c == 1) {
@@ -445,6 +449,19 @@ static void test_png_roundtrip(void **state) {
     assert_int_equal(back.height, h);
     assert_memory_equal(back.rgba, im.rgba, 4 * (size_t)w * h);
     if (c == 1) assert_true(size < (size_t)w * h); /* under a byte a texel */
+#ifdef _OPENMP
+    /* A large image goes in parts compressed at once: the same bytes
+     * whatever the number of threads. */
+    int was = omp_get_max_threads();
+    omp_set_num_threads(1);
+    uint8_t *one = NULL;
+    size_t one_size = 0;
+    assert_int_equal(bbc__png_encode(&im, &one, &one_size), BBC_OK);
+    omp_set_num_threads(was);
+    assert_int_equal(one_size, size);
+    assert_memory_equal(one, png, size);
+    free(one);
+#endif
     free(png);
     bbc_image_free(&back);
     bbc_image_free(&im);

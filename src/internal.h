@@ -216,6 +216,10 @@ typedef struct bbc__bake {
   const uint8_t *face_alpha;
 } bbc__bake;
 
+/* What bbc_render_ortho's alpha would show (alpha >= 128) on a size x
+ * size image, 0 or 1 a pixel, without colours or depths: faster. */
+bbc_result bbc__render_coverage(const bbc_mesh *mesh, const bbc_view *view, int size,
+                                uint8_t *cover, bbc_error *err);
 bbc_result bbc__render_bake(const bbc_mesh *mesh, const uint32_t *faces, size_t face_count,
                             const bbc_view *view, bbc__bake *bake, bbc_error *err);
 /* The same for a point cloud's points (NULL: all), splatted `size_px`

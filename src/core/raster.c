@@ -92,6 +92,9 @@ typedef struct target {
    * the directional light `sun` instead (same pass, same visibility). */
   float *sun_lum;
   double sun[3];
+  /* bbc__render_coverage only: 1 where a fragment passes (no colour, no
+   * depth: what bbc_render_ortho's alpha would show). */
+  uint8_t *cover;
 } target;
 
 static void put_normal(uint8_t *o, const double *n, const camera *cam, double toward) {
@@ -286,6 +289,19 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
       double l0 = w0 * inv_area, l1 = w1 * inv_area, l2 = w2 * inv_area;
       float z = (float)(l0 * a[2] + l1 * b[2] + l2 * c[2]);
       size_t pi = (size_t)y * tg->width + x;
+      if (tg->cover) { /* coverage: the depth test against the far plane only */
+        if (tg->cover[pi] || !want_front || !(z < FLT_MAX)) continue;
+        if (slab && (z < view->depth_min || z > view->depth_max)) continue;
+        if (tex) {
+          float u = (float)(l0 * uv[0][0] + l1 * uv[1][0] + l2 * uv[2][0]);
+          float v = (float)(l0 * uv[0][1] + l1 * uv[1][1] + l2 * uv[2][1]);
+          if (mat->base_color[3] * (sample(tex, u, v)[3] / 255.0) < 0.5) continue;
+        } else if (mat->base_color[3] < 0.5) {
+          continue;
+        }
+        tg->cover[pi] = 1;
+        continue;
+      }
       int front = want_front && z < tg->depth[pi];
       int back = want_back && z > tg->depth_back[pi];
       if (!front && !back) continue;
@@ -405,7 +421,7 @@ static bbc_result render(const bbc_mesh *m, const bbc_view *view, bbc_image *img
     memcpy(img->rgba + 4 * i, view->background, 4);
   }
   target tg = {&cam,  view, {0, 0, 0}, img->width, img->height, img->rgba,
-               depth, NULL, NULL,      sun_lum,    {0, 0, 0}};
+               depth, NULL, NULL,      sun_lum,    {0, 0, 0},   NULL};
   if (sun) memcpy(tg.sun, sun, sizeof tg.sun);
   setup_light(&cam, view, tg.light);
   if (m->kind == BBC_MESH_POINTS) {
@@ -421,6 +437,38 @@ static bbc_result render(const bbc_mesh *m, const bbc_view *view, bbc_image *img
 bbc_result bbc_render_ortho(const bbc_mesh *m, const bbc_view *view, bbc_image *img,
                             bbc_error *err) {
   return render(m, view, img, NULL, NULL, err);
+}
+
+bbc_result bbc__render_coverage(const bbc_mesh *m, const bbc_view *view, int size, uint8_t *cover,
+                                bbc_error *err) {
+  camera cam;
+  bbc_result r = check_view(view, size, size, &cam, err);
+  if (r != BBC_OK) return r;
+  memset(cover, 0, (size_t)size * size);
+  target tg;
+  memset(&tg, 0, sizeof tg);
+  tg.cam = &cam;
+  tg.view = view;
+  tg.width = tg.height = size;
+  tg.cover = cover;
+  setup_light(&cam, view, tg.light);
+  if (m->kind == BBC_MESH_POINTS) {
+    bbc_image img;
+    float *depth = malloc((size_t)size * size * sizeof *depth);
+    if (!depth || bbc_image_alloc(&img, size, size) != BBC_OK) {
+      free(depth);
+      return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "render: out of memory");
+    }
+    for (size_t i = 0; i < (size_t)size * size; i++) depth[i] = FLT_MAX;
+    for (size_t v = 0; v < m->vertex_count; v++) draw_point(m, v, &cam, view, &img, depth);
+    for (size_t i = 0; i < (size_t)size * size; i++) cover[i] = img.rgba[4 * i + 3] >= 128;
+    free(depth);
+    bbc_image_free(&img);
+    return BBC_OK;
+  }
+  for (size_t t = 0; t < m->triangle_count; t++)
+    if (!view->face_mask || view->face_mask[t]) draw_triangle(m, t, &tg);
+  return BBC_OK;
 }
 
 bbc_result bbc__mips_build(const bbc_mesh *m, bbc__mips **out, bbc_error *err) {
@@ -492,7 +540,7 @@ bbc_result bbc__render_bake(const bbc_mesh *m, const uint32_t *faces, size_t fac
     depth[n + i] = -FLT_MAX;
   }
   target tg = {&cam,  view, {0, 0, 0}, bake->width, bake->height, bake->front,
-               depth, bake, depth + n, NULL,        {0, 0, 0}};
+               depth, bake, depth + n, NULL,        {0, 0, 0},    NULL};
   setup_light(&cam, view, tg.light);
   size_t count = faces ? face_count : m->triangle_count;
   for (size_t i = 0; i < count; i++) draw_triangle(m, faces ? faces[i] : i, &tg);

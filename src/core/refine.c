@@ -167,12 +167,9 @@ bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
   bbc_error first;
   memset(&first, 0, sizeof first);
   /* The original's coverage from every view. */
-#pragma omp parallel num_threads(nt)
-  {
-    bbc_image img;
-    int ok = bbc_image_alloc(&img, size, size) == BBC_OK;
-#pragma omp for schedule(dynamic, 1)
-    for (int v = 0; v < nv; v++) {
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nt)
+  for (int v = 0; v < nv; v++) {
+    {
       double dir[3], upv[3] = {0, 0, 0};
       /* A lattice turned half a step from eval's, so that what is refined
        * is not what is measured. */
@@ -187,17 +184,14 @@ bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
       bbc__view_frame_box(m->bbox_min, m->bbox_max, dir, upv, 1.02, &view);
       bbc__camera_setup(&cams[v], &view, size, size);
       bbc_error e;
-      if (!ok || bbc_render_ortho(m, &view, &img, &e) != BBC_OK) {
+      if (bbc__render_coverage(m, &view, size, orig + (size_t)v * np, &e) != BBC_OK) {
 #pragma omp critical(bbc_refine_fail)
         {
-          if (!failed && ok) first = e;
+          if (!failed) first = e;
           failed = 1;
         }
-        continue;
       }
-      for (size_t i = 0; i < np; i++) orig[(size_t)v * np + i] = img.rgba[4 * i + 3] >= 128;
     }
-    bbc_image_free(&img);
   }
   for (int round = 0; !failed && round < opt->rounds; round++) {
     memset(counts, 0, (size_t)nt * COUNTS * total * sizeof *counts);

@@ -162,6 +162,19 @@ static double sun_shade(const double *n, const double *l) {
   return 0.35 + 0.65 * fabs(n[0] * l[0] + n[1] * l[1] + n[2] * l[2]);
 }
 
+static inline double min2(double a, double b) {
+  return a < b ? a : b;
+}
+static inline double max2(double a, double b) {
+  return a > b ? a : b;
+}
+static inline double min3(double a, double b, double c) {
+  return min2(a, min2(b, c));
+}
+static inline double max3(double a, double b, double c) {
+  return max2(a, max2(b, c));
+}
+
 static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
   const camera *cam = tg->cam;
   const bbc_view *view = tg->view;
@@ -189,8 +202,9 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
     area = -area;
   }
   const double *a = s[order[0]], *b = s[order[1]], *c = s[order[2]];
-  double minx = fmin(a[0], fmin(b[0], c[0])), maxx = fmax(a[0], fmax(b[0], c[0]));
-  double miny = fmin(a[1], fmin(b[1], c[1])), maxy = fmax(a[1], fmax(b[1], c[1]));
+  /* Finite here (the area is): plain comparisons, no libm calls. */
+  double minx = min3(a[0], b[0], c[0]), maxx = max3(a[0], b[0], c[0]);
+  double miny = min3(a[1], b[1], c[1]), maxy = max3(a[1], b[1], c[1]);
   int inside = a[2] >= view->depth_min && a[2] <= view->depth_max && b[2] >= view->depth_min &&
                b[2] <= view->depth_max && c[2] >= view->depth_min && c[2] <= view->depth_max;
   if (view->depth_max > view->depth_min && !inside &&
@@ -272,9 +286,9 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
       double t1 = (E1[k][0] - E0[k][0]) * (py - E0[k][1]), t2 = (E1[k][1] - E0[k][1]) * E0[k][0];
       double eb = t1 + t2;
       if (ea > 1e-12)
-        lo = fmax(lo, ceil(-eb / ea - 0.5 - margin - 1e-13 * (fabs(t1) + fabs(t2)) / ea));
+        lo = max2(lo, ceil(-eb / ea - 0.5 - margin - 1e-13 * (fabs(t1) + fabs(t2)) / ea));
       else if (ea < -1e-12)
-        hi = fmin(hi, floor(-eb / ea - 0.5 + margin - 1e-13 * (fabs(t1) + fabs(t2)) / ea));
+        hi = min2(hi, floor(-eb / ea - 0.5 + margin - 1e-13 * (fabs(t1) + fabs(t2)) / ea));
     }
     if (!(lo <= hi)) continue;
     int xs = (int)lo, xe = (int)hi;

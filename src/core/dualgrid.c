@@ -352,7 +352,7 @@ typedef struct pair_block {
   double *lo, *hi, *proj, *ok; /* one face's ranges, shares and validity */
   double *tr;                  /* the boxes' trigonometry for points, 8 a pair */
   size_t *dir_a, *dir_b;       /* the pair's two directions */
-  int64_t *diff;               /* 4 columns of n_rho + 2 a pair */
+  int64_t *diff;               /* 6 kink arrays of n_rho + 2 a pair */
 } pair_block;
 
 /* Faces [f0, f1) of `which` (or of faces) into a block's columns: blocks

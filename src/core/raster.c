@@ -95,6 +95,9 @@ typedef struct target {
   /* bbc__render_coverage only: 1 where a fragment passes (no colour, no
    * depth: what bbc_render_ortho's alpha would show). */
   uint8_t *cover;
+  /* Optional: every vertex already projected (x, y, depth), for renders
+   * of the whole mesh (each vertex serves about six triangles). */
+  const double *proj;
 } target;
 
 static void put_normal(uint8_t *o, const double *n, const camera *cam, double toward) {
@@ -180,7 +183,10 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
   const bbc_view *view = tg->view;
   const uint32_t *ix = m->indices + 3 * t;
   double s[3][3];
-  for (int k = 0; k < 3; k++) bbc__camera_project(cam, m->positions + 3 * ix[k], s[k]);
+  if (tg->proj)
+    for (int k = 0; k < 3; k++) memcpy(s[k], tg->proj + 3 * (size_t)ix[k], sizeof s[k]);
+  else
+    for (int k = 0; k < 3; k++) bbc__camera_project(cam, m->positions + 3 * ix[k], s[k]);
   double area =
       (s[1][0] - s[0][0]) * (s[2][1] - s[0][1]) - (s[1][1] - s[0][1]) * (s[2][0] - s[0][0]);
   if (area == 0 || !isfinite(area)) return;
@@ -274,7 +280,16 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
 
   double inv_area = 1.0 / area;
   /* Edge function k at pixel centre px of a row: ea[k] * px + eb[k]. */
+  /* Edge k from E0 to E1: its function along a row is ea x + eb(row), ea
+   * and the reciprocal fixed for the triangle. */
   const double *E0[3] = {b, c, a}, *E1[3] = {c, a, b};
+  double edx[3], ea[3], inv_ea[3], t2[3];
+  for (int k = 0; k < 3; k++) {
+    edx[k] = E1[k][0] - E0[k][0];
+    ea[k] = -(E1[k][1] - E0[k][1]);
+    t2[k] = (E1[k][1] - E0[k][1]) * E0[k][0];
+    inv_ea[k] = ea[k] > 1e-12 || ea[k] < -1e-12 ? 1.0 / ea[k] : 0;
+  }
   for (int y = y0; y <= y1; y++) {
     double py = y + 0.5;
     /* The row's span where every edge function can be >= 0, widened for
@@ -282,13 +297,12 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
      * horizontal edge); the exact test below decides each pixel. */
     double lo = x0, hi = x1;
     for (int k = 0; k < 3; k++) {
-      double ea = -(E1[k][1] - E0[k][1]);
-      double t1 = (E1[k][0] - E0[k][0]) * (py - E0[k][1]), t2 = (E1[k][1] - E0[k][1]) * E0[k][0];
-      double eb = t1 + t2;
-      if (ea > 1e-12)
-        lo = max2(lo, ceil(-eb / ea - 0.5 - margin - 1e-13 * (fabs(t1) + fabs(t2)) / ea));
-      else if (ea < -1e-12)
-        hi = min2(hi, floor(-eb / ea - 0.5 + margin - 1e-13 * (fabs(t1) + fabs(t2)) / ea));
+      double t1 = edx[k] * (py - E0[k][1]), eb = t1 + t2[k];
+      double err = 1e-13 * (fabs(t1) + fabs(t2[k])) * inv_ea[k];
+      if (ea[k] > 1e-12)
+        lo = max2(lo, ceil(-eb * inv_ea[k] - 0.5 - margin - err));
+      else if (ea[k] < -1e-12)
+        hi = min2(hi, floor(-eb * inv_ea[k] - 0.5 + margin - err));
     }
     if (!(lo <= hi)) continue;
     int xs = (int)lo, xe = (int)hi;
@@ -420,6 +434,16 @@ static bbc_result check_view(const bbc_view *view, int w, int h, camera *cam, bb
   return BBC_OK;
 }
 
+/* Every vertex of the mesh projected by cam (x, y, depth), or NULL when
+ * out of memory (the rasterizer then projects per triangle). */
+static double *project_all(const bbc_mesh *m, const camera *cam) {
+  double *p = malloc((m->vertex_count ? m->vertex_count : 1) * 3 * sizeof *p);
+  if (p)
+    for (size_t v = 0; v < m->vertex_count; v++)
+      bbc__camera_project(cam, m->positions + 3 * v, p + 3 * v);
+  return p;
+}
+
 /* bbc_render_ortho; with sun_lum, also the luminance lit by `sun`. */
 static bbc_result render(const bbc_mesh *m, const bbc_view *view, bbc_image *img, const double *sun,
                          float *sun_lum, bbc_error *err) {
@@ -434,15 +458,18 @@ static bbc_result render(const bbc_mesh *m, const bbc_view *view, bbc_image *img
     depth[i] = FLT_MAX;
     memcpy(img->rgba + 4 * i, view->background, 4);
   }
-  target tg = {&cam,  view, {0, 0, 0}, img->width, img->height, img->rgba,
-               depth, NULL, NULL,      sun_lum,    {0, 0, 0},   NULL};
+  target tg = {&cam, view, {0, 0, 0}, img->width, img->height, img->rgba, depth,
+               NULL, NULL, sun_lum,   {0, 0, 0},  NULL,        NULL};
   if (sun) memcpy(tg.sun, sun, sizeof tg.sun);
   setup_light(&cam, view, tg.light);
   if (m->kind == BBC_MESH_POINTS) {
     for (size_t v = 0; v < m->vertex_count; v++) draw_point(m, v, &cam, view, img, depth);
   } else {
+    double *proj = project_all(m, &cam);
+    tg.proj = proj;
     for (size_t t = 0; t < m->triangle_count; t++)
       if (!view->face_mask || view->face_mask[t]) draw_triangle(m, t, &tg);
+    free(proj);
   }
   free(depth);
   return BBC_OK;
@@ -480,8 +507,11 @@ bbc_result bbc__render_coverage(const bbc_mesh *m, const bbc_view *view, int siz
     bbc_image_free(&img);
     return BBC_OK;
   }
+  double *proj = project_all(m, &cam);
+  tg.proj = proj;
   for (size_t t = 0; t < m->triangle_count; t++)
     if (!view->face_mask || view->face_mask[t]) draw_triangle(m, t, &tg);
+  free(proj);
   return BBC_OK;
 }
 
@@ -553,8 +583,8 @@ bbc_result bbc__render_bake(const bbc_mesh *m, const uint32_t *faces, size_t fac
     depth[i] = FLT_MAX;
     depth[n + i] = -FLT_MAX;
   }
-  target tg = {&cam,  view, {0, 0, 0}, bake->width, bake->height, bake->front,
-               depth, bake, depth + n, NULL,        {0, 0, 0},    NULL};
+  target tg = {&cam, view,      {0, 0, 0}, bake->width, bake->height, bake->front, depth,
+               bake, depth + n, NULL,      {0, 0, 0},   NULL,         NULL};
   setup_light(&cam, view, tg.light);
   size_t count = faces ? face_count : m->triangle_count;
   for (size_t i = 0; i < count; i++) draw_triangle(m, faces ? faces[i] : i, &tg);

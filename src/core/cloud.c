@@ -216,8 +216,8 @@ static int crosses_slab(const bbc_mesh *m, size_t t, const bbc_plane *p, double 
   for (int c = 0; c < 3; c++) {
     const double *x = m->positions + 3 * ix[c];
     double d = p->normal[0] * x[0] + p->normal[1] * x[1] + p->normal[2] * x[2] - p->d;
-    dmin = fmin(dmin, d);
-    dmax = fmax(dmax, d);
+    dmin = d < dmin ? d : dmin; /* finite positions (the loader checks): no fmin call */
+    dmax = d > dmax ? d : dmax;
   }
   return !(dmin > eps || dmax < -eps);
 }
@@ -244,8 +244,9 @@ static size_t slab_faces(const bbc_mesh *m, const bbc_planeset *set, const bbc_p
     faces[n++] = (uint32_t)t;
     for (int c = 0; c < 3; c++)
       for (int k = 0; k < 3; k++) {
-        lo[k] = fmin(lo[k], m->positions[3 * ix[c] + k]);
-        hi[k] = fmax(hi[k], m->positions[3 * ix[c] + k]);
+        double x = m->positions[3 * ix[c] + k];
+        lo[k] = x < lo[k] ? x : lo[k];
+        hi[k] = x > hi[k] ? x : hi[k];
       }
   }
   return n;

@@ -17,18 +17,18 @@
 #define BBC__PRINTF(fmt, args)
 #endif
 
-/* Sets err (when not NULL) to `code` and a formatted message; returns code. */
 /* The innermost loops of steps 1-3 compiled twice, for AVX2 and for any
  * x86-64, the one the processor supports chosen at load time (GCC's
  * function multi-versioning). The same results either way: C11 mode
  * contracts no multiply-add into FMA, and vectorising reorders no sum. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) &&       \
-    !defined(__SANITIZE_ADDRESS__)
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__GLIBC__) &&       \
+    !defined(__SANITIZE_ADDRESS__) /* glibc: the choice is an ifunc */
 #define BBC__CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define BBC__CLONES
 #endif
 
+/* Sets err (when not NULL) to `code` and a formatted message; returns code. */
 bbc_result bbc__fail(bbc_error *err, bbc_result code, const char *fmt, ...) BBC__PRINTF(3, 4);
 
 /* Calls the log callback, if any, with a formatted message. */

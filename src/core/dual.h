@@ -120,6 +120,19 @@ static inline int dual_face_range(const dual_face *f, const dual_dir *dir, doubl
   return 1;
 }
 
+/* One direction of dual_face_ranges, given the vertices' offsets along it
+ * (a0..a3) and its centroid term cc. */
+static inline void dual_range_at(double cc, double a0, double a1, double a2, double a3, double wlen,
+                                 double r, double eps, double slack, double dm2, double lim,
+                                 double *lo, double *hi, double *ok) {
+  double amax = dual_max(dual_max(a0, a3), dual_max(a1, a2));
+  double amin = dual_min(dual_min(a0, a3), dual_min(a1, a2));
+  double w = wlen * r + eps + slack;
+  *ok = amax - amin - dm2 * r <= lim;
+  *lo = cc + amax - w;
+  *hi = cc + amin + w;
+}
+
 /* dual_face_range for m directions at once, given as structure-of-arrays
  * (nx, ny, nz, radius) so that the loop vectorises: ok[q] is 1 where the
  * face can be valid, [lo[q], hi[q]] its range there. Same arithmetic. */
@@ -131,35 +144,24 @@ static inline void dual_face_ranges(const dual_face *f, const double *restrict n
   const double(*dd)[3] = f->d;
   const double slack = 1e-12 * (f->c_len + f->d_max + eps), wlen = f->c_len + f->d_max;
   const double dm2 = 2 * f->d_max, lim = 2 * eps + slack;
-  if (f->nv == 3) { /* d[3] repeats d[0]: the same extremes without it */
+  /* Two loops, so that each vectorises: a triangle's d[3] repeats d[0]. */
+  if (f->nv == 3) {
     for (size_t q = 0; q < m; q++) {
       double x = nx[q], y = ny[q], z = nz[q];
-      double cc = cx * x + cy * y + cz * z;
       double a0 = dd[0][0] * x + dd[0][1] * y + dd[0][2] * z;
-      double a1 = dd[1][0] * x + dd[1][1] * y + dd[1][2] * z;
-      double a2 = dd[2][0] * x + dd[2][1] * y + dd[2][2] * z;
-      double amax = dual_max(a0, dual_max(a1, a2));
-      double amin = dual_min(a0, dual_min(a1, a2));
-      double w = wlen * rad[q] + eps + slack;
-      ok[q] = amax - amin - dm2 * rad[q] <= lim;
-      lo[q] = cc + amax - w;
-      hi[q] = cc + amin + w;
+      dual_range_at(cx * x + cy * y + cz * z, a0, dd[1][0] * x + dd[1][1] * y + dd[1][2] * z,
+                    dd[2][0] * x + dd[2][1] * y + dd[2][2] * z, a0, wlen, rad[q], eps, slack, dm2,
+                    lim, &lo[q], &hi[q], &ok[q]);
     }
     return;
   }
   for (size_t q = 0; q < m; q++) {
     double x = nx[q], y = ny[q], z = nz[q];
-    double cc = cx * x + cy * y + cz * z;
-    double a0 = dd[0][0] * x + dd[0][1] * y + dd[0][2] * z;
-    double a1 = dd[1][0] * x + dd[1][1] * y + dd[1][2] * z;
-    double a2 = dd[2][0] * x + dd[2][1] * y + dd[2][2] * z;
-    double a3 = dd[3][0] * x + dd[3][1] * y + dd[3][2] * z;
-    double amax = dual_max(dual_max(a0, a3), dual_max(a1, a2));
-    double amin = dual_min(dual_min(a0, a3), dual_min(a1, a2));
-    double w = wlen * rad[q] + eps + slack;
-    ok[q] = amax - amin - dm2 * rad[q] <= lim;
-    lo[q] = cc + amax - w;
-    hi[q] = cc + amin + w;
+    dual_range_at(cx * x + cy * y + cz * z, dd[0][0] * x + dd[0][1] * y + dd[0][2] * z,
+                  dd[1][0] * x + dd[1][1] * y + dd[1][2] * z,
+                  dd[2][0] * x + dd[2][1] * y + dd[2][2] * z,
+                  dd[3][0] * x + dd[3][1] * y + dd[3][2] * z, wlen, rad[q], eps, slack, dm2, lim,
+                  &lo[q], &hi[q], &ok[q]);
   }
 }
 

@@ -493,19 +493,15 @@ bbc_result bbc__render_coverage(const bbc_mesh *m, const bbc_view *view, int siz
   tg.width = tg.height = size;
   tg.cover = cover;
   setup_light(&cam, view, tg.light);
-  if (m->kind == BBC_MESH_POINTS) {
+  if (m->kind == BBC_MESH_POINTS) { /* points: the full render's alpha */
     bbc_image img;
-    float *depth = malloc((size_t)size * size * sizeof *depth);
-    if (!depth || bbc_image_alloc(&img, size, size) != BBC_OK) {
-      free(depth);
+    if (bbc_image_alloc(&img, size, size) != BBC_OK)
       return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "render: out of memory");
-    }
-    for (size_t i = 0; i < (size_t)size * size; i++) depth[i] = FLT_MAX;
-    for (size_t v = 0; v < m->vertex_count; v++) draw_point(m, v, &cam, view, &img, depth);
-    for (size_t i = 0; i < (size_t)size * size; i++) cover[i] = img.rgba[4 * i + 3] >= 128;
-    free(depth);
+    r = render(m, view, &img, NULL, NULL, err);
+    for (size_t i = 0; r == BBC_OK && i < (size_t)size * size; i++)
+      cover[i] = img.rgba[4 * i + 3] >= 128;
     bbc_image_free(&img);
-    return BBC_OK;
+    return r;
   }
   double *proj = project_all(m, &cam);
   tg.proj = proj;

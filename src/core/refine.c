@@ -169,27 +169,25 @@ bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
   /* The original's coverage from every view. */
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nt)
   for (int v = 0; v < nv; v++) {
-    {
-      double dir[3], upv[3] = {0, 0, 0};
-      /* A lattice turned half a step from eval's, so that what is refined
-       * is not what is measured. */
-      int a = (up + 1) % 3, bx = (up + 2) % 3;
-      double z = 1.0 - (2.0 * v + 1.0) / nv, r = sqrt(fmax(0.0, 1.0 - z * z));
-      double phi = (v + 0.5) * 2.399963229728653;
-      dir[up] = -z;
-      dir[a] = -r * cos(phi);
-      dir[bx] = -r * sin(phi);
-      upv[fabs(dir[up]) > 0.999 ? (up + 2) % 3 : up] = 1;
-      bbc_view view;
-      bbc__view_frame_box(m->bbox_min, m->bbox_max, dir, upv, 1.02, &view);
-      bbc__camera_setup(&cams[v], &view, size, size);
-      bbc_error e;
-      if (bbc__render_coverage(m, &view, size, orig + (size_t)v * np, &e) != BBC_OK) {
+    double dir[3], upv[3] = {0, 0, 0};
+    /* A lattice turned half a step from eval's, so that what is refined
+     * is not what is measured. */
+    int a = (up + 1) % 3, bx = (up + 2) % 3;
+    double z = 1.0 - (2.0 * v + 1.0) / nv, r = sqrt(fmax(0.0, 1.0 - z * z));
+    double phi = (v + 0.5) * 2.399963229728653;
+    dir[up] = -z;
+    dir[a] = -r * cos(phi);
+    dir[bx] = -r * sin(phi);
+    upv[fabs(dir[up]) > 0.999 ? (up + 2) % 3 : up] = 1;
+    bbc_view view;
+    bbc__view_frame_box(m->bbox_min, m->bbox_max, dir, upv, 1.02, &view);
+    bbc__camera_setup(&cams[v], &view, size, size);
+    bbc_error e;
+    if (bbc__render_coverage(m, &view, size, orig + (size_t)v * np, &e) != BBC_OK) {
 #pragma omp critical(bbc_refine_fail)
-        {
-          if (!failed) first = e;
-          failed = 1;
-        }
+      {
+        if (!failed) first = e;
+        failed = 1;
       }
     }
   }

@@ -80,6 +80,8 @@ bbc_result bbc__dual_points_build(const bbc_mesh *m, const uint32_t *idx, size_t
                                   const double center[3], const float *normals, dual_face **out) {
   dual_face *fs = calloc(count ? count : 1, sizeof *fs);
   if (!fs) return BBC_ERROR_OUT_OF_MEMORY;
+    /* Faces are independent: any split over threads gives the same bytes. */
+#pragma omp parallel for schedule(static) if (count > 4096)
   for (size_t i = 0; i < count; i++) {
     dual_face *f = &fs[i];
     for (int k = 0; k < 3; k++) f->c[k] = m->positions[3 * (size_t)idx[i] + k] - center[k];
@@ -122,6 +124,8 @@ bbc_result bbc__dual_faces_build(const bbc_mesh *m, const uint32_t *tris, size_t
                                  const double center[3], dual_face **out) {
   dual_face *fs = malloc((count ? count : 1) * sizeof *fs);
   if (!fs) return BBC_ERROR_OUT_OF_MEMORY;
+    /* Faces are independent: any split over threads gives the same bytes. */
+#pragma omp parallel for schedule(static) if (count > 4096)
   for (size_t i = 0; i < count; i++) {
     dual_face *f = &fs[i];
     uint32_t t = tris[i];
@@ -149,21 +153,51 @@ bbc_result bbc__dual_faces_build(const bbc_mesh *m, const uint32_t *tris, size_t
   return BBC_OK;
 }
 
-/* An edge's two first triangles (positions in `tris`), by its vertices. */
-typedef struct edge_slot {
-  uint64_t key; /* (min vertex + 1) << 32 | max vertex; 0 = empty */
-  uint32_t t1, t2;
-} edge_slot;
+/* The triangles around each vertex (positions in `tris`, increasing, each
+ * triangle once a vertex): vertex v's are at[start[v] .. start[v + 1]).
+ * Vertex-ordered lists stay cache-friendly where a hash table of edges
+ * misses on every lookup. */
+typedef struct vertex_tris {
+  uint32_t *start, *at;
+} vertex_tris;
 
-static uint64_t edge_key(uint32_t a, uint32_t b) {
-  return a < b ? ((uint64_t)a + 1) << 32 | b : ((uint64_t)b + 1) << 32 | a;
+static bbc_result vertex_tris_build(const bbc_mesh *m, const uint32_t *tris, size_t count,
+                                    vertex_tris *vt) {
+  size_t nv = m->vertex_count;
+  vt->start = calloc(nv + 1, sizeof *vt->start);
+  vt->at = malloc((count ? 3 * count : 1) * sizeof *vt->at);
+  if (!vt->start || !vt->at) return BBC_ERROR_OUT_OF_MEMORY;
+  for (size_t i = 0; i < count; i++) {
+    const uint32_t *ix = m->indices + 3 * (size_t)tris[i];
+    for (int e = 0; e < 3; e++)
+      if ((e < 1 || ix[e] != ix[0]) && (e < 2 || ix[e] != ix[1])) vt->start[ix[e] + 1]++;
+  }
+  for (size_t v = 0; v < nv; v++) vt->start[v + 1] += vt->start[v];
+  uint32_t *fill = malloc((nv ? nv : 1) * sizeof *fill);
+  if (!fill) return BBC_ERROR_OUT_OF_MEMORY;
+  memcpy(fill, vt->start, nv * sizeof *fill);
+  for (size_t i = 0; i < count; i++) {
+    const uint32_t *ix = m->indices + 3 * (size_t)tris[i];
+    for (int e = 0; e < 3; e++)
+      if ((e < 1 || ix[e] != ix[0]) && (e < 2 || ix[e] != ix[1]))
+        vt->at[fill[ix[e]]++] = (uint32_t)i;
+  }
+  free(fill);
+  return BBC_OK;
 }
 
-static edge_slot *edge_find(edge_slot *tab, size_t mask, uint64_t key) {
-  uint64_t h = key * 0x9E3779B97F4A7C15ull;
-  size_t i = (size_t)(h >> 20) & mask;
-  while (tab[i].key && tab[i].key != key) i = (i + 1) & mask;
-  return &tab[i];
+/* The other of the first two triangles on edge (a, b) (positions in
+ * `tris`) when triangle i is one of them; UINT32_MAX when there is none. */
+static uint32_t edge_mate(const bbc_mesh *m, const uint32_t *tris, const vertex_tris *vt,
+                          uint32_t a, uint32_t b, uint32_t i) {
+  uint32_t first[2] = {UINT32_MAX, UINT32_MAX};
+  int n = 0;
+  for (uint32_t k = vt->start[a]; k < vt->start[a + 1] && n < 2; k++) {
+    const uint32_t *jx = m->indices + 3 * (size_t)tris[vt->at[k]];
+    if (jx[0] == b || jx[1] == b || jx[2] == b) first[n++] = vt->at[k];
+  }
+  if (first[0] == i) return first[1];
+  return first[1] == i ? first[0] : UINT32_MAX;
 }
 
 bbc_result bbc__dual_faces_build_merged(const bbc_mesh *m, const uint32_t *tris, size_t count,
@@ -172,30 +206,16 @@ bbc_result bbc__dual_faces_build_merged(const bbc_mesh *m, const uint32_t *tris,
   dual_face *tf;
   bbc_result r = bbc__dual_faces_build(m, tris, count, center, &tf);
   if (r != BBC_OK) return r;
-  size_t cap = 16;
-  while (cap < 3 * count) cap *= 2;
-  edge_slot *tab = calloc(cap, sizeof *tab);
+  vertex_tris vt = {NULL, NULL};
   uint32_t *mate = malloc((count ? count : 1) * sizeof *mate);
-  if (!tab || !mate) {
-    free(tab);
+  if (!mate || vertex_tris_build(m, tris, count, &vt) != BBC_OK) {
+    free(vt.start);
+    free(vt.at);
     free(mate);
     free(tf);
     return BBC_ERROR_OUT_OF_MEMORY;
   }
-  for (size_t i = 0; i < count; i++) {
-    mate[i] = UINT32_MAX;
-    const uint32_t *ix = m->indices + 3 * (size_t)tris[i];
-    for (int e = 0; e < 3; e++) {
-      edge_slot *sl = edge_find(tab, cap - 1, edge_key(ix[e], ix[(e + 1) % 3]));
-      if (!sl->key) {
-        sl->key = edge_key(ix[e], ix[(e + 1) % 3]);
-        sl->t1 = (uint32_t)i;
-        sl->t2 = UINT32_MAX;
-      } else if (sl->t2 == UINT32_MAX && sl->t1 != i) {
-        sl->t2 = (uint32_t)i;
-      }
-    }
-  }
+  for (size_t i = 0; i < count; i++) mate[i] = UINT32_MAX;
   /* Pairs in order: a triangle and the first unpaired neighbour across one
    * of its edges (taken in order) that lies in its plane, facing the same
    * way, the edge run in opposite directions. */
@@ -205,8 +225,8 @@ bbc_result bbc__dual_faces_build_merged(const bbc_mesh *m, const uint32_t *tris,
     nf++;
     const uint32_t *ix = m->indices + 3 * (size_t)tris[i];
     for (int e = 0; e < 3 && mate[i] == UINT32_MAX; e++) {
-      const edge_slot *sl = edge_find(tab, cap - 1, edge_key(ix[e], ix[(e + 1) % 3]));
-      uint32_t j = sl->t1 == i ? sl->t2 : sl->t1;
+      if (ix[e] == ix[(e + 1) % 3]) continue; /* a degenerate edge */
+      uint32_t j = edge_mate(m, tris, &vt, ix[e], ix[(e + 1) % 3], (uint32_t)i);
       if (j == UINT32_MAX || j <= i || mate[j] != UINT32_MAX) continue;
       const dual_face *a = &tf[i], *b = &tf[j];
       if (!(a->area > 0) || !(b->area > 0)) continue;
@@ -219,7 +239,8 @@ bbc_result bbc__dual_faces_build_merged(const bbc_mesh *m, const uint32_t *tris,
       mate[j] = (uint32_t)i;
     }
   }
-  free(tab);
+  free(vt.start);
+  free(vt.at);
   dual_face *fs = malloc((nf ? nf : 1) * sizeof *fs);
   if (!fs) {
     free(mate);

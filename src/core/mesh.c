@@ -81,20 +81,42 @@ static bbc_result check_vertex(const bbc_mesh *m, size_t v, const char *source, 
   return BBC_OK;
 }
 
-/* Vertex order by position, ties by index, so welding is deterministic. */
-
-typedef struct vkey {
-  double p[3];
-  uint32_t index;
-} vkey;
-
-static int vkey_compare(const void *a, const void *b) {
-  const vkey *x = a, *y = b;
+/* Each vertex's first vertex (lowest index) at the same position (equal
+ * bits), through a hash table of positions. */
+static uint64_t position_hash(const double *p) {
+  uint64_t h = 0x9E3779B97F4A7C15ull, b;
   for (int k = 0; k < 3; k++) {
-    if (x->p[k] < y->p[k]) return -1;
-    if (x->p[k] > y->p[k]) return 1;
+    memcpy(&b, &p[k], sizeof b);
+    h = (h ^ b) * 0xff51afd7ed558ccdull;
+    h ^= h >> 29;
   }
-  return (x->index > y->index) - (x->index < y->index);
+  return h;
+}
+
+static int same_position_first(const bbc_mesh *m, uint32_t *first) {
+  size_t nv = m->vertex_count, cap = 16;
+  while (cap < 2 * nv) cap *= 2;
+  uint32_t *slot = calloc(cap, sizeof *slot); /* vertex + 1; 0 = empty */
+  if (!slot) return 0;
+  for (size_t v = 0; v < nv; v++) {
+    const double *p = m->positions + 3 * v;
+    size_t h = (size_t)position_hash(p) & (cap - 1);
+    for (;;) {
+      uint32_t s = slot[h];
+      if (!s) {
+        slot[h] = (uint32_t)v + 1;
+        first[v] = (uint32_t)v;
+        break;
+      }
+      if (!memcmp(m->positions + 3 * (size_t)(s - 1), p, 3 * sizeof *p)) {
+        first[v] = s - 1;
+        break;
+      }
+      h = (h + 1) & (cap - 1);
+    }
+  }
+  free(slot);
+  return 1;
 }
 
 /* Computes unit normals for vertices whose normal is missing or unusable.
@@ -134,29 +156,20 @@ static bbc_result compute_normals(bbc_mesh *m, int smooth, int only_missing) {
     }
   }
   if (smooth && nv > 1) {
-    vkey *keys = malloc(nv * sizeof *keys);
-    if (!keys) {
+    /* Sums over the vertices at one position, in increasing index order
+     * (into the first one's, then copied to the others). */
+    uint32_t *first = malloc(nv * sizeof *first);
+    if (!first || !same_position_first(m, first)) {
+      free(first);
       free(acc);
       return BBC_ERROR_OUT_OF_MEMORY;
     }
-    for (size_t v = 0; v < nv; v++) {
-      memcpy(keys[v].p, m->positions + 3 * v, sizeof keys[v].p);
-      keys[v].index = (uint32_t)v;
-    }
-    qsort(keys, nv, sizeof *keys, vkey_compare);
-    size_t i = 0;
-    while (i < nv) {
-      size_t j = i + 1;
-      while (j < nv && !memcmp(keys[j].p, keys[i].p, sizeof keys[i].p)) j++;
-      if (j - i > 1) {
-        double s[3] = {0, 0, 0};
-        for (size_t k = i; k < j; k++)
-          for (int d = 0; d < 3; d++) s[d] += acc[3 * keys[k].index + d];
-        for (size_t k = i; k < j; k++) memcpy(acc + 3 * keys[k].index, s, sizeof s);
-      }
-      i = j;
-    }
-    free(keys);
+    for (size_t v = 0; v < nv; v++)
+      if (first[v] != v)
+        for (int d = 0; d < 3; d++) acc[3 * (size_t)first[v] + d] += acc[3 * v + d];
+    for (size_t v = 0; v < nv; v++)
+      if (first[v] != v) memcpy(acc + 3 * v, acc + 3 * (size_t)first[v], 3 * sizeof *acc);
+    free(first);
   }
   if (!m->normals) {
     m->normals = malloc(nv * 3 * sizeof *m->normals);

@@ -71,6 +71,15 @@ static const uint8_t *sample(const bbc_image *img, float u, float v) {
   return img->rgba + 4 * ((size_t)y * img->width + x);
 }
 
+/* k / 255.0 for every byte k, folded by the compiler (correctly rounded,
+ * as the division at run time): a lookup instead of a division per
+ * fragment, the same doubles. */
+#define UNIT1(k)  ((k) / 255.0)
+#define UNIT4(k)  UNIT1(k), UNIT1(k + 1), UNIT1(k + 2), UNIT1(k + 3)
+#define UNIT16(k) UNIT4(k), UNIT4(k + 4), UNIT4(k + 8), UNIT4(k + 12)
+#define UNIT64(k) UNIT16(k), UNIT16(k + 16), UNIT16(k + 32), UNIT16(k + 48)
+static const double k_unit[256] = {UNIT64(0), UNIT64(64), UNIT64(128), UNIT64(192)};
+
 static uint8_t to_byte(double v) {
   if (!(v > 0)) return 0;
   if (v >= 1) return 255;
@@ -187,6 +196,17 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
     for (int k = 0; k < 3; k++) memcpy(s[k], tg->proj + 3 * (size_t)ix[k], sizeof s[k]);
   else
     for (int k = 0; k < 3; k++) bbc__camera_project(cam, m->positions + 3 * ix[k], s[k]);
+  const double margin = 1e-6;
+  if (tg->cover && !(view->depth_max > view->depth_min)) {
+    /* Coverage renders of a detailed model: most faces cover no pixel
+     * centre; the bounds test below, taken first (no slab here, so the
+     * bounds are the vertices'), ends them before any other work. */
+    double mnx = min3(s[0][0], s[1][0], s[2][0]), mxx = max3(s[0][0], s[1][0], s[2][0]);
+    double mny = min3(s[0][1], s[1][1], s[2][1]), mxy = max3(s[0][1], s[1][1], s[2][1]);
+    if (!(ceil(mnx - 0.5 - margin) <= floor(mxx - 0.5 + margin) &&
+          ceil(mny - 0.5 - margin) <= floor(mxy - 0.5 + margin)))
+      return;
+  }
   double area =
       (s[1][0] - s[0][0]) * (s[2][1] - s[0][1]) - (s[1][1] - s[0][1]) * (s[2][0] - s[0][0]);
   if (area == 0 || !isfinite(area)) return;
@@ -220,7 +240,6 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
    * margin, far above the rounding of the edge functions at these sizes,
    * keeps every pixel the exact test below would take. Most faces of a
    * detailed model cover no pixel centre at all and end here. */
-  const double margin = 1e-6;
   double bx0 = ceil(minx - 0.5 - margin), bx1 = floor(maxx - 0.5 + margin);
   double by0 = ceil(miny - 0.5 - margin), by1 = floor(maxy - 0.5 + margin);
   if (!(bx0 <= bx1 && by0 <= by1) || bx1 < 0 || by1 < 0 || bx0 > tg->width - 1 ||
@@ -323,7 +342,7 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
         if (tex) {
           float u = (float)(l0 * uv[0][0] + l1 * uv[1][0] + l2 * uv[2][0]);
           float v = (float)(l0 * uv[0][1] + l1 * uv[1][1] + l2 * uv[2][1]);
-          if (mat->base_color[3] * (sample(tex, u, v)[3] / 255.0) < 0.5) continue;
+          if (mat->base_color[3] * k_unit[sample(tex, u, v)[3]] < 0.5) continue;
         } else if (mat->base_color[3] < 0.5) {
           continue;
         }
@@ -340,10 +359,10 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
       if (tex) { /* the alpha test first (the base level), then the colour */
         float u = (float)(l0 * uv[0][0] + l1 * uv[1][0] + l2 * uv[2][0]);
         float v = (float)(l0 * uv[0][1] + l1 * uv[1][1] + l2 * uv[2][1]);
-        col[3] *= sample(tex, u, v)[3] / 255.0;
+        col[3] *= k_unit[sample(tex, u, v)[3]];
         if (col[3] < 0.5) continue;
         const uint8_t *tx = sample(tex_rgb, u, v);
-        for (int k = 0; k < 3; k++) col[k] *= tx[k] / 255.0;
+        for (int k = 0; k < 3; k++) col[k] *= k_unit[tx[k]];
       }
       if (col[3] < 0.5) continue; /* alpha test */
       double n[3] = {0, 0, 1};

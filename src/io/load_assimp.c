@@ -563,6 +563,30 @@ static bbc_result check_obj_vertices(const char *path, bbc_error *err) {
   return check_obj_stream(f, path, err);
 }
 
+/* 1 when p starts with a number strtod reads as [+-]digits[.digits] or
+ * [+-].digits, under 1e30 (at most 30 digits before the point, leading
+ * zeros aside) and not followed by an exponent or a hexadecimal or special
+ * form: then it is finite and small, and *end is where strtod would stop.
+ * 0 leaves the number to strtod: the usual numbers of a file skip it. */
+static int plain_decimal(const char *p, char **end) {
+  const char *q = p;
+  if (*q == '+' || *q == '-') q++;
+  while (*q == '0') q++;
+  const char *d0 = q;
+  while (*q >= '0' && *q <= '9') q++;
+  int before = (int)(q - d0), digits = before || q > p + (*p == '+' || *p == '-');
+  if (*q == '.') {
+    const char *f = ++q;
+    while (*q >= '0' && *q <= '9') q++;
+    digits |= q > f;
+  }
+  if (!digits || before > 30 || *q == 'e' || *q == 'E' || *q == 'x' || *q == 'X' ||
+      (*q >= 'a' && *q <= 'z') || (*q >= 'A' && *q <= 'Z') || *q == '_')
+    return 0;
+  *end = (char *)q;
+  return 1;
+}
+
 /* The same over an open stream (closed here). */
 static bbc_result check_obj_stream(FILE *f, const char *path, bbc_error *err) {
   char *line = NULL;
@@ -577,7 +601,8 @@ static bbc_result check_obj_stream(FILE *f, const char *path, bbc_error *err) {
     for (int k = 0; k < 3; k++) {
       while (*p == ' ' || *p == '\t') p++;
       char *end;
-      double v = strtod(p, &end);
+      double v = 0;
+      if (!plain_decimal(p, &end)) v = strtod(p, &end);
       if (end == p || !isfinite(v) || fabs(v) > 1e30) {
         char tok[32];
         size_t len = strcspn(p, " \t\r\n");

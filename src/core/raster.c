@@ -187,6 +187,29 @@ static inline double max3(double a, double b, double c) {
   return max2(a, max2(b, c));
 }
 
+/* floor(0.5 log2(r) + 0.5) for r > 0, as libm's log2 gives it, from r's
+ * binary exponent: r = m 2^e (m in [0.5, 1)) has log2(r) in [e - 1, e),
+ * which decides the level unless r lies just below a power of 2 with an odd
+ * exponent, where log2 may round up to it: libm there. */
+static int mip_level_of(double r) {
+  int e;
+  double m = frexp(r, &e);
+  if (!isfinite(r) || (e % 2 != 0 && m >= 0.999999)) return (int)floor(0.5 * log2(r) + 0.5);
+  return e % 2 == 0 ? e / 2 : (e - 1) / 2;
+}
+
+/* 1 when every pixel of the pixel-centre bounds [x0, x1] x [y0, y1]
+ * (clipped to the image) is covered. */
+static int all_covered(const uint8_t *cover, int w, int h, double x0, double x1, double y0,
+                       double y1) {
+  int ix0 = x0 < 0 ? 0 : (int)x0, ix1 = x1 > w - 1 ? w - 1 : (int)x1;
+  int iy0 = y0 < 0 ? 0 : (int)y0, iy1 = y1 > h - 1 ? h - 1 : (int)y1;
+  for (int y = iy0; y <= iy1; y++)
+    for (int x = ix0; x <= ix1; x++)
+      if (!cover[(size_t)y * w + x]) return 0;
+  return 1;
+}
+
 static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
   const camera *cam = tg->cam;
   const bbc_view *view = tg->view;
@@ -197,15 +220,20 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
   else
     for (int k = 0; k < 3; k++) bbc__camera_project(cam, m->positions + 3 * ix[k], s[k]);
   const double margin = 1e-6;
-  if (tg->cover && !(view->depth_max > view->depth_min)) {
-    /* Coverage renders of a detailed model: most faces cover no pixel
-     * centre; the bounds test below, taken first (no slab here, so the
-     * bounds are the vertices'), ends them before any other work. */
+  if (!tg->bake && !(view->depth_max > view->depth_min)) {
+    /* Renders of a whole detailed model: most faces cover no pixel centre;
+     * the bounds test below, taken first (no slab here, so the bounds are
+     * the vertices'), ends them before any other work. */
     double mnx = min3(s[0][0], s[1][0], s[2][0]), mxx = max3(s[0][0], s[1][0], s[2][0]);
     double mny = min3(s[0][1], s[1][1], s[2][1]), mxy = max3(s[0][1], s[1][1], s[2][1]);
-    if (!(ceil(mnx - 0.5 - margin) <= floor(mxx - 0.5 + margin) &&
-          ceil(mny - 0.5 - margin) <= floor(mxy - 0.5 + margin)))
+    double cx0 = ceil(mnx - 0.5 - margin), cx1 = floor(mxx - 0.5 + margin);
+    double cy0 = ceil(mny - 0.5 - margin), cy1 = floor(mxy - 0.5 + margin);
+    if (!(cx0 <= cx1 && cy0 <= cy1) || cx1 < 0 || cy1 < 0 || cx0 > tg->width - 1 ||
+        cy0 > tg->height - 1)
       return;
+    /* Coverage only grows: a face whose every candidate pixel is covered
+     * already changes nothing (inside a dense crown, most). */
+    if (tg->cover && all_covered(tg->cover, tg->width, tg->height, cx0, cx1, cy0, cy1)) return;
   }
   double area =
       (s[1][0] - s[0][0]) * (s[2][1] - s[0][1]) - (s[1][1] - s[0][1]) * (s[2][0] - s[0][0]);
@@ -271,7 +299,7 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
     double du1 = uv[1][0] - uv[0][0], dv1 = uv[1][1] - uv[0][1];
     double du2 = uv[2][0] - uv[0][0], dv2 = uv[2][1] - uv[0][1];
     double texels = fabs(du1 * dv2 - dv1 * du2) * tex->width * tex->height;
-    int level = texels > 0 ? (int)floor(0.5 * log2(texels / area) + 0.5) + tg->bake->mip_bias : 0;
+    int level = texels > 0 ? mip_level_of(texels / area) + tg->bake->mip_bias : 0;
     if (level > mp->levels) level = mp->levels;
     if (level > 0) tex_rgb = &mp->level[level - 1];
   }

@@ -454,8 +454,10 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
     tid = omp_get_thread_num();
     tn = omp_get_num_threads();
 #endif
-    size_t p0 = npairs * (size_t)tid / (size_t)tn, p1 = npairs * (size_t)(tid + 1) / (size_t)tn;
-    size_t nb = p1 > p0 ? p1 - p0 : 1;
+    /* Pairs dealt in turn (tid, tid + tn, ...): neighbouring directions
+     * cost alike, so a contiguous share would not balance. */
+    size_t mine = npairs > (size_t)tid ? (npairs - (size_t)tid + (size_t)tn - 1) / (size_t)tn : 0;
+    size_t nb = mine ? mine : 1;
     /* Structure-of-arrays copies of this block's directions, so the range
      * pass below vectorises. */
     double *buf = malloc(nb * 17 * sizeof *buf);
@@ -466,7 +468,8 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
       double *lo = buf + 4 * nb, *hi = buf + 5 * nb, *proj = buf + 6 * nb, *ok = buf + 7 * nb;
       double *tr = buf + 9 * nb; /* the directions' boxes for points: 8 a direction */
       size_t *dir_b = dir_a + nb;
-      for (size_t q = p0; q < p1; q++) {
+      for (size_t k = 0; k < mine; k++) {
+        size_t q = (size_t)tid + k * (size_t)tn;
         /* Pair q: rows j < n_phi-1-j, then the first half of a middle row. */
         size_t half_rows = (size_t)(nph / 2), i, j;
         if (q < half_rows * nth) {
@@ -479,19 +482,19 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
         size_t a = j * nth + i;
         size_t b = (size_t)(nph - 1 - (int)j) * nth + (i + nth / 2) % nth;
         const dual_dir *d = &g->dirs[a];
-        nx[q - p0] = d->n[0];
-        ny[q - p0] = d->n[1];
-        nz[q - p0] = d->n[2];
-        rad[q - p0] = d->radius;
+        nx[k] = d->n[0];
+        ny[k] = d->n[1];
+        nz[k] = d->n[2];
+        rad[k] = d->radius;
         dual_box box;
         bbc__dual_grid_cell_box(g, a, 0, &box);
         dual_box_trig bt;
         dual_box_trig_of(&box, &bt);
-        memcpy(tr + 8 * (q - p0), &bt, sizeof bt);
-        dir_a[q - p0] = a;
-        dir_b[q - p0] = b;
+        memcpy(tr + 8 * k, &bt, sizeof bt);
+        dir_a[k] = a;
+        dir_b[k] = b;
       }
-      size_t m = p1 - p0;
+      size_t m = mine;
       pair_block blk = {m, nx, ny, nz, rad, lo, hi, proj, ok, tr, dir_a, dir_b, diff};
       for (size_t f0 = 0; f0 < count; f0 += 256) {
         size_t f1 = count - f0 > 256 ? f0 + 256 : count;

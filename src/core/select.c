@@ -113,7 +113,7 @@ static size_t simply_valid(ctx *c, const dual_box *b, const uint32_t *in, size_t
   int nt = thread_count(c);
   (void)nt;
 #ifdef _OPENMP
-#pragma omp parallel for schedule(static) num_threads(nt) if (n > 4096)
+#pragma omp parallel for schedule(static, 256) num_threads(nt) if (n > 4096)
 #endif
   for (size_t i = 0; i < n; i++) {
     size_t f = in ? in[i] : i;
@@ -159,7 +159,7 @@ static size_t count_valid(ctx *c, const uint32_t *set, size_t n, const double no
   int nt = thread_count(c);
   (void)nt;
 #ifdef _OPENMP
-#pragma omp parallel for schedule(static) reduction(+ : count, area) num_threads(nt) if (total > 4096)
+#pragma omp parallel for schedule(static, 256) reduction(+ : count, area) num_threads(nt) if (total > 4096)
 #endif
   for (size_t i = 0; i < total; i++) {
     if (!set && c->assigned[i]) continue;
@@ -337,12 +337,17 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
     tid = omp_get_thread_num();
     tn = omp_get_num_threads();
 #endif
-    size_t i0 = n * (size_t)tid / (size_t)tn, i1 = n * (size_t)(tid + 1) / (size_t)tn;
-    if (points)
-      for (size_t i = i0; i < i1; i++)
-        point_subcells(c, &c->faces[set[i]], b, dirs, valid_dir, lc, lp);
-    else
-      faces_subcells(c, set + i0, i1 - i0, b, &sd, valid_dir, &u, diff, la);
+    /* Chunks dealt in turn: faces near one another cost alike (whole in
+     * every subcell or not), so halves of the set would not. */
+    enum { CHUNK = 64 };
+    for (size_t i0 = (size_t)tid * CHUNK; i0 < n; i0 += (size_t)tn * CHUNK) {
+      size_t i1 = n - i0 > CHUNK ? i0 + CHUNK : n;
+      if (points)
+        for (size_t i = i0; i < i1; i++)
+          point_subcells(c, &c->faces[set[i]], b, dirs, valid_dir, lc, lp);
+      else
+        faces_subcells(c, set + i0, i1 - i0, b, &sd, valid_dir, &u, diff, la);
+    }
     if (!points)
       for (int s = 0; s < ND * ND; s++) dual_kinks_fold(diff[s], NR + 2, NR, 1, lc[s], lp[s]);
 #ifdef _OPENMP

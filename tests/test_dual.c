@@ -197,6 +197,165 @@ static void test_merged_faces(void **state) {
   free(f);
 }
 
+/* The pairing rule of dual_faces_build_merged, written out plainly: a
+ * triangle and, across its edges in order, the other of the first two
+ * triangles on that edge, when later, unpaired, of area > 0, in its plane,
+ * facing the same way, the edge run the other way. */
+static size_t pairs_by_rule(const bbc_mesh *m, uint32_t *mate) {
+  size_t n = m->triangle_count, nf = 0;
+  for (size_t i = 0; i < n; i++) mate[i] = UINT32_MAX;
+  for (size_t i = 0; i < n; i++) {
+    if (mate[i] != UINT32_MAX) continue;
+    nf++;
+    const uint32_t *ix = m->indices + 3 * i;
+    for (int e = 0; e < 3 && mate[i] == UINT32_MAX; e++) {
+      uint32_t a = ix[e], b = ix[(e + 1) % 3];
+      if (a == b) continue;
+      size_t first[2] = {SIZE_MAX, SIZE_MAX};
+      int k = 0;
+      for (size_t t = 0; t < n && k < 2; t++) {
+        const uint32_t *tx = m->indices + 3 * t;
+        int ha = tx[0] == a || tx[1] == a || tx[2] == a,
+            hb = tx[0] == b || tx[1] == b || tx[2] == b;
+        if (ha && hb) first[k++] = t;
+      }
+      size_t j = first[0] == i ? first[1] : (first[1] == i ? first[0] : SIZE_MAX);
+      if (j == SIZE_MAX || j <= i || mate[j] != UINT32_MAX) continue;
+      double ci[3], cj[3];
+      bbc__triangle_cross(m, i, ci);
+      bbc__triangle_cross(m, j, cj);
+      double li = sqrt(ci[0] * ci[0] + ci[1] * ci[1] + ci[2] * ci[2]);
+      double lj = sqrt(cj[0] * cj[0] + cj[1] * cj[1] + cj[2] * cj[2]);
+      if (!(li > 0) || !(lj > 0)) continue;
+      if ((ci[0] * cj[0] + ci[1] * cj[1] + ci[2] * cj[2]) / (li * lj) < 1 - 1e-6) continue;
+      const uint32_t *jx = m->indices + 3 * j;
+      int opposite = 0;
+      for (int q = 0; q < 3; q++) opposite |= jx[q] == b && jx[(q + 1) % 3] == a;
+      if (!opposite) continue;
+      mate[i] = (uint32_t)j;
+      mate[j] = (uint32_t)i;
+    }
+  }
+  return nf;
+}
+
+/* Meshes with shared vertices (a grid of flat and bent cells, diagonals
+ * either way, some triangles repeated or flipped, some degenerate): the
+ * merged faces are exactly the rule's pairs. */
+static void test_merged_faces_shared_vertices(void **state) {
+  (void)state;
+  enum { N = 12 };
+  for (uint64_t seed = 1; seed <= 20; seed++) {
+    bbc__rng r = {seed};
+    bbc_mesh m;
+    memset(&m, 0, sizeof m);
+    m.vertex_count = (N + 1) * (N + 1);
+    m.positions = malloc(3 * m.vertex_count * sizeof *m.positions);
+    m.indices = malloc(3 * 4 * N * N * sizeof *m.indices);
+    for (int y = 0; y <= N; y++)
+      for (int x = 0; x <= N; x++) {
+        double *p = m.positions + 3 * (y * (N + 1) + x);
+        p[0] = x;
+        p[1] = y;
+        p[2] = bbc__rng_range(&r, 0, 1) < 0.1 ? bbc__rng_range(&r, 0, 0.5) : 0;
+      }
+    size_t nt = 0;
+    for (int y = 0; y < N; y++)
+      for (int x = 0; x < N; x++) {
+        uint32_t a = (uint32_t)(y * (N + 1) + x), b = a + 1, c = a + N + 2, d = a + N + 1;
+        double u = bbc__rng_range(&r, 0, 1);
+        uint32_t t[2][3] = {{a, b, c}, {a, c, d}};
+        if (u < 0.5) {
+          uint32_t t2[2][3] = {{a, b, d}, {b, c, d}};
+          memcpy(t, t2, sizeof t);
+        }
+        if (u > 0.9) { /* flipped */
+          uint32_t k = t[1][1];
+          t[1][1] = t[1][2];
+          t[1][2] = k;
+        }
+        for (int k = 0; k < 2; k++) memcpy(m.indices + 3 * nt++, t[k], sizeof t[k]);
+        if (u > 0.8 && u <= 0.85) memcpy(m.indices + 3 * nt++, t[0], sizeof t[0]); /* repeated */
+        if (u > 0.85 && u <= 0.9) {                                                /* degenerate */
+          uint32_t g[3] = {a, a, b};
+          memcpy(m.indices + 3 * nt++, g, sizeof g);
+        }
+      }
+    m.triangle_count = nt;
+    uint32_t *tris = malloc(nt * sizeof *tris), *mate = malloc(nt * sizeof *mate);
+    for (size_t i = 0; i < nt; i++) tris[i] = (uint32_t)i;
+    const double origin[3] = {0, 0, 0};
+    dual_face *f = NULL;
+    size_t nf = 0;
+    assert_int_equal(bbc__dual_faces_build_merged(&m, tris, nt, origin, &f, &nf), BBC_OK);
+    assert_int_equal(nf, pairs_by_rule(&m, mate));
+    size_t k = 0, quads = 0;
+    for (size_t i = 0; i < nt; i++) {
+      if (mate[i] != UINT32_MAX && mate[i] < i) continue;
+      assert_int_equal(f[k].mesh_index, i);
+      assert_int_equal(f[k].mesh_index2, mate[i]);
+      quads += mate[i] != UINT32_MAX;
+      k++;
+    }
+    assert_true(quads > nt / 8); /* the test pairs something */
+    free(f);
+    free(tris);
+    free(mate);
+    free(m.positions);
+    free(m.indices);
+  }
+}
+
+/* The minimum-area rectangle of random faces holds every vertex and is no
+ * larger than the bounding rectangle at any of 720 angles (its hull, with
+ * the interior points dropped first, lost no vertex). */
+static void test_min_rect(void **state) {
+  (void)state;
+  const size_t sizes[] = {5, 40, 400, 3000};
+  for (size_t si = 0; si < sizeof sizes / sizeof *sizes; si++) {
+    size_t nf;
+    dual_face *faces = random_faces(sizes[si], 77 + si, si % 2, &nf);
+    uint32_t *which = malloc(nf * sizeof *which);
+    for (size_t i = 0; i < nf; i++) which[i] = (uint32_t)i;
+    const double n[3] = {0.36, 0.48, 0.8};
+    double u[3], w[3], mn[2], mx[2];
+    bbc__dual_min_rect(faces, which, nf, n, u, w, mn, mx);
+    double area = (mx[0] - mn[0]) * (mx[1] - mn[1]);
+    for (size_t i = 0; i < nf; i++)
+      for (int j = 0; j < faces[i].nv; j++) {
+        double v[3], pu = 0, pw = 0;
+        for (int k = 0; k < 3; k++) v[k] = faces[i].c[k] + faces[i].d[j][k];
+        for (int k = 0; k < 3; k++) {
+          pu += v[k] * u[k];
+          pw += v[k] * w[k];
+        }
+        assert_true(pu >= mn[0] - 1e-9 && pu <= mx[0] + 1e-9);
+        assert_true(pw >= mn[1] - 1e-9 && pw <= mx[1] + 1e-9);
+      }
+    double a[3] = {u[0], u[1], u[2]}, b[3] = {w[0], w[1], w[2]};
+    for (int t = 0; t < 720; t++) {
+      double c = cos(t * M_PI / 720), s = sin(t * M_PI / 720), lo[2] = {INFINITY, INFINITY},
+             hi[2] = {-INFINITY, -INFINITY};
+      for (size_t i = 0; i < nf; i++)
+        for (int j = 0; j < faces[i].nv; j++) {
+          double v[3], x = 0, y = 0;
+          for (int k = 0; k < 3; k++) v[k] = faces[i].c[k] + faces[i].d[j][k];
+          for (int k = 0; k < 3; k++) {
+            x += v[k] * (c * a[k] + s * b[k]);
+            y += v[k] * (-s * a[k] + c * b[k]);
+          }
+          lo[0] = fmin(lo[0], x);
+          hi[0] = fmax(hi[0], x);
+          lo[1] = fmin(lo[1], y);
+          hi[1] = fmax(hi[1], y);
+        }
+      assert_true(area <= (hi[0] - lo[0]) * (hi[1] - lo[1]) * (1 + 1e-9));
+    }
+    free(which);
+    free(faces);
+  }
+}
+
 static int grids_equal(const dual_grid *a, const dual_grid *b) {
   size_t n = (size_t)a->n_theta * a->n_phi * a->n_rho;
   return !memcmp(a->contrib, b->contrib, n * sizeof *a->contrib) &&
@@ -291,6 +450,8 @@ int main(void) {
       cmocka_unit_test(test_simple_validity_never_misses),
       cmocka_unit_test(test_simple_validity_never_misses_quads),
       cmocka_unit_test(test_merged_faces),
+      cmocka_unit_test(test_merged_faces_shared_vertices),
+      cmocka_unit_test(test_min_rect),
       cmocka_unit_test(test_density_exact_and_thread_independent),
       cmocka_unit_test(test_density_matches_direct_formula),
   };

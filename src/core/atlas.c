@@ -87,6 +87,8 @@ static int try_pack(const order_key *order, stbrp_rect *rr, size_t count, int wi
  * which the ring is processed does not matter. */
 static void dilate_ring(uint8_t *rgba, uint8_t *state, int width, int height, const size_t *ring,
                         size_t ring_count) {
+  /* The ring's texels are independent: any split over threads. */
+#pragma omp parallel for schedule(static) if (ring_count > 16384)
   for (size_t k = 0; k < ring_count; k++) {
     size_t i = ring[k];
     int x = (int)(i % (size_t)width), y = (int)(i / (size_t)width);

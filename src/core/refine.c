@@ -192,14 +192,18 @@ bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
     }
   }
   for (int round = 0; !failed && round < opt->rounds; round++) {
-    memset(counts, 0, (size_t)nt * COUNTS * total * sizeof *counts);
 #pragma omp parallel num_threads(nt)
     {
-      int tid = 0;
+      int tid = 0, tn = 1;
 #ifdef _OPENMP
       tid = omp_get_thread_num();
+      tn = omp_get_num_threads();
 #endif
       int32_t *cnt = counts + (size_t)tid * COUNTS * total;
+      /* Every copy cleared, also those of threads the team lacks. */
+      for (int t = tid; t < nt; t += tn)
+        memset(counts + (size_t)t * COUNTS * total, 0, COUNTS * total * sizeof *counts);
+#pragma omp barrier
       buffers b;
       b.z = malloc(np * sizeof *b.z);
       b.cz = malloc(np * sizeof *b.cz);
@@ -248,16 +252,19 @@ bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
       free(b.cid);
     }
     if (failed) break;
-    for (int t = 1; t < nt; t++)
-      for (size_t i = 0; i < COUNTS * total; i++)
-        counts[i] += counts[(size_t)t * COUNTS * total + i];
+    /* Each texel's counts summed over the threads' copies, then its flip
+     * decided. */
     size_t changed = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : changed) num_threads(nt)
     for (size_t k = 0; k < n; k++)
       for (int s = 0; s < 2; s++) {
         if (!im[k].alpha[s]) continue;
         size_t nx = (size_t)im[k].width * im[k].height, base = offset[2 * k + s];
         for (size_t i = 0; i < nx; i++) {
-          const int32_t *c = counts + (base + i) * COUNTS;
+          int32_t c[COUNTS] = {0, 0, 0};
+          for (int t = 0; t < nt; t++)
+            for (int j = 0; j < COUNTS; j++)
+              c[j] += counts[((size_t)t * total + base + i) * COUNTS + (size_t)j];
           int32_t right = c[RIGHT], wrong = c[WRONG], bal = c[BALANCE];
           /* Cleared when more often wrong than right (a tie too) and not
            * where the cloud is too sparse, or, where it is too dense, when

@@ -243,12 +243,15 @@ static inline int whole_in_subcells(const dual_face *f, const subdir_bound *u, d
 /* The shares of n faces of a set in the 36 x 6 subcells: for each face
  * the arithmetic of dual_face_range (over all 36 at once, vectorised) and
  * dual_projected_area, then dual_column_add over the six rho slices, into
- * kink arrays (diff[s]: dual_column_add's three); a face
- * whole in every subcell (whole_in_subcells) only into agg, the sum of its
- * signed area vectors in fixed point. */
+ * kink arrays (diff[s]: dual_column_add's three), or, where its range holds
+ * all six slices of sub-direction s, its share into whole[s] (what the
+ * kinks would give: the share in each slice, no penalty); a face whole in
+ * every subcell (whole_in_subcells) only into agg, the sum of its signed
+ * area vectors in fixed point. */
 static BBC__CLONES void faces_subcells(const ctx *c, const uint32_t *set, size_t n,
                                        const dual_box *b, const subdirs *sd, const int *valid_dir,
-                                       const subdir_bound *u, int64_t (*diff)[24], int64_t agg[3]) {
+                                       const subdir_bound *u, int64_t (*diff)[24], int64_t *whole,
+                                       int64_t agg[3]) {
   const double eps = c->eps, scale = c->g->scale, dr = 0.5 * (b->r1 - b->r0);
   const double rbase = b->r0 - 2 * dr, inv = 1.0 / dr, e = eps * inv;
   double lo[36], hi[36], proj[36], ok[36];
@@ -266,8 +269,11 @@ static BBC__CLONES void faces_subcells(const ctx *c, const uint32_t *set, size_t
     }
     for (int s = 0; s < 36; s++) {
       if (!valid_dir[s] || ok[s] == 0 || !(proj[s] > 0)) continue;
-      dual_column_add(diff[s], 8, 6, (lo[s] - rbase) * inv, (hi[s] - rbase) * inv, e,
-                      (int64_t)(proj[s] + 0.5));
+      double x = (lo[s] - rbase) * inv, y = (hi[s] - rbase) * inv;
+      if (x <= 0 && y >= 6) /* whole in this sub-direction's slices: no kinks */
+        whole[s] += (int64_t)(proj[s] + 0.5);
+      else
+        dual_column_add(diff[s], 8, 6, x, y, e, (int64_t)(proj[s] + 0.5));
     }
   }
 }
@@ -329,6 +335,7 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
 #endif
   {
     int64_t lc[ND * ND][NR], lp[ND * ND][NR], diff[ND * ND][3 * (NR + 2)], la[3] = {0, 0, 0};
+    int64_t lw[ND * ND] = {0};
     memset(lc, 0, sizeof lc);
     memset(lp, 0, sizeof lp);
     memset(diff, 0, sizeof diff);
@@ -346,10 +353,13 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
         for (size_t i = i0; i < i1; i++)
           point_subcells(c, &c->faces[set[i]], b, dirs, valid_dir, lc, lp);
       else
-        faces_subcells(c, set + i0, i1 - i0, b, &sd, valid_dir, &u, diff, la);
+        faces_subcells(c, set + i0, i1 - i0, b, &sd, valid_dir, &u, diff, lw, la);
     }
     if (!points)
-      for (int s = 0; s < ND * ND; s++) dual_kinks_fold(diff[s], NR + 2, NR, 1, lc[s], lp[s]);
+      for (int s = 0; s < ND * ND; s++) {
+        dual_kinks_fold(diff[s], NR + 2, NR, 1, lc[s], lp[s]);
+        for (int r = 0; r < NR; r++) lc[s][r] += lw[s];
+      }
 #ifdef _OPENMP
 #pragma omp critical(bbc_refine_sum)
 #endif

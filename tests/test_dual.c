@@ -65,7 +65,7 @@ static dual_face *random_faces(size_t n, uint64_t seed, int quads, size_t *count
   dual_face *f = NULL;
   *count = n;
   if (quads)
-    assert_int_equal(bbc__dual_faces_build_merged(&m, tris, n, origin, &f, count), BBC_OK);
+    assert_int_equal(bbc__dual_faces_build_merged(&m, tris, n, origin, 0, &f, count), BBC_OK);
   else
     assert_int_equal(bbc__dual_faces_build(&m, tris, n, origin, &f), BBC_OK);
   free(m.positions);
@@ -165,7 +165,7 @@ static void test_simple_validity_never_misses_quads(void **state) {
 static void test_merged_faces(void **state) {
   (void)state;
   const double p[][3] = {{0, 0, 0}, {1, 0, 0},  {1, 1, 0}, {0, 1, 0}, /* flat quad: 0 1 2, 0 2 3 */
-                         {3, 0, 0}, {4, 0, 0},  {4, 1, 0}, {3, 1, 0.5}, /* bent: 4 5 6, 4 6 7 */
+                         {3, 0, 0}, {4, 0, 0},  {4, 1, 0}, {3, 1, 0.3}, /* bent: 4 5 6, 4 6 7 */
                          {6, 0, 0}, {7, 0, 0},  {7, 1, 0}, {6, 1, 0}, /* flipped: 8 9 10, 8 11 10 */
                          {9, 0, 0}, {10, 0, 0}, {9, 1, 0}};           /* lone: 12 13 14 */
   const uint32_t ix[] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7, 8, 9, 10, 8, 11, 10, 12, 13, 14};
@@ -179,7 +179,7 @@ static void test_merged_faces(void **state) {
   const double origin[3] = {0, 0, 0};
   dual_face *f = NULL;
   size_t n = 0;
-  assert_int_equal(bbc__dual_faces_build_merged(&m, tris, 7, origin, &f, &n), BBC_OK);
+  assert_int_equal(bbc__dual_faces_build_merged(&m, tris, 7, origin, 0, &f, &n), BBC_OK);
   assert_int_equal(n, 6);
   assert_int_equal(f[0].nv, 4);
   assert_int_equal(f[0].mesh_index, 0);
@@ -194,6 +194,19 @@ static void test_merged_faces(void **state) {
     assert_int_equal(f[i].mesh_index, i + 1);
     assert_int_equal(f[i].mesh_index2, UINT32_MAX);
   }
+  free(f);
+  /* With a flatness tolerance the bent pair (its apexes 0.28 and 0.3 from
+   * the other's plane, 23 degrees) joins too when the tolerance allows. */
+  assert_int_equal(bbc__dual_faces_build_merged(&m, tris, 7, origin, 0.25, &f, &n), BBC_OK);
+  assert_int_equal(n, 6);
+  free(f);
+  assert_int_equal(bbc__dual_faces_build_merged(&m, tris, 7, origin, 0.35, &f, &n), BBC_OK);
+  assert_int_equal(n, 5);
+  assert_int_equal(f[1].nv, 4);
+  assert_int_equal(f[1].mesh_index, 2);
+  assert_int_equal(f[1].mesh_index2, 3);
+  assert_true(bbc__dual_face_valid(&f[1], z, 0.15, 0.16)); /* all four near z = 0.15 */
+  assert_false(bbc__dual_face_valid(&f[1], z, 0.0, 0.16)); /* the apex at z = 0.3 is not */
   free(f);
 }
 
@@ -287,7 +300,7 @@ static void test_merged_faces_shared_vertices(void **state) {
     const double origin[3] = {0, 0, 0};
     dual_face *f = NULL;
     size_t nf = 0;
-    assert_int_equal(bbc__dual_faces_build_merged(&m, tris, nt, origin, &f, &nf), BBC_OK);
+    assert_int_equal(bbc__dual_faces_build_merged(&m, tris, nt, origin, 0, &f, &nf), BBC_OK);
     assert_int_equal(nf, pairs_by_rule(&m, mate));
     size_t k = 0, quads = 0;
     for (size_t i = 0; i < nt; i++) {

@@ -235,10 +235,15 @@ bbc_result bbc__dual_faces_build(const bbc_mesh *mesh, const uint32_t *tris, siz
 /* The same with two triangles that share an edge and lie in one plane (a
  * quad split by the file or by Assimp: leaf cards, branch segments) as one
  * face of four vertices, valid for a plane when all four are: about half
- * the faces for steps 1 and 2 to handle. Pairs are taken in the order of
- * `tris`; *out_count gets the number of faces. */
+ * the faces for steps 1 and 2 to handle. With flat_tol > 0 also a pair
+ * that bends by less than 30 degrees and whose apexes lie within flat_tol
+ * of the other's plane (a modelled needle or leaf is a slightly folded
+ * quad): to planes eps apart (flat_tol far below eps) it is as flat.
+ * Pairs are taken in the order of `tris`; *out_count gets the number of
+ * faces. */
 bbc_result bbc__dual_faces_build_merged(const bbc_mesh *mesh, const uint32_t *tris, size_t count,
-                                        const double center[3], dual_face **out, size_t *out_count);
+                                        const double center[3], double flat_tol, dual_face **out,
+                                        size_t *out_count);
 
 bbc_result bbc__dual_grid_init(dual_grid *g, int res_deg, double eps, double radius, int up_axis,
                                double total_area, int threads);

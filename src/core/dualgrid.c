@@ -200,8 +200,28 @@ static uint32_t edge_mate(const bbc_mesh *m, const uint32_t *tris, const vertex_
   return first[1] == i ? first[0] : UINT32_MAX;
 }
 
+/* How far two triangles sharing an edge are from one plane: the larger
+ * distance of each one's apex from the other's plane. */
+static double bend(const bbc_mesh *m, const uint32_t *ix, const uint32_t *jx, const dual_face *a,
+                   const dual_face *b) {
+  double worst = 0;
+  for (int side = 0; side < 2; side++) {
+    const uint32_t *p = side ? ix : jx, *q = side ? jx : ix; /* apex of p, plane of q */
+    const dual_face *fq = side ? b : a;
+    for (int k = 0; k < 3; k++) {
+      uint32_t v = p[k];
+      if (v == q[0] || v == q[1] || v == q[2]) continue;
+      const double *x = m->positions + 3 * (size_t)v, *o = m->positions + 3 * (size_t)q[0];
+      double dist =
+          fabs((x[0] - o[0]) * fq->n[0] + (x[1] - o[1]) * fq->n[1] + (x[2] - o[2]) * fq->n[2]);
+      worst = dist > worst ? dist : worst;
+    }
+  }
+  return worst;
+}
+
 bbc_result bbc__dual_faces_build_merged(const bbc_mesh *m, const uint32_t *tris, size_t count,
-                                        const double center[3], dual_face **out,
+                                        const double center[3], double flat_tol, dual_face **out,
                                         size_t *out_count) {
   dual_face *tf;
   bbc_result r = bbc__dual_faces_build(m, tris, count, center, &tf);
@@ -230,11 +250,13 @@ bbc_result bbc__dual_faces_build_merged(const bbc_mesh *m, const uint32_t *tris,
       if (j == UINT32_MAX || j <= i || mate[j] != UINT32_MAX) continue;
       const dual_face *a = &tf[i], *b = &tf[j];
       if (!(a->area > 0) || !(b->area > 0)) continue;
-      if (a->n[0] * b->n[0] + a->n[1] * b->n[1] + a->n[2] * b->n[2] < 1 - 1e-6) continue;
+      double dot = a->n[0] * b->n[0] + a->n[1] * b->n[1] + a->n[2] * b->n[2];
+      if (dot < 1 - 1e-6 && !(dot >= 0.866 && flat_tol > 0)) continue;
       const uint32_t *jx = m->indices + 3 * (size_t)tris[j];
       int opposite = 0;
       for (int k = 0; k < 3; k++) opposite |= jx[k] == ix[(e + 1) % 3] && jx[(k + 1) % 3] == ix[e];
       if (!opposite) continue;
+      if (dot < 1 - 1e-6 && bend(m, ix, jx, a, b) > flat_tol) continue;
       mate[i] = (uint32_t)j;
       mate[j] = (uint32_t)i;
     }

@@ -6,6 +6,9 @@
 #ifndef BBC_INTERNAL_H
 #define BBC_INTERNAL_H
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #include "bbc.h"
 
 #include <stdarg.h>
@@ -253,6 +256,28 @@ static inline void bbc__camera_project(const bbc__camera *cam, const double *p, 
  * framing its corners times `margin`; everything else zero. */
 void bbc__view_frame_box(const double lo[3], const double hi[3], const double direction[3],
                          const double up[3], double margin, bbc_view *view);
+
+/* The `threads` parameter for the parallel loops that name no thread count
+ * (library functions without the parameter, called by steps 1 and 3):
+ * OpenMP's default team size of the calling thread set to `threads` when
+ * it is > 0, and put back by bbc__threads_restore. */
+static inline int bbc__threads_use(int threads) {
+#ifdef _OPENMP
+  int old = omp_get_max_threads();
+  if (threads > 0) omp_set_num_threads(threads);
+  return old;
+#else
+  (void)threads;
+  return 1;
+#endif
+}
+static inline void bbc__threads_restore(int old) {
+#ifdef _OPENMP
+  omp_set_num_threads(old);
+#else
+  (void)old;
+#endif
+}
 
 /* ---- step 3 internals (src/core/cloud.c) ----------------------------------- */
 /* bbc_cloud_build with the billboards' rectangles given (one per plane of

@@ -15,6 +15,9 @@
 #include <string.h>
 
 #include "bbc.h"
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #include "test_util.h"
 
 /* ---- a small hand-built scene ------------------------------------------- */
@@ -630,8 +633,16 @@ static void build(const bbc_mesh *m, int quality, int threads, bbc_planeset *s, 
   o.params.normal_maps = quality == 2;
   o.params.shade_voxels = quality == 2 ? 40 : 0;
   bbc_error err;
+#ifdef _OPENMP
+  int before = omp_get_max_threads();
+#endif
   if (bbc_planes_find(m, &o, s, &err) != BBC_OK) fail_msg("%s", err.message);
   if (bbc_cloud_build(m, s, &o.params, NULL, cloud, &err) != BBC_OK) fail_msg("%s", err.message);
+#ifdef _OPENMP
+  /* `threads` holds for the library's parallel loops, then the caller's
+   * default team size is back */
+  assert_int_equal(omp_get_max_threads(), before);
+#endif
 }
 
 static int rects_overlap(const bbc_atlas_rect *a, const bbc_atlas_rect *b) {

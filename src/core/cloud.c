@@ -591,9 +591,22 @@ static int atlas_fits(const bbc_billboard *rects, size_t n, int texres, int side
   return ok;
 }
 
+static bbc_result cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
+                                    const bbc_billboard *given, const bbc_params *prm,
+                                    const bbc_callbacks *cbk, bbc_cloud *cl, bbc_error *err);
+
 bbc_result bbc__cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
                                   const bbc_billboard *given, const bbc_params *prm,
                                   const bbc_callbacks *cbk, bbc_cloud *cl, bbc_error *err) {
+  int saved = bbc__threads_use(prm->threads);
+  bbc_result r = cloud_build_rects(m, set, given, prm, cbk, cl, err);
+  bbc__threads_restore(saved);
+  return r;
+}
+
+static bbc_result cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
+                                    const bbc_billboard *given, const bbc_params *prm,
+                                    const bbc_callbacks *cbk, bbc_cloud *cl, bbc_error *err) {
   memset(cl, 0, sizeof *cl);
   bbc_params pts;
   if (m->kind == BBC_MESH_POINTS) { /* 2.4.4: no normal maps, no stem for points */

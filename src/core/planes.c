@@ -226,8 +226,19 @@ static bbc_result level_at(bbc_grid *g, const bbc_planes_options *o, double scal
   return BBC_OK;
 }
 
+static bbc_result grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_grid **out,
+                             bbc_error *err);
+
 bbc_result bbc_grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_grid **out,
                           bbc_error *err) {
+  int saved = bbc__threads_use(o->params.threads);
+  bbc_result r = grid_build(mesh, o, out, err);
+  bbc__threads_restore(saved);
+  return r;
+}
+
+static bbc_result grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_grid **out,
+                             bbc_error *err) {
   *out = NULL;
   int points = mesh->kind == BBC_MESH_POINTS;
   if ((!points && mesh->kind != BBC_MESH_TRIANGLES) ||

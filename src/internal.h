@@ -105,9 +105,10 @@ bbc_result bbc__atomic_open(bbc__atomic_file *af, const char *path, bbc_error *e
 /* Flushes, checks for write errors, renames. Closes in every case. */
 bbc_result bbc__atomic_commit(bbc__atomic_file *af, bbc_error *err);
 
+void bbc__atomic_abort(bbc__atomic_file *af);
+
 /* A PNG file of the image in memory (image.c): *out from malloc. */
 bbc_result bbc__png_encode(const bbc_image *image, uint8_t **out, size_t *out_size);
-void bbc__atomic_abort(bbc__atomic_file *af);
 
 /* ---- deterministic random numbers (splitmix64) --------------------------- */
 typedef struct bbc__rng {

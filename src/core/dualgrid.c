@@ -161,6 +161,11 @@ typedef struct vertex_tris {
   uint32_t *start, *at;
 } vertex_tris;
 
+/* 1 when corner e of triangle ix is not a repeat of an earlier corner. */
+static int first_corner(const uint32_t *ix, int e) {
+  return (e < 1 || ix[e] != ix[0]) && (e < 2 || ix[e] != ix[1]);
+}
+
 static bbc_result vertex_tris_build(const bbc_mesh *m, const uint32_t *tris, size_t count,
                                     vertex_tris *vt) {
   size_t nv = m->vertex_count;
@@ -170,7 +175,7 @@ static bbc_result vertex_tris_build(const bbc_mesh *m, const uint32_t *tris, siz
   for (size_t i = 0; i < count; i++) {
     const uint32_t *ix = m->indices + 3 * (size_t)tris[i];
     for (int e = 0; e < 3; e++)
-      if ((e < 1 || ix[e] != ix[0]) && (e < 2 || ix[e] != ix[1])) vt->start[ix[e] + 1]++;
+      if (first_corner(ix, e)) vt->start[ix[e] + 1]++;
   }
   for (size_t v = 0; v < nv; v++) vt->start[v + 1] += vt->start[v];
   uint32_t *fill = malloc((nv ? nv : 1) * sizeof *fill);
@@ -179,8 +184,7 @@ static bbc_result vertex_tris_build(const bbc_mesh *m, const uint32_t *tris, siz
   for (size_t i = 0; i < count; i++) {
     const uint32_t *ix = m->indices + 3 * (size_t)tris[i];
     for (int e = 0; e < 3; e++)
-      if ((e < 1 || ix[e] != ix[0]) && (e < 2 || ix[e] != ix[1]))
-        vt->at[fill[ix[e]]++] = (uint32_t)i;
+      if (first_corner(ix, e)) vt->at[fill[ix[e]]++] = (uint32_t)i;
   }
   free(fill);
   return BBC_OK;

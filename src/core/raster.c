@@ -198,14 +198,30 @@ static int mip_level_of(double r) {
   return e % 2 == 0 ? e / 2 : (e - 1) / 2;
 }
 
-/* 1 when every pixel of the pixel-centre bounds [x0, x1] x [y0, y1]
- * (clipped to the image) is covered. */
-static int all_covered(const uint8_t *cover, int w, int h, double x0, double x1, double y0,
-                       double y1) {
-  int ix0 = x0 < 0 ? 0 : (int)x0, ix1 = x1 > w - 1 ? w - 1 : (int)x1;
-  int iy0 = y0 < 0 ? 0 : (int)y0, iy1 = y1 > h - 1 ? h - 1 : (int)y1;
-  for (int y = iy0; y <= iy1; y++)
-    for (int x = ix0; x <= ix1; x++)
+/* The pixels whose centres (x + 0.5) can lie within [minx, maxx] x [miny,
+ * maxy], clipped to a w x h image; 0 when there are none. The margin, far
+ * above the rounding of the edge functions at these sizes, keeps every
+ * pixel the exact test would take. Bounds are finite (a face's area is).
+ * Most faces of a detailed model cover no pixel centre at all. */
+#define PIXEL_MARGIN 1e-6
+
+static int pixel_bounds(double minx, double maxx, double miny, double maxy, int w, int h, int *x0,
+                        int *x1, int *y0, int *y1) {
+  const double margin = PIXEL_MARGIN;
+  double bx0 = ceil(minx - 0.5 - margin), bx1 = floor(maxx - 0.5 + margin);
+  double by0 = ceil(miny - 0.5 - margin), by1 = floor(maxy - 0.5 + margin);
+  if (!(bx0 <= bx1 && by0 <= by1) || bx1 < 0 || by1 < 0 || bx0 > w - 1 || by0 > h - 1) return 0;
+  *x0 = bx0 < 0 ? 0 : (int)bx0;
+  *x1 = bx1 > w - 1 ? w - 1 : (int)bx1;
+  *y0 = by0 < 0 ? 0 : (int)by0;
+  *y1 = by1 > h - 1 ? h - 1 : (int)by1;
+  return 1;
+}
+
+/* 1 when every pixel of [x0, x1] x [y0, y1] is covered. */
+static int all_covered(const uint8_t *cover, int w, int x0, int x1, int y0, int y1) {
+  for (int y = y0; y <= y1; y++)
+    for (int x = x0; x <= x1; x++)
       if (!cover[(size_t)y * w + x]) return 0;
   return 1;
 }
@@ -219,21 +235,19 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
     for (int k = 0; k < 3; k++) memcpy(s[k], tg->proj + 3 * (size_t)ix[k], sizeof s[k]);
   else
     for (int k = 0; k < 3; k++) bbc__camera_project(cam, m->positions + 3 * ix[k], s[k]);
-  const double margin = 1e-6;
-  if (!tg->bake && !(view->depth_max > view->depth_min)) {
-    /* Renders of a whole detailed model: most faces cover no pixel centre;
-     * the bounds test below, taken first (no slab here, so the bounds are
-     * the vertices'), ends them before any other work. */
-    double mnx = min3(s[0][0], s[1][0], s[2][0]), mxx = max3(s[0][0], s[1][0], s[2][0]);
-    double mny = min3(s[0][1], s[1][1], s[2][1]), mxy = max3(s[0][1], s[1][1], s[2][1]);
-    double cx0 = ceil(mnx - 0.5 - margin), cx1 = floor(mxx - 0.5 + margin);
-    double cy0 = ceil(mny - 0.5 - margin), cy1 = floor(mxy - 0.5 + margin);
-    if (!(cx0 <= cx1 && cy0 <= cy1) || cx1 < 0 || cy1 < 0 || cx0 > tg->width - 1 ||
-        cy0 > tg->height - 1)
-      return;
+  /* Bounds first (the same whatever the vertices' order). */
+  double minx = min3(s[0][0], s[1][0], s[2][0]), maxx = max3(s[0][0], s[1][0], s[2][0]);
+  double miny = min3(s[0][1], s[1][1], s[2][1]), maxy = max3(s[0][1], s[1][1], s[2][1]);
+  int x0 = 0, x1 = -1, y0 = 0, y1 = -1;
+  /* Renders of a whole detailed model (no slab: the bounds are the
+   * vertices'): most faces cover no pixel centre, and the bounds test ends
+   * them before any other work. */
+  int whole = !tg->bake && !(view->depth_max > view->depth_min);
+  if (whole) {
+    if (!pixel_bounds(minx, maxx, miny, maxy, tg->width, tg->height, &x0, &x1, &y0, &y1)) return;
     /* Coverage only grows: a face whose every candidate pixel is covered
      * already changes nothing (inside a dense crown, most). */
-    if (tg->cover && all_covered(tg->cover, tg->width, tg->height, cx0, cx1, cy0, cy1)) return;
+    if (tg->cover && all_covered(tg->cover, tg->width, x0, x1, y0, y1)) return;
   }
   double area =
       (s[1][0] - s[0][0]) * (s[2][1] - s[0][1]) - (s[1][1] - s[0][1]) * (s[2][0] - s[0][0]);
@@ -256,25 +270,13 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
     area = -area;
   }
   const double *a = s[order[0]], *b = s[order[1]], *c = s[order[2]];
-  /* Finite here (the area is): plain comparisons, no libm calls. */
-  double minx = min3(a[0], b[0], c[0]), maxx = max3(a[0], b[0], c[0]);
-  double miny = min3(a[1], b[1], c[1]), maxy = max3(a[1], b[1], c[1]);
   int inside = a[2] >= view->depth_min && a[2] <= view->depth_max && b[2] >= view->depth_min &&
                b[2] <= view->depth_max && c[2] >= view->depth_min && c[2] <= view->depth_max;
   if (view->depth_max > view->depth_min && !inside &&
       !slab_bounds(a, b, c, view->depth_min, view->depth_max, &minx, &maxx, &miny, &maxy))
     return; /* no part of it inside the slab */
-  /* The pixels whose centres (x + 0.5) can lie within the bounds; the
-   * margin, far above the rounding of the edge functions at these sizes,
-   * keeps every pixel the exact test below would take. Most faces of a
-   * detailed model cover no pixel centre at all and end here. */
-  double bx0 = ceil(minx - 0.5 - margin), bx1 = floor(maxx - 0.5 + margin);
-  double by0 = ceil(miny - 0.5 - margin), by1 = floor(maxy - 0.5 + margin);
-  if (!(bx0 <= bx1 && by0 <= by1) || bx1 < 0 || by1 < 0 || bx0 > tg->width - 1 ||
-      by0 > tg->height - 1)
+  if (!whole && !pixel_bounds(minx, maxx, miny, maxy, tg->width, tg->height, &x0, &x1, &y0, &y1))
     return;
-  int x0 = bx0 < 0 ? 0 : (int)bx0, x1 = bx1 > tg->width - 1 ? tg->width - 1 : (int)bx1;
-  int y0 = by0 < 0 ? 0 : (int)by0, y1 = by1 > tg->height - 1 ? tg->height - 1 : (int)by1;
 
   int tl0 = is_top_left(b[0], b[1], c[0], c[1]);
   int tl1 = is_top_left(c[0], c[1], a[0], a[1]);
@@ -340,16 +342,16 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
   for (int y = y0; y <= y1; y++) {
     double py = y + 0.5;
     /* The row's span where every edge function can be >= 0, widened for
-     * rounding (the margin, and the error of eb over the slope: a nearly
+     * rounding (PIXEL_MARGIN, and the error of eb over the slope: a nearly
      * horizontal edge); the exact test below decides each pixel. */
     double lo = x0, hi = x1;
     for (int k = 0; k < 3; k++) {
       double t1 = edx[k] * (py - E0[k][1]), eb = t1 + t2[k];
       double err = 1e-13 * (fabs(t1) + fabs(t2[k])) * inv_ea[k];
       if (ea[k] > 1e-12)
-        lo = max2(lo, ceil(-eb * inv_ea[k] - 0.5 - margin - err));
+        lo = max2(lo, ceil(-eb * inv_ea[k] - 0.5 - PIXEL_MARGIN - err));
       else if (ea[k] < -1e-12)
-        hi = min2(hi, floor(-eb * inv_ea[k] - 0.5 + margin - err));
+        hi = min2(hi, floor(-eb * inv_ea[k] - 0.5 + PIXEL_MARGIN - err));
     }
     if (!(lo <= hi)) continue;
     int xs = (int)lo, xe = (int)hi;

@@ -202,6 +202,10 @@ static void point_subcells(const ctx *c, const dual_face *f, const dual_box *b,
   }
 }
 
+/* A refinement step's subcells: ND x ND sub-directions, NR rho slices;
+ * their kink arrays NR + 2 long (dual_column_add's). */
+enum { ND = 6, NR = 6, NK = NR + 2 };
+
 /* The 36 sub-directions of a refinement step as structure-of-arrays (0
  * where a sub-direction lies beyond a pole), for dual_face_ranges. */
 typedef struct subdirs {
@@ -250,8 +254,8 @@ static inline int whole_in_subcells(const dual_face *f, const subdir_bound *u, d
  * area vectors in fixed point. */
 static BBC__CLONES void faces_subcells(const ctx *c, const uint32_t *set, size_t n,
                                        const dual_box *b, const subdirs *sd, const int *valid_dir,
-                                       const subdir_bound *u, int64_t (*diff)[24], int64_t *whole,
-                                       int64_t agg[3]) {
+                                       const subdir_bound *u, int64_t (*diff)[3 * NK],
+                                       int64_t *whole, int64_t agg[3]) {
   const double eps = c->eps, scale = c->g->scale, dr = 0.5 * (b->r1 - b->r0);
   const double rbase = b->r0 - 2 * dr, inv = 1.0 / dr, e = eps * inv;
   double lo[36], hi[36], proj[36], ok[36];
@@ -270,10 +274,10 @@ static BBC__CLONES void faces_subcells(const ctx *c, const uint32_t *set, size_t
     for (int s = 0; s < 36; s++) {
       if (!valid_dir[s] || ok[s] == 0 || !(proj[s] > 0)) continue;
       double x = (lo[s] - rbase) * inv, y = (hi[s] - rbase) * inv;
-      if (x <= 0 && y >= 6) /* whole in this sub-direction's slices: no kinks */
+      if (x <= 0 && y >= NR) /* whole in this sub-direction's slices: no kinks */
         whole[s] += (int64_t)(proj[s] + 0.5);
       else
-        dual_column_add(diff[s], 8, 6, x, y, e, (int64_t)(proj[s] + 0.5));
+        dual_column_add(diff[s], NK, NR, x, y, e, (int64_t)(proj[s] + 0.5));
     }
   }
 }
@@ -281,7 +285,6 @@ static BBC__CLONES void faces_subcells(const ctx *c, const uint32_t *set, size_t
 /* One refinement step: the densest of the 216 subcells of box b and its 26
  * neighbours, from the faces of set. Returns 0 when none has density > 0. */
 static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n, dual_box *best) {
-  enum { ND = 6, NR = 6 };
   double dt = 0.5 * (b->t1 - b->t0), dp = 0.5 * (b->p1 - b->p0), dr = 0.5 * (b->r1 - b->r0);
   int64_t contrib[ND * ND][NR], penalty[ND * ND][NR];
   int valid_dir[ND * ND];
@@ -334,7 +337,7 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
 #pragma omp parallel num_threads(nt) if (n > (points ? 4096u : 512u))
 #endif
   {
-    int64_t lc[ND * ND][NR], lp[ND * ND][NR], diff[ND * ND][3 * (NR + 2)], la[3] = {0, 0, 0};
+    int64_t lc[ND * ND][NR], lp[ND * ND][NR], diff[ND * ND][3 * NK], la[3] = {0, 0, 0};
     int64_t lw[ND * ND] = {0};
     memset(lc, 0, sizeof lc);
     memset(lp, 0, sizeof lp);
@@ -357,7 +360,7 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
     }
     if (!points)
       for (int s = 0; s < ND * ND; s++) {
-        dual_kinks_fold(diff[s], NR + 2, NR, 1, lc[s], lp[s]);
+        dual_kinks_fold(diff[s], NK, NR, 1, lc[s], lp[s]);
         for (int r = 0; r < NR; r++) lc[s][r] += lw[s];
       }
 #ifdef _OPENMP

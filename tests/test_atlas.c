@@ -468,6 +468,30 @@ static void test_png_roundtrip(void **state) {
   }
 }
 
+/* An image whose header claims more pixels than a texture may have is
+ * refused before it is decoded (fuzz_scene found one asking for 2 GB). */
+static void test_huge_header_refused(void **state) {
+  (void)state;
+  /* PNG signature and an IHDR of 12000 x 12000 RGBA (576 MB: below stb's own
+   * 1 GB limit), nothing after it */
+  uint8_t png[33] = {0x89, 'P',  'N', 'G', '\r', '\n', 0x1a, '\n', 0,    0, 0,
+                     13,   'I',  'H', 'D', 'R',  0,    0,    0x2e, 0xe0, 0, 0,
+                     0x2e, 0xe0, 8,   6,   0,    0,    0,    0,    0,    0, 0};
+  bbc_image img;
+  bbc_error err;
+  assert_int_equal(bbc_image_load_memory(png, sizeof png, &img, &err), BBC_ERROR_OUT_OF_RANGE);
+  assert_non_null(strstr(err.message, "12000 x 12000"));
+  assert_null(img.rgba);
+  /* the same header at 64 x 64 is not refused for its size (its data is missing) */
+  png[18] = 0;
+  png[19] = 64;
+  png[22] = 0;
+  png[23] = 64;
+  bbc_result r = bbc_image_load_memory(png, sizeof png, &img, &err);
+  assert_int_not_equal(r, BBC_ERROR_OUT_OF_RANGE);
+  if (r == BBC_OK) bbc_image_free(&img);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_known_sizes),
@@ -480,6 +504,7 @@ int main(void) {
       cmocka_unit_test(test_too_big),
       cmocka_unit_test(test_invalid_arguments),
       cmocka_unit_test(test_png_roundtrip),
+      cmocka_unit_test(test_huge_header_refused),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -36,11 +36,27 @@ static bbc_result take_stb_pixels(unsigned char *px, int w, int h, bbc_image *im
   return BBC_OK;
 }
 
+/* The most pixels a texture may have (16384 x 8192: 512 MB decoded); a
+ * header that claims more is refused before anything is decoded (found by
+ * fuzz_scene: an embedded image asking for 2 GB). */
+#define BBC_IMAGE_MAX_PIXELS ((size_t)1 << 27)
+
+static bbc_result check_size(int ok, int w, int h, const char *what, bbc_error *err) {
+  if (ok && w > 0 && h > 0 && (size_t)w * (size_t)h > BBC_IMAGE_MAX_PIXELS)
+    return bbc__fail(err, BBC_ERROR_OUT_OF_RANGE,
+                     "%s: an image of %d x %d pixels, more than the %zu a texture may have", what,
+                     w, h, BBC_IMAGE_MAX_PIXELS);
+  return BBC_OK;
+}
+
 bbc_result bbc_image_load(const char *path, bbc_image *image, bbc_error *err) {
   memset(image, 0, sizeof *image);
   bbc_result r = bbc__check_input_file(path, err);
   if (r != BBC_OK) return r;
-  int w, h, n;
+  int w = 0, h = 0, n = 0;
+  int known = stbi_info(path, &w, &h, &n); /* before w and h are read */
+  r = check_size(known, w, h, path, err);
+  if (r != BBC_OK) return r;
   unsigned char *px = stbi_load(path, &w, &h, &n, 4);
   if (!px) {
     const char *why = stbi_failure_reason();
@@ -63,7 +79,10 @@ bbc_result bbc_image_load_memory(const void *data, size_t size, bbc_image *image
   memset(image, 0, sizeof *image);
   if (!data || size == 0 || size > INT_MAX)
     return bbc__fail(err, BBC_ERROR_CORRUPT, "embedded image is empty or too large");
-  int w, h, n;
+  int w = 0, h = 0, n = 0;
+  int known = stbi_info_from_memory(data, (int)size, &w, &h, &n); /* before w and h are read */
+  bbc_result r = check_size(known, w, h, "embedded image", err);
+  if (r != BBC_OK) return r;
   unsigned char *px = stbi_load_from_memory(data, (int)size, &w, &h, &n, 4);
   if (!px && bbc__is_bmp_rle(data, size))
     return bbc__bmp_rle_decode(data, size, "embedded image", image, err);

@@ -521,6 +521,32 @@ static void test_threads_identical(void **state) {
   bbc_mesh_free(&m);
 }
 
+/* maxplanes on a tree that needs 85 planes at epsilon 6: epsilon grows
+ * (6 -> 12 %, 17 planes) and then narrows back between the last scale over
+ * the budget and the first within it, so the planes come close to the budget
+ * instead of half of it; invariants hold at the epsilon used. */
+static void test_maxplanes_narrowed(void **state) {
+  (void)state;
+  char path[1024];
+  tu_data_path(path, sizeof path, "trees/eztree/oak_medium.obj");
+  if (!tu_have_file(path)) skip();
+  bbc_mesh m;
+  bbc_error err;
+  if (bbc_mesh_load(path, NULL, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  bbc_planes_options o;
+  bbc_planes_options_default(&o);
+  assert_int_equal(o.params.max_planes, 32);
+  bbc_planeset s;
+  if (bbc_planes_find(&m, &o, &s, &err) != BBC_OK) fail_msg("%s", err.message);
+  check_invariants(&m, &s);
+  assert_true(s.plane_count <= 32);
+  assert_true(s.plane_count >= 27);
+  assert_true(s.epsilon_scale > 1.25 && s.epsilon_scale < 2);
+  assert_true(s.attempts >= 3);
+  bbc_planeset_free(&s);
+  bbc_mesh_free(&m);
+}
+
 /* Point clouds (thesis 2.4): every point lies within epsilon of its plane,
  * no plane is tweaked (2.4.4), results are the same with 1 and 2 threads,
  * and a building's walls come out as planes along its walls. */
@@ -625,6 +651,7 @@ int main(void) {
       cmocka_unit_test(test_beech),
       cmocka_unit_test(test_palm),
       cmocka_unit_test(test_scopia_bush),
+      cmocka_unit_test(test_maxplanes_narrowed),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

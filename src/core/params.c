@@ -150,7 +150,8 @@ static const param_row k_rows[] = {
       "quality 2: opaque texel when >= n of its 16 samples are (1 = thesis 2.3.9)"},
      INT_FIELD(grow_min)},
     {{"maxplanes", BBC_PARAM_INT, 0, 100000, 32, F1, "extension", "planes",
-      "at most n planes: epsilon grows until steps 1-2 give no more (0 = off, as the thesis)"},
+      "at most n planes: epsilon grows until steps 1-2 give no more, then narrows back "
+      "toward n (0 = off, as the thesis)"},
      INT_FIELD(max_planes)},
     {{"minplanes", BBC_PARAM_INT, 0, 100000, 16, F1, "extension", "planes",
       "fewer planes: epsilon shrinks (to 1/5 at most) while within maxplanes (0 = off)"},

@@ -983,6 +983,21 @@ static void test_cloud_command(void **state) {
   assert_int_equal(run(args, &out, &err), 1);
   free(out);
   free(err);
+  /* Extensions in capitals are the same formats (a Windows user's T.GLB). */
+  snprintf(args, sizeof args, "'%s' -o '%s/UP.GLB' --preview '%s/UP.PNG' -q", path, tu_dir, tu_dir);
+  assert_int_equal(run(args, &out, &err), 0);
+  free(out);
+  free(err);
+  snprintf(args, sizeof args, "'%s' -o '%s/UP.OBJ' -q", path, tu_dir);
+  assert_int_equal(run(args, &out, &err), 0);
+  free(out);
+  free(err);
+  const char *made[] = {"UP.GLB", "UP.PNG", "UP.OBJ", "UP.mtl", "UP_billboards.png"};
+  for (size_t i = 0; i < sizeof made / sizeof made[0]; i++) {
+    char f[1200];
+    snprintf(f, sizeof f, "%s/%s", tu_dir, made[i]);
+    if (!tu_have_file(f)) fail_msg("%s not written", made[i]);
+  }
   /* An output that is a folder is refused before any work; a point cloud
    * makes a cloud (thesis 2.4) the Khronos validator passes; a folder is no
    * batch file (exit 2); an unknown baseline method is a usage error. */

@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 
 typedef bbc__level job_lod;
@@ -169,8 +170,8 @@ bbc_result bbc_session_write(bbc_session *s, const char *out, const bbc_callback
   job_lod *lods[BBC_SESSION_MAX_LEVELS];
   for (size_t k = 0; k < count; k++) lods[k] = bbc__session_level(s, k);
   const char *ext = extension_of(out);
-  int glb = !strcmp(ext, ".glb"), gltf = !strcmp(ext, ".gltf"), obj = !strcmp(ext, ".obj"),
-      wrl = !strcmp(ext, ".wrl");
+  int glb = !strcasecmp(ext, ".glb"), gltf = !strcasecmp(ext, ".gltf"),
+      obj = !strcasecmp(ext, ".obj"), wrl = !strcasecmp(ext, ".wrl");
   if (!glb && !gltf && !obj && !wrl)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "the output must end in .glb, .gltf, .obj or .wrl, not '%s'", out);

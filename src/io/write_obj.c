@@ -4,6 +4,7 @@
 #include <ctype.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 /* Base name of a path without folder and extension, into out. */
 static void path_stem(const char *path, char *out, size_t n) {
@@ -31,7 +32,7 @@ bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m, bbc_error
 bbc_result bbc_mesh_write_obj_ex(const char *obj_path, const bbc_mesh *m, const char *comment,
                                  int unlit, bbc_error *err) {
   size_t len = strlen(obj_path);
-  if (len < 5 || strcmp(obj_path + len - 4, ".obj"))
+  if (len < 5 || strcasecmp(obj_path + len - 4, ".obj"))
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: OBJ output must end in .obj", obj_path);
   if (m->kind != BBC_MESH_TRIANGLES || m->triangle_count == 0)
     return bbc__fail(err, BBC_ERROR_EMPTY, "%s: nothing to write (no triangles)", obj_path);

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 int cmd_baseline(cli *c, int argc, char **argv) {
   const char *path = NULL, *out = NULL, *method = NULL;
@@ -67,7 +68,7 @@ int cmd_baseline(cli *c, int argc, char **argv) {
     return EXIT_USAGE;
   }
   const char *ext = strrchr(out, '.');
-  if (!ext || (strcmp(ext, ".glb") && strcmp(ext, ".gltf") && strcmp(ext, ".obj"))) {
+  if (!ext || (strcasecmp(ext, ".glb") && strcasecmp(ext, ".gltf") && strcasecmp(ext, ".obj"))) {
     cli_error("the output must end in .glb, .gltf or .obj, not '%s'", out);
     return EXIT_USAGE;
   }
@@ -96,8 +97,8 @@ int cmd_baseline(cli *c, int argc, char **argv) {
     rc = cli_fail_in(path, &err, 0);
   } else {
     double t1 = cli_now();
-    r = !strcmp(ext, ".obj") ? bbc_mesh_write_obj(out, what, &err)
-                             : bbc_mesh_write_gltf(out, what, NULL, &err);
+    r = !strcasecmp(ext, ".obj") ? bbc_mesh_write_obj(out, what, &err)
+                                 : bbc_mesh_write_gltf(out, what, NULL, &err);
     if (r != BBC_OK)
       rc = cli_fail(&err, 1);
     else if (crossed)

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 /* "5,10,15" -> increasing epsilons in percent; -1 on error (printed). */
 static int parse_lods(const char *text, double *eps, size_t max, size_t *count) {
@@ -73,17 +74,17 @@ int cmd_cloud(cli *c, int argc, char **argv) {
     return EXIT_USAGE;
   }
   const char *ext = strrchr(out, '.');
-  if (!ext ||
-      (strcmp(ext, ".glb") && strcmp(ext, ".gltf") && strcmp(ext, ".obj") && strcmp(ext, ".wrl"))) {
+  if (!ext || (strcasecmp(ext, ".glb") && strcasecmp(ext, ".gltf") && strcasecmp(ext, ".obj") &&
+               strcasecmp(ext, ".wrl"))) {
     cli_error("the output must end in .glb, .gltf, .obj or .wrl, not '%s'", out);
     return EXIT_USAGE;
   }
   size_t pn = preview ? strlen(preview) : 0, rn = report ? strlen(report) : 0;
-  if (preview && (pn < 4 || strcmp(preview + pn - 4, ".png"))) {
+  if (preview && (pn < 4 || strcasecmp(preview + pn - 4, ".png"))) {
     cli_error("--preview: the file must end in .png, not '%s'", preview);
     return EXIT_USAGE;
   }
-  if (report && (rn < 5 || strcmp(report + rn - 5, ".json"))) {
+  if (report && (rn < 5 || strcasecmp(report + rn - 5, ".json"))) {
     cli_error("--report: the file must end in .json, not '%s'", report);
     return EXIT_USAGE;
   }

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 /* The metrics as JSON: the summary at the top level, then per view. */
 char *eval_json_text(const bbc_eval_result *r, const bbc_eval_options *o, const char *a,
@@ -115,7 +116,7 @@ int cmd_eval(cli *c, int argc, char **argv) {
   if ((json && !cli_output_ok("--json", json)) || (png && !cli_output_ok("--png", png)))
     return EXIT_OUTPUT;
   size_t pl = png ? strlen(png) : 0;
-  if (png && (pl < 4 || strcmp(png + pl - 4, ".png"))) {
+  if (png && (pl < 4 || strcasecmp(png + pl - 4, ".png"))) {
     cli_error("eval: --png: the file must end in .png, not '%s'", png);
     return EXIT_USAGE;
   }

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 int render_views_png(const bbc_mesh *m, int z_up, int size, int lighting, const char *out_path) {
   /* Directions are camera -> model. */
@@ -86,7 +87,7 @@ int cmd_render(cli *c, int argc, char **argv) {
     return EXIT_USAGE;
   }
   size_t n = strlen(out);
-  if (n < 5 || strcmp(out + n - 4, ".png")) {
+  if (n < 5 || strcasecmp(out + n - 4, ".png")) {
     cli_error("render: the output must be a .png file, not '%s'", out);
     return EXIT_USAGE;
   }

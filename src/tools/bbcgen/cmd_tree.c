@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 int cmd_tree(cli *c, int argc, char **argv) {
   bbc_tree_options opt;
@@ -56,7 +57,7 @@ int cmd_tree(cli *c, int argc, char **argv) {
     return EXIT_USAGE;
   }
   size_t n = strlen(out);
-  if (n < 5 || strcmp(out + n - 4, ".obj")) {
+  if (n < 5 || strcasecmp(out + n - 4, ".obj")) {
     cli_error("tree: the output must be an .obj file (OBJ + MTL + PNG), not '%s'", out);
     return EXIT_USAGE;
   }
@@ -121,7 +122,7 @@ int cmd_sample(cli *c, int argc, char **argv) {
     }
   }
   size_t n = out ? strlen(out) : 0;
-  if (!model || !out || n < 5 || strcmp(out + n - 4, ".ply")) {
+  if (!model || !out || n < 5 || strcasecmp(out + n - 4, ".ply")) {
     cli_error("sample: usage: bbcgen sample MODEL -o OUT.ply [--points N] [--seed S]");
     return EXIT_USAGE;
   }

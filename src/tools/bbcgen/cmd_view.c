@@ -173,7 +173,7 @@ int cmd_view(cli *c, int argc, char **argv) {
     return EXIT_USAGE;
   }
   size_t sl = strlen(shot);
-  if (sl < 4 || strcmp(shot + sl - 4, ".png")) {
+  if (sl < 4 || strcasecmp(shot + sl - 4, ".png")) {
     cli_error("view: --screenshot %s: the picture is written as .png", shot);
     return EXIT_USAGE;
   }

@@ -7,6 +7,7 @@
 
 #include <stdio.h>
 #include <string.h>
+#include <strings.h>
 
 void session_info(const cli *c, const bbc_session *s, size_t k, int kept) {
   const bbc_planeset *set = NULL;
@@ -68,7 +69,7 @@ int session_run(const cli *c, bbc_session *s, const char *model, const double *e
 /* "wrote ..." for each level's file. */
 static void wrote(const cli *c, const bbc_session *s, const char *out) {
   const char *ext = strrchr(out, '.');
-  int one_file = ext && (!strcmp(ext, ".glb") || !strcmp(ext, ".gltf"));
+  int one_file = ext && (!strcasecmp(ext, ".glb") || !strcasecmp(ext, ".gltf"));
   for (size_t k = 0; k < bbc_session_level_count(s); k++) {
     const bbc_planeset *set;
     double eps;
@@ -82,7 +83,7 @@ static void wrote(const cli *c, const bbc_session *s, const char *out) {
 
 int session_write(const cli *c, bbc_session *s, const char *out) {
   const char *ext = strrchr(out, '.');
-  int one_file = ext && (!strcmp(ext, ".glb") || !strcmp(ext, ".gltf"));
+  int one_file = ext && (!strcasecmp(ext, ".glb") || !strcasecmp(ext, ".gltf"));
   for (size_t k = 1; k < bbc_session_level_count(s) && !one_file; k++) {
     char path[4200];
     bbc_session_output_path(out, k, path, sizeof path);

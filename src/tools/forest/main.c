@@ -324,7 +324,7 @@ int main(int argc, char **argv) {
       i++;
     } else if (!strcmp(a, "--screenshot")) {
       size_t vl = strlen(v);
-      if (vl < 4 || strcmp(v + vl - 4, ".png")) {
+      if (vl < 4 || strcasecmp(v + vl - 4, ".png")) {
         fprintf(stderr, "forest: --screenshot %s: screenshots are written as .png\n", v);
         return 2;
       }

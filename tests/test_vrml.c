@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <sys/stat.h>
 
 #include "bbc.h"
@@ -290,13 +291,16 @@ static void test_formats_with_back_images_and_normal_maps(void **state) {
     check_png(png, &cl.mesh.textures[0].image);
     snprintf(name, sizeof name, "%s_billboards_nm.png", stem);
     char *nm = path_in(dir, name);
-    check_png(nm, &cl.mesh.textures[1].image);
+    if (format == 0)
+      check_png(nm, &cl.mesh.textures[1].image);
+    else /* VRML97 has no normal maps: no unreferenced file beside it */
+      assert_int_equal(access(nm, F_OK), -1);
     free(text);
     free(wrl);
     free(png);
     free(nm);
   }
-  assert_int_equal(entries(dir), 6); /* no temporary files left */
+  assert_int_equal(entries(dir), 5); /* no temporary files left */
   free(dir);
   bbc_cloud_free(&cl);
 }

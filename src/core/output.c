@@ -177,6 +177,9 @@ bbc_result bbc_session_write(bbc_session *s, const char *out, const bbc_callback
                      "the output must end in .glb, .gltf, .obj or .wrl, not '%s'", out);
   if (obj && lods[0]->params.normal_maps)
     bbc__log(cb, BBC_LOG_WARNING, "OBJ output carries no normal map (use .glb, .gltf or .wrl)");
+  if (wrl && lods[0]->params.normal_maps && lods[0]->params.format == 1)
+    bbc__log(cb, BBC_LOG_WARNING,
+             "VRML97 (format 1) carries no normal map: none written (format 0 has them)");
   double t0 = bbc__now_s();
   bbc_result r = BBC_OK;
   /* Names engines understand: <model>_LOD<k> for the levels of a chain, <model>

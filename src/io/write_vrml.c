@@ -1,6 +1,6 @@
 /* write_vrml.c — a Billboard Cloud as VRML (thesis Appendix A, "save"): the
  * .wrl and beside it the colour atlas <stem>.png (and the normal atlas
- * <stem>_nm.png; with BBC_VRML_DDS the colour atlas also as <stem>.dds with
+ * <stem>_nm.png in format 0; with BBC_VRML_DDS the colour atlas also as <stem>.dds with
  * its mip levels), every file atomic. The whole text is built in memory
  * first, then the PNGs are written, then the .wrl, so a failure writes
  * nothing and the .wrl never names a missing file. */
@@ -199,6 +199,7 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
                        wrl_path);
     nm = &m->textures[1].image;
   }
+  if ((format & ~(BBC_VRML_UNLIT | BBC_VRML_DDS)) == 1) nm = NULL; /* VRML97: no normal maps */
   int sides = mat->single_sided ? 2 : 1;
 
   /* The mesh must hold, per billboard and side, its outline's fan. */

@@ -992,7 +992,24 @@ static void test_cloud_command(void **state) {
   assert_int_equal(run(args, &out, &err), 0);
   free(out);
   free(err);
-  const char *made[] = {"UP.GLB", "UP.PNG", "UP.OBJ", "UP.mtl", "UP_billboards.png"};
+  /* A space in an OBJ's name stays out of the names mtllib and map_Kd
+   * give: they split at spaces. */
+  snprintf(args, sizeof args, "'%s' -o '%s/my tree.obj' -q", path, tu_dir);
+  assert_int_equal(run(args, &out, &err), 0);
+  free(out);
+  free(err);
+  snprintf(args, sizeof args, "%s/my tree.obj", tu_dir);
+  char *obj = (char *)tu_read_file(args, NULL);
+  assert_non_null(obj);
+  assert_non_null(strstr(obj, "\nmtllib my_tree.mtl\n"));
+  free(obj);
+  snprintf(args, sizeof args, "%s/my_tree.mtl", tu_dir);
+  char *mtl = (char *)tu_read_file(args, NULL);
+  assert_non_null(mtl);
+  assert_non_null(strstr(mtl, "\nmap_Kd my_tree_billboards.png\n"));
+  free(mtl);
+  const char *made[] = {
+      "UP.GLB", "UP.PNG", "UP.OBJ", "UP.mtl", "UP_billboards.png", "my_tree_billboards.png"};
   for (size_t i = 0; i < sizeof made / sizeof made[0]; i++) {
     char f[1200];
     snprintf(f, sizeof f, "%s/%s", tu_dir, made[i]);

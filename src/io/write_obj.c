@@ -38,7 +38,12 @@ bbc_result bbc_mesh_write_obj_ex(const char *obj_path, const bbc_mesh *m, const 
     return bbc__fail(err, BBC_ERROR_EMPTY, "%s: nothing to write (no triangles)", obj_path);
 
   char stem[256], dir[2048];
-  path_stem(obj_path, stem, sizeof stem);
+  /* The MTL and PNG names: the OBJ's stem with bytes outside
+   * [A-Za-z0-9_.-] as '_', since `mtllib` and `map_Kd` split at spaces
+   * (an OBJ named "my tree.obj" gets my_tree.mtl, my_tree_billboards.png). */
+  char raw_stem[256];
+  path_stem(obj_path, raw_stem, sizeof raw_stem);
+  bbc__safe_name(raw_stem, stem, sizeof stem);
   bbc__path_folder(obj_path, dir, sizeof dir);
 
   /* Texture file names: bbc_texture_file_name's rule. */

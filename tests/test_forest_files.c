@@ -377,6 +377,19 @@ static void test_world(void **state) {
   assert_true(rc != 0 && WEXITSTATUS(rc) == 1);
   if (!strstr(log, "map.txt:2: ") || !strstr(log, "gone.png")) fail_msg("%s", log);
   free(log);
+  /* A misspelt option gets the nearest one; a word far from all, --help. */
+  snprintf(cmd, sizeof cmd, "'%s/forest' --scrrenshot s.png '%s' > '%s' 2>&1", BBC_BIN_DIR, path,
+           out);
+  log = run_logged(cmd, out, &rc);
+  assert_true(rc != 0 && WEXITSTATUS(rc) == 2);
+  if (!strstr(log, "unknown option '--scrrenshot' (did you mean --screenshot?)"))
+    fail_msg("%s", log);
+  free(log);
+  snprintf(cmd, sizeof cmd, "'%s/forest' --zzzzzz '%s' > '%s' 2>&1", BBC_BIN_DIR, path, out);
+  log = run_logged(cmd, out, &rc);
+  assert_true(rc != 0 && WEXITSTATUS(rc) == 2);
+  if (!strstr(log, "unknown option '--zzzzzz' (try forest --help)")) fail_msg("%s", log);
+  free(log);
   remove(tex);
   snprintf(tex, sizeof tex, "%s/leafy.mtl", dir);
   remove(tex);

@@ -209,55 +209,12 @@ int cli_common_option(cli *c, int argc, char **argv, int *i) {
   return 0;
 }
 
-/* Edit distance (insertions, deletions, substitutions, and swaps of two
- * neighbours), case-insensitive, capped at 64 characters. */
-static int edit_distance(const char *a, const char *b) {
-  size_t n = strlen(a), m = strlen(b);
-  if (n > 64 || m > 64) return 1000;
-  int d[65][65];
-  for (size_t i = 0; i <= n; i++) d[i][0] = (int)i;
-  for (size_t j = 0; j <= m; j++) d[0][j] = (int)j;
-  for (size_t i = 1; i <= n; i++)
-    for (size_t j = 1; j <= m; j++) {
-      int cost = tolower((unsigned char)a[i - 1]) != tolower((unsigned char)b[j - 1]);
-      int v = d[i - 1][j - 1] + cost;
-      if (d[i - 1][j] + 1 < v) v = d[i - 1][j] + 1;
-      if (d[i][j - 1] + 1 < v) v = d[i][j - 1] + 1;
-      if (i > 1 && j > 1 && tolower((unsigned char)a[i - 1]) == tolower((unsigned char)b[j - 2]) &&
-          tolower((unsigned char)a[i - 2]) == tolower((unsigned char)b[j - 1]) &&
-          d[i - 2][j - 2] + 1 < v)
-        v = d[i - 2][j - 2] + 1;
-      d[i][j] = v;
-    }
-  return d[n][m];
-}
-
 const char *cli_closest_param(const char *name) {
   const char *list[128];
   size_t n = 0;
   for (size_t i = 0; i < bbc_param_count() && n < 127; i++) list[n++] = bbc_param_at(i)->name;
   list[n] = NULL;
   return cli_closest(name, list);
-}
-
-const char *cli_closest(const char *word, const char *const *candidates) {
-  while (*word == '-') word++;
-  size_t len = strlen(word);
-  if (!len) return NULL;
-  /* A typo: at most 1 edit in short words, 2 from 6 letters, 3 from 12. */
-  int limit = len < 6 ? 1 : len < 12 ? 2 : 3, best_d = limit + 1;
-  const char *best = NULL;
-  for (size_t i = 0; candidates[i]; i++) {
-    const char *c = candidates[i];
-    while (*c == '-') c++;
-    int dist = edit_distance(word, c);
-    if (len >= 3 && !strncasecmp(c, word, len) && dist > 1) dist = 1; /* a prefix */
-    if (dist < best_d) {
-      best_d = dist;
-      best = candidates[i];
-    }
-  }
-  return best;
 }
 
 int cli_unknown_option(const char *cmd, const char *arg, const char *const *own) {

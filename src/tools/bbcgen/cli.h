@@ -4,6 +4,7 @@
 #define BBCGEN_CLI_H
 
 #include "bbc.h"
+#include "closest.h"
 
 #include <stdio.h>
 
@@ -64,9 +65,6 @@ int cli_fail_in(const char *path, const bbc_error *err, int output);
  * consumed (advancing *i past its value), 0 when not an option of these, and
  * -1 after printing an error (exit EXIT_USAGE). */
 int cli_common_option(cli *c, int argc, char **argv, int *i);
-/* The closest of `candidates` (NULL-terminated) to `word`, ignoring case
- * and leading dashes, when it is close enough to be a typo; else NULL. */
-const char *cli_closest(const char *word, const char *const *candidates);
 /* The parameter whose name is closest to a misspelt one, or NULL. */
 const char *cli_closest_param(const char *name);
 /* Prints "<cmd>: unknown option 'X' (did you mean --Y?)": Y from the

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "bbc.h"
+#include "closest.h"
 #include "run.h"
 
 static void usage(FILE *f) {
@@ -362,7 +363,22 @@ int main(int argc, char **argv) {
       log_path = v;
       i++;
     } else if (a[0] == '-' && a[1]) {
-      fprintf(stderr, "forest: unknown option '%s' (try forest --help)\n", a);
+      static const char *const known[] = {"--help",         "--version",
+                                          "--check",        "--window",
+                                          "--stats",        "--naive",
+                                          "--gpu-cull",     "--coverage",
+                                          "--print-camera", "--size",
+                                          "--camera",       "--frames",
+                                          "--path",         "--screenshot",
+                                          "--keys",         "--demo-terrain",
+                                          "--terrain-kind", "--terrain-size",
+                                          "--seed",         "--log",
+                                          "--bench",        NULL};
+      const char *near = cli_closest(a, known);
+      if (near)
+        fprintf(stderr, "forest: unknown option '%s' (did you mean %s?)\n", a, near);
+      else
+        fprintf(stderr, "forest: unknown option '%s' (try forest --help)\n", a);
       return 2;
     } else if (!map_path) {
       map_path = a;

@@ -165,6 +165,10 @@ typedef struct bbc_material {
                         * none): what a lit viewer's global ambient adds */
 } bbc_material;
 
+/* 1 when `material` is the one bbcgen gives a cloud's limbs (`limbs`: the
+ * trunk part kept as a mesh), named "limbs" or "limbs_LOD<k>". */
+int bbc_material_is_limbs(const bbc_material *material);
+
 typedef enum bbc_mesh_kind {
   BBC_MESH_TRIANGLES = 0, /* a polygon model, triangulated */
   BBC_MESH_POINTS = 1     /* a point cloud: vertices only (thesis 2.4) */
@@ -430,6 +434,9 @@ typedef struct bbc_params {
                           * diffusion of its samples' coverage (1) or by growing (0) */
   int stem;              /* stem: billboards through the trunk part's axis, 180/n
                           * degrees apart, each showing the whole stem (0 = off) */
+  int limbs;             /* limbs: > 0: the trunk part (stem and limbs) kept as a mesh of
+                          * at most this many triangles inside the cloud instead of
+                          * billboards, when the model has a foliage part (0 = off) */
   int refine;            /* refine: quality 2: views of the original each billboard's
                           * alpha is refined against (0 = off; src/core/refine.c) */
   int grow_min;          /* growmin: quality 2: a texel is opaque when at least this
@@ -559,7 +566,11 @@ typedef struct bbc_part_result {
   double step1_s;    /* wall-clock seconds of step 1 (grid and density) */
   double step2_s;    /* ... of step 2 (greedy select) */
   size_t grid_cells; /* cells of its dual grid */
+  int limbs;         /* > 0: no planes; step 3 keeps its faces as a mesh of at most
+                      * this many triangles (the trunk part with `limbs`) */
 } bbc_part_result;
+
+#define BBC_NO_PLANE UINT32_MAX /* face_plane of a face no plane simplifies */
 
 typedef struct bbc_planeset {
   double radius;      /* the whole model's bounding radius */
@@ -568,7 +579,9 @@ typedef struct bbc_planeset {
   bbc_plane *planes;    /* parts' planes one part after another */
   size_t face_count;    /* = mesh->triangle_count */
   uint32_t *face_plane; /* per triangle of the mesh (its order): the plane
-                         * that simplifies it; never a cardboard plane */
+                         * that simplifies it; never a cardboard plane;
+                         * BBC_NO_PLANE for the trunk part's faces kept as
+                         * a mesh (`limbs`) */
   size_t part_count;
   bbc_part_result *parts;
   uint32_t *face_part;  /* per triangle: index into parts */
@@ -781,12 +794,16 @@ typedef struct bbc_cloud {
   bbc_mesh mesh;
   size_t billboard_count;
   bbc_cloud_billboard *billboards;
-  double epsilon_abs; /* the planes' (largest) epsilon, model units */
-  size_t texels;      /* texels of all images (front and back) */
-  double atlas_fill;  /* texels / atlas texels */
-  double bake_s;      /* wall-clock seconds: baking */
-  double atlas_s;     /* ... packing the atlas and building the mesh */
-  int texres;         /* the texture resolution used (atlasmax may choose it) */
+  double epsilon_abs;    /* the planes' (largest) epsilon, model units */
+  size_t texels;         /* texels of all images (front and back) */
+  double atlas_fill;     /* texels / atlas texels */
+  double bake_s;         /* wall-clock seconds: baking */
+  double atlas_s;        /* ... packing the atlas and building the mesh */
+  int texres;            /* the texture resolution used (atlasmax may choose it) */
+  size_t limb_triangles; /* `limbs`: the mesh's last triangles are the trunk part's,
+                          * simplified (on the mesh's last vertices), textured by a
+                          * swatch of their colour in the atlas: */
+  bbc_atlas_rect limb_swatch;
 } bbc_cloud;
 
 /* Step 3 (thesis 2.1.9, 2.2.5, 2.3.1, 2.3.5, 2.3.9, 2.3.11): bakes every

@@ -311,6 +311,14 @@ bbc_result bbc__stem_find(const bbc_mesh *mesh, const bbc_planeset *set, int pla
                           bbc__stem *out, bbc_error *err);
 void bbc__stem_free(bbc__stem *stem);
 
+/* ---- the trunk part as a mesh (src/core/limbs.c) ------------------------------ */
+/* The faces no plane simplifies (set->face_plane BBC_NO_PLANE: the trunk
+ * part with `limbs`), welded and simplified to at most `target` triangles,
+ * with smooth normals, one material and one group; an empty mesh (all
+ * zero) when there are none. Free with bbc_mesh_free. */
+bbc_result bbc__limbs_build(const bbc_mesh *mesh, const bbc_planeset *set, int target,
+                            bbc_mesh *out, bbc_error *err);
+
 /* ---- alpha refinement (src/core/refine.c) ------------------------------------ */
 /* One billboard's texels: alpha[side] nonzero = opaque (side 1 NULL: the
  * front image is seen from both sides), cand[side] nonzero = may turn
@@ -322,11 +330,12 @@ typedef struct bbc__refine_image {
 } bbc__refine_image;
 
 typedef struct bbc__refine_options {
-  int views;   /* views over the sphere (0 = off) */
-  int size;    /* pixels per side of each view */
-  int rounds;  /* at most this many rounds (fewer when nothing changes) */
-  int up_axis; /* 0 = x, 1 = y, 2 = z */
-  int threads; /* 0 = all cores; never changes the result */
+  int views;             /* views over the sphere (0 = off) */
+  int size;              /* pixels per side of each view */
+  int rounds;            /* at most this many rounds (fewer when nothing changes) */
+  int up_axis;           /* 0 = x, 1 = y, 2 = z */
+  int threads;           /* 0 = all cores; never changes the result */
+  const bbc_mesh *solid; /* opaque geometry drawn with the cloud (the limbs), or NULL */
 } bbc__refine_options;
 
 /* Refines the alpha of the billboards cb[n] (images im[n]) of a cloud of

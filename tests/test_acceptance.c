@@ -84,6 +84,8 @@ static void accept_model(const char *rel, const char *extra, int big) {
   size_t expect_tris = 0;
   const cJSON *b;
   cJSON_ArrayForEach(b, list) expect_tris += 2 * ((size_t)num(b, "corners") - 2);
+  expect_tris += (size_t)num(lod, "limb_triangles"); /* the trunk part as a mesh */
+  assert_true(num(lod, "limb_triangles") <= 256);
   assert_int_equal((size_t)num(lod, "billboards"), (size_t)cJSON_GetArraySize(list));
   assert_int_equal((size_t)num(lod, "triangles"), expect_tris);
   assert_true(num(lod, "atlas_fill") > 0.1 && num(lod, "atlas_fill") <= 1);
@@ -210,7 +212,8 @@ static void test_lod_and_vrml(void **state) {
     assert_non_null(listing);
     for (int k = 0; k < 3; k++) {
       char name[64];
-      snprintf(name, sizeof name, "aspen_small_LOD%d (mesh %d)", k, k);
+      /* each level's billboards, then its limbs (a second primitive) */
+      snprintf(name, sizeof name, "aspen_small_LOD%d (mesh %d, %d)", k, 2 * k, 2 * k + 1);
       assert_non_null(strstr(listing, name));
     }
     free(listing);
@@ -262,12 +265,27 @@ static void test_lod_and_vrml(void **state) {
   tu_data_path(palm, sizeof palm, "trees/scopia/palm/palm.obj");
   if (tu_have_file(palm)) {
     snprintf(out, sizeof out, "%s/palm.wrl", dir);
-    snprintf(args, sizeof args, "'%s' -o '%s'", palm, out);
+    snprintf(args, sizeof args, "'%s' -o '%s' --limbs 0", palm, out);
     assert_int_equal(run(args), 0);
     char *text = (char *)tu_read_file(out, NULL);
     assert_non_null(text);
     assert_non_null(strstr(text, "stem plane"));
     free(text);
+    /* By default its trunk part is a mesh: one more Shape after the
+     * billboards', read back whole. */
+    snprintf(out, sizeof out, "%s/palm_limbs.wrl", dir);
+    snprintf(args, sizeof args, "'%s' -o '%s'", palm, out);
+    assert_int_equal(run(args), 0);
+    text = (char *)tu_read_file(out, NULL);
+    assert_non_null(text);
+    assert_null(strstr(text, "stem plane"));
+    assert_non_null(strstr(text, "DEF Limbs Shape"));
+    free(text);
+    bbc_mesh back;
+    bbc_error e;
+    if (bbc_mesh_load(out, NULL, &back, &e) != BBC_OK) fail_msg("%s", e.message);
+    assert_true(back.triangle_count > 256);
+    bbc_mesh_free(&back);
   }
   snprintf(out, sizeof out, "%s/c.obj", dir);
   snprintf(args, sizeof args, "'%s' -o '%s' --clustering 0 --texres 64 --lod 5,10", model, out);

@@ -312,7 +312,7 @@ static void test_planes_json_identical(void **state) {
   tu_data_path(path, sizeof path, "trees/eztree/oak_medium.obj");
   if (!tu_have_file(path)) skip();
   const char *extra = "--epsilon 6 --supergreedy 1 --set trunk.cardboard=1 --punishval 0.7 "
-                      "--punishcutoff 55";
+                      "--punishcutoff 55 --limbs 0";
   unsigned char *text[3];
   size_t len[3];
   for (int i = 0; i < 3; i++) {
@@ -662,10 +662,16 @@ static void test_viewer(void **state) {
   free(err);
   snprintf(args, sizeof args,
            "view '%s' --mode continuous --part trunk --face 3 --vertex 2 --size 96 --screenshot "
-           "f.png",
+           "f.png --limbs 0",
            path);
   assert_int_equal(run_in(args, "", &out, &err), 0);
   assert_non_null(strstr(err, "part trunk, face 3"));
+  free(out);
+  free(err);
+  /* by default the trunk part is a mesh (limbs): said, not drawn from nothing */
+  snprintf(args, sizeof args, "view '%s' --mode domain --part trunk --screenshot f.png", path);
+  assert_int_equal(run_in(args, "", &out, &err), 1);
+  assert_non_null(strstr(err, "kept as a mesh (limbs)"));
   free(out);
   free(err);
   assert_int_equal(run_in("view x.obj --mode sideways --screenshot a.png", "", &out, &err), 1);

@@ -82,6 +82,10 @@ static void check_invariants(const bbc_mesh *m, const bbc_planeset *s) {
   size_t *count = calloc(s->plane_count, sizeof *count);
   for (size_t t = 0; t < m->triangle_count; t++) {
     uint32_t pi = s->face_plane[t];
+    if (pi == BBC_NO_PLANE && s->parts[s->face_part[t]].limbs > 0) {
+      assert_int_equal(s->parts[s->face_part[t]].plane_count, 0); /* kept as a mesh */
+      continue;
+    }
     if (pi >= s->plane_count) fail_msg("face %zu has no plane (%u)", t, pi);
     const bbc_plane *p = &s->planes[pi];
     assert_int_not_equal(p->kind, BBC_PLANE_CARDBOARD);
@@ -318,6 +322,7 @@ static void check_billboards(const bbc_mesh *m, const bbc_planeset *s) {
   assert_int_equal(bbc_billboards_compute(m, s, bb, &err), BBC_OK);
   double tol = 1e-7 * (m->radius + 1);
   for (size_t t = 0; t < m->triangle_count; t++) {
+    if (s->face_plane[t] == BBC_NO_PLANE) continue; /* limbs: a mesh */
     const bbc_billboard *b = &bb[s->face_plane[t]];
     for (int k = 0; k < 3; k++) {
       const double *v = m->positions + 3 * m->indices[3 * t + k];

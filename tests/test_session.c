@@ -202,6 +202,18 @@ static void test_views(void **state) {
   bbc_planes_options o;
   bbc_planes_options_default(&o);
   bbc_grid *g;
+  /* With `limbs` the trunk part is a mesh: no faces in the grid, and its
+   * views are refused, not drawn from nothing. */
+  assert_int_equal(bbc_grid_build(&m, &o, &g, &err), BBC_OK);
+  assert_int_equal(bbc_grid_part_count(g), 2);
+  for (size_t part = 0; part < 2; part++)
+    if (bbc_grid_part_faces(g, part) == 0) {
+      bbc_grid_view_options vo = {BBC_GRID_VIEW_DOMAIN, part, 0, -1, 0};
+      bbc_geometry dom;
+      assert_int_not_equal(bbc_grid_view(g, &vo, &dom, &err), BBC_OK);
+    }
+  bbc_grid_free(g);
+  o.params.limbs = 0; /* both parts on planes */
   assert_int_equal(bbc_grid_build(&m, &o, &g, &err), BBC_OK);
   assert_int_equal(bbc_grid_part_count(g), 2);
   size_t checked = 0;

@@ -20,7 +20,7 @@ static bbc_result crop(const bbc_image *src, const bbc_atlas_rect *r, bbc_image 
 static size_t rect_count(const bbc_cloud *c) {
   size_t n = 0;
   for (size_t b = 0; b < c->billboard_count; b++) n += 1 + (c->billboards[b].back.width > 0);
-  return n;
+  return n + (c->limb_triangles > 0); /* the limbs' swatch last */
 }
 
 bbc_result bbc_clouds_share_atlas(bbc_cloud *clouds, size_t count, int max_size, int *shared,
@@ -56,6 +56,12 @@ bbc_result bbc_clouds_share_atlas(bbc_cloud *clouds, size_t count, int max_size,
         if (r == BBC_OK && nm) r = crop(&c->mesh.textures[1].image, q, &nimgs[i]);
         i++;
       }
+    if (r == BBC_OK && c->limb_triangles) {
+      old[i] = c->limb_swatch;
+      r = crop(&c->mesh.textures[0].image, &c->limb_swatch, &imgs[i]);
+      if (r == BBC_OK && nm) r = crop(&c->mesh.textures[1].image, &c->limb_swatch, &nimgs[i]);
+      i++;
+    }
   }
   if (r != BBC_OK) {
     r = bbc__fail(err, r, "shared atlas: out of memory");
@@ -93,6 +99,17 @@ bbc_result bbc_clouds_share_atlas(bbc_cloud *clouds, size_t count, int max_size,
         *q = rects[i];
         i++;
       }
+    if (c->limb_triangles) { /* the limbs: the remaining vertices, on the swatch */
+      for (; v < m->vertex_count; v++) {
+        float *uv = m->uvs + 2 * v;
+        double x = uv[0] * ow - old[i].x + rects[i].x;
+        double y = (1.0 - uv[1]) * oh - old[i].y + rects[i].y;
+        uv[0] = (float)(x / atlas.width);
+        uv[1] = (float)(1.0 - y / atlas.height);
+      }
+      c->limb_swatch = rects[i];
+      i++;
+    }
   }
   /* Each level gets its own copy of the shared atlas (writers keep one
    * image when several meshes carry the same texels). */

@@ -238,6 +238,7 @@ static size_t slab_faces(const bbc_mesh *m, const bbc_planeset *set, const bbc_p
     if (mask) {
       if (!mask[t]) continue;
     } else {
+      if (set->face_plane[t] == BBC_NO_PLANE) continue; /* in the limbs' mesh */
       if (pure == 1 && set->face_plane[t] != owner) continue;
       if (!crosses_slab(m, t, p, eps)) continue;
     }
@@ -422,11 +423,70 @@ void bbc_cloud_free(bbc_cloud *cloud) {
 }
 
 /* Fills the mesh: per billboard its outline, front (and back) facing. */
+/* The limbs' colour: their original faces baked as the stem billboards
+ * are (prelit by a headlight from the side, textures at the distance of a
+ * 64-texel image), seen from two sides, averaged over what they cover. */
+static void limb_colour(const bbc_mesh *m, const bbc_planeset *set, const bbc_params *prm,
+                        const bbc__mips *mips, const float *vshade, uint8_t rgba[4]) {
+  enum { SIDE = 64 };
+  uint32_t *faces = malloc((m->triangle_count ? m->triangle_count : 1) * sizeof *faces);
+  uint8_t *img = malloc(4 * SIDE * SIDE);
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  size_t n = 0;
+  for (size_t t = 0; faces && t < m->triangle_count; t++) {
+    if (set->face_plane[t] != BBC_NO_PLANE) continue;
+    faces[n++] = (uint32_t)t;
+    for (int c = 0; c < 3; c++)
+      for (int k = 0; k < 3; k++) {
+        double x = m->positions[3 * (size_t)m->indices[3 * t + c] + k];
+        lo[k] = fmin(lo[k], x);
+        hi[k] = fmax(hi[k], x);
+      }
+  }
+  double sum[3] = {0, 0, 0}, weight = 0;
+  int up = prm->up_axis >= 0 && prm->up_axis <= 2 ? prm->up_axis : 1;
+  for (int side = 0; n && img && side < 2; side++) {
+    int ax = (up + 1 + side) % 3, across = (up + 2 - side) % 3;
+    bbc_view v;
+    memset(&v, 0, sizeof v);
+    v.direction[ax] = -1;
+    v.up[up] = 1;
+    for (int k = 0; k < 3; k++) v.center[k] = 0.5 * (lo[k] + hi[k]);
+    v.half_extent = fmax(0.5 * (hi[across] - lo[across]), 1e-9);
+    v.half_extent_y = fmax(0.5 * (hi[up] - lo[up]), 1e-9);
+    v.lighting = prm->prelight;
+    v.headlight = 1;
+    v.light_gain = 1;
+    v.ambient = prm->viewer_ambient;
+    v.vertex_shade = vshade;
+    bbc__bake bk;
+    memset(&bk, 0, sizeof bk);
+    bk.width = bk.height = SIDE;
+    bk.front = img;
+    bk.mips = mips;
+    memset(img, 0, 4 * SIDE * SIDE);
+    bbc_error quiet;
+    if (bbc__render_bake(m, faces, n, &v, &bk, &quiet) != BBC_OK) continue;
+    for (size_t i = 0; i < (size_t)SIDE * SIDE; i++) {
+      double a = img[4 * i + 3] / 255.0;
+      for (int c = 0; c < 3; c++) sum[c] += a * img[4 * i + c];
+      weight += a;
+    }
+  }
+  for (int c = 0; c < 3; c++) rgba[c] = (uint8_t)(weight > 0 ? sum[c] / weight + 0.5 : 128);
+  rgba[3] = 255;
+  free(faces);
+  free(img);
+}
+
+/* The cloud's mesh: each billboard's outline (twice with back images), then
+ * the limbs' mesh (`limbs`, may be empty) textured by the swatch. */
 static bbc_result build_mesh(const bbc_planeset *set, const bbc_params *prm, bbc_cloud *cl,
-                             bbc_image *atlas, bbc_image *nm_atlas, bbc_error *err) {
+                             bbc_image *atlas, bbc_image *nm_atlas, const bbc_mesh *limbs,
+                             const bbc_atlas_rect *swatch, uint32_t limbs_group, bbc_error *err) {
   bbc_mesh *me = &cl->mesh;
   int sides = prm->back_images ? 2 : 1;
-  size_t nv = 0, nt = 0;
+  size_t nv = limbs->vertex_count, nt = limbs->triangle_count;
   for (size_t k = 0; k < cl->billboard_count; k++) {
     nv += (size_t)sides * cl->billboards[k].corner_count;
     nt += (size_t)sides * (cl->billboards[k].corner_count - 2);
@@ -441,7 +501,7 @@ static bbc_result build_mesh(const bbc_planeset *set, const bbc_params *prm, bbc
   me->indices = malloc(3 * nt * sizeof *me->indices);
   me->face_material = calloc(nt, sizeof *me->face_material);
   me->face_group = malloc(nt * sizeof *me->face_group);
-  me->materials = calloc(1, sizeof *me->materials);
+  me->materials = calloc(2, sizeof *me->materials);
   me->textures = calloc(2, sizeof *me->textures);
   me->group_names = calloc(set->part_count, sizeof *me->group_names);
   if (!me->positions || !me->normals || !me->uvs || (nm_atlas && !me->tangents) || !me->indices ||
@@ -468,6 +528,17 @@ static bbc_result build_mesh(const bbc_planeset *set, const bbc_params *prm, bbc
     if (!me->group_names[g]) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "out of memory");
   }
   if (!mat->name) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "out of memory");
+  if (limbs->triangle_count) {
+    /* The limbs: their own material "limbs" (the same atlas, both sides: a
+     * simplified tube may open), so that readers tell them from billboards
+     * (forest draws them in one call). */
+    bbc_material *lm = &me->materials[1];
+    *lm = *mat;
+    lm->name = bbc__strdup("limbs");
+    lm->single_sided = 0;
+    me->material_count = 2;
+    if (!lm->name) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "out of memory");
+  }
   double aw = me->textures[0].image.width, ah = me->textures[0].image.height;
   size_t v = 0, t = 0;
   for (size_t k = 0; k < cl->billboard_count; k++) {
@@ -500,6 +571,36 @@ static bbc_result build_mesh(const bbc_planeset *set, const bbc_params *prm, bbc
       }
     }
   }
+  /* The limbs: every vertex at the swatch's centre texel. */
+  float su = swatch ? (float)((swatch->x + 0.5 * swatch->width) / aw) : 0;
+  float sv = swatch ? (float)(1.0 - (swatch->y + 0.5 * swatch->height) / ah) : 0;
+  size_t v0 = v;
+  for (size_t i = 0; i < limbs->vertex_count; i++, v++) {
+    const float *n = limbs->normals + 3 * i;
+    for (int j = 0; j < 3; j++) {
+      me->positions[3 * v + j] = limbs->positions[3 * i + j];
+      me->normals[3 * v + j] = n[j];
+    }
+    me->uvs[2 * v] = su;
+    me->uvs[2 * v + 1] = sv;
+    if (me->tangents) { /* any unit tangent across the normal (the swatch is flat) */
+      int a = fabsf(n[0]) < 0.6f ? 0 : fabsf(n[1]) < 0.6f ? 1 : 2;
+      float e[3] = {0, 0, 0}, tg[3];
+      e[a] = 1;
+      float d = n[0] * e[0] + n[1] * e[1] + n[2] * e[2];
+      for (int j = 0; j < 3; j++) tg[j] = e[j] - d * n[j];
+      float l = sqrtf(tg[0] * tg[0] + tg[1] * tg[1] + tg[2] * tg[2]);
+      for (int j = 0; j < 3; j++) me->tangents[4 * v + j] = l > 0 ? tg[j] / l : (float)e[j];
+      me->tangents[4 * v + 3] = 1;
+    }
+  }
+  for (size_t i = 0; i < limbs->triangle_count; i++, t++) {
+    for (int c = 0; c < 3; c++) me->indices[3 * t + c] = (uint32_t)(v0 + limbs->indices[3 * i + c]);
+    me->face_group[t] = limbs_group;
+    me->face_material[t] = 1;
+  }
+  cl->limb_triangles = limbs->triangle_count;
+  if (swatch && limbs->triangle_count) cl->limb_swatch = *swatch;
   return BBC_OK;
 }
 
@@ -617,7 +718,9 @@ static bbc_result cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
   }
   bbc__stem stem;
   bbc_result r = BBC_OK;
-  if (m->kind == BBC_MESH_TRIANGLES)
+  int meshed = 0; /* limbs: the trunk part is a mesh, no stem billboards */
+  for (size_t pi = 0; pi < set->part_count; pi++) meshed |= set->parts[pi].limbs > 0;
+  if (m->kind == BBC_MESH_TRIANGLES && !meshed)
     r = bbc__stem_find(m, set, prm->stem, prm->up_axis, &stem, err);
   else
     memset(&stem, 0, sizeof stem);
@@ -682,6 +785,16 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
   float *vshade = NULL;
   bbc__mips *mips = NULL;
   uint8_t *share = NULL; /* pure 2: per triangle, its alpha share */
+  bbc_mesh limbs;        /* `limbs`: the trunk part as a mesh, and its colour's swatch */
+  memset(&limbs, 0, sizeof limbs);
+  bbc_image swatch[2] = {{0, 0, NULL}, {0, 0, NULL}};
+  int limbs_target = 0;
+  uint32_t limbs_group = 0;
+  for (size_t pi = 0; !points && pi < set->part_count; pi++)
+    if (set->parts[pi].limbs > 0) {
+      limbs_target = set->parts[pi].limbs;
+      limbs_group = (uint32_t)pi;
+    }
   bbc_result r = BBC_OK;
   if (!bb || !order) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
   if (r == BBC_OK && given)
@@ -801,6 +914,27 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
         if (err) *err = bk[k].err;
       }
   }
+  /* The limbs' mesh and the swatch of their colour (its normal flat). */
+  if (r == BBC_OK && limbs_target > 0) {
+    /* At most `limbs` triangles, and at most twice the billboards' (at
+     * least 16): a coarse level of a chain keeps its weight. */
+    size_t bt = 0;
+    for (size_t k = 0; k < nk; k++)
+      bt += (size_t)(prm->back_images ? 2 : 1) * (size_t)(cl->billboards[k].corner_count - 2);
+    if ((size_t)limbs_target > 2 * bt) limbs_target = (int)(2 * bt < 16 ? 16 : 2 * bt);
+    r = bbc__limbs_build(m, set, limbs_target, &limbs, err);
+    if (r == BBC_OK && limbs.triangle_count) {
+      uint8_t rgba[4];
+      limb_colour(m, set, prm, mips, vshade, rgba);
+      for (int i = 0; r == BBC_OK && i < (prm->normal_maps ? 2 : 1); i++)
+        r = bbc_image_alloc(&swatch[i], 4, 4);
+      if (r != BBC_OK) r = bbc__fail(err, r, "step 3: out of memory");
+      static const uint8_t flat[4] = {128, 128, 255, 255};
+      for (int i = 0; r == BBC_OK && i < 2; i++)
+        for (size_t x = 0; swatch[i].rgba && x < 16; x++)
+          memcpy(swatch[i].rgba + 4 * x, i ? flat : rgba, 4);
+    }
+  }
   /* quality 2: alpha refined against renders of the original, then the
    * colour of texels left transparent cleared. */
   if (r == BBC_OK && prm->quality == 2) {
@@ -816,7 +950,8 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
     }
     if (r == BBC_OK && prm->refine > 0 && !points) { /* renders of triangles */
       if (cbk) bbc__progress(cbk, "refining", 0.0);
-      bbc__refine_options ro = {prm->refine, 256, 3, prm->up_axis, prm->threads};
+      bbc__refine_options ro = {prm->refine, 256, 3, prm->up_axis, prm->threads, NULL};
+      ro.solid = limbs.triangle_count ? &limbs : NULL;
       r = bbc__refine_alpha(m, cl->billboards, ri, nk, &ro, err);
       if (cbk) bbc__progress(cbk, "refining", 1.0);
     }
@@ -835,11 +970,12 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
   /* The atlas: front images then back images; the normal atlas packs
    * images of the same sizes in the same order, so it has the same layout. */
   int sides = prm->back_images ? 2 : 1;
+  size_t ni = (size_t)sides * nk + (swatch[0].rgba ? 1 : 0); /* the swatch last */
   bbc_image *imgs = NULL, atlas = {0, 0, NULL}, nm_atlas = {0, 0, NULL};
   bbc_atlas_rect *rects = NULL;
   if (r == BBC_OK) {
-    imgs = calloc((size_t)sides * nk, sizeof *imgs);
-    rects = calloc((size_t)sides * nk, sizeof *rects);
+    imgs = calloc(ni, sizeof *imgs);
+    rects = calloc(ni, sizeof *rects);
     if (!imgs || !rects) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
   }
   if (r == BBC_OK) {
@@ -847,7 +983,8 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
       imgs[k] = bk[k].front;
       if (sides == 2) imgs[nk + k] = bk[k].back;
     }
-    r = bbc_atlas_pack(imgs, (size_t)sides * nk, 2, atlas_limit, &atlas, rects, err);
+    if (swatch[0].rgba) imgs[ni - 1] = swatch[0];
+    r = bbc_atlas_pack(imgs, ni, 2, atlas_limit, &atlas, rects, err);
   }
   if (r == BBC_OK) {
     for (size_t k = 0; k < nk; k++) {
@@ -855,6 +992,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
       if (sides == 2) cl->billboards[k].back = rects[nk + k];
       cl->texels += (size_t)sides * bk[k].front.width * bk[k].front.height;
     }
+    if (swatch[0].rgba) cl->texels += (size_t)swatch[0].width * swatch[0].height;
     cl->atlas_fill = (double)cl->texels / ((double)atlas.width * atlas.height);
   }
   if (r == BBC_OK && prm->normal_maps) {
@@ -862,16 +1000,18 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
       imgs[k] = bk[k].front_nm;
       if (sides == 2) imgs[nk + k] = bk[k].back_nm;
     }
-    bbc_atlas_rect *r2 = calloc((size_t)sides * nk, sizeof *r2);
+    if (swatch[0].rgba) imgs[ni - 1] = swatch[1];
+    bbc_atlas_rect *r2 = calloc(ni, sizeof *r2);
     if (!r2) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
-    if (r == BBC_OK)
-      r = bbc_atlas_pack(imgs, (size_t)sides * nk, 2, atlas_limit, &nm_atlas, r2, err);
+    if (r == BBC_OK) r = bbc_atlas_pack(imgs, ni, 2, atlas_limit, &nm_atlas, r2, err);
     if (r == BBC_OK && (nm_atlas.width != atlas.width || nm_atlas.height != atlas.height ||
-                        memcmp(r2, rects, (size_t)sides * nk * sizeof *r2)))
+                        memcmp(r2, rects, ni * sizeof *r2)))
       r = bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "step 3: the normal atlas's layout differs");
     free(r2);
   }
-  if (r == BBC_OK) r = build_mesh(set, prm, cl, &atlas, prm->normal_maps ? &nm_atlas : NULL, err);
+  if (r == BBC_OK)
+    r = build_mesh(set, prm, cl, &atlas, prm->normal_maps ? &nm_atlas : NULL, &limbs,
+                   swatch[0].rgba ? &rects[ni - 1] : NULL, limbs_group, err);
   if (r == BBC_OK) r = bbc_mesh_finalize(&cl->mesh, 0, "billboard cloud", err);
   cl->atlas_s = bbc__now_s() - t1;
   for (size_t k = 0; bk && k < nk; k++) baked_free(&bk[k]);
@@ -884,6 +1024,9 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
   free(order);
   free(vshade);
   free(share);
+  bbc_mesh_free(&limbs);
+  bbc_image_free(&swatch[0]);
+  bbc_image_free(&swatch[1]);
   bbc__mips_free(mips, m->texture_count);
   if (r != BBC_OK) bbc_cloud_free(cl);
   return r;

@@ -12,6 +12,7 @@ typedef struct grid_part {
   const bbc_params *params; /* into grid->options */
   uint32_t *tris;           /* mesh triangles of the part */
   size_t n;
+  size_t meshed;    /* limbs: the part's triangles, kept as a mesh in step 3 (then n = 0) */
   dual_face *faces; /* its faces: a triangle, two coplanar ones, or a point */
   size_t nf;
   double center[3], radius, total_area;

@@ -90,6 +90,7 @@ static cJSON *lod_json(const job_lod *L, int detailed) {
   if (!detailed) return o;
   const bbc_mesh *m = &L->cloud.mesh;
   cJSON_AddNumberToObject(o, "triangles", (double)m->triangle_count);
+  cJSON_AddNumberToObject(o, "limb_triangles", (double)L->cloud.limb_triangles);
   cJSON_AddNumberToObject(o, "texels", (double)L->cloud.texels);
   cJSON_AddNumberToObject(o, "texres_used", L->cloud.texres);
   cJSON_AddNumberToObject(o, "plane_runs", L->planes.attempts);
@@ -113,6 +114,7 @@ static cJSON *lod_json(const job_lod *L, int detailed) {
     cJSON_AddNumberToObject(q, "faces", (double)pr->face_count);
     cJSON_AddNumberToObject(q, "planes", (double)pr->plane_count);
     cJSON_AddNumberToObject(q, "epsilon", pr->epsilon_abs);
+    if (pr->limbs > 0) cJSON_AddNumberToObject(q, "limbs", pr->limbs); /* kept as a mesh */
     cJSON_AddItemToArray(parts, q);
   }
   cJSON_AddStringToObject(o, "split", L->planes.split_why);
@@ -196,6 +198,15 @@ bbc_result bbc_session_write(bbc_session *s, const char *out, const bbc_callback
     if (dup) {
       free(mat->name);
       mat->name = dup;
+    }
+    if (lods[k]->cloud.mesh.material_count > 1) { /* the limbs' */
+      snprintf(name, sizeof name, "limbs_LOD%zu", k);
+      mat = &lods[k]->cloud.mesh.materials[1];
+      dup = bbc__strdup(name);
+      if (dup) {
+        free(mat->name);
+        mat->name = dup;
+      }
     }
   }
   int unlit = bbc_params_unlit(&lods[0]->params);

@@ -287,6 +287,10 @@ static bbc_result grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, 
     snprintf(gp->name, sizeof gp->name, "%s", names[pi]);
     gp->params = part_params(&g->options, gp->name);
     for (size_t t = 0; t < nf; t++) gp->n += g->face_part[t] == pi;
+    if (!points && gp->params->limbs > 0 && g->part_count > 1 && !strcmp(gp->name, "trunk")) {
+      gp->meshed = gp->n; /* limbs: no planes; step 3 keeps these faces as a mesh */
+      gp->n = 0;
+    }
     if (!gp->n) continue;
     gp->tris = malloc(gp->n * sizeof *gp->tris);
     if (!gp->tris) {
@@ -378,12 +382,14 @@ static bbc_result select_once(bbc_grid *g, const bbc_planes_options *o, double s
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
   }
   memcpy(set->face_part, g->face_part, nf * sizeof *set->face_part);
+  for (size_t f = 0; f < nf; f++) set->face_plane[f] = BBC_NO_PLANE; /* limbs */
   snprintf(set->split_why, sizeof set->split_why, "%s", g->split_why);
   for (size_t pi = 0; r == BBC_OK && pi < g->part_count; pi++) {
     grid_part *gp = &g->part[pi];
     bbc_part_result *pr = &set->parts[pi];
     snprintf(pr->name, sizeof pr->name, "%s", gp->name);
-    pr->face_count = gp->n;
+    pr->face_count = gp->n + gp->meshed;
+    pr->limbs = gp->meshed ? gp->params->limbs : 0;
     set->part_count = pi + 1;
     if (!gp->n) continue;
     /* select asks for the parameters of step 2 as they are now */

@@ -237,8 +237,10 @@ typedef struct batch {
   int lit;
   float gain, amb[3];
   size_t first, count; /* indices */
+  int limbs;           /* bbcgen's material "limbs": a mesh, not billboards */
   uint32_t *runs;      /* naive mode: 2 per run of consecutive triangles in one
-                        * plane (a billboard): first index, index count */
+                        * plane (a billboard): first index, index count; the
+                        * limbs one run */
   size_t run_count;
 } batch;
 
@@ -576,6 +578,7 @@ int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *m, int
     b->first = first[mat];
     b->count = count[mat];
     memcpy(b->base, ma->base_color, sizeof b->base);
+    b->limbs = bbc_material_is_limbs(ma);
     b->lit = lit && !ma->unlit;
     b->gain = light_gain > 0 ? light_gain : 1.0f;
     if (b->lit) { /* X3D viewers' ambient, as bbc_view.ambient bakes it */
@@ -609,6 +612,12 @@ int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *m, int
     b->runs = malloc((b->count / 3 + 1) * 2 * sizeof *b->runs);
     if (!b->runs) continue;
     double prev[4] = {0, 0, 0, 0};
+    if (b->limbs) { /* one call for the whole mesh */
+      b->runs[0] = (uint32_t)b->first;
+      b->runs[1] = (uint32_t)b->count;
+      b->run_count = 1;
+      continue;
+    }
     for (size_t t = 0; t < b->count / 3; t++) {
       const uint32_t *ix = idx + b->first + 3 * t;
       const float *a = v + 8 * ix[0], *c1 = v + 8 * ix[1], *c2 = v + 8 * ix[2];

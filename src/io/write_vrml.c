@@ -112,6 +112,62 @@ static int fan_matches(const bbc_mesh *m, size_t base, size_t t0, int n, int bac
   return 1;
 }
 
+/* Vectors [from, to) of d (or, NULL, f), 3 each, one a line. */
+static void put_vectors(text *t, const double *d, const float *f, size_t from, size_t to,
+                        int digits) {
+  for (size_t v = from; v < to; v++) {
+    put(t, "      ");
+    for (int j = 0; j < 3; j++) {
+      if (j) put(t, " ");
+      put_number(t, digits, d ? d[3 * v + j] : f[3 * v + j]);
+    }
+    put(t, "%s\n", v + 1 < to ? "," : "");
+  }
+}
+
+/* The limbs' mesh (`limbs`): vertices from v0 on, triangles from t0 on,
+ * smooth normals, every corner on the swatch of their colour in the atlas. */
+static void put_limbs(text *t, const vrml_ctx *x, size_t v0, size_t t0) {
+  const bbc_mesh *m = x->m;
+  put(t, "\n# the trunk part as a mesh (limbs): %zu triangles\n", m->triangle_count - t0);
+  put(t, "DEF Limbs Shape {\n  appearance Appearance {\n");
+  if (!x->unlit) put(t, "    material Material { diffuseColor 1 1 1 }\n");
+  put(t, "    texture ImageTexture { url ");
+  if (x->dds_suffix[0]) {
+    put(t, "[ ");
+    put_url(t, x->stem, x->dds_suffix);
+    put(t, " ");
+    put_url(t, x->stem, x->col_suffix);
+    put(t, " ]");
+  } else {
+    put_url(t, x->stem, x->col_suffix);
+  }
+  put(t, " repeatS FALSE repeatT FALSE }\n  }\n");
+  put(t, "  geometry IndexedFaceSet {\n    ccw TRUE\n    solid FALSE\n");
+  put(t, "    coord Coordinate { point [\n");
+  put_vectors(t, m->positions, NULL, v0, m->vertex_count, 9);
+  put(t, "    ] }\n");
+  if (m->normals) {
+    put(t, "    normal Normal { vector [\n");
+    put_vectors(t, NULL, m->normals, v0, m->vertex_count, 6);
+    put(t, "    ] }\n");
+  }
+  put(t, "    texCoord TextureCoordinate { point [ ");
+  put_number(t, 7, m->uvs[2 * v0]);
+  put(t, " ");
+  put_number(t, 7, m->uvs[2 * v0 + 1]);
+  put(t, " ] }\n    coordIndex [\n");
+  for (size_t i = t0; i < m->triangle_count; i++) {
+    const uint32_t *ix = m->indices + 3 * i;
+    put(t, "      %zu %zu %zu -1%s\n", (size_t)(ix[0] - v0), (size_t)(ix[1] - v0),
+        (size_t)(ix[2] - v0), i + 1 < m->triangle_count ? "," : "");
+  }
+  put(t, "    ]\n    texCoordIndex [\n");
+  for (size_t i = t0; i < m->triangle_count; i++)
+    put(t, "      0 0 0 -1%s\n", i + 1 < m->triangle_count ? "," : "");
+  put(t, "    ]\n  }\n}\n");
+}
+
 /* One side of billboard k: vertices [base, base + n) of the mesh. */
 static void put_side(text *t, const vrml_ctx *x, size_t k, int back, size_t base, int n) {
   const char *in = x->nm_nodes ? "  " : ""; /* inside the Group */
@@ -224,7 +280,20 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
       nt += (size_t)n - 2;
     }
   }
-  if (nv != m->vertex_count || nt != m->triangle_count)
+  /* Then the limbs' mesh (`limbs`): the remaining triangles, on the
+   * remaining vertices. */
+  for (size_t i = 3 * nt; i < 3 * m->triangle_count; i++)
+    if (m->indices[i] < nv || m->indices[i] >= m->vertex_count)
+      return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
+                       "%s: the cloud's limbs use a billboard's vertex", wrl_path);
+  for (size_t v = nv; v < m->vertex_count; v++)
+    for (int j = 0; j < 3; j++)
+      if (!isfinite(m->positions[3 * v + j]) || (j < 2 && !isfinite(m->uvs[2 * v + j])) ||
+          (m->normals && !isfinite(m->normals[3 * v + j])))
+        return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
+                         "%s: the cloud's limbs have a non-finite coordinate", wrl_path);
+  if (m->triangle_count - nt != cloud->limb_triangles ||
+      (cloud->limb_triangles == 0) != (m->vertex_count == nv))
     return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
                      "%s: the cloud's mesh has more than its billboards", wrl_path);
 
@@ -278,7 +347,7 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
     put(&t, "PROTO NormalMap [ exposedField MFString url [] ] { Group { } }\n");
   }
 
-  /* Billboards. */
+  /* Billboards, then the limbs. */
   size_t v = 0;
   for (size_t k = 0; k < cloud->billboard_count; k++) {
     const bbc_cloud_billboard *b = &cloud->billboards[k];
@@ -296,6 +365,7 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
       v += (size_t)b->corner_count;
     }
   }
+  if (cloud->limb_triangles) put_limbs(&t, &x, v, nt);
   if (t.oom) {
     r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", wrl_path);
     goto done;

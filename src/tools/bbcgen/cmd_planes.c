@@ -46,7 +46,9 @@ static cJSON *planes_json(const bbc_planeset *s) {
   }
   cJSON *fp = cJSON_AddArrayToObject(root, "face_plane");
   for (size_t i = 0; i < s->face_count; i++)
-    cJSON_AddItemToArray(fp, cJSON_CreateNumber(s->face_plane[i]));
+    cJSON_AddItemToArray(fp, cJSON_CreateNumber(s->face_plane[i] == BBC_NO_PLANE
+                                                    ? -1 /* limbs: kept as a mesh */
+                                                    : (double)s->face_plane[i]));
   return root;
 }
 

@@ -214,6 +214,11 @@ int cmd_view(cli *c, int argc, char **argv) {
         cli_error("view: --part %s: the model's parts are %s%s%s", part, bbc_grid_part_name(g, 0),
                   n > 1 ? " and " : "", n > 1 ? bbc_grid_part_name(g, 1) : "");
         rc = EXIT_USAGE;
+      } else if (!bbc_grid_part_faces(g, k)) {
+        cli_error("view: --part %s: it is kept as a mesh (limbs), not on planes; --limbs 0 puts "
+                  "it on planes",
+                  part);
+        rc = EXIT_USAGE;
       } else {
         pick.part = k;
         pick.face = bbc_grid_largest_face(g, k);

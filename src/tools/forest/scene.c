@@ -63,7 +63,12 @@ static size_t count_billboards(const bbc_mesh *m) {
   enum { MAX = 1024 };
   double pl[MAX][4];
   size_t n = 0;
+  size_t limbs = 0; /* bbcgen's limbs: a mesh inside the cloud, no billboards */
   for (size_t t = 0; t < m->triangle_count; t++) {
+    if (bbc_material_is_limbs(&m->materials[m->face_material[t]])) {
+      limbs++;
+      continue;
+    }
     const double *a = m->positions + 3 * m->indices[3 * t],
                  *b = m->positions + 3 * m->indices[3 * t + 1],
                  *e = m->positions + 3 * m->indices[3 * t + 2];
@@ -86,7 +91,7 @@ static size_t count_billboards(const bbc_mesh *m) {
     memcpy(pl[n], c, sizeof c);
     pl[n++][3] = d;
   }
-  return m->triangle_count <= 8 * n ? n : 0;
+  return m->triangle_count - limbs <= 8 * n ? n : 0;
 }
 
 static long find_mesh(scene *s, const char *path, int lod_node, FILE *log, int progress,

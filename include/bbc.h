@@ -619,6 +619,10 @@ typedef struct bbc_split_options {
    * trunk's base. 0 = the trunk part keeps every trunk face. */
   int stem_only;
   int up_axis; /* 0 = x, 1 = y, 2 = z: for stem_only */
+  /* BBC_SPLIT_AUTO: 1 = when the names make every face trunk (a leafless
+   * tree), split by geometry instead of keeping one part (set when the
+   * trunk part becomes a mesh, `limbs`, and the twigs then go on planes). */
+  int all_trunk_by_geometry;
 } bbc_split_options;
 
 /* Splits the faces of `mesh` into parts: writes part names (at most 2 parts:

@@ -464,7 +464,9 @@ static void test_names_unknown_faces(void **state) {
 
 /* Names that make every face one kind settle it: one part, also in AUTO,
  * even where the geometry alone would split (a leafless tree of many
- * pieces). */
+ * pieces) — unless all_trunk_by_geometry asks AUTO to let the geometry
+ * split an all-trunk model (limbs: the limbs a mesh, the twigs on planes);
+ * names that make every face foliage still settle it. */
 static void test_names_all_one_kind(void **state) {
   (void)state;
   builder b;
@@ -478,6 +480,25 @@ static void test_names_all_one_kind(void **state) {
   opt = mode_options(BBC_SPLIT_GEOMETRY);
   run_split(&b.m, &opt, &r);
   expect_split(&r, 100, 60);
+  split_free(&r);
+  opt = mode_options(BBC_SPLIT_AUTO);
+  opt.all_trunk_by_geometry = 1;
+  run_split(&b.m, &opt, &r);
+  expect_split(&r, 100, 60);
+  assert_non_null(strstr(r.why, "geometry"));
+  split_free(&r);
+  opt = mode_options(BBC_SPLIT_NAMES); /* names only: it stays one part */
+  opt.all_trunk_by_geometry = 1;
+  run_split(&b.m, &opt, &r);
+  expect_one_part(&r, 160);
+  split_free(&r);
+  bbc_mesh_free(&b.m);
+  b_small_tree(&b, "leaves", "Leaf");
+  opt = mode_options(BBC_SPLIT_AUTO);
+  opt.all_trunk_by_geometry = 1;
+  run_split(&b.m, &opt, &r);
+  expect_one_part(&r, 160);
+  assert_non_null(strstr(r.why, "every face foliage"));
   split_free(&r);
   bbc_mesh_free(&b.m);
 }

@@ -270,6 +270,7 @@ typedef struct split_out {
   char (*names)[32];
   char *why;
   size_t why_size;
+  int all_trunk_by_geometry; /* bbc_split_options' (auto mode) */
 } split_out;
 
 static void set_why(const split_out *o, const char *text) {
@@ -406,6 +407,10 @@ static bbc_result split_by_names(const bbc_mesh *m, const split_out *o, int *dec
 
   if (count[PART_TRUNK] + count[PART_FOLIAGE] == 0) return BBC_OK; /* names tell nothing */
   *decided = 1;
+  if (unknown == 0 && count[PART_FOLIAGE] == 0 && o->all_trunk_by_geometry) {
+    *decided = 0; /* every face trunk: geometry finds the limbs and the twigs */
+    return BBC_OK;
+  }
   if (unknown == 0 && (count[PART_TRUNK] == 0 || count[PART_FOLIAGE] == 0)) {
     int k = count[PART_TRUNK] ? PART_TRUNK : PART_FOLIAGE;
     snprintf(why, sizeof why, "no split: the names make every face %s (%s)",
@@ -948,6 +953,7 @@ bbc_result bbc_split_parts(const bbc_mesh *mesh, const bbc_split_options *option
   o.names = names;
   o.why = why;
   o.why_size = why_size;
+  o.all_trunk_by_geometry = options->mode == BBC_SPLIT_AUTO && options->all_trunk_by_geometry;
   if (why && why_size) why[0] = 0;
 
   /* Options first: a wrong option is an error whatever the mesh. */

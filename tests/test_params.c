@@ -39,7 +39,7 @@ static void test_defaults_match_appendix_a(void **state) {
   assert_int_equal(d.quality, 2);
   assert_int_equal(d.max_planes, 32);
   assert_int_equal(d.atlas_max, 1024);
-  assert_int_equal(d.min_planes, 16);
+  assert_int_equal(d.min_planes, 24);
   assert_int_equal(d.dither, 1);
   assert_int_equal(d.refine, 16);
   assert_int_equal(d.stem, 3);

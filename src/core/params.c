@@ -157,7 +157,7 @@ static const param_row k_rows[] = {
       "at most n planes: epsilon grows until steps 1-2 give no more, then narrows back "
       "toward n (0 = off, as the thesis)"},
      INT_FIELD(max_planes)},
-    {{"minplanes", BBC_PARAM_INT, 0, 100000, 16, F1, "extension", "planes",
+    {{"minplanes", BBC_PARAM_INT, 0, 100000, 24, F1, "extension", "planes",
       "fewer planes: epsilon shrinks (to 1/5 at most) while within maxplanes (0 = off)"},
      INT_FIELD(min_planes)},
     {{"atlasmax", BBC_PARAM_INT, 0, 16384, 1024, F3, "extension", "texels",

@@ -503,15 +503,21 @@ static void test_pure_split(void **state) {
   for (int k = 0; k < 2; k++) assert_true(opaque[2][k] >= 28 && opaque[2][k] <= 36);
 }
 
-static void test_refine_keeps_density(void **state) {
-  (void)state;
+/* A generated larch of 1,500 leaves: an airy conifer, limbs on whorls. */
+static void small_larch(bbc_mesh *m) {
   bbc_tree_options to;
   bbc_tree_options_default(&to);
   to.species = BBC_TREE_LARCH;
   to.leaves = 1500;
+  bbc_error err;
+  if (bbc_tree_generate(&to, m, &err) != BBC_OK) fail_msg("%s", err.message);
+}
+
+static void test_refine_keeps_density(void **state) {
+  (void)state;
   bbc_mesh m;
   bbc_error err;
-  if (bbc_tree_generate(&to, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  small_larch(&m);
   bbc_planes_options o;
   bbc_planes_options_default(&o);
   o.params.prelight = 0;
@@ -627,13 +633,9 @@ static void test_stem_holds_from_every_side(void **state) {
  * written as VRML it reads back whole. */
 static void test_limbs_mesh(void **state) {
   (void)state;
-  bbc_tree_options to;
-  bbc_tree_options_default(&to);
-  to.species = BBC_TREE_LARCH;
-  to.leaves = 1500;
   bbc_mesh m;
   bbc_error err;
-  if (bbc_tree_generate(&to, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  small_larch(&m);
   double block[2];
   for (int with = 0; with < 2; with++) {
     bbc_planes_options o;

@@ -15,6 +15,16 @@ static bbc_result crop(const bbc_image *src, const bbc_atlas_rect *r, bbc_image 
   return BBC_OK;
 }
 
+/* A texture coordinate on an ow x oh atlas, in image rectangle `from`,
+ * moved to the same place in rectangle `to` of `atlas`. */
+static void move_uv(float *uv, double ow, double oh, const bbc_atlas_rect *from,
+                    const bbc_atlas_rect *to, const bbc_image *atlas) {
+  double x = uv[0] * ow - from->x + to->x;
+  double y = (1.0 - uv[1]) * oh - from->y + to->y;
+  uv[0] = (float)(x / atlas->width);
+  uv[1] = (float)(1.0 - y / atlas->height);
+}
+
 /* The image rectangles of a cloud, front images then back images, as its
  * mesh lays them out (per billboard: the front fan, then the back fan). */
 static size_t rect_count(const bbc_cloud *c) {
@@ -90,23 +100,13 @@ bbc_result bbc_clouds_share_atlas(bbc_cloud *clouds, size_t count, int max_size,
         if (side && q->width == 0) continue;
         for (int corner = 0; corner < c->billboards[b].corner_count; corner++, v++) {
           if (v >= m->vertex_count) break;
-          float *uv = m->uvs + 2 * v;
-          double x = uv[0] * ow - old[i].x + rects[i].x;
-          double y = (1.0 - uv[1]) * oh - old[i].y + rects[i].y;
-          uv[0] = (float)(x / atlas.width);
-          uv[1] = (float)(1.0 - y / atlas.height);
+          move_uv(m->uvs + 2 * v, ow, oh, &old[i], &rects[i], &atlas);
         }
         *q = rects[i];
         i++;
       }
     if (c->limb_triangles) { /* the limbs: the remaining vertices, on the swatch */
-      for (; v < m->vertex_count; v++) {
-        float *uv = m->uvs + 2 * v;
-        double x = uv[0] * ow - old[i].x + rects[i].x;
-        double y = (1.0 - uv[1]) * oh - old[i].y + rects[i].y;
-        uv[0] = (float)(x / atlas.width);
-        uv[1] = (float)(1.0 - y / atlas.height);
-      }
+      for (; v < m->vertex_count; v++) move_uv(m->uvs + 2 * v, ow, oh, &old[i], &rects[i], &atlas);
       c->limb_swatch = rects[i];
       i++;
     }

@@ -422,7 +422,17 @@ void bbc_cloud_free(bbc_cloud *cloud) {
   memset(cloud, 0, sizeof *cloud);
 }
 
-/* Fills the mesh: per billboard its outline, front (and back) facing. */
+/* The part whose faces `limbs` keeps as a mesh: its triangle budget (0 =
+ * none) and index. */
+static int limbs_part(const bbc_planeset *set, uint32_t *part) {
+  for (size_t pi = 0; pi < set->part_count; pi++)
+    if (set->parts[pi].limbs > 0) {
+      if (part) *part = (uint32_t)pi;
+      return set->parts[pi].limbs;
+    }
+  return 0;
+}
+
 /* The limbs' colour: their original faces baked as the stem billboards
  * are (prelit by a headlight from the side, textures at the distance of a
  * 64-texel image), seen from two sides, averaged over what they cover. */
@@ -718,9 +728,8 @@ static bbc_result cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
   }
   bbc__stem stem;
   bbc_result r = BBC_OK;
-  int meshed = 0; /* limbs: the trunk part is a mesh, no stem billboards */
-  for (size_t pi = 0; pi < set->part_count; pi++) meshed |= set->parts[pi].limbs > 0;
-  if (m->kind == BBC_MESH_TRIANGLES && !meshed)
+  /* with limbs the trunk part is a mesh: no stem billboards */
+  if (m->kind == BBC_MESH_TRIANGLES && !limbs_part(set, NULL))
     r = bbc__stem_find(m, set, prm->stem, prm->up_axis, &stem, err);
   else
     memset(&stem, 0, sizeof stem);
@@ -788,13 +797,8 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
   bbc_mesh limbs;        /* `limbs`: the trunk part as a mesh, and its colour's swatch */
   memset(&limbs, 0, sizeof limbs);
   bbc_image swatch[2] = {{0, 0, NULL}, {0, 0, NULL}};
-  int limbs_target = 0;
   uint32_t limbs_group = 0;
-  for (size_t pi = 0; !points && pi < set->part_count; pi++)
-    if (set->parts[pi].limbs > 0) {
-      limbs_target = set->parts[pi].limbs;
-      limbs_group = (uint32_t)pi;
-    }
+  int limbs_target = points ? 0 : limbs_part(set, &limbs_group);
   bbc_result r = BBC_OK;
   if (!bb || !order) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
   if (r == BBC_OK && given)

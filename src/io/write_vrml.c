@@ -112,6 +112,27 @@ static int fan_matches(const bbc_mesh *m, size_t base, size_t t0, int n, int bac
   return 1;
 }
 
+/* A Shape's appearance, indented by `in`: the atlas (the DDS with its mip
+ * levels first when there is one, the PNG for the rest), a white Material
+ * unless unlit (VRML97 6.4: an Appearance without a material is drawn
+ * unlit). */
+static void put_appearance(text *t, const vrml_ctx *x, const char *in) {
+  put(t, "%s  appearance Appearance {\n", in);
+  if (!x->unlit) put(t, "%s    material Material { diffuseColor 1 1 1 }\n", in);
+  put(t, "%s    texture ImageTexture { url ", in);
+  if (x->dds_suffix[0]) {
+    put(t, "[ ");
+    put_url(t, x->stem, x->dds_suffix);
+    put(t, " ");
+    put_url(t, x->stem, x->col_suffix);
+    put(t, " ]");
+  } else {
+    put_url(t, x->stem, x->col_suffix);
+  }
+  put(t, " repeatS FALSE repeatT FALSE }\n");
+  put(t, "%s  }\n", in);
+}
+
 /* Vectors [from, to) of d (or, NULL, f), 3 each, one a line. */
 static void put_vectors(text *t, const double *d, const float *f, size_t from, size_t to,
                         int digits) {
@@ -130,19 +151,8 @@ static void put_vectors(text *t, const double *d, const float *f, size_t from, s
 static void put_limbs(text *t, const vrml_ctx *x, size_t v0, size_t t0) {
   const bbc_mesh *m = x->m;
   put(t, "\n# the trunk part as a mesh (limbs): %zu triangles\n", m->triangle_count - t0);
-  put(t, "DEF Limbs Shape {\n  appearance Appearance {\n");
-  if (!x->unlit) put(t, "    material Material { diffuseColor 1 1 1 }\n");
-  put(t, "    texture ImageTexture { url ");
-  if (x->dds_suffix[0]) {
-    put(t, "[ ");
-    put_url(t, x->stem, x->dds_suffix);
-    put(t, " ");
-    put_url(t, x->stem, x->col_suffix);
-    put(t, " ]");
-  } else {
-    put_url(t, x->stem, x->col_suffix);
-  }
-  put(t, " repeatS FALSE repeatT FALSE }\n  }\n");
+  put(t, "DEF Limbs Shape {\n");
+  put_appearance(t, x, "");
   put(t, "  geometry IndexedFaceSet {\n    ccw TRUE\n    solid FALSE\n");
   put(t, "    coord Coordinate { point [\n");
   put_vectors(t, m->positions, NULL, v0, m->vertex_count, 9);
@@ -173,21 +183,7 @@ static void put_side(text *t, const vrml_ctx *x, size_t k, int back, size_t base
   const char *in = x->nm_nodes ? "  " : ""; /* inside the Group */
   if (x->nm_nodes) put(t, "Group { children [\n");
   put(t, "%sDEF BB%zu_%s Shape {\n", in, k, back ? "back" : "front");
-  put(t, "%s  appearance Appearance {\n", in);
-  /* VRML97 6.4: an Appearance without a material is drawn unlit. */
-  if (!x->unlit) put(t, "%s    material Material { diffuseColor 1 1 1 }\n", in);
-  put(t, "%s    texture ImageTexture { url ", in);
-  if (x->dds_suffix[0]) { /* the DDS (its mip levels) first, the PNG for the rest */
-    put(t, "[ ");
-    put_url(t, x->stem, x->dds_suffix);
-    put(t, " ");
-    put_url(t, x->stem, x->col_suffix);
-    put(t, " ]");
-  } else {
-    put_url(t, x->stem, x->col_suffix);
-  }
-  put(t, " repeatS FALSE repeatT FALSE }\n");
-  put(t, "%s  }\n", in);
+  put_appearance(t, x, in);
   put(t, "%s  geometry IndexedFaceSet {\n", in);
   put(t, "%s    ccw TRUE\n", in);
   put(t, "%s    solid %s\n", in, x->solid ? "TRUE" : "FALSE");

@@ -623,6 +623,11 @@ typedef struct bbc_split_options {
    * tree), split by geometry instead of keeping one part (set when the
    * trunk part becomes a mesh, `limbs`, and the twigs then go on planes). */
   int all_trunk_by_geometry;
+  /* The trunk kept as a mesh of at most `limbs` triangles (0 = billboards):
+   * of a trunk made of several pieces (branch tubes), the thickest that fit
+   * twice that stay, the thinner join the foliage, and stem_only is not
+   * applied. */
+  int limbs;
 } bbc_split_options;
 
 /* Splits the faces of `mesh` into parts: writes part names (at most 2 parts:

@@ -84,8 +84,11 @@ static void accept_model(const char *rel, const char *extra, int big) {
   size_t expect_tris = 0;
   const cJSON *b;
   cJSON_ArrayForEach(b, list) expect_tris += 2 * ((size_t)num(b, "corners") - 2);
-  expect_tris += (size_t)num(lod, "limb_triangles"); /* the trunk part as a mesh */
-  assert_true(num(lod, "limb_triangles") <= 256);
+  /* The trunk part as a mesh: at most `limbs` 512 and 4 times the
+   * billboards' triangles. */
+  size_t limb_tris = (size_t)num(lod, "limb_triangles");
+  assert_true(limb_tris <= 512 && (limb_tris <= 4 * expect_tris || limb_tris <= 16));
+  expect_tris += limb_tris;
   assert_int_equal((size_t)num(lod, "billboards"), (size_t)cJSON_GetArraySize(list));
   assert_int_equal((size_t)num(lod, "triangles"), expect_tris);
   assert_true(num(lod, "atlas_fill") > 0.1 && num(lod, "atlas_fill") <= 1);

@@ -43,7 +43,7 @@ static void test_defaults_match_appendix_a(void **state) {
   assert_int_equal(d.dither, 1);
   assert_int_equal(d.refine, 16);
   assert_int_equal(d.stem, 3);
-  assert_int_equal(d.limbs, 256);
+  assert_int_equal(d.limbs, 512);
   assert_int_equal(d.point_normals, 1);
   d.point_normals = 0;
   d.dither = 0;

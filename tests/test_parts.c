@@ -155,15 +155,21 @@ static void b_quad(builder *b, const double *p0, const double *p1, const double 
  * at (x, 0, z). Every quad has its own vertices, as in a file that splits
  * vertices at UV seams or for flat shading: the tube is connected only
  * through equal positions, which the split must weld. */
-static void b_tube(builder *b, double x, double z, int sides, int rings, uint32_t group,
-                   uint32_t material) {
+static void b_tube_r(builder *b, double x, double z, double r, int sides, int rings, uint32_t group,
+                     uint32_t material) {
   for (int i = 0; i < rings; i++)
     for (int j = 0; j < sides; j++) {
       double a0 = 2 * 3.14159265358979 * j / sides, a1 = 2 * 3.14159265358979 * (j + 1) / sides;
-      double p0[3] = {x + cos(a0), i, z + sin(a0)}, p1[3] = {x + cos(a1), i, z + sin(a1)};
-      double p2[3] = {x + cos(a1), i + 1, z + sin(a1)}, p3[3] = {x + cos(a0), i + 1, z + sin(a0)};
+      double c0 = r * cos(a0), s0 = r * sin(a0), c1 = r * cos(a1), s1 = r * sin(a1);
+      double p0[3] = {x + c0, i, z + s0}, p1[3] = {x + c1, i, z + s1};
+      double p2[3] = {x + c1, i + 1, z + s1}, p3[3] = {x + c0, i + 1, z + s0};
       b_quad(b, p0, p1, p2, p3, group, material);
     }
+}
+
+static void b_tube(builder *b, double x, double z, int sides, int rings, uint32_t group,
+                   uint32_t material) {
+  b_tube_r(b, x, z, 1.0, sides, rings, group, material);
 }
 
 /* A separate leaf: one quad (2 triangles) at (x, y, z). */
@@ -499,6 +505,49 @@ static void test_names_all_one_kind(void **state) {
   run_split(&b.m, &opt, &r);
   expect_one_part(&r, 160);
   assert_non_null(strstr(r.why, "every face foliage"));
+  split_free(&r);
+  bbc_mesh_free(&b.m);
+}
+
+/* limbs: of a trunk of several pieces, the thickest that fit twice the
+ * budget stay (the stem always), the thinner join the foliage, and
+ * stem_only is not applied; limbs 0 moves nothing. The tree: 30 leaves
+ * (faces 0..59), a stem of radius 1 (100 triangles), four twigs of radius
+ * 0.1 and two branches of radius 0.4 (24 triangles each). */
+static void test_limbs_thin_pieces(void **state) {
+  (void)state;
+  builder b;
+  const char *g[] = {"leaves", "trunk"}, *mt[] = {"leaf", "bark"};
+  b_init(&b, g, 2, mt, 2);
+  for (int i = 0; i < 30; i++) b_leaf(&b, 5 + (i % 6), 3 + (i / 6), 0.5 * (i % 3), 0, 0);
+  b_tube(&b, 0, 0, 10, 5, 1, 1);
+  for (int i = 0; i < 4; i++) b_tube_r(&b, 3 + i, 0, 0.1, 6, 2, 1, 1);
+  b_tube_r(&b, 8, 0, 0.4, 6, 2, 1, 1);
+  b_tube_r(&b, 10, 0, 0.4, 6, 2, 1, 1);
+  b_finish(&b);
+  assert_int_equal(b.m.triangle_count, 304);
+  bbc_split_options opt = mode_options(BBC_SPLIT_AUTO);
+  split_result r;
+  run_split(&b.m, &opt, &r); /* no limbs: the names decide */
+  expect_split(&r, 244, 60);
+  split_free(&r);
+  opt.limbs = 80; /* 160 triangles: the stem and the two branches */
+  opt.stem_only = 1;
+  run_split(&b.m, &opt, &r);
+  expect_split(&r, 148, 156);
+  for (size_t t = 60; t < 160; t++) assert_int_equal(r.face_part[t], 0);  /* the stem */
+  for (size_t t = 160; t < 256; t++) assert_int_equal(r.face_part[t], 1); /* the twigs */
+  for (size_t t = 256; t < 304; t++) assert_int_equal(r.face_part[t], 0); /* the branches */
+  assert_non_null(strstr(r.why, "limbs: 96 triangles of thin branches join the foliage"));
+  assert_null(strstr(r.why, "stem only"));
+  split_free(&r);
+  opt.limbs = 40; /* 80 triangles: the stem still */
+  run_split(&b.m, &opt, &r);
+  expect_split(&r, 100, 204);
+  split_free(&r);
+  opt.limbs = 1000; /* everything fits */
+  run_split(&b.m, &opt, &r);
+  expect_split(&r, 244, 60);
   split_free(&r);
   bbc_mesh_free(&b.m);
 }
@@ -885,6 +934,12 @@ static void test_stem_only_pine(void **state) {
   assert_true(trunk > 300 && trunk < 3000);
   assert_true(xmax - xmin < 80 && zmax - zmin < 80);
   assert_true(ymax > 300);
+  /* With limbs too: the pine's trunk is one piece, stem_only still acts. */
+  o.limbs = 512;
+  assert_int_equal(bbc_split_parts(&m, &o, fp, &parts, names, why, sizeof why, &err), BBC_OK);
+  assert_non_null(strstr(why, "stem only"));
+  assert_null(strstr(why, "limbs:"));
+  o.limbs = 0;
   /* Without stem_only the trunk keeps its 6,210 triangles. */
   o.stem_only = 0;
   assert_int_equal(bbc_split_parts(&m, &o, fp, &parts, names, NULL, 0, &err), BBC_OK);
@@ -905,6 +960,7 @@ int main(void) {
       cmocka_unit_test(test_names_materials_and_groups),
       cmocka_unit_test(test_names_unknown_faces),
       cmocka_unit_test(test_names_all_one_kind),
+      cmocka_unit_test(test_limbs_thin_pieces),
       cmocka_unit_test(test_none_mode),
       cmocka_unit_test(test_patterns_hand_built),
       cmocka_unit_test(test_invalid_options),

@@ -920,12 +920,12 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
   }
   /* The limbs' mesh and the swatch of their colour (its normal flat). */
   if (r == BBC_OK && limbs_target > 0) {
-    /* At most `limbs` triangles, and at most twice the billboards' (at
+    /* At most `limbs` triangles, and at most 4 times the billboards' (at
      * least 16): a coarse level of a chain keeps its weight. */
     size_t bt = 0;
     for (size_t k = 0; k < nk; k++)
       bt += (size_t)(prm->back_images ? 2 : 1) * (size_t)(cl->billboards[k].corner_count - 2);
-    if ((size_t)limbs_target > 2 * bt) limbs_target = (int)(2 * bt < 16 ? 16 : 2 * bt);
+    if ((size_t)limbs_target > 4 * bt) limbs_target = (int)(4 * bt < 16 ? 16 : 4 * bt);
     r = bbc__limbs_build(m, set, limbs_target, &limbs, err);
     if (r == BBC_OK && limbs.triangle_count) {
       uint8_t rgba[4];

@@ -138,9 +138,10 @@ static const param_row k_rows[] = {
       "quality 2: texel opacity by error diffusion of its 16 samples' coverage, keeping the "
       "original's density (0 = growing: opaque when >= growmin samples are)"},
      INT_FIELD(dither)},
-    {{"limbs", BBC_PARAM_INT, 0, 100000, 256, 0, "extension", "triangles",
+    {{"limbs", BBC_PARAM_INT, 0, 100000, 512, 0, "extension", "triangles",
       "the trunk part (stem and limbs) kept as a mesh of at most n triangles inside the "
-      "cloud instead of billboards, when there is a foliage part (0 = off)"},
+      "cloud instead of billboards, when there is a foliage part; its branches too thin "
+      "for 2n go on billboards (0 = off)"},
      INT_FIELD(limbs)},
     {{"stem", BBC_PARAM_INT, 0, 8, 3, F3, "extension", "planes",
       "billboards through the trunk part's axis, 180/n degrees apart, each showing the whole "

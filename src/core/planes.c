@@ -262,6 +262,7 @@ static bbc_result grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, 
   bbc_split_options split = o->split;
   split.up_axis = o->params.up_axis;
   split.all_trunk_by_geometry = o->params.limbs > 0; /* a leafless tree: limbs and twigs */
+  split.limbs = o->params.limbs;
   bbc_result r = BBC_OK;
   if (points) { /* one part: a scan has no trunk or foliage groups */
     memset(g->face_part, 0, nf * sizeof *g->face_part);

@@ -13,6 +13,9 @@
  * transparent one is set when it would fill more of the original's
  * uncovered pixels than it would add false ones, unless it lies mostly in
  * too dense blocks.
+ * Texels no view's pixel centre lands on (smaller than a pixel as drawn,
+ * or always hidden) are not judged: after the rounds they are thinned as
+ * the judged ones of their image were (unseen_thin).
  * Counts are integers summed per thread in a fixed order, so the result
  * does not depend on the number of threads. */
 #include "internal.h"
@@ -133,6 +136,56 @@ static void draw_cloud(const bbc_cloud_billboard *cb, const bbc__refine_image *i
   }
 }
 
+/* An 8 x 8 ordered-dither threshold map (Bayer), 0..63. */
+static const uint8_t k_bayer[8][8] = {
+    {0, 32, 8, 40, 2, 34, 10, 42},  {48, 16, 56, 24, 50, 18, 58, 26},
+    {12, 44, 4, 36, 14, 46, 6, 38}, {60, 28, 52, 20, 62, 30, 54, 22},
+    {3, 35, 11, 43, 1, 33, 9, 41},  {51, 19, 59, 27, 49, 17, 57, 25},
+    {15, 47, 7, 39, 13, 45, 5, 37}, {63, 31, 55, 23, 61, 29, 53, 21}};
+
+/* Opaque texels that no round judged keep of their number the share the
+ * judged ones of the same image kept (of those opaque before the rounds;
+ * the whole cloud's share for an image with fewer than 64 judged), in an
+ * ordered-dither pattern. Without it they keep the bake's density, which
+ * refinement found too high where it could judge: on the ez-tree aspen,
+ * whose texels are smaller than the views' pixels (62 % of the opaque ones
+ * unjudged), side coverage 1.17 -> 1.10, side block IoU 0.828 -> 0.861. */
+static void unseen_thin(bbc__refine_image *im, size_t n, const size_t *offset, const uint8_t *seen,
+                        const uint8_t *before) {
+  size_t all0 = 0, all1 = 0;
+  for (size_t k = 0; k < n; k++)
+    for (int s = 0; s < 2; s++) {
+      if (!im[k].alpha[s]) continue;
+      size_t nx = (size_t)im[k].width * im[k].height, base = offset[2 * k + s];
+      for (size_t i = 0; i < nx; i++)
+        if (seen[base + i] && before[base + i]) {
+          all0++;
+          all1 += im[k].alpha[s][i] != 0;
+        }
+    }
+  for (size_t k = 0; k < n; k++)
+    for (int s = 0; s < 2; s++) {
+      if (!im[k].alpha[s]) continue;
+      size_t w = (size_t)im[k].width, nx = w * im[k].height, base = offset[2 * k + s];
+      size_t k0 = 0, k1 = 0;
+      for (size_t i = 0; i < nx; i++)
+        if (seen[base + i] && before[base + i]) {
+          k0++;
+          k1 += im[k].alpha[s][i] != 0;
+        }
+      if (k0 < 64) {
+        k0 = all0;
+        k1 = all1;
+      }
+      if (k0 == 0 || k1 >= k0) continue;
+      /* Kept where 64 k1 > (threshold + 0.5) k0, in integers. */
+      for (size_t i = 0; i < nx; i++)
+        if (!seen[base + i] && im[k].alpha[s][i] &&
+            128 * (uint64_t)k1 <= (2 * (uint64_t)k_bayer[(i / w) & 7][(i % w) & 7] + 1) * k0)
+          im[k].alpha[s][i] = 0;
+    }
+}
+
 bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
                              bbc__refine_image *im, size_t n, const bbc__refine_options *opt,
                              bbc_error *err) {
@@ -162,7 +215,10 @@ bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
   nt = 1;
 #endif
   int32_t *counts = calloc((size_t)nt * COUNTS * (total ? total : 1), sizeof *counts);
-  if (!orig || !cams || !counts || (opt->solid && !solid)) {
+  uint8_t *seen = calloc(total ? total : 1, 1), *before = malloc(total ? total : 1);
+  if (!orig || !cams || !counts || !seen || !before || (opt->solid && !solid)) {
+    free(seen);
+    free(before);
     free(offset);
     free(orig);
     free(solid);
@@ -170,6 +226,12 @@ bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
     free(counts);
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "refine: out of memory");
   }
+  for (size_t k = 0; k < n; k++)
+    for (int s = 0; s < 2; s++)
+      if (im[k].alpha[s]) {
+        size_t nx = (size_t)im[k].width * im[k].height;
+        for (size_t i = 0; i < nx; i++) before[offset[2 * k + s] + i] = im[k].alpha[s][i] != 0;
+      }
   int up = opt->up_axis >= 0 && opt->up_axis <= 2 ? opt->up_axis : 1;
   int failed = 0;
   bbc_error first;
@@ -276,6 +338,7 @@ bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
             for (int j = 0; j < COUNTS; j++)
               c[j] += counts[((size_t)t * total + base + i) * COUNTS + (size_t)j];
           int32_t right = c[RIGHT], wrong = c[WRONG], bal = c[BALANCE];
+          if (right || wrong) seen[base + i] = 1;
           /* Cleared when more often wrong than right (a tie too) and not
            * where the cloud is too sparse, or, where it is too dense, when
            * wrong at least 0.7 times as often as right; set when more often
@@ -292,6 +355,9 @@ bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
       }
     if (!changed) break;
   }
+  if (!failed) unseen_thin(im, n, offset, seen, before);
+  free(seen);
+  free(before);
   free(offset);
   free(orig);
   free(solid);

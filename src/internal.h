@@ -75,6 +75,10 @@ void bbc__planes_options_copy(bbc_planes_options *dst, char text[3][4096],
 /* The eigenvector of the smallest eigenvalue of a symmetric 3 x 3 matrix
  * (cyclic Jacobi; `a` is overwritten): the normal of least spread. */
 void bbc__smallest_eigenvector(double a[3][3], double out[3]);
+/* The unit eigenvector of the largest eigenvalue of a symmetric 3 x 3
+ * matrix by 32 steps of power iteration from `start` (deterministic); `v`
+ * keeps the last good step (`start` when the matrix is zero). */
+void bbc__largest_eigenvector(const double a[3][3], const double start[3], double v[3]);
 /* The options a grid's step 1 ran with. */
 const bbc_planes_options *bbc__grid_options(const bbc_grid *grid);
 

@@ -864,12 +864,13 @@ static int piece_compare(const void *pa, const void *pb) {
  * products (x, y, z, xx, yy, zz, xy, xz, yz); then the principal axis and
  * the vertices' extent along it. */
 typedef struct comp_sums {
-  double tris, area, nv, s[9];
+  size_t tris;
+  double area, nv, s[9];
   double axis[3], lo, hi;
 } comp_sums;
 
 /* The unit principal axis of the vertices: the covariance's dominant
- * eigenvector, by power iteration from a fixed start (deterministic). */
+ * eigenvector. */
 static void principal_axis(const comp_sums *c, double axis[3]) {
   double m[3] = {c->s[0] / c->nv, c->s[1] / c->nv, c->s[2] / c->nv};
   double C[3][3];
@@ -879,15 +880,8 @@ static void principal_axis(const comp_sums *c, double axis[3]) {
   C[0][1] = C[1][0] = c->s[6] / c->nv - m[0] * m[1];
   C[0][2] = C[2][0] = c->s[7] / c->nv - m[0] * m[2];
   C[1][2] = C[2][1] = c->s[8] / c->nv - m[1] * m[2];
-  double v[3] = {0.577, 0.578, 0.579};
-  for (int it = 0; it < 32; it++) {
-    double w[3];
-    for (int k = 0; k < 3; k++) w[k] = C[k][0] * v[0] + C[k][1] * v[1] + C[k][2] * v[2];
-    double l = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-    if (!(l > 0)) break;
-    for (int k = 0; k < 3; k++) v[k] = w[k] / l;
-  }
-  memcpy(axis, v, sizeof v);
+  static const double start[3] = {0.577, 0.578, 0.579};
+  bbc__largest_eigenvector(C, start, axis);
 }
 
 /* With `limbs` (the trunk part kept as a simplified mesh): of the trunk's
@@ -925,7 +919,7 @@ static size_t keep_thick_pieces(const bbc_mesh *m, uint32_t *face_part, size_t k
     comp_sums *c = &cs[comp[t]];
     double cr[3];
     bbc__triangle_cross(m, t, cr);
-    c->tris += 1;
+    c->tris++;
     c->area += 0.5 * sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
     for (int j = 0; j < 3; j++) {
       const double *x = m->positions + 3 * m->indices[3 * t + j];
@@ -957,7 +951,7 @@ static size_t keep_thick_pieces(const bbc_mesh *m, uint32_t *face_part, size_t k
     double length = cs[i].hi - cs[i].lo;
     pc[np].radius = length > 0 ? cs[i].area / (2 * 3.14159265358979323846 * length) : 0;
     pc[np].comp = (uint32_t)i;
-    pc[np].tris = (size_t)cs[i].tris;
+    pc[np].tris = cs[i].tris;
     np++;
   }
   *pieces = np;

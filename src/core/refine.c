@@ -150,33 +150,30 @@ static const uint8_t k_bayer[8][8] = {
  * refinement found too high where it could judge: on the ez-tree aspen,
  * whose texels are smaller than the views' pixels (62 % of the opaque ones
  * unjudged), side coverage 1.17 -> 1.10, side block IoU 0.828 -> 0.861. */
+/* `kept`: 2 n zeroed pairs, per image side the judged texels opaque
+ * before the rounds and how many of them still are. */
 static void unseen_thin(bbc__refine_image *im, size_t n, const size_t *offset, const uint8_t *seen,
-                        const uint8_t *before) {
-  size_t all0 = 0, all1 = 0;
+                        const uint8_t *before, size_t (*kept)[2]) {
+  size_t all[2] = {0, 0};
   for (size_t k = 0; k < n; k++)
     for (int s = 0; s < 2; s++) {
       if (!im[k].alpha[s]) continue;
       size_t nx = (size_t)im[k].width * im[k].height, base = offset[2 * k + s];
+      size_t *c = kept[2 * k + s];
       for (size_t i = 0; i < nx; i++)
         if (seen[base + i] && before[base + i]) {
-          all0++;
-          all1 += im[k].alpha[s][i] != 0;
+          c[0]++;
+          c[1] += im[k].alpha[s][i] != 0;
         }
+      all[0] += c[0];
+      all[1] += c[1];
     }
   for (size_t k = 0; k < n; k++)
     for (int s = 0; s < 2; s++) {
       if (!im[k].alpha[s]) continue;
       size_t w = (size_t)im[k].width, nx = w * im[k].height, base = offset[2 * k + s];
-      size_t k0 = 0, k1 = 0;
-      for (size_t i = 0; i < nx; i++)
-        if (seen[base + i] && before[base + i]) {
-          k0++;
-          k1 += im[k].alpha[s][i] != 0;
-        }
-      if (k0 < 64) {
-        k0 = all0;
-        k1 = all1;
-      }
+      const size_t *c = kept[2 * k + s][0] < 64 ? all : kept[2 * k + s];
+      size_t k0 = c[0], k1 = c[1];
       if (k0 == 0 || k1 >= k0) continue;
       /* Kept where 64 k1 > (threshold + 0.5) k0, in integers. */
       for (size_t i = 0; i < nx; i++)
@@ -216,9 +213,11 @@ bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
 #endif
   int32_t *counts = calloc((size_t)nt * COUNTS * (total ? total : 1), sizeof *counts);
   uint8_t *seen = calloc(total ? total : 1, 1), *before = malloc(total ? total : 1);
-  if (!orig || !cams || !counts || !seen || !before || (opt->solid && !solid)) {
+  size_t(*kept)[2] = calloc(2 * n, sizeof *kept);
+  if (!orig || !cams || !counts || !seen || !before || !kept || (opt->solid && !solid)) {
     free(seen);
     free(before);
+    free(kept);
     free(offset);
     free(orig);
     free(solid);
@@ -355,9 +354,10 @@ bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
       }
     if (!changed) break;
   }
-  if (!failed) unseen_thin(im, n, offset, seen, before);
+  if (!failed) unseen_thin(im, n, offset, seen, before, kept);
   free(seen);
   free(before);
+  free(kept);
   free(offset);
   free(orig);
   free(solid);

@@ -121,14 +121,8 @@ bbc_result bbc__stem_find(const bbc_mesh *m, const bbc_planeset *set, int planes
       for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++) cov[i][j] += a * (c[i] - mean[i]) * (c[j] - mean[j]);
     }
-    double v[3] = {dir[0], dir[1], dir[2]};
-    for (int k = 0; k < 32; k++) { /* power iteration from the current axis */
-      double nv[3];
-      for (int i = 0; i < 3; i++) nv[i] = cov[i][0] * v[0] + cov[i][1] * v[1] + cov[i][2] * v[2];
-      double l = sqrt(dot3(nv, nv));
-      if (!(l > 0)) break;
-      for (int i = 0; i < 3; i++) v[i] = nv[i] / l;
-    }
+    double v[3];
+    bbc__largest_eigenvector(cov, dir, v); /* from the current axis */
     if (v[up] < 0)
       for (int i = 0; i < 3; i++) v[i] = -v[i];
     if (v[up] < 0.5) break;     /* leaning more than 60 degrees: not a stem */

@@ -147,6 +147,17 @@ void bbc__smallest_eigenvector(double a[3][3], double v_out[3]) {
   for (int k = 0; k < 3; k++) v_out[k] = v[k][m];
 }
 
+void bbc__largest_eigenvector(const double a[3][3], const double start[3], double v[3]) {
+  memcpy(v, start, 3 * sizeof *v);
+  for (int k = 0; k < 32; k++) {
+    double nv[3];
+    for (int i = 0; i < 3; i++) nv[i] = a[i][0] * v[0] + a[i][1] * v[1] + a[i][2] * v[2];
+    double l = sqrt(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]);
+    if (!(l > 0)) break;
+    for (int i = 0; i < 3; i++) v[i] = nv[i] / l;
+  }
+}
+
 int bbc__dual_fit_plane(const dual_face *faces, const uint32_t *which, size_t count, double eps,
                         double n[3], double *rho) {
   if (count == 0) return 0;

@@ -601,6 +601,50 @@ static void test_deterministic(void **state) {
   bbc_cloud_free(&cl);
 }
 
+/* A scan whose cloud has a billboard with a degenerate outline (its points
+ * on one line): the mesh dropped that outline's zero-area triangles, and the
+ * file still has every billboard's polygon. The rectangle of a plane whose
+ * points lie in one spot is the same with any thread count. */
+static void test_point_cloud_degenerate_outline(void **state) {
+  (void)state;
+  char path[1024];
+  if (!tu_have_file(tu_data_path(path, sizeof path, "points/adtree/tree13.xyz"))) {
+    skip();
+    return;
+  }
+  bbc_error err;
+  bbc_mesh m;
+  if (bbc_mesh_load(path, NULL, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  bbc_planes_options po;
+  bbc_planes_options_default(&po);
+  bbc_planeset set;
+  if (bbc_planes_find(&m, &po, &set, &err) != BBC_OK) fail_msg("%s", err.message);
+  bbc_cloud cl[2];
+  for (int threads = 1; threads <= 2; threads++) {
+    po.params.threads = threads;
+    if (bbc_cloud_build(&m, &set, &po.params, NULL, &cl[threads - 1], &err) != BBC_OK)
+      fail_msg("%s", err.message);
+  }
+  assert_int_equal(cl[0].billboard_count, cl[1].billboard_count);
+  for (size_t k = 0; k < cl[0].billboard_count; k++)
+    assert_memory_equal(&cl[0].billboards[k].rect, &cl[1].billboards[k].rect,
+                        sizeof cl[0].billboards[k].rect);
+  assert_true(cl[0].mesh.dropped_degenerate > 0); /* what this test is about */
+  char *dir = sub_dir("scan");
+  char *wrl = path_in(dir, "scan.wrl");
+  if (bbc_cloud_write_vrml(wrl, &cl[0], 0, NULL, &err) != BBC_OK) fail_msg("%s", err.message);
+  char *text = read_text(wrl);
+  int sides = cl[0].mesh.materials[0].single_sided ? 2 : 1;
+  assert_int_equal(count(text, "IndexedFaceSet"), cl[0].billboard_count * (size_t)sides);
+  free(text);
+  free(wrl);
+  free(dir);
+  bbc_cloud_free(&cl[0]);
+  bbc_cloud_free(&cl[1]);
+  bbc_planeset_free(&set);
+  bbc_mesh_free(&m);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_formats_with_back_images_and_normal_maps),
@@ -609,6 +653,7 @@ int main(void) {
       cmocka_unit_test(test_deterministic),
       cmocka_unit_test(test_read_back),
       cmocka_unit_test(test_dds_mip_levels),
+      cmocka_unit_test(test_point_cloud_degenerate_outline),
   };
   return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

@@ -311,9 +311,16 @@ void bbc__dual_min_rect(const dual_face *faces, const uint32_t *which, size_t co
   size_t hn = convex_hull(p, np, h);
   /* Rotating calipers: the minimum rectangle has a side on a hull edge. */
   double best = INFINITY, bc = 1, bs = 0;
-  for (size_t e = 0; e < (hn > 1 ? hn : 1); e++) {
+  /* Every edge of zero length (all points in one spot): the unrotated
+   * bounds, so the rectangle is always written. */
+  int any_edge = 0;
+  for (size_t e = 0; e < hn; e++) {
+    pt2 p0 = h[e], p1 = h[(e + 1) % hn];
+    if (p1.x != p0.x || p1.y != p0.y) any_edge = 1;
+  }
+  for (size_t e = 0; e < (hn > 1 && any_edge ? hn : 1); e++) {
     double c = 1, s = 0;
-    if (hn > 1) {
+    if (hn > 1 && any_edge) {
       pt2 p0 = h[e], p1 = h[(e + 1) % hn];
       double dx = p1.x - p0.x, dy = p1.y - p0.y, l = sqrt(dx * dx + dy * dy);
       if (!(l > 0)) continue;

@@ -101,15 +101,18 @@ typedef struct vrml_ctx {
   int solid;    /* one-sided copies (back images) */
 } vrml_ctx;
 
-/* Checks that triangles [t0, t0 + n - 2) are the fan of vertices
- * [base, base + n), wound as the front (back = 0) or the back (back = 1). */
-static int fan_matches(const bbc_mesh *m, size_t base, size_t t0, int n, int back) {
-  for (int c = 1; c + 1 < n; c++) {
-    const uint32_t *ix = m->indices + 3 * (t0 + (size_t)c - 1);
+/* How many of triangles [t0, t0 + n - 2) are the fan of vertices
+ * [base, base + n), wound as the front (back = 0) or the back (back = 1), in
+ * order: fewer than n - 2 when the mesh dropped a zero-area triangle of a
+ * degenerate outline (its polygon is still written whole). */
+static size_t fan_count(const bbc_mesh *m, size_t base, size_t t0, int n, int back) {
+  size_t t = t0;
+  for (int c = 1; c + 1 < n && t < m->triangle_count; c++) {
+    const uint32_t *ix = m->indices + 3 * t;
     size_t b1 = base + (size_t)c, b2 = b1 + 1;
-    if (ix[0] != base || ix[1] != (back ? b2 : b1) || ix[2] != (back ? b1 : b2)) return 0;
+    if (ix[0] == base && ix[1] == (back ? b2 : b1) && ix[2] == (back ? b1 : b2)) t++;
   }
-  return 1;
+  return t - t0;
 }
 
 /* A Shape's appearance, indented by `in`: the atlas (the DDS with its mip
@@ -262,8 +265,9 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
       return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY, "%s: billboard %zu has %d corners",
                        wrl_path, k, n);
     for (int side = 0; side < sides; side++) {
-      if (nv + (size_t)n > m->vertex_count || nt + (size_t)n - 2 > m->triangle_count ||
-          !fan_matches(m, nv, nt, n, side))
+      /* A degenerate outline may have lost all its triangles; a mesh that
+       * is not the cloud's is caught by the count after the loop. */
+      if (nv + (size_t)n > m->vertex_count)
         return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
                          "%s: the cloud's mesh does not match billboard %zu", wrl_path, k);
       for (size_t v = nv; v < nv + (size_t)n; v++)
@@ -272,8 +276,8 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
             !isfinite(m->uvs[2 * v + 1]))
           return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
                            "%s: billboard %zu has a non-finite coordinate", wrl_path, k);
+      nt += fan_count(m, nv, nt, n, side);
       nv += (size_t)n;
-      nt += (size_t)n - 2;
     }
   }
   /* Then the limbs' mesh (`limbs`): the remaining triangles, on the

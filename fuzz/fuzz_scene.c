@@ -17,7 +17,7 @@
 #include <string.h>
 
 #include "bbc.h"
-#include "internal.h"
+#include "io.h"
 
 typedef struct reader {
   const uint8_t *p;

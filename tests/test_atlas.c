@@ -17,7 +17,7 @@
 #endif
 
 #include "bbc.h"
-#include "internal.h"
+#include "io.h"
 #include "test_util.h"
 
 /* ---- helpers ------------------------------------------------------------ */

@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/dual.h"
+#include "dual.h"
 
 /* Random triangles in a ball of radius 10, sizes from tiny to large, made
  * into dual faces by the library's own dual_faces_build (grid centre at the

@@ -13,7 +13,7 @@
 
 #include <cmocka.h>
 
-#include "bbc.h"
+#include "bbc_forest.h"
 #include "test_util.h"
 
 /* A flat or hilly world of (n+1)^2 vertices, without files. */

@@ -15,7 +15,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "bbc.h"
+#include "bbc_forest.h"
 
 /* The model description file of Appendix B, as printed. */
 static const char k_thesis_model[] =

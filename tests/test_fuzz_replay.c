@@ -13,7 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bbc.h"
+#include "app.h"
+#include "bbc_forest.h"
 #include "test_util.h"
 
 #ifndef BBC_SOURCE_DIR

@@ -8,7 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "bbc.h"
+#include "app.h"
 
 static void test_defaults_match_appendix_a(void **state) {
   (void)state;

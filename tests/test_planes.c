@@ -12,7 +12,7 @@
 #include <string.h>
 
 #include "bbc.h"
-#include "internal.h"
+#include "base.h"
 #include "test_util.h"
 
 #ifndef M_PI

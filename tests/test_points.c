@@ -15,7 +15,6 @@
 #include <cmocka.h>
 
 #include "bbc.h"
-#include "internal.h"
 #include "test_util.h"
 
 #include <math.h>

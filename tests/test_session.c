@@ -11,7 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "bbc.h"
+#include "app.h"
 #include "test_util.h"
 
 static int always(void *user) {

@@ -1,7 +1,8 @@
 /* camera.c — the forest's camera (Appendix B: airplane-like flight,
  * zoom) as a view-projection matrix, and the stored positions of F3/F2,
  * GL-free. */
-#include "internal.h"
+#include "bbc_forest.h"
+#include "io.h"
 
 #include <errno.h>
 #include <math.h>

@@ -1,7 +1,8 @@
 /* demo.c — a procedural landscape for `make demo`'s forest map, so that a
  * map needs nothing downloaded: hills, a ridge, a lake, meadows, forest
  * floor, rock and shore, as a heightmap and a colour map. */
-#include "internal.h"
+#include "bbc_forest.h"
+#include "io.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -10,7 +10,8 @@
  * words that follow it, wherever the line breaks fall (the thesis writes an
  * LOD block over several lines). A word may be written in double quotes to
  * hold spaces (an extension: file names). */
-#include "internal.h"
+#include "bbc_forest.h"
+#include "io.h"
 
 #include <errno.h>
 #include <math.h>

@@ -10,7 +10,8 @@
  * heightmap, and the shader morphs odd vertices onto the coarser grid near
  * the end of a node's range, so neighbours meet without cracks and detail
  * changes without pops. The map's `roetger` scales the ranges. */
-#include "internal.h"
+#include "bbc_forest.h"
+#include "io.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -5,7 +5,8 @@
  * where the map says, rndtree/rndtree2 at random places where the colour
  * map is green (thesis Appendix B: green > 70 and red < 2/3 green),
  * deterministically (same map, same world). */
-#include "internal.h"
+#include "bbc_forest.h"
+#include "io.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -9,7 +9,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "bbc.h"
+#include "app.h"
+#include "bbc_forest.h"
 
 #define BBCGL_ERR 512
 

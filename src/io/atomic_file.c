@@ -1,6 +1,6 @@
 /* atomic_file.c — outputs written to a temporary file and renamed into place,
  * so that a failed or interrupted run never leaves a half-written file. */
-#include "internal.h"
+#include "io.h"
 
 #include <ctype.h>
 
@@ -92,28 +92,4 @@ bbc_result bbc_write_file_atomic(const char *path, const void *data, size_t size
                      e ? strerror(e) : "short write");
   }
   return bbc__atomic_commit(&af, err);
-}
-
-void bbc__safe_name(const char *in, char *out, size_t n) {
-  size_t i = 0;
-  for (; in && in[i] && i + 1 < n; i++) {
-    unsigned char c = (unsigned char)in[i];
-    out[i] = (char)(isalnum(c) || c == '_' || c == '-' || c == '.' ? c : '_');
-  }
-  out[i] = 0;
-  if (i == 0) snprintf(out, n, "unnamed");
-}
-
-void bbc_texture_file_name(const bbc_mesh *m, size_t t, char *out, size_t n) {
-  /* The first material that uses it as colour, else as normal map. */
-  for (int pass = 0; pass < 2; pass++)
-    for (size_t i = 0; i < m->material_count; i++) {
-      const bbc_material *mat = &m->materials[i];
-      if (pass == 0 ? mat->texture != (int)t : mat->normal_map != (int)t + 1) continue;
-      char safe[128];
-      bbc__safe_name(mat->name, safe, sizeof safe);
-      snprintf(out, n, "%s%s", safe, pass ? "_nm" : "");
-      return;
-    }
-  snprintf(out, n, "texture%zu", t);
 }

@@ -5,7 +5,7 @@
  * 0 = end of line, 1 = end of bitmap, 2 = move (dx, dy), n >= 3 = n literal
  * indices padded to 16 bits. Every read is checked against the file's
  * size. */
-#include "internal.h"
+#include "io.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -1,5 +1,5 @@
 /* load.c — bbc_mesh_load: picks the reader for a file and finishes the mesh. */
-#include "internal.h"
+#include "io.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -142,4 +142,10 @@ bbc_result bbc_mesh_load(const char *path, const bbc_load_options *options, bbc_
 bbc_result bbc_mesh_load_memory(const char *name, const void *data, size_t size,
                                 const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err) {
   return load_any(name ? name : "(memory)", data, size, 1, options, mesh, err);
+}
+
+void bbc_load_options_default(bbc_load_options *options) {
+  memset(options, 0, sizeof *options);
+  options->compute_normals = 1;
+  options->load_textures = 1;
 }

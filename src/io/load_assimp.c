@@ -4,7 +4,7 @@
  * the file's world frame; each node contributes its meshes under the node's
  * name as the group (OBJ `o`/`g`, 3DS and AC3D objects, glTF nodes), which is
  * what separates trunk from foliage later (thesis 2.2.4). */
-#include "internal.h"
+#include "io.h"
 
 #include <limits.h>
 #include <math.h>
@@ -307,11 +307,6 @@ static bbc_result walk(loader *L, const struct aiNode *node, const struct aiMatr
 }
 
 /* ---- materials and textures --------------------------------------------- */
-
-int bbc__file_exists(const char *p) {
-  struct stat st;
-  return stat(p, &st) == 0 && S_ISREG(st.st_mode);
-}
 
 /* Finds a texture file the way artists' files need: as written, relative to
  * the model, then by its base name beside the model and in the usual

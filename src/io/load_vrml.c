@@ -6,7 +6,7 @@
  * Collision, Switch (its chosen child) and LOD (its finest level), with
  * DEF/USE. Other geometry and unknown nodes are skipped (their count is
  * logged). Debian's Assimp has no VRML importer; this is the project's. */
-#include "internal.h"
+#include "io.h"
 
 #include <ctype.h>
 #include <errno.h>

@@ -5,7 +5,7 @@
 #ifndef BBC_TEXT_SCAN_H
 #define BBC_TEXT_SCAN_H
 
-#include "internal.h"
+#include "io.h"
 
 #include <ctype.h>
 #include <math.h>

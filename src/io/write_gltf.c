@@ -7,7 +7,7 @@
  * material order), then (.glb only) the mesh's PNG images. Accessors follow
  * the non-image bufferViews one to one.
  * The same mesh and options give byte-identical files. */
-#include "internal.h"
+#include "io.h"
 
 #include <ctype.h>
 #include <math.h>

@@ -1,5 +1,5 @@
 /* write_obj.c — Wavefront OBJ + MTL + PNG textures, every file atomic. */
-#include "internal.h"
+#include "io.h"
 
 #include <ctype.h>
 #include <stdlib.h>

@@ -4,7 +4,7 @@
  * its mip levels), every file atomic. The whole text is built in memory
  * first, then the PNGs are written, then the .wrl, so a failure writes
  * nothing and the .wrl never names a missing file. */
-#include "internal.h"
+#include "io.h"
 
 #include <stdio.h>
 

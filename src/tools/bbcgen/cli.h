@@ -3,7 +3,7 @@
 #ifndef BBCGEN_CLI_H
 #define BBCGEN_CLI_H
 
-#include "bbc.h"
+#include "app.h"
 #include "closest.h"
 
 #include <stdio.h>

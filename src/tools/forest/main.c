@@ -12,7 +12,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "bbc.h"
+#include "bbc_forest.h"
 #include "closest.h"
 #include "run.h"
 

@@ -7,7 +7,7 @@
 
 #include <stdio.h>
 
-#include "bbc.h"
+#include "bbc_forest.h"
 
 typedef struct scene_mesh {
   char *path;

@@ -1,0 +1,336 @@
+/*
+ * bbc_forest.h — public interface of libbbc_forest, the forest engine's
+ * runtime without its drawing: the map and model description files of the
+ * thesis's Appendix B, the world they describe, culling and levels of
+ * detail, terrain level of detail and colour, the camera, and a procedural
+ * landscape. GL-free: `forest` draws with it. Conventions as in bbc.h.
+ */
+#ifndef BBC_FOREST_H
+#define BBC_FOREST_H
+
+#include "bbc.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- forest: map and model description files (thesis Appendix B) ------ */
+/* The forest engine's text files, as the thesis's "Perfect Motion manual"
+ * defines them: whitespace-separated words, a command's arguments wherever
+ * the lines break, comment lines beginning with ' (high comma), a word in
+ * double quotes may hold spaces. Parsed from memory (`name` is the file
+ * name used in messages) or from a file; every error is
+ * BBC_ERROR_CORRUPT (or a read or memory error) with "file:line: command:
+ * what was expected", and nothing is returned. File names are kept as
+ * written (relative to the file's folder). */
+
+typedef enum bbc_forest_place_kind {
+  BBC_FOREST_OBJECT2D = 0, /* one model at a map position */
+  BBC_FOREST_RNDTREE,      /* `count` models where the colour map is green */
+  BBC_FOREST_RNDTREE2      /* ... of two components (file and file2) */
+} bbc_forest_place_kind;
+
+typedef struct bbc_forest_placement {
+  bbc_forest_place_kind kind;
+  char *file;             /* model description file or 3D model */
+  char *file2;            /* rndtree2: the second component, else NULL */
+  double scale;           /* > 0 */
+  size_t count;           /* rndtree, rndtree2: how many; object2d: 1 */
+  int mipmap;             /* 0 or 1 */
+  int random;             /* rndtree, rndtree2: random orientation (0 or 1) */
+  double x, y;            /* object2d: map position, OpenGL units */
+  double rotation_deg[3]; /* xr, yr, zr */
+  double altitude;        /* added altitude */
+  int line;               /* where it is written */
+} bbc_forest_placement;
+
+typedef struct bbc_forest_map {
+  char *hmap;                                 /* hmap: heightmap image (required) */
+  int hmap_filter_radius, hmap_filter_passes; /* hmapfilter (0 0 = none) */
+  char *colmap;                               /* colmap: colour map image, NULL = none */
+  double heightscale;                         /* heightscale (1): vertical scale */
+  double stretch;                             /* stretch (1): horizontal scale */
+  double light[3];                            /* light (1 1 0.5): terrain prelighting */
+  double farclip;                             /* farclip: map vertices, 0 = not given */
+  double roetger;                             /* roetger (10): terrain detail factor */
+  char *skymap;                               /* skymap: file stem, NULL = none */
+  int has_water;                              /* waterheight given */
+  double water_height;
+  int has_fog; /* fog given */
+  double fog_start, fog_end;
+  int has_numobjs; /* numobjs given */
+  size_t numobjs;
+  size_t placement_count; /* object2d, rndtree, rndtree2 lines in order */
+  bbc_forest_placement *placements;
+  char *name;                              /* the map file's name, as parsed */
+  int hmap_line, colmap_line, skymap_line; /* where those commands are (0: not given) */
+} bbc_forest_map;
+
+/* The defaults above, nothing placed. */
+void bbc_forest_map_default(bbc_forest_map *map);
+bbc_result bbc_forest_map_parse(const char *text, size_t size, const char *name,
+                                bbc_forest_map *map, bbc_error *err);
+bbc_result bbc_forest_map_load(const char *path, bbc_forest_map *map, bbc_error *err);
+void bbc_forest_map_free(bbc_forest_map *map);
+
+typedef struct bbc_forest_lod_file {
+  char *file;
+  int displaylist, mipmap, lighting; /* the options written after it */
+} bbc_forest_lod_file;
+
+typedef struct bbc_forest_lod {
+  bbc_forest_lod_file part[2]; /* file1, file2 (two components: foliage and stem) */
+  int part_count;              /* 1 or 2 */
+  double min_dist, max_dist;   /* drawn from min to max (0 <= min < max) */
+  int line;                    /* where its LOD block starts */
+} bbc_forest_lod;
+
+typedef struct bbc_forest_model {
+  double fade;          /* fade: units for half an LOD transition (0 = not given) */
+  double shadow_radius; /* shadowrad: 0 = no shadow */
+  double shadow_cutoff; /* shadowcutoff: full darkness up to it, 0 = not given */
+  size_t lod_count;     /* at least one, in the order written */
+  bbc_forest_lod *lods;
+} bbc_forest_model;
+
+bbc_result bbc_forest_model_parse(const char *text, size_t size, const char *name,
+                                  bbc_forest_model *model, bbc_error *err);
+bbc_result bbc_forest_model_load(const char *path, bbc_forest_model *model, bbc_error *err);
+void bbc_forest_model_free(bbc_forest_model *model);
+
+/* A map's world, GL-free (src/forest/world.c): the terrain's heights, its
+ * colour map and every placed object on the ground. */
+typedef struct bbc_forest_instance {
+  float x, y, z;      /* world units: x, z across the map from its corner, y up */
+  float yaw_deg;      /* rotation about the up axis */
+  float scale;        /* the placement's scale */
+  uint32_t placement; /* index into bbc_forest_map.placements */
+} bbc_forest_instance;
+
+typedef struct bbc_forest_world {
+  int width, depth;   /* terrain vertices along x and z: (2^n + 1) each */
+  float *height;      /* width x depth heights, world units (heightmap value 0..255
+                       * times heightscale; 16-bit maps keep their fractions) */
+  double spacing;     /* world units between vertices (stretch) */
+  int heightmap_bits; /* 8 or 16 */
+  bbc_image colour;   /* (width - 1) x (depth - 1) colour map; empty without colmap */
+  size_t instance_count;
+  bbc_forest_instance *instances; /* in placement order */
+  size_t placements_short;        /* rndtree lines that found too little green ground
+                                   * for all their objects */
+  double green_fraction;          /* of the colour map's texels, green enough for
+                                   * vegetation (1 without a colour map) */
+  char note[512];                 /* what was resampled, for the log ("" = nothing) */
+} bbc_forest_world;
+
+/* Builds the world of `map`, its files relative to `folder` (NULL = as
+ * written): a heightmap of another size than (2^n+1)^2 is resampled
+ * (bilinear) to the next such size and a colour map to (2^n)^2 (nearest),
+ * both said in world->note; `hmapfilter` box-filters the heights; object2d
+ * stands at (x, y) of the map, rndtree objects at random places whose
+ * colour-map texel is green (G > 70, R < 2/3 G; anywhere without a colour
+ * map), facing a random direction with `random 1`. Deterministic. */
+bbc_result bbc_forest_world_build(const bbc_forest_map *map, const char *folder,
+                                  bbc_forest_world *world, bbc_error *err);
+/* The terrain's height at (x, z) (bilinear), and whether the ground there
+ * is green enough for vegetation. */
+double bbc_forest_world_height(const bbc_forest_world *world, double x, double z);
+int bbc_forest_world_green(const bbc_forest_world *world, double x, double z);
+void bbc_forest_world_free(bbc_forest_world *world);
+
+/* ---- forest: culling and levels of detail (thesis 3.2.3), GL-free ------- */
+/* Every tree is stored once per model it uses as a static draw record
+ * (weight 1), ordered by model and then by cell of a grid over the map
+ * (cells numbered in blocks of 8 x 8), so that the drawing layer uploads
+ * them once. Each frame blocks and then cells are tested against the view
+ * frustum and classified by their nearest and farthest tree: a cell wholly
+ * inside the frustum whose trees all get one level of a model, whole, is
+ * drawn straight from the static records as a range (neighbouring ranges
+ * merged); only cells on the frustum's boundary or across an LOD switch are
+ * handled tree by tree, into per-frame records with the thesis's blending:
+ * across a switch at distance D the next level blends in over [D - fade, D]
+ * while the previous is still whole, then the previous fades out over
+ * [D, D + fade] (Wimmer et al. 2002). No allocation per frame. */
+
+typedef struct bbc_forest_lod_model {
+  size_t lod_count;
+  const double *ranges; /* 2 per level: min and max distance, world units */
+  double fade;          /* world units for half a transition; 0 = switch at once */
+  double radius;        /* bounding sphere around the model's origin, model units */
+} bbc_forest_lod_model;
+
+/* One tree drawn with one level: 24 bytes, the GPU's instance record. */
+typedef struct bbc_forest_draw {
+  float x, y, z;
+  float yaw;   /* radians about the up axis */
+  float scale; /* the placement's scale */
+  float fade;  /* 0..1: how much of the tree this level draws (1 = whole) */
+} bbc_forest_draw;
+
+typedef struct bbc_forest_cull {
+  size_t model_count;
+  bbc_forest_lod_model *models;    /* copies, ranges owned */
+  size_t *bucket_base;             /* per model: index of its level 0's bucket */
+  size_t bucket_count;             /* sum of lod_count */
+  uint32_t (*placement_models)[2]; /* per placement: model ids (UINT32_MAX = none) */
+  size_t placement_count;
+  size_t instance_count;
+  /* grid: cells_x x cells_z cells (multiples of 8), in blocks of 8 x 8 */
+  int cells_x, cells_z, blocks_x, blocks_z;
+  double cell_size;
+  size_t cell_count;
+  float (*cell_box)[6];   /* min xyz, max xyz of the trees with their radius (empty: min > max) */
+  float (*cell_reach)[6]; /* min xyz, max xyz of the trees' origins (for distances) */
+  float (*block_box)[6];  /* the union of a block's cell boxes */
+  /* static records: every tree once per model it uses, fade 1 */
+  size_t static_count;
+  bbc_forest_draw *statics;
+  uint8_t *static_first;       /* 1 where the model is the tree's first component */
+  uint32_t *model_cell_start;  /* model m, cell k: statics[start[m * (cell_count + 1) + k]
+                                * .. start[m * (cell_count + 1) + k + 1]) */
+  uint32_t *model_cell_firsts; /* model m, cell k: how many of them have static_first */
+  /* per frame, whole ranges of statics: bucket b draws
+   * ranges[range_start[b] .. range_start[b + 1]), each (first, count) */
+  size_t range_capacity;
+  uint32_t (*ranges)[2];
+  size_t *range_start;
+  uint32_t (*range_scratch)[2];
+  uint32_t *range_bucket;
+  size_t *range_last;
+  /* per frame, trees handled one by one: bucket b draws
+   * draws[bucket_start[b] .. bucket_start[b + 1]) */
+  size_t capacity;
+  bbc_forest_draw *draws;
+  size_t *bucket_start;
+  uint32_t *scratch_bucket;
+  bbc_forest_draw *scratch;
+  /* statistics of the last frame */
+  size_t cells_visible, cells_tested_per_tree, trees_visible;
+} bbc_forest_cull;
+
+/* `placement_models[p]` names the model(s) of placement p: [0] and, for
+ * two components, [1] (UINT32_MAX when none). */
+bbc_result bbc_forest_cull_init(bbc_forest_cull *cull, const bbc_forest_world *world,
+                                const bbc_forest_lod_model *models, size_t model_count,
+                                const uint32_t (*placement_models)[2], size_t placement_count,
+                                bbc_error *err);
+/* One frame: `viewproj` column-major (OpenGL), `eye` the camera position;
+ * distances are divided by `zoom` (zooming in shows finer levels). After
+ * it, bucket b draws its static ranges and its per-frame records (above);
+ * trees_visible counts the trees whose first component is drawn. */
+void bbc_forest_cull_run(bbc_forest_cull *cull, const float viewproj[16], const double eye[3],
+                         double zoom);
+/* The same without the grid, the way the thesis did it: every tree tested
+ * against the frustum and given its level one by one, all into per-frame
+ * records, no static ranges (the naive mode that `forest --naive` measures
+ * against). The same trees, levels and weights. */
+void bbc_forest_cull_run_flat(bbc_forest_cull *cull, const float viewproj[16], const double eye[3],
+                              double zoom);
+/* How many records bucket b draws this frame (static ranges and per-frame). */
+size_t bbc_forest_cull_bucket_size(const bbc_forest_cull *cull, size_t bucket);
+/* Writes bucket b's records of this frame into out (bbc_forest_cull_bucket_size
+ * of them): its static ranges, then its per-frame records. */
+void bbc_forest_cull_bucket_records(const bbc_forest_cull *cull, size_t bucket,
+                                    bbc_forest_draw *out);
+/* The weight (0..1) level `lod` of `model` gets at distance d. */
+double bbc_forest_lod_weight(const bbc_forest_lod_model *model, size_t lod, double d);
+void bbc_forest_cull_free(bbc_forest_cull *cull);
+
+/* Frustum planes (a, b, c, d: inside when a x + b y + c z + d >= 0) of a
+ * column-major view-projection matrix. */
+void bbc_forest_frustum(const float viewproj[16], double planes[6][4]);
+/* 0 = the box is outside, 1 = it crosses the frustum, 2 = wholly inside. */
+int bbc_forest_box_in_frustum(const double planes[6][4], const double lo[3], const double hi[3]);
+
+/* ---- forest: terrain (thesis 3.2.1), GL-free --------------------------- */
+/* Continuous level of detail on the GPU's terms (CDLOD, Strugar 2010, in
+ * place of Roettger et al. 1998): a quadtree over the (2^n+1)^2 heightmap
+ * whose leaves are 32 x 32 squares; each frame the nodes to draw are chosen
+ * by distance ranges that double per level, the finest (3.5 + `detail` /
+ * 4) leaves (`detail` is the map's `roetger`; 3.5 leaves at the least, so
+ * neighbours differ by one level at most). The vertex shader morphs each
+ * node's odd vertices onto the coarser grid as they near the end of its
+ * range, so there are no cracks and no pops. */
+
+#define BBC_FOREST_TERRAIN_LEAF 32 /* squares along a leaf node */
+
+typedef struct bbc_forest_terrain_node {
+  int x, z;    /* first square, heightmap squares */
+  int size;    /* squares along the node (a quarter of a node: half its size) */
+  int level;   /* 0 = finest: vertices every 2^level squares */
+  int quarter; /* -1 the whole node's grid; 0..3 one quarter of the grid of a node
+                * twice this size at (x - (quarter & 1) * size, z - (quarter >> 1) * size) */
+} bbc_forest_terrain_node;
+
+typedef struct bbc_forest_terrain {
+  int squares;      /* 2^n squares along the map */
+  int leaf;         /* squares along a leaf node: BBC_FOREST_TERRAIN_LEAF, or fewer on small maps */
+  int levels;       /* quadtree levels (root = levels - 1) */
+  float **bounds;   /* per level: min and max height per node, row-major */
+  double range[24]; /* per level, world units */
+  double morph_start[24];
+  size_t node_count, capacity;
+  bbc_forest_terrain_node *nodes;
+} bbc_forest_terrain;
+
+bbc_result bbc_forest_terrain_init(bbc_forest_terrain *t, const bbc_forest_world *world,
+                                   bbc_error *err);
+/* Chooses the nodes for a camera at `eye` with view-projection `viewproj`
+ * (column-major) and detail factor `detail` (roetger). */
+void bbc_forest_terrain_select(bbc_forest_terrain *t, const bbc_forest_world *world,
+                               const float viewproj[16], const double eye[3], double detail);
+void bbc_forest_terrain_free(bbc_forest_terrain *t);
+
+/* The terrain's colour texture with the `light` direction's lighting baked
+ * in (thesis 3.2.1) and a soft dark disc under every object whose model
+ * casts a shadow (3.2.4): shadow[p] = {radius, cutoff} for placement p in
+ * world units ({0, 0} = none; full darkness up to cutoff, then falling off
+ * to none at radius). Without a colour map, grass and rock by slope and
+ * height. (width - 1) x (depth - 1) texels. */
+bbc_result bbc_forest_terrain_colour(const bbc_forest_world *world, const double light[3],
+                                     const double (*shadow)[2], bbc_image *out, bbc_error *err);
+
+/* ---- forest: the camera and stored positions, GL-free ------------------- */
+typedef struct bbc_forest_camera {
+  double pos[3]; /* world units */
+  double yaw;    /* degrees: 0 looks along -z, 90 along +x */
+  double pitch;  /* degrees, up positive, within +-89 */
+  double zoom;   /* 1 = the normal field of view (60 degrees vertical) */
+} bbc_forest_camera;
+
+/* Unit vector the camera looks along. */
+void bbc_forest_camera_forward(const bbc_forest_camera *cam, double f[3]);
+/* Column-major perspective x view matrix (OpenGL clip space). */
+void bbc_forest_camera_matrix(const bbc_forest_camera *cam, double aspect, double near_clip,
+                              double far_clip, float viewproj[16]);
+/* Stored positions (Appendix B's F3/F2): text lines "x y z yaw pitch".
+ * Appends one; reads all into a malloc'd array (NULL and 0 when the file
+ * does not exist). */
+bbc_result bbc_forest_positions_append(const char *path, const bbc_forest_camera *cam,
+                                       bbc_error *err);
+bbc_result bbc_forest_positions_read(const char *path, bbc_forest_camera **cams, size_t *count,
+                                     bbc_error *err);
+
+/* ---- forest: a procedural landscape for the demo map ------------------- */
+typedef enum bbc_forest_demo_kind {
+  BBC_FOREST_DEMO_HILLS = 0, /* hills, a ridge, a lake */
+  BBC_FOREST_DEMO_ISLANDS    /* islands in a sea (the thesis's Tropic Islands) */
+} bbc_forest_demo_kind;
+
+/* A (size + 1)^2 8-bit heightmap (grey in `height`'s RGB) and a size^2
+ * colour map. Hills: rolling hills from value noise, a ridge along one
+ * side, a lake basin (its floor below `*water_level`, in heightmap units
+ * 0..255), meadows (yellow-green: no trees by the Appendix B rule), forest
+ * floor (green: trees), rock where steep or high, sand on the shore.
+ * Islands: a sea (below `*water_level`) with islands of green ground, sandy
+ * beaches and rock, none touching the map's edge. `size` a power of two,
+ * 16..4096. Deterministic from `seed`. */
+bbc_result bbc_forest_demo_terrain(int size, uint32_t seed, bbc_forest_demo_kind kind,
+                                   bbc_image *height, bbc_image *colour, double *water_level,
+                                   bbc_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* BBC_FOREST_H */

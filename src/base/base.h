@@ -1,0 +1,126 @@
+/*
+ * base.h — what every layer of the library shares (src/base): errors and
+ * callbacks, labels for repeated stages, small numeric helpers, the
+ * deterministic random numbers and the thread-count rule. Not installed.
+ * Every non-static symbol here starts with `bbc__` (two underscores) so it
+ * never collides with a user's names or with the public API.
+ */
+#ifndef BBC_BASE_H
+#define BBC_BASE_H
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+#include "bbc.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+
+/* C11 does not promise M_PI; POSIX does. */
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+#if defined(__GNUC__)
+#define BBC__PRINTF(fmt, args) __attribute__((format(printf, fmt, args)))
+#else
+#define BBC__PRINTF(fmt, args)
+#endif
+
+/* The innermost loops of steps 1-3 compiled twice, for AVX2 and for any
+ * x86-64, the one the processor supports chosen at load time (GCC's
+ * function multi-versioning). The same results either way: C11 mode
+ * contracts no multiply-add into FMA, and vectorising reorders no sum. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__GLIBC__) &&       \
+    !defined(__SANITIZE_ADDRESS__) /* glibc: the choice is an ifunc */
+#define BBC__CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define BBC__CLONES
+#endif
+
+/* Sets err (when not NULL) to `code` and a formatted message; returns code. */
+bbc_result bbc__fail(bbc_error *err, bbc_result code, const char *fmt, ...) BBC__PRINTF(3, 4);
+
+/* Calls the log callback, if any, with a formatted message. */
+void bbc__log(const bbc_callbacks *cb, bbc_log_level level, const char *fmt, ...) BBC__PRINTF(3, 4);
+
+/* Calls the progress callback, if any. */
+void bbc__progress(const bbc_callbacks *cb, const char *stage, double fraction);
+/* Whether the caller's cancel callback asks to stop (see bbc_callbacks). */
+int bbc__cancelled(const bbc_callbacks *cb);
+
+/* Callbacks that name what they report on: progress stages come out as
+ * "<label>: <stage>" and log messages as "<label>: <message>", through the
+ * caller's callbacks. For a stage that repeats (per part, per run of
+ * maxplanes/minplanes, per level of detail). Calls through `out` must not
+ * overlap (the library reports progress from one thread at a time). */
+typedef struct bbc__label {
+  bbc_callbacks outer;
+  char label[96];
+  char text[1200];
+} bbc__label;
+void bbc__label_callbacks(const bbc_callbacks *in, bbc__label *l, bbc_callbacks *out,
+                          const char *fmt, ...) BBC__PRINTF(4, 5);
+
+/* Twice triangle t's area vector (its unnormalised normal) into c[3]. */
+void bbc__triangle_cross(const bbc_mesh *m, size_t t, double *c);
+
+/* strdup that returns NULL for a NULL input. */
+char *bbc__strdup(const char *s);
+
+/* Seconds from a monotonic clock (stage timings). */
+double bbc__now_s(void);
+
+/* The eigenvector of the smallest eigenvalue of a symmetric 3 x 3 matrix
+ * (cyclic Jacobi; `a` is overwritten): the normal of least spread. */
+void bbc__smallest_eigenvector(double a[3][3], double out[3]);
+/* The unit eigenvector of the largest eigenvalue of a symmetric 3 x 3
+ * matrix by 32 steps of power iteration from `start` (deterministic); `v`
+ * keeps the last good step (`start` when the matrix is zero). */
+void bbc__largest_eigenvector(const double a[3][3], const double start[3], double v[3]);
+
+/* ---- deterministic random numbers (splitmix64) --------------------------- */
+typedef struct bbc__rng {
+  uint64_t state;
+} bbc__rng;
+
+static inline uint64_t bbc__rng_next(bbc__rng *r) {
+  uint64_t z = (r->state += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+/* Uniform in [0, 1). */
+static inline double bbc__rng_uniform(bbc__rng *r) {
+  return (double)(bbc__rng_next(r) >> 11) * (1.0 / 9007199254740992.0);
+}
+/* Uniform in [lo, hi). */
+static inline double bbc__rng_range(bbc__rng *r, double lo, double hi) {
+  return lo + (hi - lo) * bbc__rng_uniform(r);
+}
+
+
+/* The `threads` parameter for the parallel loops that name no thread count
+ * (library functions without the parameter, called by steps 1 and 3):
+ * OpenMP's default team size of the calling thread set to `threads` when
+ * it is > 0, and put back by bbc__threads_restore. */
+static inline int bbc__threads_use(int threads) {
+#ifdef _OPENMP
+  int old = omp_get_max_threads();
+  if (threads > 0) omp_set_num_threads(threads);
+  return old;
+#else
+  (void)threads;
+  return 1;
+#endif
+}
+static inline void bbc__threads_restore(int old) {
+#ifdef _OPENMP
+  omp_set_num_threads(old);
+#else
+  (void)old;
+#endif
+}
+
+#endif /* BBC_BASE_H */

@@ -1,0 +1,352 @@
+/* mesh.c — the library's own mesh: validation, clean-up and the frame of
+ * thesis 2.1.4 (area-weighted centre of gravity, bounding-sphere radius). */
+#include "base.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Coordinates beyond this are treated as damage, not geometry (a shifted
+ * binary record reads as 1e38). */
+#define BBC_MAX_COORD 1e30
+
+void bbc_mesh_free(bbc_mesh *mesh) {
+  if (!mesh) return;
+  free(mesh->positions);
+  free(mesh->normals);
+  free(mesh->uvs);
+  free(mesh->colors);
+  free(mesh->tangents);
+  free(mesh->indices);
+  free(mesh->face_material);
+  free(mesh->face_group);
+  for (size_t i = 0; i < mesh->material_count; i++) {
+    free(mesh->materials[i].name);
+    free(mesh->materials[i].texture_ref);
+  }
+  free(mesh->materials);
+  for (size_t i = 0; i < mesh->texture_count; i++) {
+    free(mesh->textures[i].path);
+    bbc_image_free(&mesh->textures[i].image);
+  }
+  free(mesh->textures);
+  for (size_t i = 0; i < mesh->group_count; i++) free(mesh->group_names[i]);
+  free(mesh->group_names);
+  memset(mesh, 0, sizeof *mesh);
+}
+
+void bbc_mesh_group_triangle_counts(const bbc_mesh *mesh, size_t *counts) {
+  memset(counts, 0, mesh->group_count * sizeof *counts);
+  for (size_t t = 0; t < mesh->triangle_count; t++) counts[mesh->face_group[t]]++;
+}
+
+static void sub3(const double *a, const double *b, double *r) {
+  r[0] = a[0] - b[0];
+  r[1] = a[1] - b[1];
+  r[2] = a[2] - b[2];
+}
+
+static void cross3(const double *a, const double *b, double *r) {
+  r[0] = a[1] * b[2] - a[2] * b[1];
+  r[1] = a[2] * b[0] - a[0] * b[2];
+  r[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* Twice the triangle's area vector (unnormalised normal). */
+void bbc__triangle_cross(const bbc_mesh *m, size_t t, double *c) {
+  const uint32_t *ix = m->indices + 3 * t;
+  double e1[3], e2[3];
+  sub3(m->positions + 3 * ix[1], m->positions + 3 * ix[0], e1);
+  sub3(m->positions + 3 * ix[2], m->positions + 3 * ix[0], e2);
+  cross3(e1, e2, c);
+}
+
+static int coord_ok(double v) {
+  return isfinite(v) && fabs(v) <= BBC_MAX_COORD;
+}
+
+static bbc_result check_vertex(const bbc_mesh *m, size_t v, const char *source, bbc_error *err) {
+  const double *p = m->positions + 3 * v;
+  for (int k = 0; k < 3; k++)
+    if (!coord_ok(p[k]))
+      return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
+                       "%s: vertex %zu has a non-finite or absurd coordinate (%g %g %g)", source, v,
+                       p[0], p[1], p[2]);
+  return BBC_OK;
+}
+
+/* Each vertex's first vertex (lowest index) at the same position (equal
+ * bits), through a hash table of positions. */
+static uint64_t position_hash(const double *p) {
+  uint64_t h = 0x9E3779B97F4A7C15ull, b;
+  for (int k = 0; k < 3; k++) {
+    memcpy(&b, &p[k], sizeof b);
+    h = (h ^ b) * 0xff51afd7ed558ccdull;
+    h ^= h >> 29;
+  }
+  return h;
+}
+
+static int same_position_first(const bbc_mesh *m, uint32_t *first) {
+  size_t nv = m->vertex_count, cap = 16;
+  while (cap < 2 * nv) cap *= 2;
+  uint32_t *slot = calloc(cap, sizeof *slot); /* vertex + 1; 0 = empty */
+  if (!slot) return 0;
+  for (size_t v = 0; v < nv; v++) {
+    const double *p = m->positions + 3 * v;
+    size_t h = (size_t)position_hash(p) & (cap - 1);
+    for (;;) {
+      uint32_t s = slot[h];
+      if (!s) {
+        slot[h] = (uint32_t)v + 1;
+        first[v] = (uint32_t)v;
+        break;
+      }
+      if (!memcmp(m->positions + 3 * (size_t)(s - 1), p, 3 * sizeof *p)) {
+        first[v] = s - 1;
+        break;
+      }
+      h = (h + 1) & (cap - 1);
+    }
+  }
+  free(slot);
+  return 1;
+}
+
+/* Computes unit normals for vertices whose normal is missing or unusable.
+ * smooth = 1 accumulates area-weighted face normals over all vertices that
+ * share a position (files often split vertices at UV seams); smooth = 0 only
+ * over the vertex index itself. */
+static int normal_usable(const float *n) {
+  double l2 = (double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2];
+  return isfinite(l2) && l2 > 1e-12;
+}
+
+static bbc_result compute_normals(bbc_mesh *m, int smooth, int only_missing) {
+  size_t nv = m->vertex_count;
+  if (only_missing) {
+    /* The usual case: the file has every normal. Skip the welding sort. */
+    size_t missing = 0;
+    for (size_t v = 0; v < nv; v++) missing += !normal_usable(m->normals + 3 * v);
+    if (missing == 0) {
+      for (size_t v = 0; v < nv; v++) {
+        float *n = m->normals + 3 * v;
+        double l = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
+        for (int k = 0; k < 3; k++) n[k] = (float)(n[k] / l);
+      }
+      return BBC_OK;
+    }
+  }
+  double *acc = calloc(nv * 3, sizeof *acc);
+  if (!acc) return BBC_ERROR_OUT_OF_MEMORY;
+  for (size_t t = 0; t < m->triangle_count; t++) {
+    double c[3];
+    bbc__triangle_cross(m, t, c);
+    for (int k = 0; k < 3; k++) {
+      double *a = acc + 3 * m->indices[3 * t + k];
+      a[0] += c[0];
+      a[1] += c[1];
+      a[2] += c[2];
+    }
+  }
+  if (smooth && nv > 1) {
+    /* Sums over the vertices at one position, in increasing index order
+     * (into the first one's, then copied to the others). */
+    uint32_t *first = malloc(nv * sizeof *first);
+    if (!first || !same_position_first(m, first)) {
+      free(first);
+      free(acc);
+      return BBC_ERROR_OUT_OF_MEMORY;
+    }
+    for (size_t v = 0; v < nv; v++)
+      if (first[v] != v)
+        for (int d = 0; d < 3; d++) acc[3 * (size_t)first[v] + d] += acc[3 * v + d];
+    for (size_t v = 0; v < nv; v++)
+      if (first[v] != v) memcpy(acc + 3 * v, acc + 3 * (size_t)first[v], 3 * sizeof *acc);
+    free(first);
+  }
+  if (!m->normals) {
+    m->normals = malloc(nv * 3 * sizeof *m->normals);
+    if (!m->normals) {
+      free(acc);
+      return BBC_ERROR_OUT_OF_MEMORY;
+    }
+    only_missing = 0;
+  }
+  for (size_t v = 0; v < nv; v++) {
+    float *n = m->normals + 3 * v;
+    if (only_missing && normal_usable(n)) {
+      double l = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
+      for (int k = 0; k < 3; k++) n[k] = (float)(n[k] / l);
+      continue;
+    }
+    double *a = acc + 3 * v;
+    double l = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    if (l > 0) {
+      for (int k = 0; k < 3; k++) n[k] = (float)(a[k] / l);
+    } else {
+      n[0] = 0.0f;
+      n[1] = 1.0f;
+      n[2] = 0.0f;
+    }
+  }
+  free(acc);
+  return BBC_OK;
+}
+
+static bbc_result finalize_points(bbc_mesh *m, const char *source, bbc_error *err) {
+  if (m->vertex_count == 0) return bbc__fail(err, BBC_ERROR_EMPTY, "%s: no points", source);
+  long double s[3] = {0, 0, 0};
+  for (int k = 0; k < 3; k++) {
+    m->bbox_min[k] = INFINITY;
+    m->bbox_max[k] = -INFINITY;
+  }
+  for (size_t v = 0; v < m->vertex_count; v++) {
+    bbc_result r = check_vertex(m, v, source, err);
+    if (r != BBC_OK) return r;
+    const double *p = m->positions + 3 * v;
+    for (int k = 0; k < 3; k++) {
+      s[k] += p[k];
+      if (p[k] < m->bbox_min[k]) m->bbox_min[k] = p[k];
+      if (p[k] > m->bbox_max[k]) m->bbox_max[k] = p[k];
+    }
+  }
+  for (int k = 0; k < 3; k++) m->center[k] = (double)(s[k] / (long double)m->vertex_count);
+  double r2 = 0;
+  for (size_t v = 0; v < m->vertex_count; v++) {
+    double d[3];
+    sub3(m->positions + 3 * v, m->center, d);
+    double q = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    if (q > r2) r2 = q;
+  }
+  m->radius = sqrt(r2);
+  return BBC_OK;
+}
+
+bbc_result bbc_mesh_finalize(bbc_mesh *m, int compute_normals_flag, const char *source,
+                             bbc_error *err) {
+  if (!source) source = "mesh";
+  if (m->kind == BBC_MESH_POINTS) return finalize_points(m, source, err);
+
+  /* Indices and per-face tables first: everything below reads through them. */
+  for (size_t t = 0; t < m->triangle_count; t++) {
+    for (int k = 0; k < 3; k++)
+      if (m->indices[3 * t + k] >= m->vertex_count)
+        return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
+                         "%s: triangle %zu refers to vertex %u, but there are only %zu vertices",
+                         source, t, m->indices[3 * t + k], m->vertex_count);
+    if (m->face_material[t] >= m->material_count)
+      return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
+                       "%s: triangle %zu refers to material %u of %zu", source, t,
+                       m->face_material[t], m->material_count);
+    if (m->face_group[t] >= m->group_count)
+      return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
+                       "%s: triangle %zu refers to group %u of %zu", source, t, m->face_group[t],
+                       m->group_count);
+  }
+  /* Coordinates of every vertex a triangle uses must be finite. */
+  for (size_t t = 0; t < m->triangle_count; t++)
+    for (int k = 0; k < 3; k++) {
+      bbc_result r = check_vertex(m, m->indices[3 * t + k], source, err);
+      if (r != BBC_OK) return r;
+    }
+
+  /* Bounds of the used vertices: also the scale for "zero" area. */
+  for (int k = 0; k < 3; k++) {
+    m->bbox_min[k] = INFINITY;
+    m->bbox_max[k] = -INFINITY;
+  }
+  for (size_t i = 0; i < 3 * m->triangle_count; i++) {
+    const double *p = m->positions + 3 * m->indices[i];
+    for (int k = 0; k < 3; k++) {
+      if (p[k] < m->bbox_min[k]) m->bbox_min[k] = p[k];
+      if (p[k] > m->bbox_max[k]) m->bbox_max[k] = p[k];
+    }
+  }
+
+  /* Drop zero-area triangles (repeated indices, collinear or coincident
+   * corners): they carry no surface, and their normal is undefined. "Zero"
+   * is relative to the model's size so that tiny real leaves survive. */
+  double ext[3];
+  sub3(m->bbox_max, m->bbox_min, ext);
+  double diag2 = ext[0] * ext[0] + ext[1] * ext[1] + ext[2] * ext[2];
+  double min_cross = diag2 * 1e-14;
+  m->triangles_read = m->triangle_count;
+  size_t kept = 0;
+  for (size_t t = 0; t < m->triangle_count; t++) {
+    double c[3];
+    bbc__triangle_cross(m, t, c);
+    double len = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    if (!(len > min_cross)) {
+      m->dropped_degenerate++;
+      continue;
+    }
+    if (kept != t) {
+      memcpy(m->indices + 3 * kept, m->indices + 3 * t, 3 * sizeof *m->indices);
+      m->face_material[kept] = m->face_material[t];
+      m->face_group[kept] = m->face_group[t];
+    }
+    kept++;
+  }
+  m->triangle_count = kept;
+  if (kept == 0)
+    return bbc__fail(err, BBC_ERROR_EMPTY, "%s: no triangles with non-zero area%s", source,
+                     m->dropped_degenerate ? " (all were degenerate)" : "");
+
+  /* Bounds again: dropped triangles may have held the extreme vertices. */
+  for (int k = 0; k < 3; k++) {
+    m->bbox_min[k] = INFINITY;
+    m->bbox_max[k] = -INFINITY;
+  }
+  for (size_t i = 0; i < 3 * kept; i++) {
+    const double *p = m->positions + 3 * m->indices[i];
+    for (int k = 0; k < 3; k++) {
+      if (p[k] < m->bbox_min[k]) m->bbox_min[k] = p[k];
+      if (p[k] > m->bbox_max[k]) m->bbox_max[k] = p[k];
+    }
+  }
+
+  /* Normals: keep the file's, fill missing or unusable ones. */
+  int had_normals = m->normals != NULL;
+  if (compute_normals(m, compute_normals_flag, had_normals) != BBC_OK)
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory computing normals", source);
+  if (!had_normals) m->normals_generated = 1;
+
+  /* Centre of gravity of the surface (thesis 2.1.4): area-weighted triangle
+   * centroids. Accumulated in long double, in triangle order, so the result
+   * does not depend on anything but the input. */
+  long double cs[3] = {0, 0, 0}, area_sum = 0;
+  for (size_t t = 0; t < kept; t++) {
+    double c[3];
+    bbc__triangle_cross(m, t, c);
+    double a = 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    const uint32_t *ix = m->indices + 3 * t;
+    for (int k = 0; k < 3; k++) {
+      double centroid = (m->positions[3 * ix[0] + k] + m->positions[3 * ix[1] + k] +
+                         m->positions[3 * ix[2] + k]) /
+                        3.0;
+      cs[k] += (long double)a * centroid;
+    }
+    area_sum += a;
+  }
+  for (int k = 0; k < 3; k++) m->center[k] = (double)(cs[k] / area_sum);
+  double r2 = 0;
+  for (size_t i = 0; i < 3 * kept; i++) {
+    double d[3];
+    sub3(m->positions + 3 * m->indices[i], m->center, d);
+    double q = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    if (q > r2) r2 = q;
+  }
+  m->radius = sqrt(r2);
+  return BBC_OK;
+}
+
+int bbc_material_is_limbs(const bbc_material *mat) {
+  const char *n = mat && mat->name ? mat->name : "";
+  if (strncmp(n, "limbs", 5)) return 0;
+  if (!n[5]) return 1;
+  if (strncmp(n + 5, "_LOD", 4) || !n[9]) return 0;
+  for (const char *p = n + 9; *p; p++)
+    if (*p < '0' || *p > '9') return 0;
+  return 1;
+}

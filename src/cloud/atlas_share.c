@@ -1,0 +1,145 @@
+/* atlas_share.c — bbc_clouds_share_atlas: the levels of detail of one model
+ * in one atlas, when they fit, so an engine binds one texture for them all. */
+#include "cloud.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* A copy of the w x h texels at (x, y) of `src`. */
+static bbc_result crop(const bbc_image *src, const bbc_atlas_rect *r, bbc_image *out) {
+  bbc_result res = bbc_image_alloc(out, r->width, r->height);
+  if (res != BBC_OK) return res;
+  for (int y = 0; y < r->height; y++)
+    memcpy(out->rgba + 4 * (size_t)y * r->width,
+           src->rgba + 4 * ((size_t)(r->y + y) * src->width + (size_t)r->x), 4 * (size_t)r->width);
+  return BBC_OK;
+}
+
+/* A texture coordinate on an ow x oh atlas, in image rectangle `from`,
+ * moved to the same place in rectangle `to` of `atlas`. */
+static void move_uv(float *uv, double ow, double oh, const bbc_atlas_rect *from,
+                    const bbc_atlas_rect *to, const bbc_image *atlas) {
+  double x = uv[0] * ow - from->x + to->x;
+  double y = (1.0 - uv[1]) * oh - from->y + to->y;
+  uv[0] = (float)(x / atlas->width);
+  uv[1] = (float)(1.0 - y / atlas->height);
+}
+
+/* The image rectangles of a cloud, front images then back images, as its
+ * mesh lays them out (per billboard: the front fan, then the back fan). */
+static size_t rect_count(const bbc_cloud *c) {
+  size_t n = 0;
+  for (size_t b = 0; b < c->billboard_count; b++) n += 1 + (c->billboards[b].back.width > 0);
+  return n + (c->limb_triangles > 0); /* the limbs' swatch last */
+}
+
+bbc_result bbc_clouds_share_atlas(bbc_cloud *clouds, size_t count, int max_size, int *shared,
+                                  bbc_error *err) {
+  *shared = 0;
+  if (count < 2) return BBC_OK;
+  int nm = clouds[0].mesh.texture_count > 1;
+  size_t total = 0;
+  for (size_t k = 0; k < count; k++) {
+    const bbc_mesh *m = &clouds[k].mesh;
+    if (m->texture_count < 1 || (m->texture_count > 1) != nm || !m->uvs)
+      return BBC_OK; /* mixed normal maps: not shared */
+    total += rect_count(&clouds[k]);
+  }
+  bbc_image *imgs = calloc(total, sizeof *imgs), *nimgs = calloc(total, sizeof *nimgs);
+  bbc_atlas_rect *old = calloc(total, sizeof *old), *rects = calloc(total, sizeof *rects),
+                 *rects2 = calloc(total, sizeof *rects2);
+  bbc_image atlas = {0, 0, NULL}, nm_atlas = {0, 0, NULL};
+  bbc_result r = BBC_OK;
+  if (!imgs || !nimgs || !old || !rects || !rects2) {
+    r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "shared atlas: out of memory");
+    goto done;
+  }
+  size_t i = 0;
+  for (size_t k = 0; k < count && r == BBC_OK; k++) {
+    const bbc_cloud *c = &clouds[k];
+    for (size_t b = 0; b < c->billboard_count && r == BBC_OK; b++)
+      for (int side = 0; side < 2 && r == BBC_OK; side++) {
+        const bbc_atlas_rect *q = side ? &c->billboards[b].back : &c->billboards[b].front;
+        if (side && q->width == 0) continue;
+        old[i] = *q;
+        r = crop(&c->mesh.textures[0].image, q, &imgs[i]);
+        if (r == BBC_OK && nm) r = crop(&c->mesh.textures[1].image, q, &nimgs[i]);
+        i++;
+      }
+    if (r == BBC_OK && c->limb_triangles) {
+      old[i] = c->limb_swatch;
+      r = crop(&c->mesh.textures[0].image, &c->limb_swatch, &imgs[i]);
+      if (r == BBC_OK && nm) r = crop(&c->mesh.textures[1].image, &c->limb_swatch, &nimgs[i]);
+      i++;
+    }
+  }
+  if (r != BBC_OK) {
+    r = bbc__fail(err, r, "shared atlas: out of memory");
+    goto done;
+  }
+  /* Does it fit? Not fitting is no error: the levels keep their atlases. */
+  bbc_error quiet;
+  if (bbc_atlas_pack(imgs, total, 2, max_size, &atlas, rects, &quiet) != BBC_OK) goto done;
+  if (nm) {
+    r = bbc_atlas_pack(nimgs, total, 2, max_size, &nm_atlas, rects2, err);
+    if (r == BBC_OK && memcmp(rects, rects2, total * sizeof *rects))
+      r = bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "shared atlas: normal layout differs");
+    if (r != BBC_OK) goto done;
+  }
+  /* Move every vertex's texture coordinates to its image's new place; the
+   * mesh holds per billboard the front fan, then the back fan. */
+  i = 0;
+  for (size_t k = 0; k < count; k++) {
+    bbc_cloud *c = &clouds[k];
+    bbc_mesh *m = &c->mesh;
+    double ow = m->textures[0].image.width, oh = m->textures[0].image.height;
+    size_t v = 0;
+    for (size_t b = 0; b < c->billboard_count; b++)
+      for (int side = 0; side < 2; side++) {
+        bbc_atlas_rect *q = side ? &c->billboards[b].back : &c->billboards[b].front;
+        if (side && q->width == 0) continue;
+        for (int corner = 0; corner < c->billboards[b].corner_count; corner++, v++) {
+          if (v >= m->vertex_count) break;
+          move_uv(m->uvs + 2 * v, ow, oh, &old[i], &rects[i], &atlas);
+        }
+        *q = rects[i];
+        i++;
+      }
+    if (c->limb_triangles) { /* the limbs: the remaining vertices, on the swatch */
+      for (; v < m->vertex_count; v++) move_uv(m->uvs + 2 * v, ow, oh, &old[i], &rects[i], &atlas);
+      c->limb_swatch = rects[i];
+      i++;
+    }
+  }
+  /* Each level gets its own copy of the shared atlas (writers keep one
+   * image when several meshes carry the same texels). */
+  for (size_t k = 0; k < count && r == BBC_OK; k++) {
+    bbc_mesh *m = &clouds[k].mesh;
+    for (int t = 0; t < 1 + nm && r == BBC_OK; t++) {
+      const bbc_image *src = t ? &nm_atlas : &atlas;
+      bbc_image copy;
+      r = bbc_image_alloc(&copy, src->width, src->height);
+      if (r != BBC_OK) {
+        r = bbc__fail(err, r, "shared atlas: out of memory");
+        break;
+      }
+      memcpy(copy.rgba, src->rgba, 4 * (size_t)src->width * src->height);
+      bbc_image_free(&m->textures[t].image);
+      m->textures[t].image = copy;
+    }
+    bbc_cloud *c = &clouds[k];
+    c->atlas_fill = (double)c->texels / ((double)atlas.width * atlas.height);
+  }
+  *shared = r == BBC_OK;
+done:
+  for (size_t q = 0; q < total && imgs; q++) bbc_image_free(&imgs[q]);
+  for (size_t q = 0; q < total && nimgs; q++) bbc_image_free(&nimgs[q]);
+  free(imgs);
+  free(nimgs);
+  free(old);
+  free(rects);
+  free(rects2);
+  bbc_image_free(&atlas);
+  bbc_image_free(&nm_atlas);
+  return r;
+}

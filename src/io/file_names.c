@@ -1,0 +1,31 @@
+/* file_names.c — the names writers give the files beside an output: safe
+ * names and the texture-file rule every writer shares. */
+#include "io.h"
+
+#include <ctype.h>
+#include <stdio.h>
+#include <string.h>
+
+void bbc__safe_name(const char *in, char *out, size_t n) {
+  size_t i = 0;
+  for (; in && in[i] && i + 1 < n; i++) {
+    unsigned char c = (unsigned char)in[i];
+    out[i] = (char)(isalnum(c) || c == '_' || c == '-' || c == '.' ? c : '_');
+  }
+  out[i] = 0;
+  if (i == 0) snprintf(out, n, "unnamed");
+}
+
+void bbc_texture_file_name(const bbc_mesh *m, size_t t, char *out, size_t n) {
+  /* The first material that uses it as colour, else as normal map. */
+  for (int pass = 0; pass < 2; pass++)
+    for (size_t i = 0; i < m->material_count; i++) {
+      const bbc_material *mat = &m->materials[i];
+      if (pass == 0 ? mat->texture != (int)t : mat->normal_map != (int)t + 1) continue;
+      char safe[128];
+      bbc__safe_name(mat->name, safe, sizeof safe);
+      snprintf(out, n, "%s%s", safe, pass ? "_nm" : "");
+      return;
+    }
+  snprintf(out, n, "texture%zu", t);
+}

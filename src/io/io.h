@@ -1,0 +1,94 @@
+/*
+ * io.h — the readers' and writers' shared pieces (src/io): atomic output
+ * files, paths, whole-file reading, the PNG encoder, and the readers we own
+ * behind bbc_mesh_load. Not installed.
+ */
+#ifndef BBC_IO_H
+#define BBC_IO_H
+
+#include "base.h"
+
+/* A name safe in file names and OBJ statements: [A-Za-z0-9_.-], others
+ * '_'; "unnamed" when empty. */
+void bbc__safe_name(const char *in, char *out, size_t n);
+
+
+/* Checks that `path` names a readable regular file; BBC_ERROR_NOT_FOUND,
+ * BBC_ERROR_NOT_A_FILE or BBC_ERROR_IO with a message otherwise. */
+bbc_result bbc__check_input_file(const char *path, bbc_error *err);
+
+/* Lower-case extension of `path` without the dot, written to ext (at most
+ * ext_size bytes); "" when none. */
+void bbc__path_extension(const char *path, char *ext, size_t ext_size);
+
+/* Folder part of `path` including the trailing '/', or "" when none. */
+void bbc__path_folder(const char *path, char *folder, size_t folder_size);
+/* 1 when `path` is a regular file. */
+int bbc__file_exists(const char *path);
+
+/* ---- atomic output files -------------------------------------------------
+ * Writes go to a temporary file in the destination folder; commit renames it
+ * over the destination, abort removes it. A crash or a failed write never
+ * leaves a half-written file under the final name. */
+typedef struct bbc__atomic_file {
+  FILE *fp;
+  char *final_path;
+  char *temp_path;
+} bbc__atomic_file;
+
+bbc_result bbc__atomic_open(bbc__atomic_file *af, const char *path, bbc_error *err);
+/* Flushes, checks for write errors, renames. Closes in every case. */
+bbc_result bbc__atomic_commit(bbc__atomic_file *af, bbc_error *err);
+
+void bbc__atomic_abort(bbc__atomic_file *af);
+
+/* A PNG file of the image in memory (image.c): *out from malloc. */
+bbc_result bbc__png_encode(const bbc_image *image, uint8_t **out, size_t *out_size);
+
+/* ---- loaders (src/io) ---------------------------------------------------- */
+bbc_result bbc__load_assimp(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
+                            bbc_error *err);
+/* PLY (src/io/load_points.c), every .ply file: a triangle mesh when the
+ * header declares `face` or `tristrips` records (polygons triangulated as
+ * fans, one material "default", one group named after the file's stem), a
+ * point cloud otherwise. Finishes the mesh with bbc_mesh_finalize and frees
+ * it on failure; `options` may be NULL (defaults). */
+/* Reads a whole file into a NUL-terminated buffer (*size bytes without
+ * the NUL); free with free() (src/io/load_points.c). */
+bbc_result bbc__read_whole_file(const char *path, char **data, size_t *size, bbc_error *err);
+
+/* Run-length encoded BMP (BI_RLE8, BI_RLE4), which stb_image does not
+ * read (src/io/bmp_rle.c): whether the bytes are one, and decoding. */
+int bbc__is_bmp_rle(const uint8_t *data, size_t size);
+bbc_result bbc__bmp_rle_decode(const uint8_t *data, size_t size, const char *name, bbc_image *image,
+                               bbc_error *err);
+/* The readers we own (src/io/load_vrml.c, load_ply.c, load_xyz.c), on a
+ * file's bytes in memory: `buf` holds `size` bytes and a NUL after them and
+ * is taken over (freed) by the call; `path` names the input in messages
+ * (and, for PLY, where its textures are). PLY and XYZ finish the mesh
+ * themselves; the caller finalizes a VRML mesh (bbc_mesh_load does). */
+bbc_result bbc__parse_vrml(const char *path, char *buf, size_t size,
+                           const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err);
+bbc_result bbc__parse_ply(const char *path, char *buf, size_t size, const bbc_load_options *options,
+                          bbc_mesh *mesh, bbc_error *err);
+bbc_result bbc__parse_xyz(const char *path, char *buf, size_t size, const bbc_load_options *options,
+                          bbc_mesh *mesh, bbc_error *err);
+/* A model Assimp reads, from memory (`name`'s extension is its format hint;
+ * no other files: an OBJ's MTL, a glTF's buffers are not found). */
+bbc_result bbc__load_assimp_memory(const char *name, const void *data, size_t size,
+                                   const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err);
+
+/* What every load ends with (src/io/load.c): the mesh finalized (when
+ * `finalize`: the readers other than PLY and XYZ), freed when `r` or the
+ * finishing fails, else moved near 0. Returns the result. */
+bbc_result bbc__load_finish(const char *name, bbc_result r, int finalize,
+                            const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err);
+/* Our code after Assimp on a scene the caller built (the fuzzer of our mesh
+ * building, fuzz/fuzz_scene.c): materials, textures (embedded ones decoded
+ * from memory), nodes, meshes, then bbc__load_finish; the scene stays the
+ * caller's; `options` may not be NULL. */
+struct aiScene;
+bbc_result bbc__load_assimp_scene(const char *name, const struct aiScene *scene,
+                                  const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err);
+
+#endif /* BBC_IO_H */

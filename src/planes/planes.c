@@ -1,0 +1,592 @@
+/*
+ * planes.c — bbc_planes_find: steps 1 and 2 over the parts of a model.
+ * Reads like the thesis's list of steps; the algorithms live in
+ * dualgrid.c (step 1) and select.c (step 2).
+ *
+ *   1. split the faces into parts (trunk / foliage, thesis 2.2.4, 3.1.1);
+ *   2. per part: its own parameters, epsilon in percent of the WHOLE model's
+ *      radius, its own centre of gravity as the grid centre (2.1.4);
+ *      step 1: dual grid and density; step 2: greedy select;
+ *   3. merge: planes back to the model's frame, one face -> plane table.
+ */
+#include "grid.h"
+#include "planes.h"
+#include "select.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+/* Two triangles of a part join into one face for steps 1 and 2 when they
+ * bend by less than this times the part's radius (1.7 % of epsilon at the
+ * default 6 %, 0.1 at 1 %): the folded quads of modelled needles and
+ * leaves: 62 % of the Scopia pine's needle quads. */
+#define FLAT_TOL 1e-3
+
+void bbc_planes_options_default(bbc_planes_options *o) {
+  memset(o, 0, sizeof *o);
+  bbc_params_default(&o->params);
+  o->split.mode = BBC_SPLIT_AUTO;
+  o->split.stem_only = 1;
+}
+
+static int same_text(const char *a, const char *b) {
+  return (!a && !b) || (a && b && !strcmp(a, b));
+}
+
+/* The parameters part `name` is found with. */
+static const bbc_params *part_params(const bbc_planes_options *o, const char *name);
+
+int bbc_planes_options_first_step(const bbc_planes_options *a, const bbc_planes_options *b,
+                                  const char **which) {
+  static _Thread_local char name[64];
+  const bbc_split_options *sa = &a->split, *sb = &b->split;
+  if (which) *which = NULL;
+  if (sa->mode != sb->mode || sa->stem_only != sb->stem_only || sa->up_axis != sb->up_axis ||
+      !same_text(sa->trunk_patterns, sb->trunk_patterns) ||
+      !same_text(sa->foliage_patterns, sb->foliage_patterns) || !same_text(sa->rest, sb->rest)) {
+    if (which) *which = "split";
+    return 1;
+  }
+  const char *w = NULL;
+  int first = bbc_params_first_step(&a->params, &b->params, &w);
+  if (which) *which = w;
+  /* each part as it will be found: its override, else the common parameters */
+  static const char *const parts[3] = {"trunk", "foliage", "all"};
+  for (int k = 0; k < 3; k++) {
+    const bbc_params *pa = part_params(a, parts[k]), *pb = part_params(b, parts[k]);
+    if (pa == &a->params && pb == &b->params) continue; /* no override: compared above */
+    const char *pw = NULL;
+    int step = bbc_params_first_step(pa, pb, &pw);
+    /* a part's own setting is named before what it changed in common */
+    if (step && (!first || step <= first)) {
+      first = step;
+      snprintf(name, sizeof name, "%s.%s", parts[k], pw);
+      if (which) *which = name;
+    }
+  }
+  return first;
+}
+
+void bbc_planeset_free(bbc_planeset *s) {
+  if (!s) return;
+  free(s->planes);
+  free(s->face_plane);
+  free(s->parts);
+  free(s->face_part);
+  memset(s, 0, sizeof *s);
+}
+
+/* Area-weighted centre and bounding radius of a set of triangles. */
+static void part_frame(const bbc_mesh *m, const uint32_t *tris, size_t n, double center[3],
+                       double *radius, double *total_area) {
+  long double s[3] = {0, 0, 0}, area = 0;
+  for (size_t i = 0; i < n; i++) {
+    const uint32_t *ix = m->indices + 3 * tris[i];
+    const double *a = m->positions + 3 * ix[0], *b = m->positions + 3 * ix[1],
+                 *c = m->positions + 3 * ix[2];
+    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                    e1[0] * e2[1] - e1[1] * e2[0]};
+    double ar = 0.5 * sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+    for (int k = 0; k < 3; k++) s[k] += (long double)ar * (a[k] + b[k] + c[k]) / 3.0;
+    area += ar;
+  }
+  for (int k = 0; k < 3; k++) center[k] = area > 0 ? (double)(s[k] / area) : 0;
+  double r2 = 0;
+  for (size_t i = 0; i < n; i++)
+    for (int j = 0; j < 3; j++) {
+      const double *p = m->positions + 3 * m->indices[3 * tris[i] + j];
+      double d[3] = {p[0] - center[0], p[1] - center[1], p[2] - center[2]};
+      double q = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+      if (q > r2) r2 = q;
+    }
+  *radius = sqrt(r2);
+  *total_area = (double)area;
+}
+
+/* A point cloud's frame: the mean of its points, the radius around it, and
+ * its points' total weight (1 each). */
+static void points_frame(const bbc_mesh *m, double center[3], double *radius, double *total) {
+  long double s[3] = {0, 0, 0};
+  size_t n = m->vertex_count;
+  for (size_t v = 0; v < n; v++)
+    for (int k = 0; k < 3; k++) s[k] += m->positions[3 * v + k];
+  for (int k = 0; k < 3; k++) center[k] = n ? (double)(s[k] / n) : 0;
+  double r2 = 0;
+  for (size_t v = 0; v < n; v++) {
+    const double *p = m->positions + 3 * v;
+    double d[3] = {p[0] - center[0], p[1] - center[1], p[2] - center[2]};
+    double q = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    if (q > r2) r2 = q;
+  }
+  *radius = sqrt(r2);
+  *total = (double)n;
+}
+
+static const bbc_params *part_params(const bbc_planes_options *o, const char *name) {
+  for (size_t i = 0; i < o->part_override_count; i++)
+    if (!strcasecmp(o->part_overrides[i].part, name)) return &o->part_overrides[i].params;
+  return &o->params;
+}
+
+/* ---- step 1: the grid ------------------------------------------------------ */
+
+void bbc__planes_options_copy(bbc_planes_options *dst, char text[3][4096],
+                              const bbc_planes_options *src) {
+  *dst = *src;
+  const char **t[3] = {&dst->split.trunk_patterns, &dst->split.foliage_patterns, &dst->split.rest};
+  for (int k = 0; k < 3; k++)
+    if (*t[k]) {
+      snprintf(text[k], 4096, "%s", *t[k]);
+      *t[k] = text[k];
+    }
+  memset(&dst->callbacks, 0, sizeof dst->callbacks);
+}
+
+const bbc_planes_options *bbc__grid_options(const bbc_grid *g) {
+  return &g->options;
+}
+
+void bbc_grid_free(bbc_grid *g) {
+  if (!g) return;
+  for (size_t l = 0; l < g->level_count; l++)
+    for (size_t p = 0; p < 2; p++) bbc__dual_grid_free(&g->levels[l].g[p]);
+  free(g->levels);
+  for (size_t p = 0; p < 2; p++) {
+    free(g->part[p].tris);
+    free(g->part[p].faces);
+  }
+  free(g->face_part);
+  free(g);
+}
+
+/* Progress names the part and the run when steps repeat. */
+static void part_callbacks(const bbc_planes_options *o, const bbc_grid *g, const grid_part *gp,
+                           double scale, int attempt, bbc__label *lab, bbc_callbacks *cb) {
+  *cb = o->callbacks;
+  if (g->part_count > 1 && attempt > 1)
+    bbc__label_callbacks(&o->callbacks, lab, cb, "%s, run %d at epsilon %.3g %%", gp->name, attempt,
+                         scale * gp->params->epsilon_pct);
+  else if (g->part_count > 1)
+    bbc__label_callbacks(&o->callbacks, lab, cb, "%s", gp->name);
+  else if (attempt > 1)
+    bbc__label_callbacks(&o->callbacks, lab, cb, "run %d at epsilon %.3g %%", attempt,
+                         scale * gp->params->epsilon_pct);
+}
+
+/* The level at `scale`, built (step 1 proper: each part's dual grid and its
+ * density) unless the grid has it already. */
+static bbc_result level_at(bbc_grid *g, const bbc_planes_options *o, double scale, int attempt,
+                           size_t *index, bbc_error *err) {
+  for (size_t l = 0; l < g->level_count; l++)
+    if (g->levels[l].scale == scale) {
+      *index = l;
+      return BBC_OK;
+    }
+  grid_level *levels = realloc(g->levels, (g->level_count + 1) * sizeof *levels);
+  if (!levels) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 1: out of memory");
+  g->levels = levels;
+  grid_level *L = &levels[g->level_count];
+  memset(L, 0, sizeof *L);
+  L->scale = scale;
+  for (size_t pi = 0; pi < g->part_count; pi++) {
+    grid_part *gp = &g->part[pi];
+    if (!gp->n) continue;
+    const bbc_params *p = gp->params;
+    /* epsilon is relative to the whole model's radius for every part. */
+    L->eps_abs[pi] = scale * p->epsilon_pct / 100.0 * g->mesh_radius;
+    bbc__label lab;
+    bbc_callbacks cb;
+    part_callbacks(o, g, gp, scale, attempt, &lab, &cb);
+    double t0 = bbc__now_s();
+    if (bbc__dual_grid_init(&L->g[pi], p->res_deg, L->eps_abs[pi], gp->radius, p->up_axis,
+                            gp->total_area, p->threads) != BBC_OK) {
+      for (size_t q = 0; q < 2; q++) bbc__dual_grid_free(&L->g[q]);
+      return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 1: out of memory for the grid");
+    }
+    bbc__dual_grid_accumulate(&L->g[pi], gp->faces, NULL, gp->nf, +1, &cb);
+    bbc__progress(&cb, "grid", 1.0);
+    L->step1_s[pi] = bbc__now_s() - t0;
+    if (bbc__cancelled(&cb)) {
+      for (size_t q = 0; q < 2; q++) bbc__dual_grid_free(&L->g[q]);
+      return bbc__fail(err, BBC_ERROR_CANCELLED, "plane selection: cancelled");
+    }
+  }
+  *index = g->level_count++;
+  return BBC_OK;
+}
+
+static bbc_result grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_grid **out,
+                             bbc_error *err);
+
+bbc_result bbc_grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_grid **out,
+                          bbc_error *err) {
+  int saved = bbc__threads_use(o->params.threads);
+  bbc_result r = grid_build(mesh, o, out, err);
+  bbc__threads_restore(saved);
+  return r;
+}
+
+static bbc_result grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_grid **out,
+                             bbc_error *err) {
+  *out = NULL;
+  int points = mesh->kind == BBC_MESH_POINTS;
+  if ((!points && mesh->kind != BBC_MESH_TRIANGLES) ||
+      (points ? mesh->vertex_count : mesh->triangle_count) == 0)
+    return bbc__fail(err, BBC_ERROR_EMPTY, "plane selection: the model has no %s",
+                     points ? "points" : "triangles");
+  if (points && mesh->vertex_count > UINT32_MAX)
+    return bbc__fail(err, BBC_ERROR_OUT_OF_RANGE, "plane selection: more than 2^32 points");
+  bbc_grid *g = calloc(1, sizeof *g);
+  /* "faces": a point cloud's points (thesis 2.4) */
+  size_t nf = points ? mesh->vertex_count : mesh->triangle_count;
+  if (g) g->face_part = malloc(nf * sizeof *g->face_part);
+  if (!g || !g->face_part) {
+    bbc_grid_free(g);
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
+  }
+  bbc__planes_options_copy(&g->options, g->text, o);
+  g->face_count = nf;
+  g->mesh_radius = mesh->radius;
+  char names[2][32];
+  bbc_split_options split = o->split;
+  split.up_axis = o->params.up_axis;
+  split.all_trunk_by_geometry = o->params.limbs > 0; /* a leafless tree: limbs and twigs */
+  split.limbs = o->params.limbs;
+  bbc_result r = BBC_OK;
+  if (points) { /* one part: a scan has no trunk or foliage groups */
+    memset(g->face_part, 0, nf * sizeof *g->face_part);
+    g->part_count = 1;
+    snprintf(names[0], sizeof names[0], "all");
+    snprintf(g->split_why, sizeof g->split_why, "a point cloud: one part");
+  } else {
+    r = bbc_split_parts(mesh, &split, g->face_part, &g->part_count, names, g->split_why,
+                        sizeof g->split_why, err);
+  }
+  /* A part's parameters for a part the model does not have: said. */
+  for (size_t i = 0; r == BBC_OK && i < o->part_override_count; i++) {
+    int used = 0;
+    for (size_t pi = 0; pi < g->part_count; pi++)
+      used |= !strcasecmp(o->part_overrides[i].part, names[pi]);
+    if (!used)
+      bbc__log(&o->callbacks, BBC_LOG_WARNING,
+               "parameters for part '%s' are not used: the model's parts are %s%s%s",
+               o->part_overrides[i].part, names[0], g->part_count > 1 ? " and " : "",
+               g->part_count > 1 ? names[1] : "");
+  }
+  for (size_t pi = 0; r == BBC_OK && pi < g->part_count; pi++) {
+    grid_part *gp = &g->part[pi];
+    snprintf(gp->name, sizeof gp->name, "%s", names[pi]);
+    gp->params = part_params(&g->options, gp->name);
+    for (size_t t = 0; t < nf; t++) gp->n += g->face_part[t] == pi;
+    if (!points && gp->params->limbs > 0 && g->part_count > 1 && !strcmp(gp->name, "trunk")) {
+      gp->meshed = gp->n; /* limbs: no planes; step 3 keeps these faces as a mesh */
+      gp->n = 0;
+    }
+    if (!gp->n) continue;
+    gp->tris = malloc(gp->n * sizeof *gp->tris);
+    if (!gp->tris) {
+      r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
+      break;
+    }
+    size_t n = 0;
+    for (size_t t = 0; t < nf; t++)
+      if (g->face_part[t] == pi) gp->tris[n++] = (uint32_t)t;
+    if (points)
+      points_frame(mesh, gp->center, &gp->radius, &gp->total_area);
+    else
+      part_frame(mesh, gp->tris, n, gp->center, &gp->radius, &gp->total_area);
+    float *normals = NULL; /* pointnormals: the file's, else estimated */
+    if (points && gp->params->point_normals) {
+      if (mesh->normals) {
+        normals = mesh->normals;
+      } else {
+        normals = malloc(mesh->vertex_count * 3 * sizeof *normals);
+        if (!normals) {
+          r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
+          break;
+        }
+        r = bbc_point_normals(mesh, gp->params->threads, normals, err);
+        if (r != BBC_OK) {
+          free(normals);
+          break;
+        }
+      }
+    }
+    gp->nf = n;
+    bbc_result rb = points
+                        ? bbc__dual_points_build(mesh, gp->tris, n, gp->center, normals, &gp->faces)
+                        : bbc__dual_faces_build_merged(mesh, gp->tris, n, gp->center,
+                                                       FLAT_TOL * gp->radius, &gp->faces, &gp->nf);
+    if (normals && normals != mesh->normals) free(normals);
+    if (rb != BBC_OK)
+      r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory for the grid");
+  }
+  size_t first;
+  if (r == BBC_OK) r = level_at(g, o, 1.0, 1, &first, err);
+  g->current = 0;
+  if (r != BBC_OK) {
+    bbc_grid_free(g);
+    return r;
+  }
+  *out = g;
+  return BBC_OK;
+}
+
+/* Narrowing the growth of epsilon: the scale between lo (more than maxp
+ * planes, lo_n of them) and hi (hi_n <= maxp) where the count, interpolated
+ * as a power of epsilon through both ends, reaches maxp; 0 when the two are
+ * already within 2 % or hi already uses 7/8 of the budget (each run builds
+ * a grid: the 1.13M-triangle oak's steps 1+2 take 2.5 s a run). */
+enum { NARROW_TRIES = 3 };
+static double narrow_scale(double lo, size_t lo_n, double hi, size_t hi_n, int maxp) {
+  if (8 * hi_n >= 7 * (size_t)maxp || hi < lo * 1.02 || lo_n <= hi_n) return 0;
+  double k = log(hi / lo) / log((double)lo_n / (double)hi_n); /* d log eps / -d log n */
+  double s = lo * pow((double)lo_n / maxp, k);
+  /* at least 1 % inside both ends */
+  if (s < lo * 1.01) s = lo * 1.01;
+  if (s > hi / 1.01) s = hi / 1.01;
+  return s;
+}
+
+/* The views show the level of the planes step 2 returned. */
+static void show_level(bbc_grid *g, double scale) {
+  for (size_t l = 0; l < g->level_count; l++)
+    if (g->levels[l].scale == scale) g->current = l;
+}
+
+/* ---- step 2 on the grid ------------------------------------------------------- */
+
+static bbc_result select_once(bbc_grid *g, const bbc_planes_options *o, double scale, int attempt,
+                              bbc_planeset *set, bbc_error *err) {
+  memset(set, 0, sizeof *set);
+  size_t nf = g->face_count, li;
+  bbc_result r = level_at(g, o, scale, attempt, &li, err);
+  if (r != BBC_OK) return r;
+  grid_level *L = &g->levels[li];
+  g->current = li;
+  set->face_count = nf;
+  set->radius = g->mesh_radius;
+  set->face_plane = malloc(nf * sizeof *set->face_plane);
+  set->face_part = malloc(nf * sizeof *set->face_part);
+  set->parts = calloc(g->part_count ? g->part_count : 1, sizeof *set->parts);
+  if (!set->face_plane || !set->face_part || !set->parts) {
+    bbc_planeset_free(set);
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
+  }
+  memcpy(set->face_part, g->face_part, nf * sizeof *set->face_part);
+  for (size_t f = 0; f < nf; f++) set->face_plane[f] = BBC_NO_PLANE; /* limbs */
+  snprintf(set->split_why, sizeof set->split_why, "%s", g->split_why);
+  for (size_t pi = 0; r == BBC_OK && pi < g->part_count; pi++) {
+    grid_part *gp = &g->part[pi];
+    bbc_part_result *pr = &set->parts[pi];
+    snprintf(pr->name, sizeof pr->name, "%s", gp->name);
+    pr->face_count = gp->n + gp->meshed;
+    pr->limbs = gp->meshed ? gp->params->limbs : 0;
+    set->part_count = pi + 1;
+    if (!gp->n) continue;
+    /* select asks for the parameters of step 2 as they are now */
+    const bbc_params *p = part_params(o, gp->name);
+    pr->epsilon_abs = L->eps_abs[pi];
+    if (pr->epsilon_abs > set->epsilon_abs) set->epsilon_abs = pr->epsilon_abs;
+    memcpy(pr->center, gp->center, sizeof pr->center);
+    pr->radius = gp->radius;
+    const dual_grid *kept = &L->g[pi];
+    pr->grid_cells = (size_t)kept->n_theta * kept->n_phi * kept->n_rho;
+    pr->step1_s = L->reported ? 0 : L->step1_s[pi];
+
+    bbc__label lab;
+    bbc_callbacks cb;
+    part_callbacks(o, g, gp, scale, attempt, &lab, &cb);
+    /* the greedy select consumes the density: a copy of the kept grid */
+    dual_grid work;
+    if (bbc__dual_grid_copy(&work, kept) != BBC_OK) {
+      r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory for the grid");
+      break;
+    }
+    double t1 = bbc__now_s();
+    select_result sr;
+    r = bbc__select_planes(gp->faces, gp->nf, &work, p, pr->epsilon_abs, gp->radius, &cb, &sr);
+    pr->step2_s = bbc__now_s() - t1;
+    bbc__dual_grid_free(&work);
+    if (r == BBC_ERROR_CANCELLED) {
+      bbc__fail(err, r, "plane selection: cancelled");
+      break;
+    }
+    if (r != BBC_OK) {
+      bbc__fail(err, r, "plane selection failed: %s", bbc_result_string(r));
+      break;
+    }
+    /* Merge: the model's frame and global plane indices. */
+    bbc_plane *planes = realloc(set->planes, (set->plane_count + sr.plane_count) * sizeof *planes);
+    if (!planes) {
+      bbc__select_result_free(&sr);
+      r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
+      break;
+    }
+    set->planes = planes;
+    size_t base = set->plane_count;
+    for (size_t k = 0; k < sr.plane_count; k++) {
+      bbc_plane pl = sr.planes[k];
+      pl.d += pl.normal[0] * gp->center[0] + pl.normal[1] * gp->center[1] +
+              pl.normal[2] * gp->center[2];
+      pl.part = (uint32_t)pi;
+      if (pl.mother >= 0) pl.mother += (int32_t)base;
+      planes[base + k] = pl;
+    }
+    /* faces to mesh triangles (a face of four vertices is two); a plane's
+     * face count is its triangles' */
+    for (size_t k = 0; k < sr.plane_count; k++)
+      if (planes[base + k].kind != BBC_PLANE_CARDBOARD) planes[base + k].face_count = 0;
+    for (size_t i = 0; i < gp->nf; i++) {
+      const dual_face *f = &gp->faces[i];
+      uint32_t pl = (uint32_t)(base + sr.face_plane[i]);
+      set->face_plane[f->mesh_index] = pl;
+      planes[pl].face_count++;
+      if (f->mesh_index2 != UINT32_MAX) {
+        set->face_plane[f->mesh_index2] = pl;
+        planes[pl].face_count++;
+      }
+    }
+    set->plane_count += sr.plane_count;
+    pr->plane_count = sr.plane_count;
+    bbc__select_result_free(&sr);
+    bbc__progress(&cb, "select", 1.0);
+  }
+  if (r != BBC_OK) {
+    bbc_planeset_free(set);
+    return r;
+  }
+  L->reported = 1;
+  return BBC_OK;
+}
+
+bbc_result bbc_planes_select(bbc_grid *grid, const bbc_planes_options *o, bbc_planeset *set,
+                             bbc_error *err) {
+  memset(set, 0, sizeof *set);
+  const char *which = NULL;
+  if (bbc_planes_options_first_step(&grid->options, o, &which) == 1)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
+                     "%s changed since step 1: the grid must be built again (step 1)", which);
+  double scale = 1, retry = 0;
+  int maxp = o->params.max_planes, minp = o->params.min_planes, grown = 0;
+  if (minp > 0 && maxp > 0 && minp > maxp)
+    bbc__log(&o->callbacks, BBC_LOG_WARNING, "minplanes %d is above maxplanes %d: ignored", minp,
+             maxp);
+  bbc_planeset best; /* shrinking: the last result within maxplanes */
+  int have_best = 0, narrow = 0;
+  memset(&best, 0, sizeof best);
+  /* Growing: the largest scale known to give more than maxplanes and its
+   * count, to narrow the step between it and the first scale within. */
+  double over_scale = 0;
+  size_t over_n = 0;
+  for (int attempt = 1;; attempt++) {
+    double t0 = bbc__now_s();
+    bbc_result r = select_once(grid, o, scale, attempt, set, err);
+    if (r != BBC_OK) {
+      if (have_best) bbc_planeset_free(&best);
+      return r;
+    }
+    set->epsilon_scale = scale;
+    set->attempts = attempt;
+    set->retry_s = retry;
+    size_t n = set->plane_count;
+    if (grown && maxp > 0 && n > (size_t)maxp && have_best && narrow < NARROW_TRIES) {
+      /* Narrowing overshot: this scale is the new lower end. */
+      over_scale = scale;
+      over_n = n;
+      double next = narrow_scale(over_scale, over_n, best.epsilon_scale, best.plane_count, maxp);
+      if (next > 0) {
+        narrow++;
+        bbc__log(&o->callbacks, BBC_LOG_INFO,
+                 "%zu planes at epsilon %.3g %%, more than maxplanes %d: trying %.3g %%", n,
+                 o->params.epsilon_pct * scale, maxp, o->params.epsilon_pct * next);
+        bbc_planeset_free(set);
+        memset(set, 0, sizeof *set);
+        retry += bbc__now_s() - t0;
+        scale = next;
+        continue;
+      }
+    }
+    if (have_best && maxp > 0 && n > (size_t)maxp) {
+      /* Shrinking (or narrowing) went one step too far: the previous result
+       * it is. */
+      retry += bbc__now_s() - t0;
+      bbc_planeset_free(set);
+      *set = best;
+      set->attempts = attempt;
+      set->retry_s = retry;
+      show_level(grid, set->epsilon_scale);
+      return BBC_OK;
+    }
+    if (have_best) bbc_planeset_free(&best);
+    have_best = 0;
+    if (grown && maxp > 0 && n <= (size_t)maxp && over_n && narrow < NARROW_TRIES) {
+      /* Growing by at least 1.25 may land well below maxplanes: a scale
+       * between the last one over it and this one, while within, keeps
+       * more fidelity (Scopia bush: 41 planes at 6 %, 31 at 7.5 %, 32 at
+       * 7.25 %). */
+      double next = narrow_scale(over_scale, over_n, scale, n, maxp);
+      if (next > 0) {
+        narrow++;
+        bbc__log(&o->callbacks, BBC_LOG_INFO,
+                 "%zu planes at epsilon %.3g %%, within maxplanes %d: trying %.3g %%", n,
+                 o->params.epsilon_pct * scale, maxp, o->params.epsilon_pct * next);
+        best = *set;
+        have_best = 1;
+        memset(set, 0, sizeof *set);
+        retry += bbc__now_s() - t0;
+        scale = next;
+        continue;
+      }
+    }
+    double f = 0;
+    if (maxp > 0 && n > (size_t)maxp && attempt < 12 &&
+        o->params.epsilon_pct * scale < 99) { /* epsilon's own range ends at 99 % */
+      /* Too many planes: grow epsilon by a factor that follows the excess
+       * (planes fall roughly with epsilon^1.5), between 1.25 and 2. */
+      f = pow((double)n / maxp, 1.0 / 1.5);
+      f = f < 1.25 ? 1.25 : f > 2 ? 2 : f;
+      grown = 1;
+      over_scale = scale;
+      over_n = n;
+    } else if (minp > 0 && n < (size_t)minp && !grown && scale > 0.2 + 1e-9 &&
+               (maxp <= 0 || minp <= maxp)) {
+      /* Few planes: a smaller epsilon buys fidelity within the budget, down
+       * to 1/5 of the asked epsilon. */
+      f = 1.0 / fmin(2.0, fmax(1.25, pow((double)minp / (double)(n ? n : 1), 1.0 / 1.5)));
+      if (scale * f < 0.2) f = 0.2 / scale;
+      best = *set;
+      have_best = 1;
+    }
+    if (f == 0) {
+      if (maxp > 0 && n > (size_t)maxp)
+        bbc__log(&o->callbacks, BBC_LOG_WARNING,
+                 "%zu planes after %d tries (maxplanes %d): keeping them", n, attempt, maxp);
+      show_level(grid, set->epsilon_scale);
+      return BBC_OK;
+    }
+    bbc__log(&o->callbacks, BBC_LOG_INFO, "%zu planes at epsilon %.3g %%, %s %d: trying %.3g %%", n,
+             o->params.epsilon_pct * scale, f > 1 ? "more than maxplanes" : "fewer than minplanes",
+             f > 1 ? maxp : minp, o->params.epsilon_pct * scale * f);
+    scale *= f;
+    if (!have_best) bbc_planeset_free(set);
+    memset(set, 0, sizeof *set);
+    retry += bbc__now_s() - t0;
+  }
+}
+
+bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_planeset *set,
+                           bbc_error *err) {
+  memset(set, 0, sizeof *set);
+  bbc_grid *grid;
+  bbc_result r = bbc_grid_build(mesh, o, &grid, err);
+  if (r != BBC_OK) return r;
+  r = bbc_planes_select(grid, o, set, err);
+  bbc_grid_free(grid);
+  return r;
+}

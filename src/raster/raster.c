@@ -1,0 +1,808 @@
+/* raster.c — a small software rasterizer: orthographic, depth-buffered,
+ * textured with an alpha test. Used for previews now; the texture baking of
+ * step 3 (thesis 2.1.9) and the fidelity metrics build on the same rules.
+ *
+ * Conventions: pixel (x, y) has its centre at (x + 0.5, y + 0.5) in screen
+ * units, y down. A pixel is covered when its centre lies inside the
+ * triangle; on an edge shared by two triangles the top-left rule gives it to
+ * exactly one of them. */
+#include "raster.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef bbc__camera camera;
+
+static void normalize3(double *v) {
+  double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (l > 0)
+    for (int k = 0; k < 3; k++) v[k] /= l;
+}
+
+static void cross3(const double *a, const double *b, double *o) {
+  o[0] = a[1] * b[2] - a[2] * b[1];
+  o[1] = a[2] * b[0] - a[0] * b[2];
+  o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+int bbc__camera_setup(bbc__camera *cam, const bbc_view *v, int w, int h) {
+  memcpy(cam->f, v->direction, sizeof cam->f);
+  normalize3(cam->f);
+  cross3(cam->f, v->up, cam->r);
+  double l = sqrt(cam->r[0] * cam->r[0] + cam->r[1] * cam->r[1] + cam->r[2] * cam->r[2]);
+  if (!(l > 1e-9)) return 0;
+  normalize3(cam->r);
+  cross3(cam->r, cam->f, cam->u);
+  memcpy(cam->c, v->center, sizeof cam->c);
+  int side = w < h ? w : h;
+  cam->scale = 0.5 * side / v->half_extent;
+  cam->scale_y = cam->scale;
+  if (v->half_extent_y > 0) { /* independent scales: the rectangle fills the image */
+    cam->scale = 0.5 * w / v->half_extent;
+    cam->scale_y = 0.5 * h / v->half_extent_y;
+  }
+  cam->w2 = 0.5 * w;
+  cam->h2 = 0.5 * h;
+  return 1;
+}
+
+/* Top-left rule for edge a->b of a triangle with positive orientation in
+ * y-down screen space (clockwise on screen): top edges are horizontal with
+ * b to the right... expressed through the edge vector. */
+static int is_top_left(double ax, double ay, double bx, double by) {
+  double ex = bx - ax, ey = by - ay;
+  return (ey == 0 && ex > 0) || ey < 0;
+}
+
+static const uint8_t *sample(const bbc_image *img, float u, float v) {
+  double fu = u - floor(u), fv = v - floor(v);
+  int x = (int)(fu * img->width);
+  int y = (int)((1.0 - fv) * img->height);
+  if (x >= img->width) x = img->width - 1;
+  if (y >= img->height) y = img->height - 1;
+  if (x < 0) x = 0;
+  if (y < 0) y = 0;
+  return img->rgba + 4 * ((size_t)y * img->width + x);
+}
+
+/* k / 255.0 for every byte k, folded by the compiler (correctly rounded,
+ * as the division at run time): a lookup instead of a division per
+ * fragment, the same doubles. */
+#define UNIT1(k)  ((k) / 255.0)
+#define UNIT4(k)  UNIT1(k), UNIT1(k + 1), UNIT1(k + 2), UNIT1(k + 3)
+#define UNIT16(k) UNIT4(k), UNIT4(k + 4), UNIT4(k + 8), UNIT4(k + 12)
+#define UNIT64(k) UNIT16(k), UNIT16(k + 16), UNIT16(k + 32), UNIT16(k + 48)
+static const double k_unit[256] = {UNIT64(0), UNIT64(64), UNIT64(128), UNIT64(192)};
+
+static uint8_t to_byte(double v) {
+  if (!(v > 0)) return 0;
+  if (v >= 1) return 255;
+  return (uint8_t)(v * 255.0 + 0.5);
+}
+
+/* Everything a triangle needs besides its index. */
+typedef struct target {
+  const camera *cam;
+  const bbc_view *view;
+  double light[3];
+  int width, height;
+  uint8_t *rgba; /* front (or the only) image */
+  float *depth;  /* nearest depth so far (smaller = nearer the camera) */
+  /* Baking only: */
+  const bbc__bake *bake;
+  float *depth_back; /* farthest depth so far (nearest from behind) */
+  /* bbc_light_gain only: the luminance each visible pixel would have lit by
+   * the directional light `sun` instead (same pass, same visibility). */
+  float *sun_lum;
+  double sun[3];
+  /* bbc__render_coverage only: 1 where a fragment passes (no colour, no
+   * depth: what bbc_render_ortho's alpha would show). */
+  uint8_t *cover;
+  /* Optional: every vertex already projected (x, y, depth), for renders
+   * of the whole mesh (each vertex serves about six triangles). */
+  const double *proj;
+} target;
+
+static void put_normal(uint8_t *o, const double *n, const camera *cam, double toward) {
+  double x = n[0] * cam->r[0] + n[1] * cam->r[1] + n[2] * cam->r[2];
+  double y = n[0] * cam->u[0] + n[1] * cam->u[1] + n[2] * cam->u[2];
+  double z = -toward * (n[0] * cam->f[0] + n[1] * cam->f[1] + n[2] * cam->f[2]);
+  if (z < 0) { /* two-sided surfaces: the normal faces this image's viewer */
+    x = -x;
+    y = -y;
+    z = -z;
+  }
+  o[0] = to_byte(0.5 * x + 0.5);
+  o[1] = to_byte(0.5 * y + 0.5);
+  o[2] = to_byte(0.5 * z + 0.5);
+  o[3] = 255;
+}
+
+/* Screen bounds of the part of triangle abc (x, y, depth) whose depth lies
+ * in [lo, hi] (depth is linear on the triangle, so that part is the
+ * triangle clipped by two planes). Returns 0 when the part is empty. The
+ * per-pixel slab test stays exact; this only skips pixels that cannot pass,
+ * which matters for large faces crossing a thin slab. */
+static int slab_bounds(const double *a, const double *b, const double *c, double lo, double hi,
+                       double *minx, double *maxx, double *miny, double *maxy) {
+  double p[8][3], q[8][3];
+  memcpy(p[0], a, sizeof p[0]);
+  memcpy(p[1], b, sizeof p[1]);
+  memcpy(p[2], c, sizeof p[2]);
+  int n = 3;
+  for (int side = 0; side < 2; side++) {
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+      const double *P = p[i], *Q = p[(i + 1) % n];
+      double fp = side ? P[2] - hi : lo - P[2], fq = side ? Q[2] - hi : lo - Q[2];
+      if (fp <= 0) memcpy(q[m++], P, sizeof q[0]);
+      if ((fp < 0 && fq > 0) || (fp > 0 && fq < 0)) {
+        double t = fp / (fp - fq);
+        for (int k = 0; k < 3; k++) q[m][k] = P[k] + t * (Q[k] - P[k]);
+        m++;
+      }
+    }
+    n = m;
+    memcpy(p, q, (size_t)n * sizeof p[0]);
+    if (n == 0) return 0;
+  }
+  /* A pixel whose centre passes the exact test lies within the clipped
+   * polygon; pad by a texel for the rounding of the interpolated depth. */
+  *minx = *maxx = p[0][0];
+  *miny = *maxy = p[0][1];
+  for (int i = 1; i < n; i++) {
+    *minx = fmin(*minx, p[i][0]);
+    *maxx = fmax(*maxx, p[i][0]);
+    *miny = fmin(*miny, p[i][1]);
+    *maxy = fmax(*maxy, p[i][1]);
+  }
+  *minx -= 1;
+  *miny -= 1;
+  *maxx += 1;
+  *maxy += 1;
+  return 1;
+}
+
+/* The renderer's directional shading: two-sided Lambert with 0.35 ambient. */
+static double sun_shade(const double *n, const double *l) {
+  return 0.35 + 0.65 * fabs(n[0] * l[0] + n[1] * l[1] + n[2] * l[2]);
+}
+
+static inline double min2(double a, double b) {
+  return a < b ? a : b;
+}
+static inline double max2(double a, double b) {
+  return a > b ? a : b;
+}
+static inline double min3(double a, double b, double c) {
+  return min2(a, min2(b, c));
+}
+static inline double max3(double a, double b, double c) {
+  return max2(a, max2(b, c));
+}
+
+/* floor(0.5 log2(r) + 0.5) for r > 0, as libm's log2 gives it, from r's
+ * binary exponent: r = m 2^e (m in [0.5, 1)) has log2(r) in [e - 1, e),
+ * which decides the level unless r lies just below a power of 2 with an odd
+ * exponent, where log2 may round up to it: libm there. */
+static int mip_level_of(double r) {
+  int e;
+  double m = frexp(r, &e);
+  if (!isfinite(r) || (e % 2 != 0 && m >= 0.999999)) return (int)floor(0.5 * log2(r) + 0.5);
+  return e % 2 == 0 ? e / 2 : (e - 1) / 2;
+}
+
+/* The pixels whose centres (x + 0.5) can lie within [minx, maxx] x [miny,
+ * maxy], clipped to a w x h image; 0 when there are none. The margin, far
+ * above the rounding of the edge functions at these sizes, keeps every
+ * pixel the exact test would take. Bounds are finite (a face's area is).
+ * Most faces of a detailed model cover no pixel centre at all. */
+#define PIXEL_MARGIN 1e-6
+
+static int pixel_bounds(double minx, double maxx, double miny, double maxy, int w, int h, int *x0,
+                        int *x1, int *y0, int *y1) {
+  const double margin = PIXEL_MARGIN;
+  double bx0 = ceil(minx - 0.5 - margin), bx1 = floor(maxx - 0.5 + margin);
+  double by0 = ceil(miny - 0.5 - margin), by1 = floor(maxy - 0.5 + margin);
+  if (!(bx0 <= bx1 && by0 <= by1) || bx1 < 0 || by1 < 0 || bx0 > w - 1 || by0 > h - 1) return 0;
+  *x0 = bx0 < 0 ? 0 : (int)bx0;
+  *x1 = bx1 > w - 1 ? w - 1 : (int)bx1;
+  *y0 = by0 < 0 ? 0 : (int)by0;
+  *y1 = by1 > h - 1 ? h - 1 : (int)by1;
+  return 1;
+}
+
+/* 1 when every pixel of [x0, x1] x [y0, y1] is covered. */
+static int all_covered(const uint8_t *cover, int w, int x0, int x1, int y0, int y1) {
+  for (int y = y0; y <= y1; y++)
+    for (int x = x0; x <= x1; x++)
+      if (!cover[(size_t)y * w + x]) return 0;
+  return 1;
+}
+
+static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
+  const camera *cam = tg->cam;
+  const bbc_view *view = tg->view;
+  const uint32_t *ix = m->indices + 3 * t;
+  double s[3][3];
+  if (tg->proj)
+    for (int k = 0; k < 3; k++) memcpy(s[k], tg->proj + 3 * (size_t)ix[k], sizeof s[k]);
+  else
+    for (int k = 0; k < 3; k++) bbc__camera_project(cam, m->positions + 3 * ix[k], s[k]);
+  /* Bounds first (the same whatever the vertices' order). */
+  double minx = min3(s[0][0], s[1][0], s[2][0]), maxx = max3(s[0][0], s[1][0], s[2][0]);
+  double miny = min3(s[0][1], s[1][1], s[2][1]), maxy = max3(s[0][1], s[1][1], s[2][1]);
+  int x0 = 0, x1 = -1, y0 = 0, y1 = -1;
+  /* Renders of a whole detailed model (no slab: the bounds are the
+   * vertices'): most faces cover no pixel centre, and the bounds test ends
+   * them before any other work. */
+  int whole = !tg->bake && !(view->depth_max > view->depth_min);
+  if (whole) {
+    if (!pixel_bounds(minx, maxx, miny, maxy, tg->width, tg->height, &x0, &x1, &y0, &y1)) return;
+    /* Coverage only grows: a face whose every candidate pixel is covered
+     * already changes nothing (inside a dense crown, most). */
+    if (tg->cover && all_covered(tg->cover, tg->width, x0, x1, y0, y1)) return;
+  }
+  double area =
+      (s[1][0] - s[0][0]) * (s[2][1] - s[0][1]) - (s[1][1] - s[0][1]) * (s[2][0] - s[0][0]);
+  if (area == 0 || !isfinite(area)) return;
+  /* Counter-clockwise seen by the camera turns clockwise on the y-down
+   * screen: area < 0 means the triangle's front faces the camera. */
+  int faces_camera = area < 0;
+  const bbc_material *mat = &m->materials[m->face_material[t]];
+  int want_front = 1, want_back = tg->bake && tg->bake->back;
+  if (tg->bake ? tg->bake->backface : mat->single_sided) {
+    want_front = faces_camera;
+    want_back = want_back && !faces_camera;
+  }
+  if (!want_front && !want_back) return;
+  /* Orient so that the edge functions are positive inside. */
+  int order[3] = {0, 1, 2};
+  if (area < 0) {
+    order[1] = 2;
+    order[2] = 1;
+    area = -area;
+  }
+  const double *a = s[order[0]], *b = s[order[1]], *c = s[order[2]];
+  int inside = a[2] >= view->depth_min && a[2] <= view->depth_max && b[2] >= view->depth_min &&
+               b[2] <= view->depth_max && c[2] >= view->depth_min && c[2] <= view->depth_max;
+  if (view->depth_max > view->depth_min && !inside &&
+      !slab_bounds(a, b, c, view->depth_min, view->depth_max, &minx, &maxx, &miny, &maxy))
+    return; /* no part of it inside the slab */
+  if (!whole && !pixel_bounds(minx, maxx, miny, maxy, tg->width, tg->height, &x0, &x1, &y0, &y1))
+    return;
+
+  int tl0 = is_top_left(b[0], b[1], c[0], c[1]);
+  int tl1 = is_top_left(c[0], c[1], a[0], a[1]);
+  int tl2 = is_top_left(a[0], a[1], b[0], b[1]);
+
+  const bbc_image *tex = NULL, *tex_rgb = NULL;
+  if (mat->texture >= 0 && m->uvs && m->textures[mat->texture].image.rgba)
+    tex = tex_rgb = &m->textures[mat->texture].image;
+  const float *uv[3] = {NULL, NULL, NULL};
+  const float *nv[3] = {NULL, NULL, NULL};
+  float sh[3] = {1, 1, 1};
+  for (int k = 0; k < 3; k++) {
+    uint32_t vi = ix[order[k]];
+    if (m->uvs) uv[k] = m->uvs + 2 * vi;
+    nv[k] = m->normals + 3 * vi;
+    if (view->vertex_shade) sh[k] = view->vertex_shade[vi];
+  }
+  if (tex && tg->bake && tg->bake->mips) {
+    /* The mip level: log2 of texels per pixel (the square root of the
+     * triangle's texel area over its pixel area), rounded. */
+    const bbc__mips *mp = &tg->bake->mips[mat->texture];
+    double du1 = uv[1][0] - uv[0][0], dv1 = uv[1][1] - uv[0][1];
+    double du2 = uv[2][0] - uv[0][0], dv2 = uv[2][1] - uv[0][1];
+    double texels = fabs(du1 * dv2 - dv1 * du2) * tex->width * tex->height;
+    int level = texels > 0 ? mip_level_of(texels / area) + tg->bake->mip_bias : 0;
+    if (level > mp->levels) level = mp->levels;
+    if (level > 0) tex_rgb = &mp->level[level - 1];
+  }
+  int slab = view->depth_max > view->depth_min;
+  int need_normal = view->lighting || (tg->bake && (tg->bake->front_nm || tg->bake->back_nm));
+  double gain = view->light_gain > 0 ? view->light_gain : 1.0;
+  /* The ambient light of X3D viewers: 0.2 x ambientIntensity x the diffuse
+   * colour, untextured, with ambientIntensity the mean over the channels of
+   * Ka / Kd, as view3dscene maps an MTL (measured on flat quads of coloured
+   * Kd and Ka; Ka 0.2 when the material gives none); for a grey Kd this is
+   * OpenGL's fixed-function 0.2 x Ka. */
+  double amb[3] = {0, 0, 0};
+  if (view->lighting && view->ambient && !mat->unlit) {
+    int given = mat->ambient[0] > 0 || mat->ambient[1] > 0 || mat->ambient[2] > 0;
+    double ai = 0;
+    int n = 0;
+    for (int k = 0; k < 3; k++)
+      if (mat->base_color[k] > 0) {
+        ai += (given ? mat->ambient[k] : 0.2) / mat->base_color[k];
+        n++;
+      }
+    if (n)
+      for (int k = 0; k < 3; k++) amb[k] = 0.2 * ai / n * mat->base_color[k];
+  }
+
+  double inv_area = 1.0 / area;
+  /* Edge function k at pixel centre px of a row: ea[k] * px + eb[k]. */
+  /* Edge k from E0 to E1: its function along a row is ea x + eb(row), ea
+   * and the reciprocal fixed for the triangle. */
+  const double *E0[3] = {b, c, a}, *E1[3] = {c, a, b};
+  double edx[3], ea[3], inv_ea[3], t2[3];
+  for (int k = 0; k < 3; k++) {
+    edx[k] = E1[k][0] - E0[k][0];
+    ea[k] = -(E1[k][1] - E0[k][1]);
+    t2[k] = (E1[k][1] - E0[k][1]) * E0[k][0];
+    inv_ea[k] = ea[k] > 1e-12 || ea[k] < -1e-12 ? 1.0 / ea[k] : 0;
+  }
+  for (int y = y0; y <= y1; y++) {
+    double py = y + 0.5;
+    /* The row's span where every edge function can be >= 0, widened for
+     * rounding (PIXEL_MARGIN, and the error of eb over the slope: a nearly
+     * horizontal edge); the exact test below decides each pixel. */
+    double lo = x0, hi = x1;
+    for (int k = 0; k < 3; k++) {
+      double t1 = edx[k] * (py - E0[k][1]), eb = t1 + t2[k];
+      double err = 1e-13 * (fabs(t1) + fabs(t2[k])) * inv_ea[k];
+      if (ea[k] > 1e-12)
+        lo = max2(lo, ceil(-eb * inv_ea[k] - 0.5 - PIXEL_MARGIN - err));
+      else if (ea[k] < -1e-12)
+        hi = min2(hi, floor(-eb * inv_ea[k] - 0.5 + PIXEL_MARGIN - err));
+    }
+    if (!(lo <= hi)) continue;
+    int xs = (int)lo, xe = (int)hi;
+    for (int x = xs; x <= xe; x++) {
+      double px = x + 0.5;
+      /* Edge functions: w0 opposite a, etc. */
+      double w0 = (c[0] - b[0]) * (py - b[1]) - (c[1] - b[1]) * (px - b[0]);
+      double w1 = (a[0] - c[0]) * (py - c[1]) - (a[1] - c[1]) * (px - c[0]);
+      double w2 = (b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0]);
+      if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+      if ((w0 == 0 && !tl0) || (w1 == 0 && !tl1) || (w2 == 0 && !tl2)) continue;
+      double l0 = w0 * inv_area, l1 = w1 * inv_area, l2 = w2 * inv_area;
+      float z = (float)(l0 * a[2] + l1 * b[2] + l2 * c[2]);
+      size_t pi = (size_t)y * tg->width + x;
+      if (tg->cover) { /* coverage: the depth test against the far plane only */
+        if (tg->cover[pi] || !want_front || !(z < FLT_MAX)) continue;
+        if (slab && (z < view->depth_min || z > view->depth_max)) continue;
+        if (tex) {
+          float u = (float)(l0 * uv[0][0] + l1 * uv[1][0] + l2 * uv[2][0]);
+          float v = (float)(l0 * uv[0][1] + l1 * uv[1][1] + l2 * uv[2][1]);
+          if (mat->base_color[3] * k_unit[sample(tex, u, v)[3]] < 0.5) continue;
+        } else if (mat->base_color[3] < 0.5) {
+          continue;
+        }
+        tg->cover[pi] = 1;
+        continue;
+      }
+      int front = want_front && z < tg->depth[pi];
+      int back = want_back && z > tg->depth_back[pi];
+      if (!front && !back) continue;
+      if (slab && (z < view->depth_min || z > view->depth_max))
+        continue; /* outside the slab: the triangle is clipped there */
+      double col[4] = {mat->base_color[0], mat->base_color[1], mat->base_color[2],
+                       mat->base_color[3]};
+      if (tex) { /* the alpha test first (the base level), then the colour */
+        float u = (float)(l0 * uv[0][0] + l1 * uv[1][0] + l2 * uv[2][0]);
+        float v = (float)(l0 * uv[0][1] + l1 * uv[1][1] + l2 * uv[2][1]);
+        col[3] *= k_unit[sample(tex, u, v)[3]];
+        if (col[3] < 0.5) continue;
+        const uint8_t *tx = sample(tex_rgb, u, v);
+        for (int k = 0; k < 3; k++) col[k] *= k_unit[tx[k]];
+      }
+      if (col[3] < 0.5) continue; /* alpha test */
+      double n[3] = {0, 0, 1};
+      if (need_normal) {
+        for (int k = 0; k < 3; k++) n[k] = l0 * nv[0][k] + l1 * nv[1][k] + l2 * nv[2][k];
+        normalize3(n);
+      }
+      double shade = 1.0, occl = 1.0;
+      if (view->lighting && !mat->unlit) { /* unlit materials carry their light */
+        shade = gain * (view->headlight
+                            ? fabs(n[0] * tg->light[0] + n[1] * tg->light[1] + n[2] * tg->light[2])
+                            : sun_shade(n, tg->light));
+      }
+      if (view->vertex_shade) occl = l0 * sh[0] + l1 * sh[1] + l2 * sh[2];
+      shade *= occl;
+      uint8_t px4[4] = {to_byte(col[0] * shade + amb[0] * occl),
+                        to_byte(col[1] * shade + amb[1] * occl),
+                        to_byte(col[2] * shade + amb[2] * occl),
+                        tg->bake && tg->bake->face_alpha ? tg->bake->face_alpha[t] : 255};
+      if (tg->sun_lum && front) {
+        double s2 = 1.0;
+        if (view->lighting && !mat->unlit) s2 = gain * sun_shade(n, tg->sun);
+        s2 *= occl;
+        tg->sun_lum[pi] = (float)(0.2126 * to_byte(col[0] * s2 + amb[0] * occl) +
+                                  0.7152 * to_byte(col[1] * s2 + amb[1] * occl) +
+                                  0.0722 * to_byte(col[2] * s2 + amb[2] * occl));
+      }
+      if (front) {
+        tg->depth[pi] = z;
+        memcpy(tg->rgba + 4 * pi, px4, 4);
+        if (tg->bake && tg->bake->front_nm) put_normal(tg->bake->front_nm + 4 * pi, n, cam, 1);
+      }
+      if (back) {
+        tg->depth_back[pi] = z;
+        memcpy(tg->bake->back + 4 * pi, px4, 4);
+        if (tg->bake->back_nm) put_normal(tg->bake->back_nm + 4 * pi, n, cam, -1);
+      }
+    }
+  }
+}
+
+static void draw_point(const bbc_mesh *m, size_t v, const camera *cam, const bbc_view *view,
+                       bbc_image *img, float *depth) {
+  double s[3];
+  bbc__camera_project(cam, m->positions + 3 * v, s);
+  double half = 0.5 * (view->point_size_px >= 1 ? view->point_size_px : 1);
+  int x0 = (int)floor(s[0] - half + 0.5), x1 = (int)floor(s[0] + half - 0.5);
+  int y0 = (int)floor(s[1] - half + 0.5), y1 = (int)floor(s[1] + half - 0.5);
+  if (x1 < x0) x1 = x0;
+  if (y1 < y0) y1 = y0;
+  uint8_t rgb[3] = {200, 200, 200};
+  if (m->colors) memcpy(rgb, m->colors + 4 * v, 3);
+  for (int y = y0 < 0 ? 0 : y0; y <= y1 && y < img->height; y++)
+    for (int x = x0 < 0 ? 0 : x0; x <= x1 && x < img->width; x++) {
+      double dx = x + 0.5 - s[0], dy = y + 0.5 - s[1];
+      int under = x == (int)floor(s[0]) && y == (int)floor(s[1]);
+      if (view->point_round && !under && dx * dx + dy * dy > half * half) continue;
+      size_t pi = (size_t)y * img->width + x;
+      if ((float)s[2] >= depth[pi]) continue;
+      depth[pi] = (float)s[2];
+      uint8_t *o = img->rgba + 4 * pi;
+      o[0] = rgb[0];
+      o[1] = rgb[1];
+      o[2] = rgb[2];
+      o[3] = 255;
+    }
+}
+
+static void setup_light(const camera *cam, const bbc_view *view, double *light) {
+  if (view->headlight) {
+    for (int k = 0; k < 3; k++) light[k] = -cam->f[k];
+  } else if (view->light[0] != 0 || view->light[1] != 0 || view->light[2] != 0) {
+    memcpy(light, view->light, 3 * sizeof *light);
+  } else { /* from over the viewer's left shoulder */
+    for (int k = 0; k < 3; k++) light[k] = -0.6 * cam->f[k] + 0.6 * cam->u[k] - 0.45 * cam->r[k];
+  }
+  normalize3(light);
+}
+
+static bbc_result check_view(const bbc_view *view, int w, int h, camera *cam, bbc_error *err) {
+  if (w <= 0 || h <= 0)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "render: image not allocated");
+  if (!(view->half_extent > 0))
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "render: half_extent must be > 0");
+  if (!bbc__camera_setup(cam, view, w, h))
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
+                     "render: up vector is parallel to the view direction");
+  return BBC_OK;
+}
+
+/* Every vertex of the mesh projected by cam (x, y, depth), or NULL when
+ * out of memory (the rasterizer then projects per triangle). */
+static double *project_all(const bbc_mesh *m, const camera *cam) {
+  double *p = malloc((m->vertex_count ? m->vertex_count : 1) * 3 * sizeof *p);
+  if (p)
+    for (size_t v = 0; v < m->vertex_count; v++)
+      bbc__camera_project(cam, m->positions + 3 * v, p + 3 * v);
+  return p;
+}
+
+/* bbc_render_ortho; with sun_lum, also the luminance lit by `sun`. */
+static bbc_result render(const bbc_mesh *m, const bbc_view *view, bbc_image *img, const double *sun,
+                         float *sun_lum, bbc_error *err) {
+  if (!img->rgba) return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "render: image not allocated");
+  camera cam;
+  bbc_result r = check_view(view, img->width, img->height, &cam, err);
+  if (r != BBC_OK) return r;
+  size_t n = (size_t)img->width * img->height;
+  float *depth = malloc(n * sizeof *depth);
+  if (!depth) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "render: out of memory");
+  for (size_t i = 0; i < n; i++) {
+    depth[i] = FLT_MAX;
+    memcpy(img->rgba + 4 * i, view->background, 4);
+  }
+  target tg = {&cam, view, {0, 0, 0}, img->width, img->height, img->rgba, depth,
+               NULL, NULL, sun_lum,   {0, 0, 0},  NULL,        NULL};
+  if (sun) memcpy(tg.sun, sun, sizeof tg.sun);
+  setup_light(&cam, view, tg.light);
+  if (m->kind == BBC_MESH_POINTS) {
+    for (size_t v = 0; v < m->vertex_count; v++) draw_point(m, v, &cam, view, img, depth);
+  } else {
+    double *proj = project_all(m, &cam);
+    tg.proj = proj;
+    for (size_t t = 0; t < m->triangle_count; t++)
+      if (!view->face_mask || view->face_mask[t]) draw_triangle(m, t, &tg);
+    free(proj);
+  }
+  free(depth);
+  return BBC_OK;
+}
+
+bbc_result bbc_render_ortho(const bbc_mesh *m, const bbc_view *view, bbc_image *img,
+                            bbc_error *err) {
+  return render(m, view, img, NULL, NULL, err);
+}
+
+bbc_result bbc__render_coverage(const bbc_mesh *m, const bbc_view *view, int size, uint8_t *cover,
+                                bbc_error *err) {
+  camera cam;
+  bbc_result r = check_view(view, size, size, &cam, err);
+  if (r != BBC_OK) return r;
+  memset(cover, 0, (size_t)size * size);
+  target tg;
+  memset(&tg, 0, sizeof tg);
+  tg.cam = &cam;
+  tg.view = view;
+  tg.width = tg.height = size;
+  tg.cover = cover;
+  setup_light(&cam, view, tg.light);
+  if (m->kind == BBC_MESH_POINTS) { /* points: the full render's alpha */
+    bbc_image img;
+    if (bbc_image_alloc(&img, size, size) != BBC_OK)
+      return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "render: out of memory");
+    r = render(m, view, &img, NULL, NULL, err);
+    for (size_t i = 0; r == BBC_OK && i < (size_t)size * size; i++)
+      cover[i] = img.rgba[4 * i + 3] >= 128;
+    bbc_image_free(&img);
+    return r;
+  }
+  double *proj = project_all(m, &cam);
+  tg.proj = proj;
+  for (size_t t = 0; t < m->triangle_count; t++)
+    if (!view->face_mask || view->face_mask[t]) draw_triangle(m, t, &tg);
+  free(proj);
+  return BBC_OK;
+}
+
+bbc_result bbc__mips_build(const bbc_mesh *m, bbc__mips **out, bbc_error *err) {
+  *out = NULL;
+  if (!m->texture_count) return BBC_OK;
+  bbc__mips *mips = calloc(m->texture_count, sizeof *mips);
+  if (!mips) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "mipmaps: out of memory");
+  for (size_t t = 0; t < m->texture_count; t++) {
+    const bbc_image *base = &m->textures[t].image;
+    if (!base->rgba || base->width < 1 || base->height < 1) continue;
+    int n = 0;
+    for (int w = base->width, h = base->height; w > 1 || h > 1;
+         w = w > 1 ? w / 2 : 1, h = h > 1 ? h / 2 : 1)
+      n++;
+    mips[t].level = calloc(n ? (size_t)n : 1, sizeof *mips[t].level);
+    if (!mips[t].level) {
+      bbc__mips_free(mips, m->texture_count);
+      return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "mipmaps: out of memory");
+    }
+    const bbc_image *prev = base;
+    for (int k = 0; k < n; k++) {
+      bbc_image *img = &mips[t].level[k];
+      int w = prev->width > 1 ? prev->width / 2 : 1, h = prev->height > 1 ? prev->height / 2 : 1;
+      if (bbc_image_alloc(img, w, h) != BBC_OK) {
+        bbc__mips_free(mips, m->texture_count);
+        return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "mipmaps: out of memory");
+      }
+      mips[t].levels = k + 1;
+      for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+          int x0 = 2 * x < prev->width ? 2 * x : prev->width - 1;
+          int y0 = 2 * y < prev->height ? 2 * y : prev->height - 1;
+          int x1 = x0 + 1 < prev->width ? x0 + 1 : x0, y1 = y0 + 1 < prev->height ? y0 + 1 : y0;
+          const uint8_t *p00 = prev->rgba + 4 * ((size_t)y0 * prev->width + x0);
+          const uint8_t *p01 = prev->rgba + 4 * ((size_t)y0 * prev->width + x1);
+          const uint8_t *p10 = prev->rgba + 4 * ((size_t)y1 * prev->width + x0);
+          const uint8_t *p11 = prev->rgba + 4 * ((size_t)y1 * prev->width + x1);
+          uint8_t *o = img->rgba + 4 * ((size_t)y * w + x);
+          for (int c = 0; c < 4; c++) o[c] = (uint8_t)((p00[c] + p01[c] + p10[c] + p11[c] + 2) / 4);
+        }
+      prev = img;
+    }
+  }
+  *out = mips;
+  return BBC_OK;
+}
+
+void bbc__mips_free(bbc__mips *mips, size_t count) {
+  if (!mips) return;
+  for (size_t t = 0; t < count; t++) {
+    for (int k = 0; k < mips[t].levels; k++) bbc_image_free(&mips[t].level[k]);
+    free(mips[t].level);
+  }
+  free(mips);
+}
+
+bbc_result bbc__render_bake(const bbc_mesh *m, const uint32_t *faces, size_t face_count,
+                            const bbc_view *view, bbc__bake *bake, bbc_error *err) {
+  if (m->kind != BBC_MESH_TRIANGLES || !bake->front)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "bake: needs triangles and a front image");
+  camera cam;
+  bbc_result r = check_view(view, bake->width, bake->height, &cam, err);
+  if (r != BBC_OK) return r;
+  size_t n = (size_t)bake->width * bake->height;
+  float *depth = malloc(2 * n * sizeof *depth);
+  if (!depth) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "bake: out of memory");
+  for (size_t i = 0; i < n; i++) {
+    depth[i] = FLT_MAX;
+    depth[n + i] = -FLT_MAX;
+  }
+  target tg = {&cam, view,      {0, 0, 0}, bake->width, bake->height, bake->front, depth,
+               bake, depth + n, NULL,      {0, 0, 0},   NULL,         NULL};
+  setup_light(&cam, view, tg.light);
+  size_t count = faces ? face_count : m->triangle_count;
+  for (size_t i = 0; i < count; i++) draw_triangle(m, faces ? faces[i] : i, &tg);
+  free(depth);
+  return BBC_OK;
+}
+
+bbc_result bbc__render_splats(const bbc_mesh *m, const uint32_t *points, size_t count,
+                              const bbc_view *view, bbc__bake *bake, double size_px, int smooth,
+                              bbc_error *err) {
+  if (m->kind != BBC_MESH_POINTS || !bake->front)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "splats: needs points and a front image");
+  camera cam;
+  bbc_result r = check_view(view, bake->width, bake->height, &cam, err);
+  if (r != BBC_OK) return r;
+  size_t n = (size_t)bake->width * bake->height;
+  float *depth = malloc(2 * n * sizeof *depth);
+  if (!depth) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "splats: out of memory");
+  for (size_t i = 0; i < n; i++) {
+    depth[i] = FLT_MAX;
+    depth[n + i] = -FLT_MAX;
+  }
+  double half = 0.5 * (size_px >= 1 ? size_px : 1), r2 = half * half;
+  for (size_t i = 0; i < count; i++) {
+    size_t v = points ? points[i] : i;
+    double s[3];
+    bbc__camera_project(&cam, m->positions + 3 * v, s);
+    if (s[2] < view->depth_min || s[2] > view->depth_max) continue;
+    uint8_t px4[4] = {200, 200, 200, 255}; /* no colour in the scan: light grey */
+    if (m->colors) memcpy(px4, m->colors + 4 * v, 3);
+    int x0 = (int)floor(s[0] - half + 0.5), x1 = (int)floor(s[0] + half - 0.5);
+    int y0 = (int)floor(s[1] - half + 0.5), y1 = (int)floor(s[1] + half - 0.5);
+    if (x1 < x0) x1 = x0;
+    if (y1 < y0) y1 = y0;
+    for (int y = y0 < 0 ? 0 : y0; y <= y1 && y < bake->height; y++)
+      for (int x = x0 < 0 ? 0 : x0; x <= x1 && x < bake->width; x++) {
+        /* round splats: pixel centres within the disc, and always the pixel
+         * under the point (a small splat between pixel centres keeps one) */
+        double dx = x + 0.5 - s[0], dy = y + 0.5 - s[1];
+        int under = x == (int)floor(s[0]) && y == (int)floor(s[1]);
+        if (smooth && !under && dx * dx + dy * dy > r2) continue;
+        size_t pi = (size_t)y * bake->width + x;
+        float z = (float)s[2];
+        if (z < depth[pi]) { /* front: the point nearest the viewer */
+          depth[pi] = z;
+          memcpy(bake->front + 4 * pi, px4, 4);
+        }
+        if (bake->back && z > depth[n + pi]) { /* back: the farthest */
+          depth[n + pi] = z;
+          memcpy(bake->back + 4 * pi, px4, 4);
+        }
+      }
+  }
+  free(depth);
+  return BBC_OK;
+}
+
+int bbc_view_project(const bbc_view *view, int width, int height, const double p[3],
+                     double out[2]) {
+  camera cam;
+  if (width <= 0 || height <= 0 || !(view->half_extent > 0) ||
+      !bbc__camera_setup(&cam, view, width, height))
+    return 0;
+  double s[3];
+  bbc__camera_project(&cam, p, s);
+  out[0] = s[0];
+  out[1] = s[1];
+  return 1;
+}
+
+void bbc__view_frame_box(const double lo[3], const double hi[3], const double direction[3],
+                         const double up[3], double margin, bbc_view *v) {
+  memset(v, 0, sizeof *v);
+  memcpy(v->direction, direction, sizeof v->direction);
+  memcpy(v->up, up, sizeof v->up);
+  /* Frame the box as seen along the view: the largest extent of its
+   * corners on the image axes, times the margin. */
+  for (int k = 0; k < 3; k++) v->center[k] = 0.5 * (lo[k] + hi[k]);
+  double f[3] = {direction[0], direction[1], direction[2]}, r[3], u[3];
+  normalize3(f);
+  cross3(f, up, r);
+  normalize3(r);
+  cross3(r, f, u);
+  double half = 0;
+  for (int c = 0; c < 8; c++) {
+    double d[3];
+    for (int k = 0; k < 3; k++) d[k] = ((c >> k) & 1 ? hi[k] : lo[k]) - v->center[k];
+    double x = fabs(d[0] * r[0] + d[1] * r[1] + d[2] * r[2]);
+    double y = fabs(d[0] * u[0] + d[1] * u[1] + d[2] * u[2]);
+    half = fmax(half, fmax(x, y));
+  }
+  v->half_extent = half > 0 ? margin * half : 1.0;
+}
+
+void bbc_view_frame_mesh(const bbc_mesh *m, const double direction[3], const double up[3],
+                         bbc_view *v) {
+  bbc__view_frame_box(m->bbox_min, m->bbox_max, direction, up, 1.04, v);
+  v->lighting = 1;
+  v->point_size_px = 2.0f;
+  v->background[0] = v->background[1] = v->background[2] = 255;
+  v->background[3] = 255;
+}
+
+/* Luminance (Rec. 709) summed over the covered pixels of an image whose
+ * background alpha is 0. */
+static double covered_luminance(const bbc_image *img) {
+  double sum = 0;
+  size_t n = (size_t)img->width * img->height;
+  for (size_t i = 0; i < n; i++) {
+    const uint8_t *p = img->rgba + 4 * i;
+    if (p[3]) sum += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+  }
+  return sum;
+}
+
+/* The views that stand for "seen from the side": 8 azimuths around up_axis,
+ * 45 degrees apart, at elevations 0 and 20 degrees in turn (unit vectors,
+ * towards the model). */
+enum { SIDE_VIEWS = 8 };
+static void side_views(int up, double views[SIDE_VIEWS][3]) {
+  int ea = (up + 1) % 3, eb = (up + 2) % 3;
+  for (int v = 0; v < SIDE_VIEWS; v++) {
+    double el = 20.0 * (v % 2) * M_PI / 180.0, az = 2.0 * M_PI * v / SIDE_VIEWS;
+    views[v][up] = -sin(el);
+    views[v][ea] = -cos(el) * cos(az);
+    views[v][eb] = -cos(el) * sin(az);
+  }
+}
+
+bbc_result bbc_light_gain(const bbc_mesh *m, const double light[3], int up_axis, double *gain,
+                          bbc_error *err) {
+  *gain = 1.0;
+  if (m->kind != BBC_MESH_TRIANGLES || !m->indices || !m->triangle_count) return BBC_OK;
+  /* Views: side_views (a viewer near the ground, 10 degrees on average);
+   * 96 pixels. */
+  enum { NV = SIDE_VIEWS, SIZE = 96 };
+  int up = up_axis >= 0 && up_axis <= 2 ? up_axis : 1;
+  double views[NV][3], head[NV], sun[NV];
+  side_views(up, views);
+  int failed = 0;
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int v = 0; v < NV; v++) {
+    double upv[3] = {0, 0, 0};
+    upv[up] = 1;
+    const double *dir = views[v];
+    bbc_view view;
+    bbc_view_frame_mesh(m, dir, upv, &view);
+    view.lighting = 1;
+    view.background[3] = 0;
+    bbc_image img = {0};
+    float *lum = malloc((size_t)SIZE * SIZE * sizeof *lum);
+    head[v] = sun[v] = 0;
+    if (!lum || bbc_image_alloc(&img, SIZE, SIZE) != BBC_OK) {
+      free(lum);
+#pragma omp atomic write
+      failed = 1;
+      continue;
+    }
+    /* One pass: the headlight into the image, the sun into lum. */
+    view.headlight = 1;
+    int ok = render(m, &view, &img, light, lum, NULL) == BBC_OK;
+    head[v] = covered_luminance(&img);
+    for (size_t i = 0; i < (size_t)SIZE * SIZE; i++)
+      if (img.rgba[4 * i + 3]) sun[v] += lum[i];
+    free(lum);
+    bbc_image_free(&img);
+    if (!ok) {
+#pragma omp atomic write
+      failed = 1;
+    }
+  }
+  if (failed) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "light gain: out of memory");
+  double h = 0, s = 0;
+  for (int v = 0; v < NV; v++) {
+    h += head[v];
+    s += sun[v];
+  }
+  if (s > 0 && h > 0) *gain = h / s;
+  return BBC_OK;
+}

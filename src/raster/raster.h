@@ -1,0 +1,92 @@
+/*
+ * raster.h — the software rasterizer's internal interface (src/raster):
+ * baking, coverage, point splats, texture mipmaps as a GPU makes them and
+ * the orthographic camera. Not installed.
+ */
+#ifndef BBC_RASTER_H
+#define BBC_RASTER_H
+
+#include "base.h"
+
+/* ---- baking (src/core/raster.c) ------------------------------------------
+ * One rasterization of `faces` (indices into mesh triangles; all when NULL)
+ * for a billboard seen along view->direction (= minus the plane's normal),
+ * filling the front image (the nearest surface seen from the front, along
+ * +direction) and, when `back` is not NULL, the back image (the nearest
+ * seen from behind) at once, with two depth buffers. Both images are laid out
+ * in the plane's frame (texel x along the camera's right, rows top first), so
+ * the same texel shows the same point of the plane. The view's slab, lighting,
+ * light and vertex_shade apply. Normal maps (when not NULL) receive the
+ * interpolated vertex normal in the billboard's tangent space (x = right,
+ * y = up, z = towards that image's viewer, flipped to face it), encoded as
+ * rgb = 255 (n + 1) / 2, alpha as the colour image. `backface`: each image
+ * shows only faces whose winding faces its viewer. Images must be allocated
+ * width x height and cleared by the caller. */
+/* A texture's mipmaps as a GPU makes them (glGenerateMipmap: each level
+ * the 2x2 box average of the one before, every channel on its own, so the
+ * colour of transparent texels bleeds into their opaque neighbours). */
+typedef struct bbc__mips {
+  int levels;       /* levels after the base image */
+  bbc_image *level; /* level[k - 1]: level k, half of level k - 1 (at least 1) */
+} bbc__mips;
+
+/* mips[t] for each of the mesh's textures (a texture without an image gets
+ * none); free with bbc__mips_free. */
+bbc_result bbc__mips_build(const bbc_mesh *mesh, bbc__mips **mips, bbc_error *err);
+void bbc__mips_free(bbc__mips *mips, size_t count);
+
+typedef struct bbc__bake {
+  int width, height;
+  uint8_t *front, *back;       /* RGBA */
+  uint8_t *front_nm, *back_nm; /* RGBA, may be NULL */
+  int backface;
+  /* Optional, per texture of the mesh: colours are read from the mip level
+   * matching each triangle's texel footprint on the image (as a GPU shows
+   * the texture from that distance), alpha from the base image (coverage
+   * is the supersampling's business). */
+  const bbc__mips *mips;
+  int mip_bias; /* levels added: log2 of the pixels per cloud texel (4 samples
+                 * per side: 2), so that colours are those of one texel */
+  /* Optional, per triangle of the mesh: the alpha its samples get (255 when
+   * NULL): `pure 2` gives a face crossing n slabs 255 / n in each. */
+  const uint8_t *face_alpha;
+} bbc__bake;
+
+/* What bbc_render_ortho's alpha would show (alpha >= 128) on a size x
+ * size image, 0 or 1 a pixel, without colours or depths: faster. */
+bbc_result bbc__render_coverage(const bbc_mesh *mesh, const bbc_view *view, int size,
+                                uint8_t *cover, bbc_error *err);
+bbc_result bbc__render_bake(const bbc_mesh *mesh, const uint32_t *faces, size_t face_count,
+                            const bbc_view *view, bbc__bake *bake, bbc_error *err);
+/* The same for a point cloud's points (NULL: all), splatted `size_px`
+ * pixels wide, round when `smooth`, coloured as scanned (else light grey);
+ * the front image keeps the nearest point, the back image the farthest. */
+bbc_result bbc__render_splats(const bbc_mesh *mesh, const uint32_t *points, size_t count,
+                              const bbc_view *view, bbc__bake *bake, double size_px, int smooth,
+                              bbc_error *err);
+
+/* The orthographic camera of a bbc_view on a w x h image (src/core/raster.c). */
+typedef struct bbc__camera {
+  double r[3], u[3], f[3]; /* right, up, forward (unit) */
+  double c[3];
+  double scale;   /* pixels per model unit, x */
+  double scale_y; /* pixels per model unit, y */
+  double w2, h2;
+} bbc__camera;
+
+/* 0 when the view's up is parallel to its direction. */
+int bbc__camera_setup(bbc__camera *cam, const bbc_view *view, int w, int h);
+
+/* Screen position (x right, y down, pixels) and depth (model units along f). */
+static inline void bbc__camera_project(const bbc__camera *cam, const double *p, double *s) {
+  double d[3] = {p[0] - cam->c[0], p[1] - cam->c[1], p[2] - cam->c[2]};
+  s[0] = cam->w2 + cam->scale * (d[0] * cam->r[0] + d[1] * cam->r[1] + d[2] * cam->r[2]);
+  s[1] = cam->h2 - cam->scale_y * (d[0] * cam->u[0] + d[1] * cam->u[1] + d[2] * cam->u[2]);
+  s[2] = d[0] * cam->f[0] + d[1] * cam->f[1] + d[2] * cam->f[2];
+}
+
+/* A view along `direction` (up hint `up`) centred on the box lo..hi and
+ * framing its corners times `margin`; everything else zero. */
+void bbc__view_frame_box(const double lo[3], const double hi[3], const double direction[3],
+                         const double up[3], double margin, bbc_view *view);
+#endif /* BBC_RASTER_H */

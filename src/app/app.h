@@ -109,7 +109,6 @@ bbc_result bbc_shade_view(const bbc_mesh *mesh, int voxels, double ambient, int 
  * the others remaining (set NULL: all remaining). */
 void bbc_faces_state(const bbc_planeset *set, size_t selected, uint8_t *state, size_t count);
 
-
 /* ---- session: BBCgen's workflow (thesis Appendix A), GL-free ----------- */
 /* A model, its planes (steps 1 and 2) and its cloud (step 3) kept between
  * steps, as BBCgen's prompt keeps them: after a change of texturing
@@ -269,7 +268,6 @@ bbc_result bbc_command_parse(const char *line, size_t length, bbc_command *cmd, 
  * file's name in messages). */
 bbc_result bbc_script_next(const char *text, size_t size, const char *name, size_t *pos, int *line,
                            bbc_command *cmd, bbc_error *err);
-
 
 #ifdef __cplusplus
 }

@@ -100,7 +100,6 @@ static inline double bbc__rng_range(bbc__rng *r, double lo, double hi) {
   return lo + (hi - lo) * bbc__rng_uniform(r);
 }
 
-
 /* The `threads` parameter for the parallel loops that name no thread count
  * (library functions without the parameter, called by steps 1 and 3):
  * OpenMP's default team size of the calling thread set to `threads` when

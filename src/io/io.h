@@ -12,7 +12,6 @@
  * '_'; "unnamed" when empty. */
 void bbc__safe_name(const char *in, char *out, size_t n);
 
-
 /* Checks that `path` names a readable regular file; BBC_ERROR_NOT_FOUND,
  * BBC_ERROR_NOT_A_FILE or BBC_ERROR_IO with a message otherwise. */
 bbc_result bbc__check_input_file(const char *path, bbc_error *err);

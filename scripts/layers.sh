@@ -1,0 +1,152 @@
+#!/usr/bin/env bash
+# layers.sh — the source tree's layers and the direction of their
+# dependencies, checked and drawn.
+#
+#   scripts/layers.sh check [BUILD_DIR]   every #include and, with a build
+#                                         folder, every call between layers
+#                                         goes downwards (exit 1 otherwise)
+#   scripts/layers.sh table [SRC_DIR]     markdown: each folder and the folders
+#                                         its files include (from the includes)
+#   scripts/layers.sh dot [SRC_DIR]       the same as a Graphviz graph
+#
+# The layers (a folder of src/ each) and what each may use are read from
+# CMakeLists.txt's bbc_layer(NAME DEPS ...) lines, plus the layers above the
+# library, named here: gl (the drawing layer) sees the public headers and the
+# application layer; the tools see the application layer, the drawing layer
+# and their common folder. include/ (the public headers) is open to all: the
+# layers above the library call libbbc's public functions (bbc_*), never its
+# internal ones (bbc__*).
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+mode=${1:-check}
+
+# allowed LAYER: the folders (under src/) LAYER's files may include or call.
+declare -A allowed
+while read -r name deps; do
+  allowed[$name]="$name $deps"
+done < <(awk '/^bbc_layer\(/ { sub(/^bbc_layer\(/, ""); line = $0
+           while (line !~ /SOURCES/ && (getline more) > 0) line = line " " more
+           sub(/SOURCES.*/, "", line); gsub(/DEPS/, "", line); print line }' \
+           "$root/CMakeLists.txt")
+allowed[gl]="gl app"
+allowed[tools/bbcgen]="tools/bbcgen tools/common app gl"
+allowed[tools/forest]="tools/forest tools/common gl"
+allowed[tools/common]="tools/common"
+# The public API (bbc_*, not bbc__*) of libbbc's layers is open to the layers
+# above the library, and that of the forest runtime to those that draw it.
+libbbc="base io raster planes cloud eval gen"
+declare -A public
+for l in "${!allowed[@]}"; do public[$l]=${allowed[$l]}; done
+for l in app forest gl tools/bbcgen tools/forest; do public[$l]="${public[$l]} $libbbc"; done
+public[gl]="${public[gl]} forest"
+public[tools/forest]="${public[tools/forest]} forest"
+
+# layer_of FILE (a path under src/): its layer's folder.
+layer_of() {
+  local rel=${1#src/}
+  case "$rel" in
+    tools/*) rel=${rel#tools/} && echo "tools/${rel%%/*}" ;;
+    *) echo "${rel%%/*}" ;;
+  esac
+}
+
+# The include edges of a source tree: "FROM_FOLDER TO_FOLDER FILE HEADER",
+# TO_FOLDER being where the header lives (include for the public headers,
+# "system" for <...> headers is not listed, "?" when no folder has it).
+include_edges() {
+  local src=$1
+  (cd "$src/.." && find src -name '*.[ch]' | sort) | while read -r f; do
+    local from
+    from=$(layer_of "$f")
+    grep -o '^#include "[^"]*"' "$src/../$f" | sed 's/#include "\(.*\)"/\1/' | while read -r h; do
+      local to="?"
+      if [ -f "$src/../include/$h" ]; then
+        to=include
+      elif [ -f "$src/../$(dirname "$f")/$h" ]; then
+        to=$from
+      else
+        local hit
+        hit=$(cd "$src/.." && find src -name "$(basename "$h")" | head -1)
+        [ -n "$hit" ] && to=$(layer_of "$hit")
+      fi
+      echo "$from $to $f $h"
+    done
+  done
+}
+
+case "$mode" in
+  check)
+    build=${2:-}
+    bad=0
+    # 1. includes: no "../", and only the layer itself, the layers it may use
+    #    and the public headers.
+    if grep -rn '^#include "[^"]*\.\./' "$root/src" "$root/include"; then
+      echo "layers: an include names a parent folder (above)" >&2
+      bad=1
+    fi
+    while read -r from to file header; do
+      [ "$to" = include ] && continue
+      if [ "$to" = "?" ]; then
+        echo "layers: $file includes \"$header\", found in no folder" >&2
+        bad=1
+      elif [ -z "${allowed[$from]+x}" ]; then
+        echo "layers: $file is in src/$from, which is no layer (CMakeLists.txt, this script)" >&2
+        bad=1
+      elif ! grep -qw -- "$to" <<<"${allowed[$from]}"; then
+        echo "layers: $file (layer $from) includes $header of layer $to: upwards or sideways" >&2
+        bad=1
+      fi
+    done < <(include_edges "$root/src")
+    # 2. calls: every symbol an object file needs from another layer is
+    #    defined in a layer it may use (the objects in BUILD_DIR).
+    if [ -n "$build" ]; then
+      tmp=$(mktemp -d)
+      trap 'rm -rf "$tmp"' EXIT
+      # the objects of the current targets (a build folder may hold stale ones)
+      find "$build"/CMakeFiles/bbc_*.dir "$build"/CMakeFiles/{bbcgl,bbcgen,forest}.dir \
+        -path '*/src/*' -name '*.c.o' 2> /dev/null | while read -r o; do
+        rel=src/${o#*/src/}
+        printf '%s\n' "$(layer_of "${rel%.o}") $o"
+      done | sort > "$tmp/objects"
+      [ -s "$tmp/objects" ] || { echo "layers: no object files in $build" >&2; exit 1; }
+      while read -r layer o; do
+        nm --defined-only -g "$o" | awk -v l="$layer" '$2 ~ /[TDBRC]/ { print $3, l }'
+      done < "$tmp/objects" | sort -u > "$tmp/defined"
+      while read -r layer o; do
+        nm -u "$o" | awk -v l="$layer" -v o="$o" '{ print $2, l, o }'
+      done < "$tmp/objects" | sort > "$tmp/needed"
+      join "$tmp/needed" "$tmp/defined" | while read -r sym from obj to; do
+        [ "$from" = "$to" ] && continue
+        can=${allowed[$from]:-}
+        [[ $sym == bbc__* ]] || can=${public[$from]:-}
+        if ! grep -qw -- "$to" <<<"$can"; then
+          echo "layers: ${obj#*/src/} (layer $from) calls $sym of layer $to: upwards or sideways" >&2
+          echo bad >> "$tmp/bad"
+        fi
+      done
+      [ -f "$tmp/bad" ] && bad=1
+    fi
+    if [ $bad -eq 0 ]; then
+      echo "layers: every include${build:+ and call} goes downwards"
+    fi
+    exit $bad
+    ;;
+  table | dot)
+    src=${2:-$root/src}
+    include_edges "$src" | awk '$1 != $2 { print $1, $2 }' | sort | uniq -c |
+      if [ "$mode" = table ]; then
+        echo "| folder | includes headers of (number of #include lines) |"
+        echo "|---|---|"
+        awk '{ e[$2] = e[$2] (e[$2] ? ", " : "") $3 " (" $1 ")" }
+             END { for (k in e) print "| " k " | " e[k] " |" }' | sort
+      else
+        awk 'BEGIN { print "digraph layers {"; print "  rankdir=BT; node [shape=box, fontname=\"Helvetica\"];" }
+             { printf "  \"%s\" -> \"%s\" [label=\"%d\"];\n", $2, $3, $1 }
+             END { print "}" }'
+      fi
+    ;;
+  *)
+    echo "usage: scripts/layers.sh check [BUILD_DIR] | table [SRC_DIR] | dot [SRC_DIR]" >&2
+    exit 2
+    ;;
+esac

@@ -36,16 +36,33 @@ if [ "$(id -u)" -ne 0 ]; then
 fi
 echo "setup.sh: installing ${missing[*]}" >&2
 export DEBIAN_FRONTEND=noninteractive
-# Update the package lists only when they are missing or older than a day.
-if [ -z "$(find /var/lib/apt/lists -maxdepth 1 -name '*Packages*' -mmin -1440 2>/dev/null | head -1)" ]; then
-  apt-get update -qq
-fi
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
+# apt_get ARGS...: apt-get, quiet on success, that waits (up to 10 minutes)
+# for the package manager's locks when another install or update runs
+# instead of failing at once.
+apt_get() {
+  local waited=0
+  while :; do
+    if apt-get -o DPkg::Lock::Timeout=600 "$@" > "$log" 2>&1; then return 0; fi
+    if grep -q 'Could not get lock\|Unable to lock\|is another process using it' "$log" &&
+      [ $waited -lt 600 ]; then
+      [ $waited -eq 0 ] && echo "setup.sh: the package manager is busy; waiting for it" >&2
+      sleep 10
+      waited=$((waited + 10))
+      continue
+    fi
+    return 1
+  done
+}
+# Update the package lists only when they are missing or older than a day.
+if [ -z "$(find /var/lib/apt/lists -maxdepth 1 -name '*Packages*' -mmin -1440 2>/dev/null | head -1)" ]; then
+  apt_get update -qq || { cat "$log" >&2; echo "setup.sh: apt-get update failed" >&2; exit 1; }
+fi
 # Quiet on success; the whole apt log on failure.
-if ! $cmd -qq > "$log" 2>&1; then
-  apt-get update -qq > "$log" 2>&1 || true
-  if ! $cmd -qq > "$log" 2>&1; then
+if ! apt_get install -y --no-install-recommends -qq "${missing[@]}"; then
+  apt_get update -qq || true
+  if ! apt_get install -y --no-install-recommends -qq "${missing[@]}"; then
     cat "$log" >&2
     echo "setup.sh: installing ${missing[*]} failed" >&2
     exit 1

@@ -5,6 +5,7 @@
 #   make bench    benchmarks (writes bench/results/)
 #   make fuzz     libFuzzer harnesses, FUZZ_SECONDS each (default 60; clang)
 #   make install  library, header, pkg-config file and tools (PREFIX=/usr/local)
+#   make docs     docs/parameters.md from the parameter table
 BUILD      ?= build
 ASAN_BUILD ?= build-asan
 PREFIX     ?= /usr/local
@@ -17,7 +18,7 @@ fresh_cache = if [ -f $(1)/CMakeCache.txt ] && [ ! -f $(1)/Makefile ]; then \
   rm -rf $(1)/CMakeCache.txt $(1)/CMakeFiles; fi
 
 .PHONY: all setup configure build test test-release test-asan demo bench fuzz install format \
-        format-check clean
+        format-check clean docs
 
 all: build
 
@@ -69,6 +70,9 @@ bench: build
 fuzz:
 	@scripts/setup.sh fuzz
 	@scripts/fuzz.sh
+
+docs: build
+	$(BUILD)/bin/bbc_paramdoc > docs/parameters.md
 
 install: build
 	cmake --install $(BUILD) --prefix $(PREFIX)

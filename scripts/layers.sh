@@ -32,12 +32,13 @@ allowed[gl]="gl app"
 allowed[tools/bbcgen]="tools/bbcgen tools/common app gl"
 allowed[tools/forest]="tools/forest tools/common gl"
 allowed[tools/common]="tools/common"
+allowed[tools/paramdoc]="tools/paramdoc"
 # The public API (bbc_*, not bbc__*) of libbbc's layers is open to the layers
 # above the library, and that of the forest runtime to those that draw it.
 libbbc="base io raster planes cloud eval gen"
 declare -A public
 for l in "${!allowed[@]}"; do public[$l]=${allowed[$l]}; done
-for l in app forest gl tools/bbcgen tools/forest; do public[$l]="${public[$l]} $libbbc"; done
+for l in app forest gl tools/bbcgen tools/forest tools/paramdoc; do public[$l]="${public[$l]} $libbbc"; done
 public[gl]="${public[gl]} forest"
 public[tools/forest]="${public[tools/forest]} forest"
 
@@ -103,7 +104,7 @@ case "$mode" in
       tmp=$(mktemp -d)
       trap 'rm -rf "$tmp"' EXIT
       # the objects of the current targets (a build folder may hold stale ones)
-      find "$build"/CMakeFiles/bbc_*.dir "$build"/CMakeFiles/{bbcgl,bbcgen,forest}.dir \
+      find "$build"/CMakeFiles/bbc_*.dir "$build"/CMakeFiles/{bbcgl,bbcgen,forest,bbc_paramdoc}.dir \
         -path '*/src/*' -name '*.c.o' 2> /dev/null | while read -r o; do
         rel=src/${o#*/src/}
         printf '%s\n' "$(layer_of "${rel%.o}") $o"

@@ -8,6 +8,10 @@
 #   scripts/layers.sh table [SRC_DIR]     markdown: each folder and the folders
 #                                         its files include (from the includes)
 #   scripts/layers.sh dot [SRC_DIR]       the same as a Graphviz graph
+#   scripts/layers.sh calls BUILD_DIR     markdown: the calls between folders
+#                                         (symbols an object file needs from
+#                                         another folder's, counted), from the
+#                                         object files of any build
 #
 # The layers (a folder of src/ each) and what each may use are read from
 # CMakeLists.txt's bbc_layer(NAME DEPS ...) lines, plus the layers above the
@@ -146,8 +150,28 @@ case "$mode" in
              END { print "}" }'
       fi
     ;;
+  calls)
+    build=${2:?usage: scripts/layers.sh calls BUILD_DIR}
+    tmp=$(mktemp -d)
+    trap 'rm -rf "$tmp"' EXIT
+    find "$build/CMakeFiles" -path '*/src/*' -name '*.c.o' | while read -r o; do
+      rel=src/${o#*/src/}
+      echo "$(layer_of "${rel%.o}") $o"
+    done | sort -u -k2 > "$tmp/objects"
+    while read -r layer o; do
+      nm --defined-only -g "$o" | awk -v l="$layer" '$2 ~ /[TDBRC]/ { print $3, l }'
+    done < "$tmp/objects" | sort -u > "$tmp/defined"
+    while read -r layer o; do
+      nm -u "$o" | awk -v l="$layer" '{ print $2, l }'
+    done < "$tmp/objects" | sort -u > "$tmp/needed"
+    echo "| folder | calls into (distinct functions) |"
+    echo "|---|---|"
+    join "$tmp/needed" "$tmp/defined" | awk '$2 != $3 { print $2, $3 }' | sort | uniq -c |
+      awk '{ e[$2] = e[$2] (e[$2] ? ", " : "") $3 " (" $1 ")" }
+           END { for (k in e) print "| " k " | " e[k] " |" }' | sort
+    ;;
   *)
-    echo "usage: scripts/layers.sh check [BUILD_DIR] | table [SRC_DIR] | dot [SRC_DIR]" >&2
+    echo "usage: scripts/layers.sh check [BUILD_DIR] | table [SRC_DIR] | dot [SRC_DIR] | calls BUILD_DIR" >&2
     exit 2
     ;;
 esac

@@ -86,6 +86,72 @@ static int whole_double(const char *s, double *v) {
 
 #define bad(err, ...) bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, __VA_ARGS__)
 
+/* The arguments of each command that takes some; `c` is its name. */
+static bbc_result parse_load(bbc_command *cmd, const char *c, bbc_error *err) {
+  if (!cmd->arg[0]) return bad(err, "%s needs an argument", c);
+  size_t j = 0, rn = strlen(cmd->rest);
+  char flag[BBC_COMMAND_LINE_MAX];
+  while (next_word(cmd->rest, rn, &j, flag, sizeof flag)) {
+    if (!strcmp(flag, "nomip"))
+      cmd->nomip = 1;
+    else if (strcmp(flag, "nocg"))
+      return bad(err, "load: '%s' is not a flag (load FILE [nocg] [nomip])", flag);
+  }
+  return BBC_OK;
+}
+
+static bbc_result parse_set(bbc_command *cmd, const char *c, bbc_error *err) {
+  if (!cmd->arg[0] || !cmd->rest[0]) return bad(err, "%s needs NAME VALUE", c);
+  const char *dot = strchr(cmd->arg, '.');
+  const char *name = dot ? dot + 1 : cmd->arg;
+  if (dot) {
+    if (dot == cmd->arg || (size_t)(dot - cmd->arg) >= sizeof cmd->part)
+      return bad(err, "set: '%s' is not PART.NAME", cmd->arg);
+    memcpy(cmd->part, cmd->arg, (size_t)(dot - cmd->arg));
+  }
+  if (!*name || strlen(name) >= sizeof cmd->name)
+    return bad(err, "set: '%s' is not a parameter's name", cmd->arg);
+  memcpy(cmd->name, name, strlen(name) + 1);
+  return BBC_OK;
+}
+
+static bbc_result parse_split(bbc_command *cmd, const char *c, bbc_error *err) {
+  if (!cmd->arg[0]) return bad(err, "%s needs an argument", c);
+  if (cmd->rest[0]) return bad(err, "split takes one word, not '%s' after it", cmd->rest);
+  const char *eq = strchr(cmd->arg, '=');
+  if (eq) {
+    size_t k = (size_t)(eq - cmd->arg);
+    int trunk = k == 5 && !strncmp(cmd->arg, "trunk", 5);
+    if (!trunk && !(k == 7 && !strncmp(cmd->arg, "foliage", 7)))
+      return bad(err, "split: '%s' is not trunk=PATTERNS or foliage=PATTERNS", cmd->arg);
+    if (!eq[1]) return bad(err, "split %s needs patterns", trunk ? "trunk=" : "foliage=");
+    cmd->split = BBC_SPLIT_PATTERNS;
+    cmd->trunk_side = trunk;
+    memmove(cmd->rest, eq + 1, strlen(eq + 1) + 1);
+    return BBC_OK;
+  }
+  static const char *const modes[] = {"auto", "none", "names", "geometry"};
+  for (int m = 0; m < 4; m++)
+    if (!strcmp(cmd->arg, modes[m])) {
+      cmd->split = (bbc_split_mode)m;
+      return BBC_OK;
+    }
+  return bad(err, "split must be auto, none, names, geometry, trunk=... or foliage=..., not '%s'",
+             cmd->arg);
+}
+
+static bbc_result parse_shade(bbc_command *cmd, const char *c, bbc_error *err) {
+  if (!cmd->arg[0]) return bad(err, "%s needs an argument", c);
+  long v;
+  double a = 0;
+  if (!whole_long(cmd->arg, &v) || v < 0 || v > 512 ||
+      (cmd->rest[0] && (!whole_double(cmd->rest, &a) || !(a >= 0 && a <= 1))))
+    return bad(err, "%s NUMVOXELS [AMBIENT]: voxels 0..512, ambient 0..1", c);
+  cmd->shade_voxels = (int)v;
+  cmd->shade_ambient = a;
+  return BBC_OK;
+}
+
 bbc_result bbc_command_parse(const char *line, size_t n, bbc_command *cmd, bbc_error *err) {
   int lineno = cmd->line;
   memset(cmd, 0, sizeof *cmd);
@@ -110,67 +176,14 @@ bbc_result bbc_command_parse(const char *line, size_t n, bbc_command *cmd, bbc_e
   cmd->kind = info->kind;
 
   switch (info->kind) {
-  case BBC_COMMAND_LOAD: {
-    if (!cmd->arg[0]) return bad(err, "%s needs an argument", c);
-    size_t j = 0, rn = strlen(cmd->rest);
-    char flag[BBC_COMMAND_LINE_MAX];
-    while (next_word(cmd->rest, rn, &j, flag, sizeof flag)) {
-      if (!strcmp(flag, "nomip"))
-        cmd->nomip = 1;
-      else if (strcmp(flag, "nocg"))
-        return bad(err, "load: '%s' is not a flag (load FILE [nocg] [nomip])", flag);
-    }
-    return BBC_OK;
-  }
-  case BBC_COMMAND_SET: {
-    if (!cmd->arg[0] || !cmd->rest[0]) return bad(err, "%s needs NAME VALUE", c);
-    const char *dot = strchr(cmd->arg, '.');
-    const char *name = dot ? dot + 1 : cmd->arg;
-    if (dot) {
-      if (dot == cmd->arg || (size_t)(dot - cmd->arg) >= sizeof cmd->part)
-        return bad(err, "set: '%s' is not PART.NAME", cmd->arg);
-      memcpy(cmd->part, cmd->arg, (size_t)(dot - cmd->arg));
-    }
-    if (!*name || strlen(name) >= sizeof cmd->name)
-      return bad(err, "set: '%s' is not a parameter's name", cmd->arg);
-    memcpy(cmd->name, name, strlen(name) + 1);
-    return BBC_OK;
-  }
-  case BBC_COMMAND_SPLIT: {
-    if (!cmd->arg[0]) return bad(err, "%s needs an argument", c);
-    if (cmd->rest[0]) return bad(err, "split takes one word, not '%s' after it", cmd->rest);
-    const char *eq = strchr(cmd->arg, '=');
-    if (eq) {
-      size_t k = (size_t)(eq - cmd->arg);
-      int trunk = k == 5 && !strncmp(cmd->arg, "trunk", 5);
-      if (!trunk && !(k == 7 && !strncmp(cmd->arg, "foliage", 7)))
-        return bad(err, "split: '%s' is not trunk=PATTERNS or foliage=PATTERNS", cmd->arg);
-      if (!eq[1]) return bad(err, "split %s needs patterns", trunk ? "trunk=" : "foliage=");
-      cmd->split = BBC_SPLIT_PATTERNS;
-      cmd->trunk_side = trunk;
-      memmove(cmd->rest, eq + 1, strlen(eq + 1) + 1);
-      return BBC_OK;
-    }
-    static const char *const modes[] = {"auto", "none", "names", "geometry"};
-    for (int m = 0; m < 4; m++)
-      if (!strcmp(cmd->arg, modes[m])) {
-        cmd->split = (bbc_split_mode)m;
-        return BBC_OK;
-      }
-    return bad(err, "split must be auto, none, names, geometry, trunk=... or foliage=..., not '%s'",
-               cmd->arg);
-  }
-  case BBC_COMMAND_SHADE: {
-    if (!cmd->arg[0]) return bad(err, "%s needs an argument", c);
-    long v;
-    double a = 0;
-    if (!whole_long(cmd->arg, &v) || v < 0 || v > 512 ||
-        (cmd->rest[0] && (!whole_double(cmd->rest, &a) || !(a >= 0 && a <= 1))))
-      return bad(err, "%s NUMVOXELS [AMBIENT]: voxels 0..512, ambient 0..1", c);
-    cmd->shade_voxels = (int)v;
-    cmd->shade_ambient = a;
-    return BBC_OK;
-  }
+  case BBC_COMMAND_LOAD:
+    return parse_load(cmd, c, err);
+  case BBC_COMMAND_SET:
+    return parse_set(cmd, c, err);
+  case BBC_COMMAND_SPLIT:
+    return parse_split(cmd, c, err);
+  case BBC_COMMAND_SHADE:
+    return parse_shade(cmd, c, err);
   case BBC_COMMAND_SHOW:
     if (strcmp(cmd->arg, "model") && strcmp(cmd->arg, "bbc"))
       return bad(err, "show %s: expected show model or show bbc",

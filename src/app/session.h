@@ -1,5 +1,6 @@
 /* session.h — the session's state, shared by session.c (the steps) and
- * output.c (what is written of them); internal. */
+ * what is written of them: output.c (cloud files), report.c (the JSON
+ * report) and preview.c (the preview sheet); internal. */
 #ifndef BBC_SESSION_H
 #define BBC_SESSION_H
 
@@ -33,5 +34,11 @@ struct bbc_session {
 
 /* Level k (0 = level0), NULL past the last. */
 bbc__level *bbc__session_level(bbc_session *s, size_t k);
+
+/* report.c's JSON for output.c's glTF extras, as unformatted text (free it
+ * with cJSON_free; NULL when out of memory): the parameters (all but
+ * threads, which never changes a result), and a level's short summary. */
+char *bbc__params_json_text(const bbc_params *p);
+char *bbc__level_json_text(const bbc__level *L);
 
 #endif

@@ -1,7 +1,8 @@
 /*
  * base.h — what every layer of the library shares (src/base): errors and
  * callbacks, labels for repeated stages, small numeric helpers, the
- * deterministic random numbers and the thread-count rule. Not installed.
+ * deterministic random numbers and the thread-count rule (3-vectors are
+ * vec3.h's). Not installed.
  * Every non-static symbol here starts with `bbc__` (two underscores) so it
  * never collides with a user's names or with the public API.
  */

@@ -1,14 +1,11 @@
-/* image.c — RGBA8 images: allocation, decoding with stb_image, PNG output
- * (our encoder over zlib) through an atomic file. */
+/* image.c — RGBA8 images in memory: allocation, the transparency test and
+ * the alpha-tested mip chain that keeps the coverage of every level (Castano
+ * 2010). Decoding and writing files are io/image_io.c's. */
 #include "base.h"
 
-#include <errno.h>
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include <stb/stb_image.h>
-#include <zlib.h>
 
 bbc_result bbc_image_alloc(bbc_image *image, int width, int height) {
   memset(image, 0, sizeof *image);
@@ -26,18 +23,6 @@ void bbc_image_free(bbc_image *image) {
   free(image->rgba);
   memset(image, 0, sizeof *image);
 }
-
-/* ---- PNG (ISO/IEC 15948: RGBA8, one IDAT, no interlace) ------------------
- * The filter is chosen once per image: each of None, Sub, Up and Paeth
- * compresses every eighth row at zlib's fastest level, and the smallest
- * wins (a billboard atlas, dithered alpha over noisy colour, compresses best
- * unfiltered; a smooth picture with Paeth or Up). Then zlib at level 4,
- * in up to 8 parts compressed at once. Measured on the Scopia pine's 1024 x 1024
- * atlas: 1,110,567 bytes in 0.06 s (level 6, one part), where
- * stb_image_write (per-row filter by least absolute sum, its own deflate at
- * level 8) gave 1,534,451 bytes in 0.12 s; the whole .glb written in 0.050
- * s at level 6, 0.041 s at level 4 (0.6 % larger), 0.035 s at level 3
- * (3 % larger), 0.031 s at level 1 (5.5 % larger). */
 
 int bbc_image_has_transparency(const bbc_image *image) {
   if (!image || !image->rgba) return 0;

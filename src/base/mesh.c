@@ -1,6 +1,7 @@
 /* mesh.c — the library's own mesh: validation, clean-up and the frame of
  * thesis 2.1.4 (area-weighted centre of gravity, bounding-sphere radius). */
 #include "base.h"
+#include "vec3.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -40,25 +41,13 @@ void bbc_mesh_group_triangle_counts(const bbc_mesh *mesh, size_t *counts) {
   for (size_t t = 0; t < mesh->triangle_count; t++) counts[mesh->face_group[t]]++;
 }
 
-static void sub3(const double *a, const double *b, double *r) {
-  r[0] = a[0] - b[0];
-  r[1] = a[1] - b[1];
-  r[2] = a[2] - b[2];
-}
-
-static void cross3(const double *a, const double *b, double *r) {
-  r[0] = a[1] * b[2] - a[2] * b[1];
-  r[1] = a[2] * b[0] - a[0] * b[2];
-  r[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 /* Twice the triangle's area vector (unnormalised normal). */
 void bbc__triangle_cross(const bbc_mesh *m, size_t t, double *c) {
   const uint32_t *ix = m->indices + 3 * t;
-  double e1[3], e2[3];
-  sub3(m->positions + 3 * ix[1], m->positions + 3 * ix[0], e1);
-  sub3(m->positions + 3 * ix[2], m->positions + 3 * ix[0], e2);
-  cross3(e1, e2, c);
+  vec3 p0 = vload(m->positions + 3 * ix[0]);
+  vec3 e1 = vsub(vload(m->positions + 3 * ix[1]), p0);
+  vec3 e2 = vsub(vload(m->positions + 3 * ix[2]), p0);
+  vstore(c, vcross(e1, e2));
 }
 
 static int coord_ok(double v) {
@@ -214,21 +203,17 @@ static bbc_result finalize_points(bbc_mesh *m, const char *source, bbc_error *er
   for (int k = 0; k < 3; k++) m->center[k] = (double)(s[k] / (long double)m->vertex_count);
   double r2 = 0;
   for (size_t v = 0; v < m->vertex_count; v++) {
-    double d[3];
-    sub3(m->positions + 3 * v, m->center, d);
-    double q = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    vec3 d = vsub(vload(m->positions + 3 * v), vload(m->center));
+    double q = vdot(d, d);
     if (q > r2) r2 = q;
   }
   m->radius = sqrt(r2);
   return BBC_OK;
 }
 
-bbc_result bbc_mesh_finalize(bbc_mesh *m, int compute_normals_flag, const char *source,
-                             bbc_error *err) {
-  if (!source) source = "mesh";
-  if (m->kind == BBC_MESH_POINTS) return finalize_points(m, source, err);
-
-  /* Indices and per-face tables first: everything below reads through them. */
+/* Indices and per-face tables first (everything after reads through them),
+ * then the coordinates of every vertex a triangle uses: finite. */
+static bbc_result check_triangles(const bbc_mesh *m, const char *source, bbc_error *err) {
   for (size_t t = 0; t < m->triangle_count; t++) {
     for (int k = 0; k < 3; k++)
       if (m->indices[3 * t + k] >= m->vertex_count)
@@ -244,14 +229,16 @@ bbc_result bbc_mesh_finalize(bbc_mesh *m, int compute_normals_flag, const char *
                        "%s: triangle %zu refers to group %u of %zu", source, t, m->face_group[t],
                        m->group_count);
   }
-  /* Coordinates of every vertex a triangle uses must be finite. */
   for (size_t t = 0; t < m->triangle_count; t++)
     for (int k = 0; k < 3; k++) {
       bbc_result r = check_vertex(m, m->indices[3 * t + k], source, err);
       if (r != BBC_OK) return r;
     }
+  return BBC_OK;
+}
 
-  /* Bounds of the used vertices: also the scale for "zero" area. */
+/* Bounds of the vertices the triangles use. */
+static void used_bounds(bbc_mesh *m) {
   for (int k = 0; k < 3; k++) {
     m->bbox_min[k] = INFINITY;
     m->bbox_max[k] = -INFINITY;
@@ -263,20 +250,22 @@ bbc_result bbc_mesh_finalize(bbc_mesh *m, int compute_normals_flag, const char *
       if (p[k] > m->bbox_max[k]) m->bbox_max[k] = p[k];
     }
   }
+}
 
-  /* Drop zero-area triangles (repeated indices, collinear or coincident
-   * corners): they carry no surface, and their normal is undefined. "Zero"
-   * is relative to the model's size so that tiny real leaves survive. */
-  double ext[3];
-  sub3(m->bbox_max, m->bbox_min, ext);
-  double diag2 = ext[0] * ext[0] + ext[1] * ext[1] + ext[2] * ext[2];
+/* Drops zero-area triangles (repeated indices, collinear or coincident
+ * corners): they carry no surface, and their normal is undefined. "Zero"
+ * is relative to the model's size (the bounds' diagonal) so that tiny real
+ * leaves survive. The kept ones move to the front, in order. */
+static void drop_degenerate(bbc_mesh *m) {
+  vec3 ext = vsub(vload(m->bbox_max), vload(m->bbox_min));
+  double diag2 = vdot(ext, ext);
   double min_cross = diag2 * 1e-14;
   m->triangles_read = m->triangle_count;
   size_t kept = 0;
   for (size_t t = 0; t < m->triangle_count; t++) {
     double c[3];
     bbc__triangle_cross(m, t, c);
-    double len = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    double len = vlen(vload(c));
     if (!(len > min_cross)) {
       m->dropped_degenerate++;
       continue;
@@ -289,37 +278,19 @@ bbc_result bbc_mesh_finalize(bbc_mesh *m, int compute_normals_flag, const char *
     kept++;
   }
   m->triangle_count = kept;
-  if (kept == 0)
-    return bbc__fail(err, BBC_ERROR_EMPTY, "%s: no triangles with non-zero area%s", source,
-                     m->dropped_degenerate ? " (all were degenerate)" : "");
+}
 
-  /* Bounds again: dropped triangles may have held the extreme vertices. */
-  for (int k = 0; k < 3; k++) {
-    m->bbox_min[k] = INFINITY;
-    m->bbox_max[k] = -INFINITY;
-  }
-  for (size_t i = 0; i < 3 * kept; i++) {
-    const double *p = m->positions + 3 * m->indices[i];
-    for (int k = 0; k < 3; k++) {
-      if (p[k] < m->bbox_min[k]) m->bbox_min[k] = p[k];
-      if (p[k] > m->bbox_max[k]) m->bbox_max[k] = p[k];
-    }
-  }
-
-  /* Normals: keep the file's, fill missing or unusable ones. */
-  int had_normals = m->normals != NULL;
-  if (compute_normals(m, compute_normals_flag, had_normals) != BBC_OK)
-    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory computing normals", source);
-  if (!had_normals) m->normals_generated = 1;
-
-  /* Centre of gravity of the surface (thesis 2.1.4): area-weighted triangle
-   * centroids. Accumulated in long double, in triangle order, so the result
-   * does not depend on anything but the input. */
+/* Centre of gravity of the surface (thesis 2.1.4): area-weighted triangle
+ * centroids, accumulated in long double, in triangle order, so the result
+ * does not depend on anything but the input; and the radius of the sphere
+ * around it through the farthest used vertex. */
+static void centre_and_radius(bbc_mesh *m) {
+  size_t kept = m->triangle_count;
   long double cs[3] = {0, 0, 0}, area_sum = 0;
   for (size_t t = 0; t < kept; t++) {
     double c[3];
     bbc__triangle_cross(m, t, c);
-    double a = 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    double a = 0.5 * vlen(vload(c));
     const uint32_t *ix = m->indices + 3 * t;
     for (int k = 0; k < 3; k++) {
       double centroid = (m->positions[3 * ix[0] + k] + m->positions[3 * ix[1] + k] +
@@ -332,12 +303,34 @@ bbc_result bbc_mesh_finalize(bbc_mesh *m, int compute_normals_flag, const char *
   for (int k = 0; k < 3; k++) m->center[k] = (double)(cs[k] / area_sum);
   double r2 = 0;
   for (size_t i = 0; i < 3 * kept; i++) {
-    double d[3];
-    sub3(m->positions + 3 * m->indices[i], m->center, d);
-    double q = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    vec3 d = vsub(vload(m->positions + 3 * m->indices[i]), vload(m->center));
+    double q = vdot(d, d);
     if (q > r2) r2 = q;
   }
   m->radius = sqrt(r2);
+}
+
+bbc_result bbc_mesh_finalize(bbc_mesh *m, int compute_normals_flag, const char *source,
+                             bbc_error *err) {
+  if (!source) source = "mesh";
+  if (m->kind == BBC_MESH_POINTS) return finalize_points(m, source, err);
+  bbc_result r = check_triangles(m, source, err);
+  if (r != BBC_OK) return r;
+  /* Bounds of the used vertices: also the scale for "zero" area. */
+  used_bounds(m);
+  drop_degenerate(m);
+  if (m->triangle_count == 0)
+    return bbc__fail(err, BBC_ERROR_EMPTY, "%s: no triangles with non-zero area%s", source,
+                     m->dropped_degenerate ? " (all were degenerate)" : "");
+  /* Bounds again: dropped triangles may have held the extreme vertices. */
+  used_bounds(m);
+
+  /* Normals: keep the file's, fill missing or unusable ones. */
+  int had_normals = m->normals != NULL;
+  if (compute_normals(m, compute_normals_flag, had_normals) != BBC_OK)
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory computing normals", source);
+  if (!had_normals) m->normals_generated = 1;
+  centre_and_radius(m);
   return BBC_OK;
 }
 

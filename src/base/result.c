@@ -1,4 +1,4 @@
-/* result.c — result names and the small shared helpers of internal.h. */
+/* result.c — result names and the small shared helpers of base.h. */
 #include "base.h"
 
 #include <ctype.h>

@@ -3,6 +3,7 @@
  * GL-free. */
 #include "bbc_forest.h"
 #include "io.h"
+#include "vec3.h"
 
 #include <errno.h>
 #include <math.h>
@@ -29,20 +30,17 @@ void bbc_forest_camera_matrix(const bbc_forest_camera *c, double aspect, double 
   P[10] = -(far + n) / (far - n);
   P[11] = -1;
   P[14] = -2 * far * n / (far - n);
-  double f[3], up[3] = {0, 1, 0}, s[3], u[3];
-  bbc_forest_camera_forward(c, f);
-  s[0] = f[1] * up[2] - f[2] * up[1];
-  s[1] = f[2] * up[0] - f[0] * up[2];
-  s[2] = f[0] * up[1] - f[1] * up[0];
-  double sl = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
-  for (int k = 0; k < 3; k++) s[k] /= sl;
-  u[0] = s[1] * f[2] - s[2] * f[1];
-  u[1] = s[2] * f[0] - s[0] * f[2];
-  u[2] = s[0] * f[1] - s[1] * f[0];
-  double V[16] = {s[0], u[0], -f[0], 0, s[1], u[1], -f[1], 0, s[2], u[2], -f[2], 0, 0, 0, 0, 1};
-  V[12] = -(s[0] * c->pos[0] + s[1] * c->pos[1] + s[2] * c->pos[2]);
-  V[13] = -(u[0] * c->pos[0] + u[1] * c->pos[1] + u[2] * c->pos[2]);
-  V[14] = f[0] * c->pos[0] + f[1] * c->pos[1] + f[2] * c->pos[2];
+  double fa[3];
+  bbc_forest_camera_forward(c, fa);
+  /* Side (normalised by division) and up vectors of a look-at view. */
+  vec3 f = vload(fa), pos = vload(c->pos);
+  vec3 s = vcross(f, v3(0, 1, 0));
+  s = vdiv(s, vlen(s));
+  vec3 u = vcross(s, f);
+  double V[16] = {s.x, u.x, -f.x, 0, s.y, u.y, -f.y, 0, s.z, u.z, -f.z, 0, 0, 0, 0, 1};
+  V[12] = -vdot(s, pos);
+  V[13] = -vdot(u, pos);
+  V[14] = vdot(f, pos);
   for (int col = 0; col < 4; col++)
     for (int row = 0; row < 4; row++) {
       double v = 0;

@@ -1,4 +1,4 @@
-/* objects.c — the forest's 3D objects each frame (thesis 3.2.3), GL-free:
+/* cull.c — the forest's 3D objects each frame (thesis 3.2.3), GL-free:
  * frustum culling over a grid of cells (in blocks of 8 x 8), then discrete
  * levels of detail by distance with the thesis's blending (the next level
  * blended fully in before the previous fades out, over `fade` units each
@@ -107,13 +107,11 @@ static size_t cell_of(const bbc_forest_cull *c, double x, double z) {
          (size_t)(cx % 8);
 }
 
-bbc_result bbc_forest_cull_init(bbc_forest_cull *c, const bbc_forest_world *w,
-                                const bbc_forest_lod_model *models, size_t model_count,
-                                const uint32_t (*pm)[2], size_t placement_count, bbc_error *err) {
-  memset(c, 0, sizeof *c);
-  c->instance_count = w->instance_count;
-  c->model_count = model_count;
-  c->placement_count = placement_count;
+/* Every placement's models and every instance's placement exist, and the
+ * records' count fits. */
+static bbc_result check_references(const bbc_forest_world *w, size_t model_count,
+                                   const uint32_t (*pm)[2], size_t placement_count,
+                                   bbc_error *err) {
   for (size_t p = 0; p < placement_count; p++)
     for (int k = 0; k < 2; k++)
       if (pm[p][k] != UINT32_MAX && pm[p][k] >= model_count)
@@ -126,14 +124,21 @@ bbc_result bbc_forest_cull_init(bbc_forest_cull *c, const bbc_forest_world *w,
   if (w->instance_count > UINT32_MAX / 4)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "forest culling: %zu objects are too many",
                      w->instance_count);
+  return BBC_OK;
+}
+
+/* Copies of the models (with their own ranges), each model's first bucket
+ * (one per level), and the placements' models; 0 when out of memory. */
+static int copy_models(bbc_forest_cull *c, const bbc_forest_lod_model *models, size_t model_count,
+                       const uint32_t (*pm)[2], size_t placement_count) {
   c->models = calloc(model_count ? model_count : 1, sizeof *c->models);
   c->bucket_base = calloc(model_count + 1, sizeof *c->bucket_base);
   c->placement_models = calloc(placement_count ? placement_count : 1, sizeof *c->placement_models);
-  if (!c->models || !c->bucket_base || !c->placement_models) goto oom;
+  if (!c->models || !c->bucket_base || !c->placement_models) return 0;
   for (size_t i = 0; i < model_count; i++) {
     c->models[i] = models[i];
     double *r = malloc((models[i].lod_count ? models[i].lod_count : 1) * 2 * sizeof *r);
-    if (!r) goto oom;
+    if (!r) return 0;
     if (models[i].lod_count) memcpy(r, models[i].ranges, models[i].lod_count * 2 * sizeof *r);
     c->models[i].ranges = r;
     c->bucket_base[i] = c->bucket_count;
@@ -141,8 +146,13 @@ bbc_result bbc_forest_cull_init(bbc_forest_cull *c, const bbc_forest_world *w,
   }
   c->bucket_base[model_count] = c->bucket_count;
   if (placement_count) memcpy(c->placement_models, pm, placement_count * sizeof *pm);
+  return 1;
+}
 
-  /* Grid: about 48 trees per cell, 16 to 128 cells along the longer side. */
+/* The grid: about 48 trees per cell, 16 to 128 cells along the longer side,
+ * in whole blocks of 8 x 8; its boxes empty and its per-(model, cell) tables
+ * zero. 0 when out of memory. */
+static int make_grid(bbc_forest_cull *c, const bbc_forest_world *w, size_t model_count) {
   double size_x = (w->width - 1) * w->spacing, size_z = (w->depth - 1) * w->spacing;
   double longer = size_x > size_z ? size_x : size_z;
   double side = ceil(sqrt((double)w->instance_count / 48.0));
@@ -164,14 +174,22 @@ bbc_result bbc_forest_cull_init(bbc_forest_cull *c, const bbc_forest_world *w,
   c->model_cell_firsts = calloc((model_count ? model_count : 1) * ncell, sizeof(uint32_t));
   if (!c->cell_box || !c->cell_reach || !c->block_box || !c->model_cell_start ||
       !c->model_cell_firsts)
-    goto oom;
+    return 0;
   for (size_t i = 0; i < ncell; i++) {
     box_empty(c->cell_box[i]);
     box_empty(c->cell_reach[i]);
   }
   for (size_t i = 0; i < nblock; i++) box_empty(c->block_box[i]);
+  return 1;
+}
 
-  /* Count the records of each (model, cell), then place them. */
+/* Counts the records of each (model, cell) into model_cell_start (then its
+ * running sums: where each (model, cell) starts) and grows the cells' and
+ * blocks' boxes; returns the records' total. */
+static size_t count_records(bbc_forest_cull *c, const bbc_forest_world *w,
+                            const bbc_forest_lod_model *models, size_t model_count,
+                            const uint32_t (*pm)[2]) {
+  size_t ncell = c->cell_count;
   uint32_t *start = c->model_cell_start;
   for (size_t i = 0; i < w->instance_count; i++) {
     const bbc_forest_instance *in = &w->instances[i];
@@ -201,14 +219,22 @@ bbc_result bbc_forest_cull_init(bbc_forest_cull *c, const bbc_forest_world *w,
     }
     total = s[ncell];
   }
+  return total;
+}
+
+/* The static records, (model, cell) by (model, cell), each marked when it
+ * is its tree's first; 0 when out of memory. */
+static int place_records(bbc_forest_cull *c, const bbc_forest_world *w, size_t model_count,
+                         const uint32_t (*pm)[2], size_t total) {
+  size_t ncell = c->cell_count;
   c->statics = malloc((total ? total : 1) * sizeof *c->statics);
   c->static_first = malloc(total ? total : 1);
   uint32_t *fill = malloc((model_count ? model_count : 1) * (ncell + 1) * sizeof *fill);
   if (!c->statics || !c->static_first || !fill) {
     free(fill);
-    goto oom;
+    return 0;
   }
-  memcpy(fill, start, (model_count ? model_count : 1) * (ncell + 1) * sizeof *fill);
+  memcpy(fill, c->model_cell_start, (model_count ? model_count : 1) * (ncell + 1) * sizeof *fill);
   for (size_t i = 0; i < w->instance_count; i++) {
     const bbc_forest_instance *in = &w->instances[i];
     size_t cell = cell_of(c, in->x, in->z);
@@ -228,9 +254,12 @@ bbc_result bbc_forest_cull_init(bbc_forest_cull *c, const bbc_forest_world *w,
     }
   }
   free(fill);
+  return 1;
+}
 
-  /* Per frame: a range per (model, cell) at most; records for trees one by
-   * one: each record in at most two levels. */
+/* Per frame: a range per (model, cell) at most; records for trees one by
+ * one: each record in at most two levels. 0 when out of memory. */
+static int frame_buffers(bbc_forest_cull *c) {
   c->ranges = malloc((c->range_capacity ? c->range_capacity : 1) * sizeof *c->ranges);
   c->range_scratch = malloc((c->range_capacity ? c->range_capacity : 1) * sizeof *c->range_scratch);
   c->range_bucket = malloc((c->range_capacity ? c->range_capacity : 1) * sizeof *c->range_bucket);
@@ -241,9 +270,24 @@ bbc_result bbc_forest_cull_init(bbc_forest_cull *c, const bbc_forest_world *w,
   c->scratch = malloc((c->capacity ? c->capacity : 1) * sizeof *c->scratch);
   c->scratch_bucket = malloc((c->capacity ? c->capacity : 1) * sizeof *c->scratch_bucket);
   c->bucket_start = calloc(c->bucket_count + 1, sizeof *c->bucket_start);
-  if (!c->ranges || !c->range_scratch || !c->range_bucket || !c->range_start || !c->range_last ||
-      !c->draws || !c->scratch || !c->scratch_bucket || !c->bucket_start)
+  return c->ranges && c->range_scratch && c->range_bucket && c->range_start && c->range_last &&
+         c->draws && c->scratch && c->scratch_bucket && c->bucket_start;
+}
+
+bbc_result bbc_forest_cull_init(bbc_forest_cull *c, const bbc_forest_world *w,
+                                const bbc_forest_lod_model *models, size_t model_count,
+                                const uint32_t (*pm)[2], size_t placement_count, bbc_error *err) {
+  memset(c, 0, sizeof *c);
+  c->instance_count = w->instance_count;
+  c->model_count = model_count;
+  c->placement_count = placement_count;
+  bbc_result r = check_references(w, model_count, pm, placement_count, err);
+  if (r != BBC_OK) return r;
+  if (!copy_models(c, models, model_count, pm, placement_count) || !make_grid(c, w, model_count))
     goto oom;
+  /* Count the records of each (model, cell), then place them. */
+  size_t total = count_records(c, w, models, model_count, pm);
+  if (!place_records(c, w, model_count, pm, total) || !frame_buffers(c)) goto oom;
   return BBC_OK;
 oom:
   bbc_forest_cull_free(c);

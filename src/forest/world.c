@@ -159,14 +159,11 @@ static bbc_result at_line(const bbc_forest_map *map, int line, bbc_result r, bbc
   return r;
 }
 
-/* bbc_forest_world_build; *line: the map line of the command being served
- * (hmap, then colmap, then 0 for the placements). */
-static bbc_result world_build(const bbc_forest_map *map, const char *folder, bbc_forest_world *w,
-                              bbc_error *err, int *line) {
-  memset(w, 0, sizeof *w);
-  char path[4096];
-  *line = map->hmap_line;
-  resolve(folder, map->hmap, path, sizeof path);
+/* The terrain's heights from the map's heightmap at `path`: resampled to
+ * (2^n + 1)^2 when it is not, as the thesis's terrain algorithm needs,
+ * filtered (hmapfilter), scaled (heightscale); the spacing is `stretch`. */
+static bbc_result build_heights(const bbc_forest_map *map, const char *path, bbc_forest_world *w,
+                                bbc_error *err) {
   float *raw = NULL;
   int rw = 0, rh = 0, bits = 8;
   bbc_result r = load_heights(path, &raw, &rw, &rh, &bits, err);
@@ -201,49 +198,62 @@ static bbc_result world_build(const bbc_forest_map *map, const char *folder, bbc
   for (size_t i = 0; i < (size_t)target * target; i++)
     w->height[i] = (float)(w->height[i] * map->heightscale);
   w->spacing = map->stretch;
-  /* The colour map: (2^n)^2 = one texel per terrain square. */
-  if (map->colmap) {
-    *line = map->colmap_line;
-    resolve(folder, map->colmap, path, sizeof path);
-    bbc_image c;
-    r = bbc_image_load(path, &c, err);
-    if (r != BBC_OK) {
-      bbc_forest_world_free(w);
-      return r;
-    }
-    int cs = target - 1;
-    if (c.width == cs && c.height == cs) {
-      w->colour = c;
-    } else {
-      r = bbc_image_alloc(&w->colour, cs, cs);
-      if (r != BBC_OK) {
-        bbc_image_free(&c);
-        bbc_forest_world_free(w);
-        return bbc__fail(err, r, "%s: out of memory", path);
-      }
-      for (int y = 0; y < cs; y++) /* nearest texel */
-        for (int x = 0; x < cs; x++) {
-          int sx = (int)((x + 0.5) * c.width / cs), sy = (int)((y + 0.5) * c.height / cs);
-          memcpy(w->colour.rgba + 4 * ((size_t)y * cs + x),
-                 c.rgba + 4 * ((size_t)sy * c.width + sx), 4);
-        }
-      size_t len = strlen(w->note);
-      snprintf(w->note + len, sizeof w->note - len, "%s%s: %d x %d resampled to %d x %d",
-               len ? "; " : "", map->colmap, c.width, c.height, cs, cs);
-      bbc_image_free(&c);
-    }
+  return BBC_OK;
+}
+
+/* The colour map at `path`: (2^n)^2 = one texel per terrain square, else
+ * resampled to it (nearest texel). The world is freed on failure. */
+static bbc_result build_colours(const bbc_forest_map *map, const char *path, bbc_forest_world *w,
+                                bbc_error *err) {
+  int target = w->width;
+  bbc_image c;
+  bbc_result r = bbc_image_load(path, &c, err);
+  if (r != BBC_OK) {
+    bbc_forest_world_free(w);
+    return r;
   }
-  *line = 0;
-  w->green_fraction = 1.0;
+  int cs = target - 1;
+  if (c.width == cs && c.height == cs) {
+    w->colour = c;
+  } else {
+    r = bbc_image_alloc(&w->colour, cs, cs);
+    if (r != BBC_OK) {
+      bbc_image_free(&c);
+      bbc_forest_world_free(w);
+      return bbc__fail(err, r, "%s: out of memory", path);
+    }
+    for (int y = 0; y < cs; y++) /* nearest texel */
+      for (int x = 0; x < cs; x++) {
+        int sx = (int)((x + 0.5) * c.width / cs), sy = (int)((y + 0.5) * c.height / cs);
+        memcpy(w->colour.rgba + 4 * ((size_t)y * cs + x), c.rgba + 4 * ((size_t)sy * c.width + sx),
+               4);
+      }
+    size_t len = strlen(w->note);
+    snprintf(w->note + len, sizeof w->note - len, "%s%s: %d x %d resampled to %d x %d",
+             len ? "; " : "", map->colmap, c.width, c.height, cs, cs);
+    bbc_image_free(&c);
+  }
+  return BBC_OK;
+}
+
+/* The share of the colour map's texels that are green (1 without one). */
+static double green_fraction(const bbc_forest_world *w) {
+  double fraction = 1.0;
   if (w->colour.rgba) {
     size_t g = 0, nt = (size_t)w->colour.width * w->colour.height;
     for (size_t i = 0; i < nt; i++) {
       const uint8_t *p = w->colour.rgba + 4 * i;
       g += p[1] > 70 && 3 * (int)p[0] < 2 * (int)p[1];
     }
-    w->green_fraction = (double)g / (double)nt;
+    fraction = (double)g / (double)nt;
   }
-  /* Instances: object2d where written, rndtree where green. */
+  return fraction;
+}
+
+/* Instances: object2d where written, rndtree where green (each placement
+ * from its own random stream, a bounded number of tries). The world is
+ * freed on failure. */
+static bbc_result place_instances(const bbc_forest_map *map, bbc_forest_world *w, bbc_error *err) {
   size_t total = 0;
   for (size_t i = 0; i < map->placement_count; i++) total += map->placements[i].count;
   if (total > 100000000u) {
@@ -255,7 +265,7 @@ static bbc_result world_build(const bbc_forest_map *map, const char *folder, bbc
     bbc_forest_world_free(w);
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "map: out of memory for %zu objects", total);
   }
-  double extent = (target - 1) * w->spacing;
+  double extent = (w->width - 1) * w->spacing;
   for (size_t i = 0; i < map->placement_count; i++) {
     const bbc_forest_placement *p = &map->placements[i];
     bbc__rng rng = {0x5EED0F0E57ull ^ ((uint64_t)(i + 1) * 0xD1B54A32D192ED03ull)};
@@ -289,6 +299,27 @@ static bbc_result world_build(const bbc_forest_map *map, const char *folder, bbc
     if (placed < p->count) w->placements_short++;
   }
   return BBC_OK;
+}
+
+/* bbc_forest_world_build; *line: the map line of the command being served
+ * (hmap, then colmap, then 0 for the placements). */
+static bbc_result world_build(const bbc_forest_map *map, const char *folder, bbc_forest_world *w,
+                              bbc_error *err, int *line) {
+  memset(w, 0, sizeof *w);
+  char path[4096];
+  *line = map->hmap_line;
+  resolve(folder, map->hmap, path, sizeof path);
+  bbc_result r = build_heights(map, path, w, err);
+  if (r != BBC_OK) return r;
+  if (map->colmap) {
+    *line = map->colmap_line;
+    resolve(folder, map->colmap, path, sizeof path);
+    r = build_colours(map, path, w, err);
+    if (r != BBC_OK) return r;
+  }
+  *line = 0;
+  w->green_fraction = green_fraction(w);
+  return place_instances(map, w, err);
 }
 
 bbc_result bbc_forest_world_build(const bbc_forest_map *map, const char *folder,

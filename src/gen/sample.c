@@ -1,7 +1,7 @@
 /* sample.c — point clouds from models: points on a triangle mesh's surface,
  * uniform by area, coloured as the surface (material colour times texture),
- * deterministic for a seed; and the binary PLY writer for them (doubles, so
- * georeferenced coordinates keep their precision). */
+ * deterministic for a seed. The binary PLY writer for them (doubles, so
+ * georeferenced coordinates keep their precision) is io/write_ply.c. */
 #include "base.h"
 
 #include <math.h>

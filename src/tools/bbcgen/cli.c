@@ -105,7 +105,8 @@ long long cli_parse_count(const char *opt, const char *text, long long max) {
   return v;
 }
 
-/* A value set by hand is meant (the library's rules, bbc_params_note_hand). */
+/* A value set by hand is meant (the application layer's rules,
+ * bbc_params_note_hand). */
 static void note_explicit(cli *c, const char *name_or_assignment) {
   char name[64];
   snprintf(name, sizeof name, "%.*s", (int)strcspn(name_or_assignment, "="), name_or_assignment);

@@ -26,7 +26,6 @@ extern const char *cli_location;
 /* Set by the prompt's Ctrl-C handler; the library's cancel callback reads it. */
 extern volatile int cli_interrupted;
 
-/* Shared state of one bbcgen run. */
 /* A parameter for one part only: `--set trunk.cardboard=1`. Applied on
  * top of the global parameters once all options are read, so the order of
  * options does not matter. */
@@ -35,15 +34,16 @@ typedef struct cli_part_setting {
   char assignment[96]; /* name=value */
 } cli_part_setting;
 
+/* Shared state of one bbcgen run. */
 typedef struct cli {
   int quiet;         /* --quiet: no progress bar, no info lines */
   bbc_params params; /* thesis parameters after --set/--NAME options */
   bbc_callbacks callbacks;
   size_t part_setting_count;
   cli_part_setting part_settings[32];
-  bbc_split_options split; /* --split, --trunk, --foliage */
-  int branches_with_trunk; /* --branches trunk (default: with the foliage) */
-  bbc_hand hand;           /* parameters set by hand (the library's rules: bbc_params_note_hand) */
+  bbc_split_options split;    /* --split, --trunk, --foliage */
+  int branches_with_trunk;    /* --branches trunk (default: with the foliage) */
+  bbc_hand hand;              /* parameters set by hand (bbc_params_note_hand's rules) */
   const char *progress_label; /* what progress bars belong to ("level 2 of 3") */
 } cli;
 

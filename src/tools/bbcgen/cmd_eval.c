@@ -62,11 +62,17 @@ char *eval_json_text(const bbc_eval_result *r, const bbc_eval_options *o, const 
   return text;
 }
 
-int cmd_eval(cli *c, int argc, char **argv) {
-  const char *paths[2] = {NULL, NULL}, *json = NULL, *png = NULL;
-  long long views = 64, size = 256;
-  int lit = -1, np = 0; /* -1: lit when OTHER is prelit (all its materials unlit) */
-  double side = 30;
+/* What `bbcgen eval` is asked for. */
+typedef struct eval_args {
+  const char *paths[2], *json, *png;
+  long long views, size;
+  int lit; /* -1: lit when OTHER is prelit (all its materials unlit) */
+  double side;
+} eval_args;
+
+/* The command line into `ea`: -1 to go on, else an exit code (said). */
+static int parse_eval_args(cli *c, int argc, char **argv, eval_args *ea) {
+  int np = 0;
   for (int i = 1; i < argc; i++) {
     int k = cli_common_option(c, argc, argv, &i);
     if (k < 0) return EXIT_USAGE;
@@ -74,34 +80,34 @@ int cmd_eval(cli *c, int argc, char **argv) {
     const char *v;
     if (!strcmp(argv[i], "--views")) {
       if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
-      if ((views = cli_parse_count(argv[i - 1], v, 100000)) < 1) {
-        if (views == 0) cli_error("--views: at least 1");
+      if ((ea->views = cli_parse_count(argv[i - 1], v, 100000)) < 1) {
+        if (ea->views == 0) cli_error("--views: at least 1");
         return EXIT_USAGE;
       }
     } else if (!strcmp(argv[i], "--size")) {
       if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
-      if ((size = cli_parse_count(argv[i - 1], v, 8192)) < 8) {
-        if (size >= 0) cli_error("--size: 8 to 8192 pixels");
+      if ((ea->size = cli_parse_count(argv[i - 1], v, 8192)) < 8) {
+        if (ea->size >= 0) cli_error("--size: 8 to 8192 pixels");
         return EXIT_USAGE;
       }
     } else if (!strcmp(argv[i], "--json")) {
-      if (!(json = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+      if (!(ea->json = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
     } else if (!strcmp(argv[i], "--png")) {
-      if (!(png = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+      if (!(ea->png = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
     } else if (!strcmp(argv[i], "--side-elevation")) {
       if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
       char *end;
-      side = strtod(v, &end);
-      if (*end || !(side >= 0 && side <= 90)) {
+      ea->side = strtod(v, &end);
+      if (*end || !(ea->side >= 0 && ea->side <= 90)) {
         cli_error("--side-elevation: degrees from 0 to 90, not '%s'", v);
         return EXIT_USAGE;
       }
     } else if (!strcmp(argv[i], "--lit")) {
-      lit = 1;
+      ea->lit = 1;
     } else if (!strcmp(argv[i], "--no-lit")) {
-      lit = 0;
+      ea->lit = 0;
     } else if (argv[i][0] != '-' && np < 2) {
-      paths[np++] = argv[i];
+      ea->paths[np++] = argv[i];
     } else {
       static const char *const own[] = {"--views", "--size",           "--json",   "--png",
                                         "--lit",   "--side-elevation", "--no-lit", NULL};
@@ -113,6 +119,55 @@ int cmd_eval(cli *c, int argc, char **argv) {
               "[--png SHEET] [--lit|--no-lit] [--side-elevation DEG]");
     return EXIT_USAGE;
   }
+  return -1;
+}
+
+/* The evaluation's options from the arguments and the parameters. */
+static void eval_options(const cli *c, const eval_args *ea, const bbc_mesh *other,
+                         bbc_eval_options *o) {
+  bbc_eval_options_default(o);
+  o->views = (int)ea->views;
+  o->size = (int)ea->size;
+  o->up_axis = c->params.up_axis;
+  o->threads = c->params.threads;
+  int lit = ea->lit;
+  if (lit < 0) { /* a prelit cloud is meant to look like the lit original */
+    int all_unlit = other->material_count > 0;
+    for (size_t i = 0; i < other->material_count; i++) all_unlit &= other->materials[i].unlit != 0;
+    lit = all_unlit;
+  }
+  o->lighting = lit;
+  o->ambient = c->params.viewer_ambient;
+  o->point_size = c->params.point_size;
+  o->point_smooth = c->params.point_smooth;
+  o->side_elevation_deg = ea->side;
+  bbc_params_light_direction(&c->params, o->light);
+}
+
+/* The two summary lines; the side-view figures "n/a" when no view is one. */
+static void print_eval(const bbc_eval_result *r, const bbc_eval_options *o, double t0) {
+  char side_iou[32] = "n/a", side_psnr[32] = "n/a", side_cov[32] = "n/a", side_block[32] = "n/a";
+  if (r->side_count) {
+    snprintf(side_iou, sizeof side_iou, "%.4f", r->iou_side_mean);
+    snprintf(side_psnr, sizeof side_psnr, "%.2f", r->psnr_side_mean);
+    snprintf(side_cov, sizeof side_cov, "%.3f", r->coverage_ratio_side_mean);
+    snprintf(side_block, sizeof side_block, "%.4f", r->block_iou_side_mean);
+  }
+  printf("iou %.4f (side %s, min %.4f)  recall %.4f  false coverage %.4f  psnr %.2f dB "
+         "(side %s)  mae %.2f  brightness %.3f %.3f %.3f  [%zu views, %zu side, %d px, %s, "
+         "%.2f s]\n",
+         r->iou_mean, side_iou, r->iou_min, r->recall_mean, r->false_mean, r->psnr_mean, side_psnr,
+         r->mae_mean, r->brightness_ratio[0], r->brightness_ratio[1], r->brightness_ratio[2],
+         r->view_count, r->side_count, o->size, o->lighting ? "lit" : "unlit", cli_now() - t0);
+  printf("density: coverage ratio %.3f (side %s)  block iou 1/8 %.4f (side %s)\n",
+         r->coverage_ratio_mean, side_cov, r->block_iou_mean, side_block);
+}
+
+int cmd_eval(cli *c, int argc, char **argv) {
+  eval_args ea = {{NULL, NULL}, NULL, NULL, 64, 256, -1, 30};
+  int rc = parse_eval_args(c, argc, argv, &ea);
+  if (rc >= 0) return rc;
+  const char *json = ea.json, *png = ea.png;
   if ((json && !cli_output_ok("--json", json)) || (png && !cli_output_ok("--png", png)))
     return EXIT_OUTPUT;
   size_t pl = png ? strlen(png) : 0;
@@ -124,53 +179,24 @@ int cmd_eval(cli *c, int argc, char **argv) {
   cli_load_options(c, &lo);
   bbc_mesh m[2];
   bbc_error err;
-  if (bbc_mesh_load(paths[0], &lo, &m[0], &err) != BBC_OK) return cli_fail(&err, 0);
-  if (bbc_mesh_load(paths[1], &lo, &m[1], &err) != BBC_OK) {
+  if (bbc_mesh_load(ea.paths[0], &lo, &m[0], &err) != BBC_OK) return cli_fail(&err, 0);
+  if (bbc_mesh_load(ea.paths[1], &lo, &m[1], &err) != BBC_OK) {
     bbc_mesh_free(&m[0]);
     return cli_fail(&err, 0);
   }
   bbc_eval_options o;
-  bbc_eval_options_default(&o);
-  o.views = (int)views;
-  o.size = (int)size;
-  o.up_axis = c->params.up_axis;
-  o.threads = c->params.threads;
-  if (lit < 0) { /* a prelit cloud is meant to look like the lit original */
-    int all_unlit = m[1].material_count > 0;
-    for (size_t i = 0; i < m[1].material_count; i++) all_unlit &= m[1].materials[i].unlit != 0;
-    lit = all_unlit;
-  }
-  o.lighting = lit;
-  o.ambient = c->params.viewer_ambient;
-  o.point_size = c->params.point_size;
-  o.point_smooth = c->params.point_smooth;
-  o.side_elevation_deg = side;
-  bbc_params_light_direction(&c->params, o.light);
+  eval_options(c, &ea, &m[1], &o);
   bbc_image sheet = {0, 0, NULL};
   if (png) o.sheet = &sheet;
   bbc_eval_result r;
   double t0 = cli_now();
-  int rc = EXIT_OK;
+  rc = EXIT_OK;
   if (bbc_eval(&m[0], &m[1], &o, &r, &err) != BBC_OK) {
     rc = cli_fail(&err, 0);
   } else {
-    char side_iou[32] = "n/a", side_psnr[32] = "n/a", side_cov[32] = "n/a", side_block[32] = "n/a";
-    if (r.side_count) {
-      snprintf(side_iou, sizeof side_iou, "%.4f", r.iou_side_mean);
-      snprintf(side_psnr, sizeof side_psnr, "%.2f", r.psnr_side_mean);
-      snprintf(side_cov, sizeof side_cov, "%.3f", r.coverage_ratio_side_mean);
-      snprintf(side_block, sizeof side_block, "%.4f", r.block_iou_side_mean);
-    }
-    printf("iou %.4f (side %s, min %.4f)  recall %.4f  false coverage %.4f  psnr %.2f dB "
-           "(side %s)  mae %.2f  brightness %.3f %.3f %.3f  [%zu views, %zu side, %d px, %s, "
-           "%.2f s]\n",
-           r.iou_mean, side_iou, r.iou_min, r.recall_mean, r.false_mean, r.psnr_mean, side_psnr,
-           r.mae_mean, r.brightness_ratio[0], r.brightness_ratio[1], r.brightness_ratio[2],
-           r.view_count, r.side_count, o.size, o.lighting ? "lit" : "unlit", cli_now() - t0);
-    printf("density: coverage ratio %.3f (side %s)  block iou 1/8 %.4f (side %s)\n",
-           r.coverage_ratio_mean, side_cov, r.block_iou_mean, side_block);
+    print_eval(&r, &o, t0);
     if (json) {
-      char *text = eval_json_text(&r, &o, paths[0], paths[1]);
+      char *text = eval_json_text(&r, &o, ea.paths[0], ea.paths[1]);
       if (!text || bbc_write_file_atomic(json, text, strlen(text), &err) != BBC_OK)
         rc = text ? cli_fail(&err, 1) : EXIT_RESOURCES;
       cJSON_free(text);

@@ -58,7 +58,7 @@ static char *trim(char *s) {
 typedef struct batch {
   char model[4096];
   char pattern[2][4096];
-  bbc_session *sess; /* the model, planes and cloud (the library's session) */
+  bbc_session *sess; /* the model, planes and cloud (the application layer's session) */
   bbc_mesh loaded;   /* bbcload's cloud */
   int show_loaded;   /* 1: show model shows `loaded` (bbcload came after bbc/bbc3) */
   int depth;         /* nested exec */
@@ -82,195 +82,232 @@ static void help(const char *which) {
   }
 }
 
+/* The commands one by one: each gets the parsed command `k` (its first
+ * argument a1, the rest a2: NULL when absent) and returns an exit code. */
+
+/* A command that needs a model, before any load. */
+static int before_load(const bbc_command *k) {
+  for (size_t i = 0; i < bbc_command_count(); i++)
+    if (bbc_command_at(i)->kind == k->kind) cli_error("%s before load", bbc_command_at(i)->name);
+  return EXIT_USAGE;
+}
+
+static int do_load(cli *c, batch *b, const bbc_command *k, const char *a1) {
+  /* Appendix A: load FILE [nocg] [nomip]. nocg (the model stays where it
+   * is, not moved to its centre of gravity) is how models always load
+   * here; nomip: the model's textures without mipmaps (baking, viewer). */
+  bbc_load_options lo;
+  cli_load_options(c, &lo);
+  lo.no_mipmaps |= k->nomip;
+  bbc_error e;
+  if (bbc_session_load(b->sess, a1, &lo, &e) != BBC_OK) return cli_fail(&e, 0);
+  snprintf(b->model, sizeof b->model, "%s", a1);
+  return EXIT_OK;
+}
+
+/* set NAME VALUE: as --set NAME=VALUE on the command line. */
+static int do_set(cli *c, const bbc_command *k, const char *a1, const char *a2) {
+  if (!bbc_param_find(k->name)) {
+    const char *near = cli_closest_param(k->name);
+    cli_error("set: no parameter '%s'%s%s%s (setup lists them)", k->name,
+              near ? " (did you mean " : "", near ? near : "", near ? "?)" : "");
+    return EXIT_USAGE;
+  }
+  char assignment[2 * BBC_COMMAND_LINE_MAX + 2];
+  snprintf(assignment, sizeof assignment, "%s=%s", a1, a2);
+  char *fake[2] = {"--set", assignment};
+  int i = 0;
+  int r = cli_common_option(c, 2, fake, &i);
+  if (r == 0) cli_error("bad set command");
+  return r != 1 ? EXIT_USAGE : EXIT_OK;
+}
+
+/* split MODE, split trunk=PATTERNS, split foliage=PATTERNS: as --split,
+ * --trunk and --foliage (the patterns kept in the batch: the option keeps
+ * a pointer to them). */
+static int do_split(cli *c, batch *b, const bbc_command *k) {
+  static const char *const modes[] = {"auto", "none", "names", "geometry"};
+  char *fake[2] = {"--split", (char *)""};
+  if (k->split == BBC_SPLIT_PATTERNS) {
+    int t = k->trunk_side;
+    snprintf(b->pattern[t], sizeof b->pattern[t], "%s", k->rest);
+    fake[0] = t ? "--trunk" : "--foliage";
+    fake[1] = b->pattern[t];
+  } else {
+    fake[1] = (char *)modes[k->split];
+  }
+  int i = 0;
+  if (cli_common_option(c, 2, fake, &i) != 1) {
+    cli_error("bad split command");
+    return EXIT_USAGE;
+  }
+  return EXIT_OK;
+}
+
+static int do_exec(cli *c, batch *b, const char *a1) {
+  if (b->depth >= 8) {
+    cli_error("exec %s: batch files nested more than 8 deep", a1);
+    return EXIT_USAGE;
+  }
+  b->depth++;
+  int rc = exec_file(c, b, a1);
+  b->depth--;
+  return rc;
+}
+
+/* bbc1: step 1, the grid kept for bbc2. */
+static int do_bbc1(cli *c, batch *b) {
+  bbc_planes_options po;
+  if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
+  bbc_error e;
+  double t0 = cli_now();
+  if (bbc_session_grid(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
+  cli_info(c, "step 1: the grid in %.2f s (bbc2 finds the planes on it)", cli_now() - t0);
+  return EXIT_OK;
+}
+
+/* bbc2: step 2 on bbc1's grid, when only step-2 parameters changed since. */
+static int do_bbc2(cli *c, batch *b) {
+  bbc_planes_options po;
+  if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
+  const char *which = NULL;
+  int stale = bbc_session_grid_stale(b->sess, &po, &which);
+  if (stale < 0) {
+    cli_error("bbc2 needs the grid of bbc1 first (or run bbc)");
+    return EXIT_USAGE;
+  }
+  if (stale) {
+    cli_error("bbc2: %s changed since bbc1, and it needs step 1 again: run bbc1 (or bbc)", which);
+    return EXIT_USAGE;
+  }
+  bbc_error e;
+  debug_views_begin(c, bbc_session_model(b->sess), &po);
+  bbc_result r = bbc_session_planes(b->sess, &po, &e);
+  debug_views_end();
+  if (r != BBC_OK) return cli_fail_in(b->model, &e, 0);
+  session_info(c, b->sess, 0, 1);
+  return EXIT_OK;
+}
+
+/* bbc3: step 3 on the kept planes, when only texturing parameters changed. */
+static int do_bbc3(cli *c, batch *b) {
+  bbc_planes_options po;
+  if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
+  const char *which = NULL;
+  int step = bbc_session_stale(b->sess, &po, &which);
+  if (step < 0) {
+    cli_error("bbc3 needs the planes of bbc2 (after bbc1) or bbc first");
+    return EXIT_USAGE;
+  }
+  if (step == 1 || step == 2) {
+    cli_error("bbc3: %s changed since the planes were found, and it needs step %d again: "
+              "run %s",
+              which, step, step == 1 ? "bbc1 and bbc2 (or bbc)" : "bbc2 (or bbc)");
+    return EXIT_USAGE;
+  }
+  bbc_error e;
+  if (bbc_session_cloud(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
+  made_cloud(c, b, 1);
+  return EXIT_OK;
+}
+
+/* bbc: steps 1 to 3. */
+static int do_bbc(cli *c, batch *b) {
+  bbc_planes_options po;
+  if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
+  bbc_error e;
+  debug_views_begin(c, bbc_session_model(b->sess), &po);
+  bbc_result r = bbc_session_run(b->sess, &po, &e);
+  debug_views_end();
+  if (r != BBC_OK) return cli_fail_in(b->model, &e, 0);
+  made_cloud(c, b, 0);
+  return EXIT_OK;
+}
+
+static int do_save(cli *c, batch *b, const char *a1) {
+  if (!bbc_session_result(b->sess)) {
+    cli_error("save needs a Billboard Cloud: run bbc or bbc3 first");
+    return EXIT_USAGE;
+  }
+  return session_save(c, b->sess, a1);
+}
+
+/* show model|bbc [KEYS...]: the window; keys script it (tests). */
+static int do_show(cli *c, batch *b, const bbc_command *k, const char *a2) {
+  bbc_cloud wrap; /* a loaded cloud: its mesh, no rectangles */
+  memset(&wrap, 0, sizeof wrap);
+  wrap.mesh = b->loaded;
+  const bbc_cloud *cl = b->show_loaded ? &wrap : bbc_session_result(b->sess);
+  return show_window(c, b->sess, cl, k->show_bbc, a2);
+}
+
+static int do_bbcload(cli *c, batch *b, const char *a1) {
+  bbc_load_options lo;
+  cli_load_options(c, &lo);
+  bbc_mesh m;
+  bbc_error e;
+  if (bbc_mesh_load(a1, &lo, &m, &e) != BBC_OK) return cli_fail(&e, 0);
+  bbc_mesh_free(&b->loaded);
+  b->loaded = m;
+  b->show_loaded = 1;
+  cli_info(c, "bbcload %s: %zu triangles; show model shows it as the cloud", a1, m.triangle_count);
+  return EXIT_OK;
+}
+
 /* One parsed command (bbc_command_parse has checked its words). In a batch
  * file every error names file:line (cli_location, set by exec_file). */
 static int run_command(cli *c, batch *b, bbc_command *k) {
   const char *a1 = k->arg[0] ? k->arg : NULL, *a2 = k->rest[0] ? k->rest : NULL;
-  int rc = EXIT_OK;
+  int needs_model = k->kind == BBC_COMMAND_BBC1 || k->kind == BBC_COMMAND_PLANES ||
+                    k->kind == BBC_COMMAND_BBC2 || k->kind == BBC_COMMAND_BBC3 ||
+                    k->kind == BBC_COMMAND_BBC || k->kind == BBC_COMMAND_SHOW;
+  if (needs_model && !b->model[0]) return before_load(k);
   switch (k->kind) {
-  case BBC_COMMAND_NONE:
-    break;
   case BBC_COMMAND_QUIT:
     b->quit = 1;
-    break;
-  case BBC_COMMAND_LOAD: {
-    /* Appendix A: load FILE [nocg] [nomip]. nocg (the model stays where it
-     * is, not moved to its centre of gravity) is how models always load
-     * here; nomip: the model's textures without mipmaps (baking, viewer). */
-    bbc_load_options lo;
-    cli_load_options(c, &lo);
-    lo.no_mipmaps |= k->nomip;
-    bbc_error e;
-    if (bbc_session_load(b->sess, a1, &lo, &e) != BBC_OK) return cli_fail(&e, 0);
-    snprintf(b->model, sizeof b->model, "%s", a1);
-    break;
-  }
-  case BBC_COMMAND_SET: {
-    if (!bbc_param_find(k->name)) {
-      const char *near = cli_closest_param(k->name);
-      cli_error("set: no parameter '%s'%s%s%s (setup lists them)", k->name,
-                near ? " (did you mean " : "", near ? near : "", near ? "?)" : "");
-      return EXIT_USAGE;
-    }
-    char assignment[2 * BBC_COMMAND_LINE_MAX + 2];
-    snprintf(assignment, sizeof assignment, "%s=%s", a1, a2);
-    char *fake[2] = {"--set", assignment};
-    int i = 0;
-    int r = cli_common_option(c, 2, fake, &i);
-    if (r == 0) cli_error("bad set command");
-    if (r != 1) rc = EXIT_USAGE;
-    break;
-  }
-  case BBC_COMMAND_SPLIT: {
-    static const char *const modes[] = {"auto", "none", "names", "geometry"};
-    char *fake[2] = {"--split", (char *)""};
-    if (k->split == BBC_SPLIT_PATTERNS) {
-      int t = k->trunk_side;
-      snprintf(b->pattern[t], sizeof b->pattern[t], "%s", k->rest);
-      fake[0] = t ? "--trunk" : "--foliage";
-      fake[1] = b->pattern[t];
-    } else {
-      fake[1] = (char *)modes[k->split];
-    }
-    int i = 0;
-    if (cli_common_option(c, 2, fake, &i) != 1) {
-      cli_error("bad split command");
-      rc = EXIT_USAGE;
-    }
-    break;
-  }
+    return EXIT_OK;
+  case BBC_COMMAND_LOAD:
+    return do_load(c, b, k, a1);
+  case BBC_COMMAND_SET:
+    return do_set(c, k, a1, a2);
+  case BBC_COMMAND_SPLIT:
+    return do_split(c, b, k);
   case BBC_COMMAND_SETUP: {
     char *fake[1] = {"setup"};
-    rc = cmd_setup(c, 1, fake);
-    break;
+    return cmd_setup(c, 1, fake);
   }
   case BBC_COMMAND_HELP:
     help(a1);
-    break;
+    return EXIT_OK;
   case BBC_COMMAND_CLS:
     if (isatty(1)) fputs("\033[H\033[2J", stdout);
-    break;
+    return EXIT_OK;
   case BBC_COMMAND_EXEC:
-    if (b->depth >= 8) {
-      cli_error("exec %s: batch files nested more than 8 deep", a1);
-      rc = EXIT_USAGE;
-    } else {
-      b->depth++;
-      rc = exec_file(c, b, a1);
-      b->depth--;
-    }
-    break;
-  case BBC_COMMAND_BBC1: {
-    if (!b->model[0]) goto noload;
-    bbc_planes_options po;
-    if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
-    bbc_error e;
-    double t0 = cli_now();
-    if (bbc_session_grid(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
-    cli_info(c, "step 1: the grid in %.2f s (bbc2 finds the planes on it)", cli_now() - t0);
-    break;
-  }
+    return do_exec(c, b, a1);
+  case BBC_COMMAND_BBC1:
+    return do_bbc1(c, b);
   case BBC_COMMAND_PLANES:
-    if (!b->model[0]) goto noload;
-    rc = run_planes(c, b->model, a1);
-    break;
-  case BBC_COMMAND_BBC2: {
-    if (!b->model[0]) goto noload;
-    bbc_planes_options po;
-    if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
-    const char *which = NULL;
-    int stale = bbc_session_grid_stale(b->sess, &po, &which);
-    if (stale < 0) {
-      cli_error("bbc2 needs the grid of bbc1 first (or run bbc)");
-      return EXIT_USAGE;
-    }
-    if (stale) {
-      cli_error("bbc2: %s changed since bbc1, and it needs step 1 again: run bbc1 (or bbc)", which);
-      return EXIT_USAGE;
-    }
-    bbc_error e;
-    debug_views_begin(c, bbc_session_model(b->sess), &po);
-    bbc_result r = bbc_session_planes(b->sess, &po, &e);
-    debug_views_end();
-    if (r != BBC_OK) return cli_fail_in(b->model, &e, 0);
-    session_info(c, b->sess, 0, 1);
-    break;
-  }
-  case BBC_COMMAND_BBC3: {
-    if (!b->model[0]) goto noload;
-    bbc_planes_options po;
-    if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
-    const char *which = NULL;
-    int step = bbc_session_stale(b->sess, &po, &which);
-    if (step < 0) {
-      cli_error("bbc3 needs the planes of bbc2 (after bbc1) or bbc first");
-      return EXIT_USAGE;
-    }
-    if (step == 1 || step == 2) {
-      cli_error("bbc3: %s changed since the planes were found, and it needs step %d again: "
-                "run %s",
-                which, step, step == 1 ? "bbc1 and bbc2 (or bbc)" : "bbc2 (or bbc)");
-      return EXIT_USAGE;
-    }
-    bbc_error e;
-    if (bbc_session_cloud(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
-    made_cloud(c, b, 1);
-    break;
-  }
-  case BBC_COMMAND_BBC: {
-    if (!b->model[0]) goto noload;
-    bbc_planes_options po;
-    if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
-    bbc_error e;
-    debug_views_begin(c, bbc_session_model(b->sess), &po);
-    bbc_result r = bbc_session_run(b->sess, &po, &e);
-    debug_views_end();
-    if (r != BBC_OK) return cli_fail_in(b->model, &e, 0);
-    made_cloud(c, b, 0);
-    break;
-  }
+    return run_planes(c, b->model, a1);
+  case BBC_COMMAND_BBC2:
+    return do_bbc2(c, b);
+  case BBC_COMMAND_BBC3:
+    return do_bbc3(c, b);
+  case BBC_COMMAND_BBC:
+    return do_bbc(c, b);
   case BBC_COMMAND_SHADE:
     c->params.shade_voxels = k->shade_voxels;
     c->params.shade_ambient = k->shade_ambient > 0 ? k->shade_ambient : 0.4;
-    break;
+    return EXIT_OK;
   case BBC_COMMAND_SAVE:
-    if (!bbc_session_result(b->sess)) {
-      cli_error("save needs a Billboard Cloud: run bbc or bbc3 first");
-      return EXIT_USAGE;
-    }
-    rc = session_save(c, b->sess, a1);
-    break;
-  case BBC_COMMAND_SHOW: {
-    /* show model|bbc [KEYS...]: the window; keys script it (tests) */
-    if (!b->model[0]) goto noload;
-    bbc_cloud wrap; /* a loaded cloud: its mesh, no rectangles */
-    memset(&wrap, 0, sizeof wrap);
-    wrap.mesh = b->loaded;
-    const bbc_cloud *cl = b->show_loaded ? &wrap : bbc_session_result(b->sess);
-    rc = show_window(c, b->sess, cl, k->show_bbc, a2);
-    break;
-  }
-  case BBC_COMMAND_BBCLOAD: {
-    bbc_load_options lo;
-    cli_load_options(c, &lo);
-    bbc_mesh m;
-    bbc_error e;
-    if (bbc_mesh_load(a1, &lo, &m, &e) != BBC_OK) return cli_fail(&e, 0);
-    bbc_mesh_free(&b->loaded);
-    b->loaded = m;
-    b->show_loaded = 1;
-    cli_info(c, "bbcload %s: %zu triangles; show model shows it as the cloud", a1,
-             m.triangle_count);
-    break;
-  }
+    return do_save(c, b, a1);
+  case BBC_COMMAND_SHOW:
+    return do_show(c, b, k, a2);
+  case BBC_COMMAND_BBCLOAD:
+    return do_bbcload(c, b, a1);
+  case BBC_COMMAND_NONE:
   default:
-    break;
+    return EXIT_OK;
   }
-  return rc;
-noload:
-  for (size_t i = 0; i < bbc_command_count(); i++)
-    if (bbc_command_at(i)->kind == k->kind) cli_error("%s before load", bbc_command_at(i)->name);
-  return EXIT_USAGE;
 }
 
 /* One line typed at the prompt (trimmed, not empty). */

@@ -1,8 +1,9 @@
 /* cmd_view.c — the viewer (thesis Appendix A `show model`, `show bbc`):
  * `bbcgen view` renders its nine views headless; `show model` and `show
  * bbc` at the prompt open a window. The geometry of show bbc's views comes
- * from the library (bbc_grid_view, bbc_faces_view), the drawing is
- * src/gl/viewer.c; the model, grid, planes and cloud from the session. */
+ * from the application layer (bbc_grid_view, bbc_faces_view: src/app/views.c),
+ * the drawing is src/gl/viewer.c; the model, grid, planes and cloud from the
+ * session. */
 #include "pipeline.h"
 
 #include <GLFW/glfw3.h>
@@ -103,34 +104,38 @@ static int parse_vertex(const char *t) {
   return -2;
 }
 
-/* bbcgen view MODEL --mode M --screenshot PNG [--size PX] [--yaw D] [--pitch D]
- *   [--part P] [--face N] [--vertex 1|2|3|all] [--volume] [--no-mini] */
-int cmd_view(cli *c, int argc, char **argv) {
-  const char *model = NULL, *shot = NULL, *mode_name = "input", *part = NULL;
-  double size = 512, yaw = 30, pitch = 10;
-  long long face = -1;
-  int vertex = -1, volume = 0, mini = 1;
+/* What `bbcgen view` is asked for. */
+typedef struct view_args {
+  const char *model, *shot, *mode_name, *part;
+  double size, yaw, pitch;
+  long long face;
+  int vertex, volume, mini;
+  int all, mode; /* --mode all; the view mode otherwise */
+} view_args;
+
+/* The command line into `va`: -1 to go on, else an exit code (said). */
+static int parse_view_args(cli *c, int argc, char **argv, view_args *va) {
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
     int has = i + 1 < argc;
     if (!strcmp(a, "--mode") && has) {
-      mode_name = argv[++i];
+      va->mode_name = argv[++i];
     } else if (!strcmp(a, "--screenshot") && has) {
-      shot = argv[++i];
+      va->shot = argv[++i];
     } else if (!strcmp(a, "--part") && has) {
-      part = argv[++i];
+      va->part = argv[++i];
     } else if (!strcmp(a, "--face") && has) {
-      if ((face = cli_parse_count("--face", argv[++i], 1LL << 40)) < 0) return EXIT_USAGE;
+      if ((va->face = cli_parse_count("--face", argv[++i], 1LL << 40)) < 0) return EXIT_USAGE;
     } else if (!strcmp(a, "--vertex") && has) {
-      if ((vertex = parse_vertex(argv[++i])) < -1) {
+      if ((va->vertex = parse_vertex(argv[++i])) < -1) {
         cli_error("view: --vertex %s: expected 1, 2, 3, 4 (a face of four vertices) or all",
                   argv[i]);
         return EXIT_USAGE;
       }
     } else if (!strcmp(a, "--volume")) {
-      volume = 1;
+      va->volume = 1;
     } else if (!strcmp(a, "--no-mini")) {
-      mini = 0;
+      va->mini = 0;
     } else if ((!strcmp(a, "--size") || !strcmp(a, "--yaw") || !strcmp(a, "--pitch")) && has) {
       char *end;
       double v = strtod(argv[++i], &end);
@@ -139,13 +144,13 @@ int cmd_view(cli *c, int argc, char **argv) {
                   a[2] == 's' ? " of pixels from 16 to 4096" : " (degrees)");
         return EXIT_USAGE;
       }
-      *(a[2] == 's' ? &size : a[2] == 'y' ? &yaw : &pitch) = v;
+      *(a[2] == 's' ? &va->size : a[2] == 'y' ? &va->yaw : &va->pitch) = v;
     } else {
       int k = cli_common_option(c, argc, argv, &i);
       if (k < 0) return EXIT_USAGE;
       if (k) continue;
-      if (a[0] != '-' && !model) {
-        model = a;
+      if (a[0] != '-' && !va->model) {
+        va->model = a;
       } else if (a[0] == '-') {
         static const char *const own[] = {"--mode",   "--screenshot", "--size", "--yaw",
                                           "--pitch",  "--part",       "--face", "--vertex",
@@ -157,26 +162,137 @@ int cmd_view(cli *c, int argc, char **argv) {
       }
     }
   }
-  int all = !strcmp(mode_name, "all");
-  int mode = all ? 0 : bbcgl_view_mode_from_name(mode_name);
-  if (mode < 0) {
+  return -1;
+}
+
+/* The mode, the model and the screenshot's name: an exit code. */
+static int check_view_args(view_args *va) {
+  va->all = !strcmp(va->mode_name, "all");
+  va->mode = va->all ? 0 : bbcgl_view_mode_from_name(va->mode_name);
+  if (va->mode < 0) {
     cli_error("view: --mode %s: expected input, rects, cloud-rects, cloud, domain, continuous, "
               "both, density, faces or all",
-              mode_name);
+              va->mode_name);
     return EXIT_USAGE;
   }
-  if (!model || !shot) {
+  if (!va->model || !va->shot) {
     cli_error("view: usage: bbcgen view MODEL --screenshot OUT.png [--mode "
               "input|rects|cloud-rects|cloud|domain|continuous|both|density|faces|all] [--size "
               "PX] [--yaw DEG] [--pitch DEG] [--part P] [--face N] [--vertex 1|2|3|all] "
               "[--volume] [--no-mini]");
     return EXIT_USAGE;
   }
-  size_t sl = strlen(shot);
-  if (sl < 4 || strcasecmp(shot + sl - 4, ".png")) {
-    cli_error("view: --screenshot %s: the picture is written as .png", shot);
+  size_t sl = strlen(va->shot);
+  if (sl < 4 || strcasecmp(va->shot + sl - 4, ".png")) {
+    cli_error("view: --screenshot %s: the picture is written as .png", va->shot);
     return EXIT_USAGE;
   }
+  return EXIT_OK;
+}
+
+/* show bbc's views: the face --part and --face choose (else the default),
+ * --vertex and --volume; an exit code. */
+static int pick_from_args(const view_args *va, const bbc_grid *g, bbc_pick *pick) {
+  pick_default(g, pick);
+  pick->vertex = va->vertex;
+  pick->volume = va->volume;
+  const char *part = va->part;
+  if (part) {
+    size_t n = bbc_grid_part_count(g), k;
+    for (k = 0; k < n; k++)
+      if (!strcasecmp(part, bbc_grid_part_name(g, k)) ||
+          (part[0] >= '0' && part[0] <= '9' && !part[1] && (size_t)(part[0] - '0') == k))
+        break;
+    if (k == n) {
+      cli_error("view: --part %s: the model's parts are %s%s%s", part, bbc_grid_part_name(g, 0),
+                n > 1 ? " and " : "", n > 1 ? bbc_grid_part_name(g, 1) : "");
+      return EXIT_USAGE;
+    } else if (!bbc_grid_part_faces(g, k)) {
+      cli_error("view: --part %s: it is kept as a mesh (limbs), not on planes; --limbs 0 puts "
+                "it on planes",
+                part);
+      return EXIT_USAGE;
+    } else {
+      pick->part = k;
+      pick->face = bbc_grid_largest_face(g, k);
+    }
+  }
+  if (va->face >= 0) {
+    if ((size_t)va->face >= bbc_grid_part_faces(g, pick->part)) {
+      cli_error("view: --face %lld: part %s has %zu faces (0 to %zu)", va->face,
+                bbc_grid_part_name(g, pick->part), bbc_grid_part_faces(g, pick->part),
+                bbc_grid_part_faces(g, pick->part) - 1);
+      return EXIT_USAGE;
+    } else {
+      pick->face = (size_t)va->face;
+    }
+  }
+  return EXIT_OK;
+}
+
+/* Draws the view (or the nine as a sheet) headless into the screenshot and
+ * says what it wrote; an exit code. */
+static int draw_views(const cli *c, const view_args *va, const bbc_session *sess,
+                      const bbc_pick *pick, int need_grid) {
+  char err[BBCGL_ERR];
+  int all = va->all, mode = va->mode;
+  int px = (int)va->size, w = all ? 3 * px : px, h = all ? 3 * px : px;
+  bbcgl_context *ctx = bbcgl_context_headless(w, h, err);
+  if (!ctx) {
+    cli_error("view: %s", err);
+    return EXIT_RESOURCES;
+  }
+  bbcgl_viewer *v = viewer_for(bbc_session_model(sess), bbc_session_result(sess));
+  if (!v) {
+    bbcgl_context_free(ctx);
+    return EXIT_RESOURCES;
+  }
+  bbcgl_view view;
+  bbcgl_view_default(&view);
+  view.yaw = va->yaw;
+  view.pitch = va->pitch;
+  view.up_axis = c->params.up_axis;
+  view.mini = va->mini;
+  int rc = EXIT_OK;
+  bbcgl_context_begin(ctx);
+  for (int m = all ? 0 : mode; rc == EXIT_OK && m < (all ? BBCGL_VIEW_COUNT : mode + 1); m++) {
+    if (m >= BBCGL_VIEW_DOMAIN) rc = bbc_geometry_for(v, sess, m, pick);
+    if (rc != EXIT_OK) break;
+    bbcgl_view mv = view;
+    if (m >= BBCGL_VIEW_DOMAIN && m != BBCGL_VIEW_FACES && va->yaw == 30 && va->pitch == 10) {
+      mv.yaw = 25; /* the grid's box from above its front corner */
+      mv.pitch = 25;
+    }
+    if (all) /* a 3 x 3 sheet: show model's four, then show bbc's five */
+      bbcgl_viewer_draw(v, (bbcgl_view_mode)m, &mv, (m % 3) * px, (2 - m / 3) * px, px, px);
+    else
+      bbcgl_viewer_draw(v, (bbcgl_view_mode)m, &mv, 0, 0, w, h);
+  }
+  bbcgl_context_end(ctx);
+  if (rc == EXIT_OK) rc = write_png(ctx, va->shot);
+  if (rc == EXIT_OK) {
+    if (need_grid)
+      cli_info(
+          c, "wrote %s: %s; part %s, face %zu (triangle %lld of the model)", va->shot,
+          all ? "the nine views" : va->mode_name,
+          bbc_grid_part_name(bbc_session_grid_get(sess), pick->part), pick->face,
+          (long long)bbc_grid_face_triangle(bbc_session_grid_get(sess), pick->part, pick->face));
+    else
+      cli_info(c, "wrote %s: %s", va->shot, va->mode_name);
+  }
+  bbcgl_viewer_free(v);
+  bbcgl_context_free(ctx);
+  return rc;
+}
+
+/* bbcgen view MODEL --mode M --screenshot PNG [--size PX] [--yaw D] [--pitch D]
+ *   [--part P] [--face N] [--vertex 1|2|3|all] [--volume] [--no-mini] */
+int cmd_view(cli *c, int argc, char **argv) {
+  view_args va = {NULL, NULL, "input", NULL, 512, 30, 10, -1, -1, 0, 1, 0, 0};
+  int rc = parse_view_args(c, argc, argv, &va);
+  if (rc >= 0) return rc;
+  if ((rc = check_view_args(&va)) != EXIT_OK) return rc;
+  int all = va.all, mode = va.mode;
   /* the session: the model; the grid and planes for show bbc's views; the
    * cloud for show model's (all: everything) */
   bbc_session *sess = bbc_session_new();
@@ -188,104 +304,19 @@ int cmd_view(cli *c, int argc, char **argv) {
   cli_load_options(c, &lo);
   bbc_planes_options po;
   bbc_error e;
-  int rc = cli_planes_options(c, &po);
+  rc = cli_planes_options(c, &po);
   int need_cloud = all || (mode != BBCGL_VIEW_INPUT && mode < BBCGL_VIEW_DOMAIN);
   int need_grid = all || mode >= BBCGL_VIEW_DOMAIN;
-  if (rc == EXIT_OK && bbc_session_load(sess, model, &lo, &e) != BBC_OK) rc = cli_fail(&e, 0);
+  if (rc == EXIT_OK && bbc_session_load(sess, va.model, &lo, &e) != BBC_OK) rc = cli_fail(&e, 0);
   if (rc == EXIT_OK && need_cloud && bbc_session_run(sess, &po, &e) != BBC_OK)
-    rc = cli_fail_in(model, &e, 0);
+    rc = cli_fail_in(va.model, &e, 0);
   if (rc == EXIT_OK && need_grid && !need_cloud &&
       (bbc_session_grid(sess, &po, &e) != BBC_OK || bbc_session_planes(sess, &po, &e) != BBC_OK))
-    rc = cli_fail_in(model, &e, 0);
+    rc = cli_fail_in(va.model, &e, 0);
   bbc_pick pick;
   memset(&pick, 0, sizeof pick);
-  if (rc == EXIT_OK && need_grid) {
-    const bbc_grid *g = bbc_session_grid_get(sess);
-    pick_default(g, &pick);
-    pick.vertex = vertex;
-    pick.volume = volume;
-    if (part) {
-      size_t n = bbc_grid_part_count(g), k;
-      for (k = 0; k < n; k++)
-        if (!strcasecmp(part, bbc_grid_part_name(g, k)) ||
-            (part[0] >= '0' && part[0] <= '9' && !part[1] && (size_t)(part[0] - '0') == k))
-          break;
-      if (k == n) {
-        cli_error("view: --part %s: the model's parts are %s%s%s", part, bbc_grid_part_name(g, 0),
-                  n > 1 ? " and " : "", n > 1 ? bbc_grid_part_name(g, 1) : "");
-        rc = EXIT_USAGE;
-      } else if (!bbc_grid_part_faces(g, k)) {
-        cli_error("view: --part %s: it is kept as a mesh (limbs), not on planes; --limbs 0 puts "
-                  "it on planes",
-                  part);
-        rc = EXIT_USAGE;
-      } else {
-        pick.part = k;
-        pick.face = bbc_grid_largest_face(g, k);
-      }
-    }
-    if (rc == EXIT_OK && face >= 0) {
-      if ((size_t)face >= bbc_grid_part_faces(g, pick.part)) {
-        cli_error("view: --face %lld: part %s has %zu faces (0 to %zu)", face,
-                  bbc_grid_part_name(g, pick.part), bbc_grid_part_faces(g, pick.part),
-                  bbc_grid_part_faces(g, pick.part) - 1);
-        rc = EXIT_USAGE;
-      } else {
-        pick.face = (size_t)face;
-      }
-    }
-  }
-  if (rc != EXIT_OK) {
-    bbc_session_free(sess);
-    return rc;
-  }
-  char err[BBCGL_ERR];
-  int px = (int)size, w = all ? 3 * px : px, h = all ? 3 * px : px;
-  bbcgl_context *ctx = bbcgl_context_headless(w, h, err);
-  if (!ctx) {
-    cli_error("view: %s", err);
-    bbc_session_free(sess);
-    return EXIT_RESOURCES;
-  }
-  bbcgl_viewer *v = viewer_for(bbc_session_model(sess), bbc_session_result(sess));
-  if (!v) {
-    bbcgl_context_free(ctx);
-    bbc_session_free(sess);
-    return EXIT_RESOURCES;
-  }
-  bbcgl_view view;
-  bbcgl_view_default(&view);
-  view.yaw = yaw;
-  view.pitch = pitch;
-  view.up_axis = c->params.up_axis;
-  view.mini = mini;
-  bbcgl_context_begin(ctx);
-  for (int m = all ? 0 : mode; rc == EXIT_OK && m < (all ? BBCGL_VIEW_COUNT : mode + 1); m++) {
-    if (m >= BBCGL_VIEW_DOMAIN) rc = bbc_geometry_for(v, sess, m, &pick);
-    if (rc != EXIT_OK) break;
-    bbcgl_view mv = view;
-    if (m >= BBCGL_VIEW_DOMAIN && m != BBCGL_VIEW_FACES && yaw == 30 && pitch == 10) {
-      mv.yaw = 25; /* the grid's box from above its front corner */
-      mv.pitch = 25;
-    }
-    if (all) /* a 3 x 3 sheet: show model's four, then show bbc's five */
-      bbcgl_viewer_draw(v, (bbcgl_view_mode)m, &mv, (m % 3) * px, (2 - m / 3) * px, px, px);
-    else
-      bbcgl_viewer_draw(v, (bbcgl_view_mode)m, &mv, 0, 0, w, h);
-  }
-  bbcgl_context_end(ctx);
-  if (rc == EXIT_OK) rc = write_png(ctx, shot);
-  if (rc == EXIT_OK) {
-    if (need_grid)
-      cli_info(c, "wrote %s: %s; part %s, face %zu (triangle %lld of the model)", shot,
-               all ? "the nine views" : mode_name,
-               bbc_grid_part_name(bbc_session_grid_get(sess), pick.part), pick.face,
-               (long long)bbc_grid_face_triangle(bbc_session_grid_get(sess), pick.part, pick.face));
-    else
-      cli_info(c, "wrote %s: %s", shot, mode_name);
-  }
-  bbcgl_viewer_free(v);
-  bbcgl_context_free(ctx);
+  if (rc == EXIT_OK && need_grid) rc = pick_from_args(&va, bbc_session_grid_get(sess), &pick);
+  if (rc == EXIT_OK) rc = draw_views(c, &va, sess, &pick, need_grid);
   bbc_session_free(sess);
   return rc;
 }
@@ -309,6 +340,40 @@ typedef struct show_state {
   double mx, my;
 } show_state;
 
+/* Tab: the view as it starts, keeping the up axis, the mini-model and the
+ * background. */
+static void reset_view(bbcgl_view *view) {
+  int up = view->up_axis, mini = view->mini;
+  float bg[3];
+  memcpy(bg, view->background, sizeof bg);
+  bbcgl_view_default(view);
+  view->up_axis = up;
+  view->mini = mini;
+  memcpy(view->background, bg, sizeof bg);
+}
+
+/* show bbc's selection: the next (+1) or previous (-1) face of the part,
+ * the other part's largest face, the face's domain then each of its
+ * vertices' (F6). */
+static void next_face(show_state *s, int dir) {
+  size_t n = bbc_grid_part_faces(s->grid, s->pick.part);
+  s->pick.face = (s->pick.face + (dir > 0 ? 1 : n - 1)) % n;
+  s->changed = 1;
+}
+
+static void other_part(show_state *s) {
+  size_t parts = bbc_grid_part_count(s->grid);
+  s->pick.part = (s->pick.part + 1) % parts;
+  s->pick.face = bbc_grid_largest_face(s->grid, s->pick.part);
+  s->changed = 1;
+}
+
+static void next_vertex(show_state *s) {
+  int nv = bbc_grid_face_vertex_count(s->grid, s->pick.part, s->pick.face);
+  s->pick.vertex = s->pick.vertex >= nv - 1 ? -1 : s->pick.vertex + 1;
+  s->changed = 1;
+}
+
 /* Arrow keys: up/down cycle the views (show model: left/right too), in show
  * bbc left/right cycle the selected face. */
 static void show_key(show_state *s, int key) {
@@ -327,33 +392,18 @@ static void show_key(show_state *s, int key) {
     break;
   case GLFW_KEY_RIGHT:
   case GLFW_KEY_LEFT:
-    if (!s->bbc) {
+    if (!s->bbc)
       step = key == GLFW_KEY_RIGHT ? 1 : -1;
-    } else {
-      size_t n = bbc_grid_part_faces(s->grid, s->pick.part);
-      s->pick.face = (s->pick.face + (key == GLFW_KEY_RIGHT ? 1 : n - 1)) % n;
-      s->changed = 1;
-    }
+    else
+      next_face(s, key == GLFW_KEY_RIGHT ? 1 : -1);
     break;
   case GLFW_KEY_PAGE_UP:
   case GLFW_KEY_PAGE_DOWN:
-    if (s->bbc) { /* the other part */
-      size_t parts = bbc_grid_part_count(s->grid);
-      s->pick.part = (s->pick.part + 1) % parts;
-      s->pick.face = bbc_grid_largest_face(s->grid, s->pick.part);
-      s->changed = 1;
-    }
+    if (s->bbc) other_part(s);
     break;
-  case GLFW_KEY_TAB: {
-    int up = s->view.up_axis, mini = s->view.mini;
-    float bg[3];
-    memcpy(bg, s->view.background, sizeof bg);
-    bbcgl_view_default(&s->view);
-    s->view.up_axis = up;
-    s->view.mini = mini;
-    memcpy(s->view.background, bg, sizeof bg);
+  case GLFW_KEY_TAB:
+    reset_view(&s->view);
     break;
-  }
   case GLFW_KEY_F1:
     s->view.wireframe = !s->view.wireframe;
     break;
@@ -382,11 +432,7 @@ static void show_key(show_state *s, int key) {
     s->view.lighting = !s->view.lighting;
     break;
   case GLFW_KEY_F6: /* the face's domain, then each of its vertices' */
-    if (s->bbc) {
-      int nv = bbc_grid_face_vertex_count(s->grid, s->pick.part, s->pick.face);
-      s->pick.vertex = s->pick.vertex >= nv - 1 ? -1 : s->pick.vertex + 1;
-      s->changed = 1;
-    }
+    if (s->bbc) next_vertex(s);
     break;
   case GLFW_KEY_F7: /* sheets only, or the domain between them */
     if (s->bbc) {

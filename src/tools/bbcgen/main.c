@@ -1,6 +1,6 @@
 /* bbcgen — the Billboard Cloud generator's command-line tool.
  * One flat dispatch: each command parses its own options into the shared
- * `cli` state and calls the library. */
+ * `cli` state and calls the library (and its application layer). */
 #include "cli.h"
 
 #include <locale.h>
@@ -10,7 +10,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static void print_help(FILE *out) {
+/* --help, in parts: the cloud command; the commands on a model; the prompt,
+ * the batch files, the viewer and setup; the options every command takes;
+ * the parameters; the exit codes. `bbcgen COMMAND --help` cuts its part out
+ * of the whole (print_command_help). */
+static void help_cloud(FILE *out) {
   fprintf(out,
           "bbcgen %s — Billboard Cloud generator\n"
           "\n"
@@ -28,91 +32,110 @@ static void print_help(FILE *out) {
           "        original, the cloud, the billboards' outlines coloured by plane kind\n"
           "        (light blue standard, orange coplanar, pink post-tweaked, green\n"
           "        cardboard, cyan parachute, yellow stem); --preview-size: pixels per\n"
-          "        view (256).\n"
-          "  bbcgen info MODEL [--json] [--no-textures]\n"
-          "      Triangles, vertices, materials (texture, alpha), groups, bounding box,\n"
-          "      centre of gravity and bounding radius of a model or point cloud.\n"
-          "  bbcgen sample MODEL -o OUT.ply [--points N] [--seed S]\n"
-          "      A point cloud of N points (default 1,000,000) on the model's surface,\n"
-          "      uniform by area, coloured as the surface: binary PLY with doubles.\n"
-          "  bbcgen tree [--seed S] [--leaves N] [--species NAME] [--texture-size N]\n"
-          "              -o OUT.obj [--preview OUT.png]\n"
-          "      Generate the built-in procedural tree as OBJ + MTL + PNG textures.\n"
-          "      Species: oak (default), pine, birch, bush; airy ones: larch (sparse\n"
-          "      needles on thin twigs), weeping (hanging twigs), winter (leafless oak);\n"
-          "      and palm (a leaning stem and arching fronds).\n"
-          "      Leaves: number of leaf quads (0: the species' default).\n"
-          "  bbcgen render MODEL -o OUT.png [--size PX] [--up y|z] [--unlit]\n"
-          "      Software render (no GPU) from the front, the side and above.\n"
-          "  bbcgen planes MODEL [PARAMETER OPTIONS] [--json OUT.json]\n"
-          "      Steps 1 and 2: the planes (n . x = d) and which plane simplifies each\n"
-          "      triangle. Trunk and foliage are simplified apart (--split).\n"
-          "  bbcgen eval ORIGINAL OTHER [--views N] [--size PX] [--json OUT.json]\n"
-          "              [--png SHEET.png] [--lit|--no-lit] [--side-elevation DEG]\n"
-          "      How close OTHER (a cloud, a baseline) looks to ORIGINAL: both rendered\n"
-          "      from N directions over the sphere (64), coverage IoU, recall, false\n"
-          "      coverage, PSNR, colour error, brightness, density (coverage ratio,\n"
-          "      block IoU at 1/8 resolution); also over side views (elevation within\n"
-          "      --side-elevation, 30 degrees). Lit when OTHER is prelit (all its\n"
-          "      materials unlit), else unlit; --lit / --no-lit choose.\n"
-          "  bbcgen baseline MODEL -o OUT.glb --method crossed [--planes K] [--horizontal]\n"
-          "              [--texels N]\n"
-          "  bbcgen baseline MODEL -o OUT.glb --method simplify|sloppy --triangles N\n"
-          "      Far-LOD alternatives to compare with `eval`: K crossed billboards (3)\n"
-          "      baked by our baker at about N texels, or meshoptimizer's simplification.\n"
-          "  bbcgen -i [OPTIONS]   or   bbcgen -x BATCHFILE [OPTIONS]   or   bbcgen\n"
-          "      The prompt (bbcgen alone on a terminal): the batch commands one line at\n"
-          "      a time, with line editing, history and completion (Tab); an error is\n"
-          "      reported and the session goes on. -x runs BATCHFILE first and stays at\n"
-          "      the prompt unless the file ends with quit. `help` lists the commands.\n"
-          "  bbcgen exec BATCHFILE\n"
-          "      Run a batch file of commands (load, set, split, bbc1, bbc2, bbc3, bbc,\n"
-          "      planes, shade, save, setup); see README. The planes are kept: after\n"
-          "      texturing parameters only (texres, quality, nm, prelight, ...) bbc3\n"
-          "      runs step 3 alone; other changes ask for bbc2 or bbc1 again.\n"
-          "  bbcgen view MODEL --mode VIEW --screenshot OUT.png [--size PX] [--yaw DEG]\n"
-          "              [--pitch DEG] [--part P] [--face N] [--vertex 1|2|3|all] [--volume]\n"
-          "              [--no-mini] [PARAMETER OPTIONS]\n"
-          "      The viewer's nine views without a window (the prompt's `show model` and\n"
-          "      `show bbc` open one). show model's: input (the model), rects (with the\n"
-          "      billboards' rectangles coloured by plane kind: light blue standard,\n"
-          "      orange coplanar, pink post-tweaked, green cardboard, cyan parachute,\n"
-          "      yellow stem), cloud-rects, cloud. show bbc's, for a face (--part: trunk,\n"
-          "      foliage or an index; --face: its index in the part, default the largest\n"
-          "      face of the largest part): domain (its discretised validity domain on\n"
-          "      the (theta, phi, rho) grid: theta red, rho green, phi blue), continuous\n"
-          "      (the exact domain's lower and upper sheets; --vertex one vertex's\n"
-          "      domain, --volume lines across it), both, density (the grid's density,\n"
-          "      blue to red), faces (the model as wireframe, the faces of the selected\n"
-          "      face's plane blue, the face yellow); a mini-model top left unless\n"
-          "      --no-mini. all: the nine as a 3 x 3 sheet. The model runs through the\n"
-          "      steps each view needs, with the parameters given.\n"
-          "  bbcgen setup [PARAMETER OPTIONS]\n"
-          "      Print every parameter's current value (the thesis's `setup`).\n"
-          "  bbcgen --help | --version\n"
-          "\n"
-          "Point clouds (PLY without faces, XYZ, VRML PointSet) go through the same\n"
-          "steps: points splatted onto the billboards (pointsize, pointsmooth,\n"
-          "pointskip, pointnormals; README, Point clouds).\n"
-          "\n"
-          "Options for every command:\n"
-          "  --set NAME=VALUE   set a parameter (repeatable), e.g. --set epsilon=6\n"
-          "  --set PART.NAME=VALUE  a parameter for one part only: trunk, foliage or all,\n"
-          "                     e.g. --set trunk.cardboard=1 --set foliage.epsilon=8\n"
-          "  --split MODE       parts: auto (default: by names, else by geometry), none,\n"
-          "                     names, geometry\n"
-          "  --trunk PATTERNS   trunk = faces whose group or material matches a pattern\n"
-          "                     (comma-separated, * and ?), the rest foliage\n"
-          "  --foliage PATTERNS foliage = faces matching, the rest trunk\n"
-          "  --branches foliage|trunk  the trunk part keeps only the stem and the branches\n"
-          "                     go with the foliage (default, thesis 2.2.4), or keep them\n"
-          "  --NAME VALUE       the same, e.g. --epsilon 6 (percent of the bounding radius)\n"
-          "  --thesis           the thesis's Appendix A defaults (clustering 2, epsilon 5,\n"
-          "                     quality 0, no maxplanes, no atlasmax) for what is not set\n"
-          "  -q, --quiet        no progress bar and no info lines (warnings and errors stay)\n"
-          "  Progress bars are drawn only when stderr is a terminal.\n"
-          "\n",
+          "        view (256).\n",
           BBC_VERSION_STRING);
+}
+
+static void help_model_commands(FILE *out) {
+  fputs("  bbcgen info MODEL [--json] [--no-textures]\n"
+        "      Triangles, vertices, materials (texture, alpha), groups, bounding box,\n"
+        "      centre of gravity and bounding radius of a model or point cloud.\n"
+        "  bbcgen sample MODEL -o OUT.ply [--points N] [--seed S]\n"
+        "      A point cloud of N points (default 1,000,000) on the model's surface,\n"
+        "      uniform by area, coloured as the surface: binary PLY with doubles.\n"
+        "  bbcgen tree [--seed S] [--leaves N] [--species NAME] [--texture-size N]\n"
+        "              -o OUT.obj [--preview OUT.png]\n"
+        "      Generate the built-in procedural tree as OBJ + MTL + PNG textures.\n"
+        "      Species: oak (default), pine, birch, bush; airy ones: larch (sparse\n"
+        "      needles on thin twigs), weeping (hanging twigs), winter (leafless oak);\n"
+        "      and palm (a leaning stem and arching fronds).\n"
+        "      Leaves: number of leaf quads (0: the species' default).\n"
+        "  bbcgen render MODEL -o OUT.png [--size PX] [--up y|z] [--unlit]\n"
+        "      Software render (no GPU) from the front, the side and above.\n"
+        "  bbcgen planes MODEL [PARAMETER OPTIONS] [--json OUT.json]\n"
+        "      Steps 1 and 2: the planes (n . x = d) and which plane simplifies each\n"
+        "      triangle. Trunk and foliage are simplified apart (--split).\n"
+        "  bbcgen eval ORIGINAL OTHER [--views N] [--size PX] [--json OUT.json]\n"
+        "              [--png SHEET.png] [--lit|--no-lit] [--side-elevation DEG]\n"
+        "      How close OTHER (a cloud, a baseline) looks to ORIGINAL: both rendered\n"
+        "      from N directions over the sphere (64), coverage IoU, recall, false\n"
+        "      coverage, PSNR, colour error, brightness, density (coverage ratio,\n"
+        "      block IoU at 1/8 resolution); also over side views (elevation within\n"
+        "      --side-elevation, 30 degrees). Lit when OTHER is prelit (all its\n"
+        "      materials unlit), else unlit; --lit / --no-lit choose.\n"
+        "  bbcgen baseline MODEL -o OUT.glb --method crossed [--planes K] [--horizontal]\n"
+        "              [--texels N]\n"
+        "  bbcgen baseline MODEL -o OUT.glb --method simplify|sloppy --triangles N\n"
+        "      Far-LOD alternatives to compare with `eval`: K crossed billboards (3)\n"
+        "      baked by our baker at about N texels, or meshoptimizer's simplification.\n",
+        out);
+}
+
+static void help_session_commands(FILE *out) {
+  fputs("  bbcgen -i [OPTIONS]   or   bbcgen -x BATCHFILE [OPTIONS]   or   bbcgen\n"
+        "      The prompt (bbcgen alone on a terminal): the batch commands one line at\n"
+        "      a time, with line editing, history and completion (Tab); an error is\n"
+        "      reported and the session goes on. -x runs BATCHFILE first and stays at\n"
+        "      the prompt unless the file ends with quit. `help` lists the commands.\n"
+        "  bbcgen exec BATCHFILE\n"
+        "      Run a batch file of commands (load, set, split, bbc1, bbc2, bbc3, bbc,\n"
+        "      planes, shade, save, setup); see README. The planes are kept: after\n"
+        "      texturing parameters only (texres, quality, nm, prelight, ...) bbc3\n"
+        "      runs step 3 alone; other changes ask for bbc2 or bbc1 again.\n"
+        "  bbcgen view MODEL --mode VIEW --screenshot OUT.png [--size PX] [--yaw DEG]\n"
+        "              [--pitch DEG] [--part P] [--face N] [--vertex 1|2|3|all] [--volume]\n"
+        "              [--no-mini] [PARAMETER OPTIONS]\n"
+        "      The viewer's nine views without a window (the prompt's `show model` and\n"
+        "      `show bbc` open one). show model's: input (the model), rects (with the\n"
+        "      billboards' rectangles coloured by plane kind: light blue standard,\n"
+        "      orange coplanar, pink post-tweaked, green cardboard, cyan parachute,\n"
+        "      yellow stem), cloud-rects, cloud. show bbc's, for a face (--part: trunk,\n"
+        "      foliage or an index; --face: its index in the part, default the largest\n"
+        "      face of the largest part): domain (its discretised validity domain on\n"
+        "      the (theta, phi, rho) grid: theta red, rho green, phi blue), continuous\n"
+        "      (the exact domain's lower and upper sheets; --vertex one vertex's\n"
+        "      domain, --volume lines across it), both, density (the grid's density,\n"
+        "      blue to red), faces (the model as wireframe, the faces of the selected\n"
+        "      face's plane blue, the face yellow); a mini-model top left unless\n"
+        "      --no-mini. all: the nine as a 3 x 3 sheet. The model runs through the\n"
+        "      steps each view needs, with the parameters given.\n"
+        "  bbcgen setup [PARAMETER OPTIONS]\n"
+        "      Print every parameter's current value (the thesis's `setup`).\n"
+        "  bbcgen --help | --version\n"
+        "\n",
+        out);
+}
+
+static void help_options(FILE *out) {
+  fputs("Point clouds (PLY without faces, XYZ, VRML PointSet) go through the same\n"
+        "steps: points splatted onto the billboards (pointsize, pointsmooth,\n"
+        "pointskip, pointnormals; README, Point clouds).\n"
+        "\n"
+        "Options for every command:\n"
+        "  --set NAME=VALUE   set a parameter (repeatable), e.g. --set epsilon=6\n"
+        "  --set PART.NAME=VALUE  a parameter for one part only: trunk, foliage or all,\n"
+        "                     e.g. --set trunk.cardboard=1 --set foliage.epsilon=8\n"
+        "  --split MODE       parts: auto (default: by names, else by geometry), none,\n"
+        "                     names, geometry\n"
+        "  --trunk PATTERNS   trunk = faces whose group or material matches a pattern\n"
+        "                     (comma-separated, * and ?), the rest foliage\n"
+        "  --foliage PATTERNS foliage = faces matching, the rest trunk\n"
+        "  --branches foliage|trunk  the trunk part keeps only the stem and the branches\n"
+        "                     go with the foliage (default, thesis 2.2.4), or keep them\n"
+        "  --NAME VALUE       the same, e.g. --epsilon 6 (percent of the bounding radius)\n"
+        "  --thesis           the thesis's Appendix A defaults (clustering 2, epsilon 5,\n"
+        "                     quality 0, no maxplanes, no atlasmax) for what is not set\n"
+        "  -q, --quiet        no progress bar and no info lines (warnings and errors stay)\n"
+        "  Progress bars are drawn only when stderr is a terminal.\n"
+        "\n",
+        out);
+}
+
+static void print_help(FILE *out) {
+  help_cloud(out);
+  help_model_commands(out);
+  help_session_commands(out);
+  help_options(out);
   print_parameter_help(out);
   fprintf(out, "\n"
                "Exit codes:\n"

@@ -1,8 +1,8 @@
-/* pipeline.c — what bbcgen says and checks around the library's session:
- * the info line of each level, output folders checked before work, the
- * files written. The steps and the writers are the library's (bbc_session_*,
- * src/core/session.c and output.c), so a program linking libbbc gets what
- * bbcgen gives. */
+/* pipeline.c — what bbcgen says and checks around the application layer's
+ * session: the info line of each level, output folders checked before work,
+ * the files written. The steps and the writers are the application layer's
+ * (bbc_session_*, src/app/session.c and output.c), so the tests drive the
+ * same workflow bbcgen does. */
 #include "pipeline.h"
 
 #include <stdio.h>

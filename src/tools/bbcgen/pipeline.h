@@ -1,4 +1,4 @@
-/* pipeline.h — what the tool says and checks around the library's session
+/* pipeline.h — what the tool says and checks around the application layer's session
  * (which runs the steps and writes the outputs: bbc_session_*). Shared by
  * `bbcgen MODEL -o OUT`, the batch commands, the prompt and the viewer. */
 #ifndef BBCGEN_PIPELINE_H

@@ -244,163 +244,80 @@ static int demo_terrain(const char *dir, int size, uint32_t seed, bbc_forest_dem
   return ok ? 0 : 1;
 }
 
-int main(int argc, char **argv) {
-  const char *map_path = NULL, *log_path = NULL, *demo_dir = NULL;
-  int check = 0, window = 0, size_given = 0, terrain_size = 512;
-  bbc_forest_demo_kind terrain_kind = BBC_FOREST_DEMO_HILLS;
-  unsigned long seed = 1;
-  run_options o;
-  memset(&o, 0, sizeof o);
-  o.width = 1024;
-  o.height = 768;
-  o.progress = isatty(2);
-  for (int i = 1; i < argc; i++) {
-    const char *a = argv[i];
-    const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-    int takes = !strcmp(a, "--size") || !strcmp(a, "--camera") || !strcmp(a, "--path") ||
-                !strcmp(a, "--frames") || !strcmp(a, "--screenshot") || !strcmp(a, "--keys") ||
-                !strcmp(a, "--log") || !strcmp(a, "--demo-terrain") ||
-                !strcmp(a, "--terrain-size") || !strcmp(a, "--seed") ||
-                !strcmp(a, "--terrain-kind");
-    if (takes && !v) {
-      fprintf(stderr, "forest: %s needs a value (try forest --help)\n", a);
-      return 2;
-    }
-    if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-      usage(stdout);
-      return 0;
-    } else if (!strcmp(a, "--version")) {
-      printf("forest %s\n", BBC_VERSION_STRING);
-      return 0;
-    } else if (!strcmp(a, "--check")) {
-      check = 1;
-    } else if (!strcmp(a, "--window")) {
-      window = 1;
-    } else if (!strcmp(a, "--bench")) {
-      o.bench = 1;
-    } else if (!strcmp(a, "--stats")) {
-      o.stats = 1;
-    } else if (!strcmp(a, "--naive")) {
-      o.naive = 1;
-    } else if (!strcmp(a, "--gpu-cull")) {
-      o.gpu_cull = 1;
-    } else if (!strcmp(a, "--coverage")) {
-      o.coverage = 1;
-    } else if (!strcmp(a, "--print-camera")) {
-      o.print_camera = 1;
-    } else if (!strcmp(a, "--size")) {
-      if (!parse_size(v, &o.width, &o.height)) {
-        fprintf(stderr, "forest: --size %s: expected WxH, e.g. 640x480\n", v);
-        return 2;
-      }
-      size_given = 1;
-      i++;
-    } else if (!strcmp(a, "--camera")) {
-      bbc_forest_camera *c = &o.camera;
-      char extra;
-      int good = sscanf(v, "%lf,%lf,%lf,%lf,%lf%c", &c->pos[0], &c->pos[1], &c->pos[2], &c->yaw,
-                        &c->pitch, &extra) == 5;
-      for (int k = 0; k < 3 && good; k++) good = fabs(c->pos[k]) <= 1e7; /* false for NaN */
-      good = good && fabs(c->yaw) <= 36000 && fabs(c->pitch) <= 89;
-      if (!good) {
-        fprintf(stderr,
-                "forest: --camera %s: expected X,Y,Z,YAW,PITCH (numbers; coordinates within "
-                "+-1e7, pitch within +-89)\n",
-                v);
-        return 2;
-      }
-      o.has_camera = 1;
-      i++;
-    } else if (!strcmp(a, "--frames")) {
-      char *end;
-      long n = strtol(v, &end, 10);
-      if (*end || n < 1 || n > 10000000) {
-        fprintf(stderr, "forest: --frames %s: expected a number of frames (1 to 10,000,000)\n", v);
-        return 2;
-      }
-      o.frames = (int)n;
-      i++;
-    } else if (!strcmp(a, "--path")) {
-      o.path = v;
-      i++;
-    } else if (!strcmp(a, "--screenshot")) {
-      size_t vl = strlen(v);
-      if (vl < 4 || strcasecmp(v + vl - 4, ".png")) {
-        fprintf(stderr, "forest: --screenshot %s: screenshots are written as .png\n", v);
-        return 2;
-      }
-      o.screenshot = v;
-      i++;
-    } else if (!strcmp(a, "--keys")) {
-      o.keys = v;
-      i++;
-    } else if (!strcmp(a, "--demo-terrain")) {
-      demo_dir = v;
-      i++;
-    } else if (!strcmp(a, "--terrain-kind")) {
-      if (!strcmp(v, "hills"))
-        terrain_kind = BBC_FOREST_DEMO_HILLS;
-      else if (!strcmp(v, "islands"))
-        terrain_kind = BBC_FOREST_DEMO_ISLANDS;
-      else {
-        fprintf(stderr, "forest: --terrain-kind %s: expected hills or islands\n", v);
-        return 2;
-      }
-      i++;
-    } else if (!strcmp(a, "--terrain-size") || !strcmp(a, "--seed")) {
-      char *end;
-      unsigned long n = strtoul(v, &end, 10);
-      if (*end || !*v || n > 0xFFFFFFFFul) {
-        fprintf(stderr, "forest: %s %s: expected a whole number\n", a, v);
-        return 2;
-      }
-      if (a[2] == 't')
-        terrain_size = (int)(n > 65536 ? 65536 : n);
-      else
-        seed = n;
-      i++;
-    } else if (!strcmp(a, "--log")) {
-      log_path = v;
-      i++;
-    } else if (a[0] == '-' && a[1]) {
-      static const char *const known[] = {"--help",         "--version",
-                                          "--check",        "--window",
-                                          "--stats",        "--naive",
-                                          "--gpu-cull",     "--coverage",
-                                          "--print-camera", "--size",
-                                          "--camera",       "--frames",
-                                          "--path",         "--screenshot",
-                                          "--keys",         "--demo-terrain",
-                                          "--terrain-kind", "--terrain-size",
-                                          "--seed",         "--log",
-                                          "--bench",        NULL};
-      const char *near = cli_closest(a, known);
-      if (near)
-        fprintf(stderr, "forest: unknown option '%s' (did you mean %s?)\n", a, near);
-      else
-        fprintf(stderr, "forest: unknown option '%s' (try forest --help)\n", a);
-      return 2;
-    } else if (!map_path) {
-      map_path = a;
+/* ---- --check ------------------------------------------------------------------- */
+
+/* The six images of the sky box: each there and readable; the problems. */
+static int check_sky(const bbc_forest_map *map, const char *map_path, const char *folder) {
+  int bad = 0;
+  static const char *const side[6] = {"FR", "BK", "LF", "RT", "UP", "DN"};
+  for (int s = 0; s < 6; s++) {
+    char name[4200], path[8400];
+    snprintf(name, sizeof name, "%s_%s.tga", map->skymap, side[s]);
+    scene_join(folder, name, path, sizeof path);
+    bbc_image img;
+    bbc_error e;
+    if (!scene_file_exists(path)) {
+      fprintf(stderr, "forest: %s:%d: skymap: sky image '%s' not found\n", map_path,
+              map->skymap_line, name);
+      bad++;
+    } else if (bbc_image_load(path, &img, &e) != BBC_OK) {
+      fprintf(stderr, "forest: %s:%d: skymap: %s\n", map_path, map->skymap_line, e.message);
+      bad++;
     } else {
-      fprintf(stderr, "forest: one map at a time ('%s' is a second one)\n", a);
-      return 2;
+      bbc_image_free(&img);
     }
   }
-  if (demo_dir) return demo_terrain(demo_dir, terrain_size, (uint32_t)seed, terrain_kind);
-  if (o.naive && o.gpu_cull) {
-    fprintf(stderr, "forest: --naive and --gpu-cull do not go together (--naive draws the "
-                    "thesis's way, culling on the CPU tree by tree)\n");
-    return 2;
+  return bad;
+}
+
+/* The summary of the map's world: terrain, colour, sky, water, fog. */
+static void print_world(const bbc_forest_map *map, const bbc_forest_world *w,
+                        const char *map_path) {
+  float lo = w->height[0], hi = w->height[0];
+  for (size_t i = 0; i < (size_t)w->width * w->depth; i++) {
+    if (w->height[i] < lo) lo = w->height[i];
+    if (w->height[i] > hi) hi = w->height[i];
   }
-  if (!map_path) {
-    usage(stderr);
-    return 2;
+  printf("map: %s\n", map_path);
+  printf("terrain: %d x %d vertices (%d-bit heightmap), %g units apart, heights %.2f to %.2f\n",
+         w->width, w->depth, w->heightmap_bits, w->spacing, lo, hi);
+  if (w->note[0]) printf("note: %s\n", w->note);
+  if (w->colour.rgba) printf("colour map: %d x %d\n", w->colour.width, w->colour.height);
+  if (map->skymap) printf("sky: %s_FR/_BK/_LF/_RT/_UP/_DN\n", map->skymap);
+  if (map->has_water) printf("water at %g\n", map->water_height);
+  if (map->has_fog) printf("fog from %g to %g\n", map->fog_start, map->fog_end);
+}
+
+/* The objects placed and asked for, the green ground, then each placement
+ * line with the files it needs checked; the problems. */
+static int check_placements(const bbc_forest_map *map, const bbc_forest_world *w,
+                            const char *map_path, const char *folder) {
+  int bad = 0;
+  size_t asked = 0;
+  for (size_t i = 0; i < map->placement_count; i++) asked += map->placements[i].count;
+  printf("objects: %zu placed of %zu asked, %zu line%s", w->instance_count, asked,
+         map->placement_count, map->placement_count == 1 ? "" : "s");
+  if (map->has_numobjs) printf(" (numobjs %zu)", map->numobjs);
+  printf("\n");
+  if (w->colour.rgba)
+    printf("green ground (Appendix B: G > 70 and R < 2/3 G): %.1f %% of the colour map\n",
+           100.0 * w->green_fraction);
+  if (w->placements_short)
+    printf("note: %zu rndtree line%s found too little green ground for all their objects\n",
+           w->placements_short, w->placements_short == 1 ? "" : "s");
+  for (size_t i = 0; i < map->placement_count; i++) {
+    const bbc_forest_placement *p = &map->placements[i];
+    static const char *const kind[3] = {"object2d", "rndtree", "rndtree2"};
+    printf("  line %d %s %s%s%s: %zu\n", p->line, kind[p->kind], p->file, p->file2 ? " + " : "",
+           p->file2 ? p->file2 : "", p->count);
+    bad += check_file(map_path, p->line, folder, p->file);
+    if (p->file2) bad += check_file(map_path, p->line, folder, p->file2);
   }
-  if (!check) {
-    o.headless = size_given && !window;
-    return draw_map(map_path, &o, log_path);
-  }
+  return bad;
+}
+
+/* forest --check MAP: the exit status. */
+static int check_map(const char *map_path) {
   bbc_forest_map map;
   bbc_error err;
   if (bbc_forest_map_load(map_path, &map, &err) != BBC_OK) {
@@ -415,64 +332,226 @@ int main(int argc, char **argv) {
     bbc_forest_map_free(&map);
     return 1;
   }
-  float lo = w.height[0], hi = w.height[0];
-  for (size_t i = 0; i < (size_t)w.width * w.depth; i++) {
-    if (w.height[i] < lo) lo = w.height[i];
-    if (w.height[i] > hi) hi = w.height[i];
-  }
-  printf("map: %s\n", map_path);
-  printf("terrain: %d x %d vertices (%d-bit heightmap), %g units apart, heights %.2f to %.2f\n",
-         w.width, w.depth, w.heightmap_bits, w.spacing, lo, hi);
-  if (w.note[0]) printf("note: %s\n", w.note);
-  if (w.colour.rgba) printf("colour map: %d x %d\n", w.colour.width, w.colour.height);
-  if (map.skymap) printf("sky: %s_FR/_BK/_LF/_RT/_UP/_DN\n", map.skymap);
-  if (map.has_water) printf("water at %g\n", map.water_height);
-  if (map.has_fog) printf("fog from %g to %g\n", map.fog_start, map.fog_end);
+  print_world(&map, &w, map_path);
   int bad = 0;
-  if (map.skymap) {
-    static const char *const side[6] = {"FR", "BK", "LF", "RT", "UP", "DN"};
-    for (int s = 0; s < 6; s++) {
-      char name[4200], path[8400];
-      snprintf(name, sizeof name, "%s_%s.tga", map.skymap, side[s]);
-      scene_join(folder, name, path, sizeof path);
-      bbc_image img;
-      bbc_error e;
-      if (!scene_file_exists(path)) {
-        fprintf(stderr, "forest: %s:%d: skymap: sky image '%s' not found\n", map_path,
-                map.skymap_line, name);
-        bad++;
-      } else if (bbc_image_load(path, &img, &e) != BBC_OK) {
-        fprintf(stderr, "forest: %s:%d: skymap: %s\n", map_path, map.skymap_line, e.message);
-        bad++;
-      } else {
-        bbc_image_free(&img);
-      }
-    }
-  }
-  size_t asked = 0;
-  for (size_t i = 0; i < map.placement_count; i++) asked += map.placements[i].count;
-  printf("objects: %zu placed of %zu asked, %zu line%s", w.instance_count, asked,
-         map.placement_count, map.placement_count == 1 ? "" : "s");
-  if (map.has_numobjs) printf(" (numobjs %zu)", map.numobjs);
-  printf("\n");
-  if (w.colour.rgba)
-    printf("green ground (Appendix B: G > 70 and R < 2/3 G): %.1f %% of the colour map\n",
-           100.0 * w.green_fraction);
-  if (w.placements_short)
-    printf("note: %zu rndtree line%s found too little green ground for all their objects\n",
-           w.placements_short, w.placements_short == 1 ? "" : "s");
-  for (size_t i = 0; i < map.placement_count; i++) {
-    const bbc_forest_placement *p = &map.placements[i];
-    static const char *const kind[3] = {"object2d", "rndtree", "rndtree2"};
-    printf("  line %d %s %s%s%s: %zu\n", p->line, kind[p->kind], p->file, p->file2 ? " + " : "",
-           p->file2 ? p->file2 : "", p->count);
-    bad += check_file(map_path, p->line, folder, p->file);
-    if (p->file2) bad += check_file(map_path, p->line, folder, p->file2);
-  }
+  if (map.skymap) bad += check_sky(&map, map_path, folder);
+  bad += check_placements(&map, &w, map_path, folder);
   if (bad) fprintf(stderr, "forest: %s: %d problem%s\n", map_path, bad, bad == 1 ? "" : "s");
   bbc_forest_world_free(&w);
   bbc_forest_map_free(&map);
   for (size_t i = 0; i < g_seen_count; i++) free(g_seen[i]);
   free(g_seen);
   return bad ? 1 : 0;
+}
+
+/* ---- the command line ------------------------------------------------------------ */
+
+/* What the command line asks for. */
+typedef struct settings {
+  const char *map_path, *log_path, *demo_dir;
+  int check, window, size_given, terrain_size;
+  bbc_forest_demo_kind terrain_kind;
+  unsigned long seed;
+  run_options o;
+} settings;
+
+static int takes_value(const char *a) {
+  return !strcmp(a, "--size") || !strcmp(a, "--camera") || !strcmp(a, "--path") ||
+         !strcmp(a, "--frames") || !strcmp(a, "--screenshot") || !strcmp(a, "--keys") ||
+         !strcmp(a, "--log") || !strcmp(a, "--demo-terrain") || !strcmp(a, "--terrain-size") ||
+         !strcmp(a, "--seed") || !strcmp(a, "--terrain-kind");
+}
+
+/* The options without a value; 0 when `a` is none of them. */
+static int set_flag(settings *st, const char *a) {
+  run_options *o = &st->o;
+  if (!strcmp(a, "--check"))
+    st->check = 1;
+  else if (!strcmp(a, "--window"))
+    st->window = 1;
+  else if (!strcmp(a, "--bench"))
+    o->bench = 1;
+  else if (!strcmp(a, "--stats"))
+    o->stats = 1;
+  else if (!strcmp(a, "--naive"))
+    o->naive = 1;
+  else if (!strcmp(a, "--gpu-cull"))
+    o->gpu_cull = 1;
+  else if (!strcmp(a, "--coverage"))
+    o->coverage = 1;
+  else if (!strcmp(a, "--print-camera"))
+    o->print_camera = 1;
+  else
+    return 0;
+  return 1;
+}
+
+/* --camera X,Y,Z,YAW,PITCH; 0 with a message when it is not one. */
+static int parse_camera(const char *v, bbc_forest_camera *c) {
+  char extra;
+  int good = sscanf(v, "%lf,%lf,%lf,%lf,%lf%c", &c->pos[0], &c->pos[1], &c->pos[2], &c->yaw,
+                    &c->pitch, &extra) == 5;
+  for (int k = 0; k < 3 && good; k++) good = fabs(c->pos[k]) <= 1e7; /* false for NaN */
+  good = good && fabs(c->yaw) <= 36000 && fabs(c->pitch) <= 89;
+  if (!good)
+    fprintf(stderr,
+            "forest: --camera %s: expected X,Y,Z,YAW,PITCH (numbers; coordinates within "
+            "+-1e7, pitch within +-89)\n",
+            v);
+  return good;
+}
+
+/* The options that check their value as a number or a kind: 1 when `a` is
+ * one of them and its value `v` is good, -1 when it is bad (said), 0 when
+ * `a` is none of them. */
+static int set_checked_value(settings *st, const char *a, const char *v) {
+  run_options *o = &st->o;
+  if (!strcmp(a, "--size")) {
+    if (!parse_size(v, &o->width, &o->height)) {
+      fprintf(stderr, "forest: --size %s: expected WxH, e.g. 640x480\n", v);
+      return -1;
+    }
+    st->size_given = 1;
+  } else if (!strcmp(a, "--camera")) {
+    if (!parse_camera(v, &o->camera)) return -1;
+    o->has_camera = 1;
+  } else if (!strcmp(a, "--frames")) {
+    char *end;
+    long n = strtol(v, &end, 10);
+    if (*end || n < 1 || n > 10000000) {
+      fprintf(stderr, "forest: --frames %s: expected a number of frames (1 to 10,000,000)\n", v);
+      return -1;
+    }
+    o->frames = (int)n;
+  } else if (!strcmp(a, "--terrain-kind")) {
+    if (!strcmp(v, "hills"))
+      st->terrain_kind = BBC_FOREST_DEMO_HILLS;
+    else if (!strcmp(v, "islands"))
+      st->terrain_kind = BBC_FOREST_DEMO_ISLANDS;
+    else {
+      fprintf(stderr, "forest: --terrain-kind %s: expected hills or islands\n", v);
+      return -1;
+    }
+  } else if (!strcmp(a, "--terrain-size") || !strcmp(a, "--seed")) {
+    char *end;
+    unsigned long n = strtoul(v, &end, 10);
+    if (*end || !*v || n > 0xFFFFFFFFul) {
+      fprintf(stderr, "forest: %s %s: expected a whole number\n", a, v);
+      return -1;
+    }
+    if (a[2] == 't')
+      st->terrain_size = (int)(n > 65536 ? 65536 : n);
+    else
+      st->seed = n;
+  } else {
+    return 0;
+  }
+  return 1;
+}
+
+/* The options with a value: as set_checked_value. */
+static int set_value(settings *st, const char *a, const char *v) {
+  run_options *o = &st->o;
+  if (!strcmp(a, "--path")) {
+    o->path = v;
+  } else if (!strcmp(a, "--screenshot")) {
+    size_t vl = strlen(v);
+    if (vl < 4 || strcasecmp(v + vl - 4, ".png")) {
+      fprintf(stderr, "forest: --screenshot %s: screenshots are written as .png\n", v);
+      return -1;
+    }
+    o->screenshot = v;
+  } else if (!strcmp(a, "--keys")) {
+    o->keys = v;
+  } else if (!strcmp(a, "--demo-terrain")) {
+    st->demo_dir = v;
+  } else if (!strcmp(a, "--log")) {
+    st->log_path = v;
+  } else {
+    return set_checked_value(st, a, v);
+  }
+  return 1;
+}
+
+static void unknown_option(const char *a) {
+  static const char *const known[] = {"--help",         "--version",
+                                      "--check",        "--window",
+                                      "--stats",        "--naive",
+                                      "--gpu-cull",     "--coverage",
+                                      "--print-camera", "--size",
+                                      "--camera",       "--frames",
+                                      "--path",         "--screenshot",
+                                      "--keys",         "--demo-terrain",
+                                      "--terrain-kind", "--terrain-size",
+                                      "--seed",         "--log",
+                                      "--bench",        NULL};
+  const char *near = cli_closest(a, known);
+  if (near)
+    fprintf(stderr, "forest: unknown option '%s' (did you mean %s?)\n", a, near);
+  else
+    fprintf(stderr, "forest: unknown option '%s' (try forest --help)\n", a);
+}
+
+/* Reads the command line into `st`: -1 to go on, else the exit status
+ * (0 after --help or --version, 2 for bad usage, said). */
+static int parse_options(int argc, char **argv, settings *st) {
+  for (int i = 1; i < argc; i++) {
+    const char *a = argv[i];
+    const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+    int takes = takes_value(a);
+    if (takes && !v) {
+      fprintf(stderr, "forest: %s needs a value (try forest --help)\n", a);
+      return 2;
+    }
+    if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+      usage(stdout);
+      return 0;
+    } else if (!strcmp(a, "--version")) {
+      printf("forest %s\n", BBC_VERSION_STRING);
+      return 0;
+    } else if (set_flag(st, a)) {
+      continue;
+    } else if (takes) {
+      if (set_value(st, a, v) < 0) return 2;
+      i++;
+    } else if (a[0] == '-' && a[1]) {
+      unknown_option(a);
+      return 2;
+    } else if (!st->map_path) {
+      st->map_path = a;
+    } else {
+      fprintf(stderr, "forest: one map at a time ('%s' is a second one)\n", a);
+      return 2;
+    }
+  }
+  return -1;
+}
+
+int main(int argc, char **argv) {
+  settings st;
+  memset(&st, 0, sizeof st);
+  st.terrain_size = 512;
+  st.terrain_kind = BBC_FOREST_DEMO_HILLS;
+  st.seed = 1;
+  st.o.width = 1024;
+  st.o.height = 768;
+  st.o.progress = isatty(2);
+  int rc = parse_options(argc, argv, &st);
+  if (rc >= 0) return rc;
+  if (st.demo_dir)
+    return demo_terrain(st.demo_dir, st.terrain_size, (uint32_t)st.seed, st.terrain_kind);
+  if (st.o.naive && st.o.gpu_cull) {
+    fprintf(stderr, "forest: --naive and --gpu-cull do not go together (--naive draws the "
+                    "thesis's way, culling on the CPU tree by tree)\n");
+    return 2;
+  }
+  if (!st.map_path) {
+    usage(stderr);
+    return 2;
+  }
+  if (!st.check) {
+    st.o.headless = st.size_given && !st.window;
+    return draw_map(st.map_path, &st.o, st.log_path);
+  }
+  return check_map(st.map_path);
 }

@@ -363,7 +363,10 @@ static int screenshot(bbcgl_context *ctx, const char *path) {
   return ok;
 }
 
-int run(scene *s, const run_options *o, FILE *log) {
+/* ---- set-up ------------------------------------------------------------------ */
+
+/* The GL context: a window, or headless with --size. */
+static bbcgl_context *open_context(const run_options *o, FILE *log) {
   char err[BBCGL_ERR];
   bbcgl_context *ctx = o->headless ? bbcgl_context_headless(o->width, o->height, err)
                                    : bbcgl_context_window(o->width, o->height, "forest", err);
@@ -371,9 +374,16 @@ int run(scene *s, const run_options *o, FILE *log) {
     fprintf(stderr, "forest: %s%s\n", err,
             o->headless ? "" : "; headless drawing needs --size WxH");
     if (log) fprintf(log, "error: %s\n", err);
-    return 1;
+    return NULL;
   }
   if (log) fprintf(log, "%s\n", bbcgl_context_describe(ctx));
+  return ctx;
+}
+
+/* The drawing side of the scene: terrain, water, fog, sky and one bucket
+ * per model and level, each with its parts' meshes. */
+static bbcgl_forest *create_forest(scene *s) {
+  char err[BBCGL_ERR];
   bbcgl_scene sc;
   memset(&sc, 0, sizeof sc);
   sc.world = &s->world;
@@ -393,8 +403,7 @@ int run(scene *s, const run_options *o, FILE *log) {
   bbcgl_forest *r = bbcgl_forest_create(&sc, err);
   if (!r) {
     fprintf(stderr, "forest: %s\n", err);
-    bbcgl_context_free(ctx);
-    return 1;
+    return NULL;
   }
   for (size_t m = 0; m < s->model_count; m++)
     for (size_t l = 0; l < s->models[m].lod_count; l++)
@@ -405,262 +414,362 @@ int run(scene *s, const run_options *o, FILE *log) {
                                    p->mipmap, me->billboards, err)) {
           fprintf(stderr, "forest: %s: %s\n", me->path, err);
           bbcgl_forest_free(r);
-          bbcgl_context_free(ctx);
-          return 1;
+          return NULL;
         }
       }
+  return r;
+}
 
-  state st;
-  memset(&st, 0, sizeof st);
-  st.s = s;
-  st.o = o;
-  st.log = log;
-  st.detail = s->map.roetger > 0 ? s->map.roetger : 10;
-  st.unit = s->extent / 200;
-  st.stats = o->stats;
-  st.help = !o->headless && !o->keys ? 2 : 0; /* 2: shown at the start for 10 s */
-  snprintf(st.save_path, sizeof st.save_path, "%s/save/%s.txt", s->folder, s->map_name);
+/* The controls' state at the start: the camera where Appendix B puts it
+ * (or --camera's), above the ground and the water. */
+static void init_state(state *st, scene *s, const run_options *o, FILE *log) {
+  memset(st, 0, sizeof *st);
+  st->s = s;
+  st->o = o;
+  st->log = log;
+  st->detail = s->map.roetger > 0 ? s->map.roetger : 10;
+  st->unit = s->extent / 200;
+  st->stats = o->stats;
+  st->help = !o->headless && !o->keys ? 2 : 0; /* 2: shown at the start for 10 s */
+  snprintf(st->save_path, sizeof st->save_path, "%s/save/%s.txt", s->folder, s->map_name);
   /* Appendix B: the viewer starts in the map's top left corner. */
-  st.cam.zoom = 1;
-  st.cam.pos[0] = s->extent * 0.02;
-  st.cam.pos[2] = s->extent * 0.02;
-  st.cam.pos[1] =
-      bbc_forest_world_height(&s->world, st.cam.pos[0], st.cam.pos[2]) + s->extent * 0.04;
-  st.cam.yaw = 135;
-  st.cam.pitch = -8;
+  st->cam.zoom = 1;
+  st->cam.pos[0] = s->extent * 0.02;
+  st->cam.pos[2] = s->extent * 0.02;
+  st->cam.pos[1] =
+      bbc_forest_world_height(&s->world, st->cam.pos[0], st->cam.pos[2]) + s->extent * 0.04;
+  st->cam.yaw = 135;
+  st->cam.pitch = -8;
   if (o->has_camera) {
-    st.cam = o->camera;
-    st.cam.zoom = 1;
+    st->cam = o->camera;
+    st->cam.zoom = 1;
   }
-  move(&st, 0); /* never starts below the ground or the water */
-  bbc_forest_camera *path = NULL;
-  size_t path_count = 0;
-  if (o->path) {
-    bbc_error e;
-    FILE *probe = fopen(o->path, "r");
-    bbc_result pr = BBC_ERROR_NOT_FOUND;
-    if (!probe) {
-      snprintf(e.message, sizeof e.message, "--path %s: no such file", o->path);
-    } else {
-      fclose(probe);
-      pr = bbc_forest_positions_read(o->path, &path, &path_count, &e);
-      if (pr == BBC_OK && !path_count)
-        snprintf(e.message, sizeof e.message, "--path %s: no positions (lines: x y z yaw pitch)",
-                 o->path);
+  move(st, 0); /* never starts below the ground or the water */
+}
+
+/* --path's camera positions; 0 with a message when the file is missing or
+ * holds none. */
+static int read_path(const run_options *o, bbc_forest_camera **path, size_t *path_count) {
+  bbc_error e;
+  FILE *probe = fopen(o->path, "r");
+  bbc_result pr = BBC_ERROR_NOT_FOUND;
+  if (!probe) {
+    snprintf(e.message, sizeof e.message, "--path %s: no such file", o->path);
+  } else {
+    fclose(probe);
+    pr = bbc_forest_positions_read(o->path, path, path_count, &e);
+    if (pr == BBC_OK && !*path_count)
+      snprintf(e.message, sizeof e.message, "--path %s: no positions (lines: x y z yaw pitch)",
+               o->path);
+  }
+  if (pr != BBC_OK || !*path_count) {
+    fprintf(stderr, "forest: %s\n", e.message);
+    return 0;
+  }
+  return 1;
+}
+
+static void connect_window(GLFWwindow *win, state *st, const run_options *o) {
+  glfwSetWindowUserPointer(win, st);
+  glfwSetKeyCallback(win, on_key);
+  /* scripted keys are the only input: the pointer's events (one arrives
+   * when the window appears under it, at a moment that varies) would turn
+   * the camera and make the run differ from one time to the next */
+  if (!o->keys) glfwSetCursorPosCallback(win, on_mouse);
+  if (!o->keys) glfwSetInputMode(win, GLFW_CURSOR, GLFW_CURSOR_DISABLED);
+}
+
+/* ---- the frames ------------------------------------------------------------------ */
+
+/* What one run holds between its stages. */
+typedef struct runner {
+  state st;
+  const run_options *o;
+  bbcgl_context *ctx;
+  bbcgl_forest *r;
+  GLFWwindow *win;
+  bbc_forest_camera *path; /* --path's positions */
+  size_t path_count;
+  frame_result res; /* the last frame's */
+  double t, fps;    /* the scripted clock; the frame rate the overlay shows */
+  double ready_s;   /* --bench: when the first frame was drawn */
+} runner;
+
+/* Per frame, for --bench: the whole frame (waiting for the GPU), its CPU
+ * part up to the last GL call, object culling, terrain selection; and what
+ * was drawn. */
+typedef struct frame_records {
+  double (*ms)[4];
+  size_t *trees, *bills, *calls, *cmds;
+} frame_records;
+
+static int records_alloc(frame_records *rec, size_t frames) {
+  rec->ms = calloc(frames + 1, sizeof *rec->ms);
+  rec->trees = calloc(frames + 1, sizeof *rec->trees);
+  rec->bills = calloc(frames + 1, sizeof *rec->bills);
+  rec->calls = calloc(frames + 1, sizeof *rec->calls);
+  rec->cmds = calloc(frames + 1, sizeof *rec->cmds);
+  return rec->ms && rec->trees && rec->bills && rec->calls && rec->cmds;
+}
+
+static void records_free(frame_records *rec) {
+  free(rec->ms);
+  free(rec->cmds);
+  free(rec->trees);
+  free(rec->bills);
+  free(rec->calls);
+}
+
+/* --keys: names, numbers of frames to run, shot:FILE. The exit status: 2
+ * for a bad step (the script stops there), 1 when a screenshot failed. */
+static int run_keys(runner *u) {
+  const double script_dt = 1.0 / 30;
+  int status = 0;
+  char *copy = strdup(u->o->keys), *save = NULL;
+  for (char *tok = copy ? strtok_r(copy, " ,", &save) : NULL; tok && !u->st.quit;
+       tok = strtok_r(NULL, " ,", &save)) {
+    char *end;
+    long nframes = strtol(tok, &end, 10);
+    if (!strncmp(tok, "shot:", 5) && !tok[5]) {
+      fprintf(stderr, "forest: --keys: 'shot:' needs a file name (shot:FILE.png)\n");
+      status = 2;
+      break;
+    } else if (!strncmp(tok, "shot:", 5)) {
+      draw_frame(&u->st, u->ctx, u->r, u->fps, &u->res, u->t);
+      if (!screenshot(u->ctx, tok + 5)) status = 1;
+      bbcgl_context_end(u->ctx);
+    } else if (end != tok && end[0] == 'f' && end[1] == '\0' &&
+               (nframes < 1 || nframes > 10000000)) {
+      fprintf(stderr, "forest: --keys: %s: frames from 1 to 10,000,000\n", tok);
+      status = 2;
+      break;
+    } else if (end != tok && end[0] == 'f' && end[1] == '\0') {
+      for (long i = 0; i < nframes && !u->st.quit; i++) {
+        if (u->win) glfwPollEvents();
+        move(&u->st, script_dt);
+        u->t += script_dt;
+        draw_frame(&u->st, u->ctx, u->r, u->fps, &u->res, u->t);
+        bbcgl_context_end(u->ctx);
+        u->fps = u->res.frame_ms > 0 ? 1000 / u->res.frame_ms : 0;
+      }
+    } else if (!handle_key(&u->st, tok, u->t)) {
+      fprintf(stderr,
+              "forest: --keys: unknown key or step '%s' (keys: s x a d y c space q e w "
+              "F1 F2 F3 F4 F5 F10 1 2 3 h esc, any case, z for y; frames to run "
+              "as Nf, e.g. 30f; shot:FILE.png)\n",
+              tok);
+      status = 2;
+      break;
     }
-    if (pr != BBC_OK || !path_count) {
-      fprintf(stderr, "forest: %s\n", e.message);
-      bbcgl_forest_free(r);
-      bbcgl_context_free(ctx);
-      return 1;
+  }
+  free(copy);
+  return status;
+}
+
+/* The window's loop: the mouse and keys fly until Esc or the window closes. */
+static void run_window(runner *u) {
+  double last = glfwGetTime(), fps_t = last;
+  int fps_n = 0;
+  while (!glfwWindowShouldClose(u->win) && !u->st.quit) {
+    glfwPollEvents();
+    double tn = glfwGetTime();
+    move(&u->st, tn - last);
+    last = tn;
+    draw_frame(&u->st, u->ctx, u->r, u->fps, &u->res, tn);
+    if (tn > 10 && u->st.help == 2) u->st.help = 0; /* the help shown at the start goes */
+    bbcgl_context_end(u->ctx);
+    fps_n++;
+    if (tn - fps_t >= 0.5) {
+      u->fps = fps_n / (tn - fps_t);
+      fps_t = tn;
+      fps_n = 0;
     }
+  }
+}
+
+/* Frame i of `frames` along --path: positions and pitch linear, the yaw
+ * the short way round. */
+static void path_camera(runner *u, size_t i, size_t frames) {
+  const bbc_forest_camera *path = u->path;
+  size_t path_count = u->path_count;
+  state *st = &u->st;
+  double v = frames > 1 ? (double)i / (frames - 1) * (path_count - 1) : 0;
+  size_t a = (size_t)v < path_count - 1 ? (size_t)v : path_count - 1;
+  size_t b = a + 1 < path_count ? a + 1 : a;
+  double f = v - a;
+  double zoom = st->cam.zoom;
+  for (int k = 0; k < 3; k++) st->cam.pos[k] = path[a].pos[k] * (1 - f) + path[b].pos[k] * f;
+  double dy = path[b].yaw - path[a].yaw;
+  while (dy > 180) dy -= 360;
+  while (dy < -180) dy += 360;
+  st->cam.yaw = path[a].yaw + dy * f;
+  st->cam.pitch = path[a].pitch * (1 - f) + path[b].pitch * f;
+  st->cam.zoom = zoom;
+  move(st, 0); /* above the ground */
+}
+
+/* The frames without a window (or after a key script): along --path, or
+ * flying on at the speeds the keys left; --screenshot of the last one.
+ * *frames becomes 0 when the key script ended with esc. The exit status:
+ * 1 when the screenshot failed. */
+static int run_frames(runner *u, size_t *frames_io, frame_records *rec) {
+  const double script_dt = 1.0 / 30;
+  const run_options *o = u->o;
+  size_t frames = *frames_io;
+  int status = 0;
+  if (o->bench) { /* one frame not counted: shaders are compiled at their first use */
+    draw_frame(&u->st, u->ctx, u->r, u->fps, &u->res, u->t);
+    bbcgl_context_end(u->ctx);
+    u->ready_s = now_s() - o->start_s;
+  }
+  if (u->st.quit) frames = 0; /* esc in a key script ends the run there */
+  for (size_t i = 0; i < frames; i++) {
+    if (u->path_count)
+      path_camera(u, i, frames);
+    else if (i)
+      move(&u->st, script_dt);
+    u->t += script_dt;
+    double f0 = now_s();
+    draw_frame(&u->st, u->ctx, u->r, u->fps, &u->res, u->t);
+    if (i + 1 == frames && o->screenshot && !screenshot(u->ctx, o->screenshot)) status = 1;
+    bbcgl_context_end(u->ctx);
+    rec->ms[i][0] = (now_s() - f0) * 1000;
+    rec->ms[i][1] = u->res.frame_ms;
+    rec->ms[i][2] = u->res.cull_ms;
+    rec->ms[i][3] = u->res.terrain_ms;
+    rec->trees[i] = u->res.stats.trees;
+    rec->bills[i] = u->res.stats.billboards;
+    rec->calls[i] = u->res.stats.draw_calls;
+    rec->cmds[i] = u->res.stats.draw_commands;
+    u->fps = u->res.frame_ms > 0 ? 1000 / u->res.frame_ms : 0;
+    if (o->progress && frames > 1) fprintf(stderr, "\rforest: frame %zu of %zu", i + 1, frames);
+  }
+  if (o->progress && frames > 1) fprintf(stderr, "\n");
+  *frames_io = frames;
+  return status;
+}
+
+/* ---- --bench's lines ----------------------------------------------------------- */
+
+/* Each model's textures in MiB: level 0 plus its mip levels (about a third
+ * more), each image once. */
+static void print_texture_memory(const scene *s) {
+  for (size_t m = 0; m < s->model_count; m++) {
+    const uint8_t *seen[64];
+    size_t nseen = 0;
+    double bytes = 0;
+    for (size_t l = 0; l < s->models[m].lod_count; l++)
+      for (int k = 0; k < s->models[m].part_count[l]; k++) {
+        const bbc_mesh *me = &s->meshes[s->models[m].parts[l][k].mesh].mesh;
+        for (size_t ti = 0; ti < me->texture_count; ti++) {
+          const bbc_image *im = &me->textures[ti].image;
+          int dup = !im->rgba;
+          for (size_t q = 0; q < nseen && !dup; q++) dup = seen[q] == im->rgba;
+          if (dup) continue;
+          if (nseen < 64) seen[nseen++] = im->rgba;
+          bytes += (double)im->width * im->height * 4 *
+                   (s->models[m].parts[l][k].mipmap ? 4.0 / 3.0 : 1.0);
+        }
+      }
+    printf(" texture_mb[%s]=%.2f", s->models[m].name, bytes / (1024.0 * 1024.0));
+  }
+}
+
+/* The medians and 95th percentiles of the frames' times, the means of what
+ * they drew, the load time and the memory. */
+static void print_bench(const runner *u, const scene *s, size_t frames, const frame_records *rec) {
+  const run_options *o = u->o;
+  double *sorted = malloc(frames * sizeof *sorted), med[4], p95[4];
+  size_t k95 = (size_t)ceil(0.95 * frames) - 1;
+  for (int q = 0; q < 4 && sorted; q++) {
+    for (size_t i = 0; i < frames; i++) sorted[i] = rec->ms[i][q];
+    qsort(sorted, frames, sizeof *sorted, cmp_double);
+    med[q] = sorted[frames / 2];
+    p95[q] = sorted[k95];
+  }
+  if (sorted) {
+    size_t tsum = 0, bsum = 0, csum = 0, dsum = 0;
+    for (size_t i = 0; i < frames; i++) {
+      tsum += rec->trees[i];
+      bsum += rec->bills[i];
+      csum += rec->calls[i];
+      dsum += rec->cmds[i];
+    }
+    printf("frames=%zu size=%dx%d renderer=\"%s\"\n", frames, o->width, o->height,
+           bbcgl_context_describe(u->ctx));
+    /* memory: the peak so far (ru_maxrss, kB on Linux), the instance
+     * records, and each model's textures */
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    printf("load_s=%.3f ready_s=%.3f peak_rss_mb=%.1f objects=%zu instance_bytes=%zu", o->load_s,
+           u->ready_s, ru.ru_maxrss / 1024.0, s->world.instance_count, sizeof(bbc_forest_instance));
+    print_texture_memory(s);
+    printf("\n");
+    printf("frame_ms_median=%.3f frame_ms_p95=%.3f cpu_ms_median=%.3f cull_ms_median=%.3f "
+           "cull_ms_p95=%.3f terrain_ms_median=%.3f trees_drawn=%zu billboards_drawn=%zu "
+           "draw_calls=%zu draw_commands=%zu\n",
+           med[0], p95[0], med[1], med[2], p95[2], med[3], tsum / frames, bsum / frames,
+           csum / frames, dsum / frames);
+  }
+  free(sorted);
+}
+
+/* ---- the run ------------------------------------------------------------------- */
+
+int run(scene *s, const run_options *o, FILE *log) {
+  runner u;
+  memset(&u, 0, sizeof u);
+  u.o = o;
+  u.ctx = open_context(o, log);
+  if (!u.ctx) return 1;
+  u.r = create_forest(s);
+  if (!u.r) {
+    bbcgl_context_free(u.ctx);
+    return 1;
+  }
+  init_state(&u.st, s, o, log);
+  if (o->path && !read_path(o, &u.path, &u.path_count)) {
+    bbcgl_forest_free(u.r);
+    bbcgl_context_free(u.ctx);
+    return 1;
   }
   int status = 0;
-  GLFWwindow *win = bbcgl_context_window_handle(ctx);
-  if (win) {
-    glfwSetWindowUserPointer(win, &st);
-    glfwSetKeyCallback(win, on_key);
-    /* scripted keys are the only input: the pointer's events (one arrives
-     * when the window appears under it, at a moment that varies) would turn
-     * the camera and make the run differ from one time to the next */
-    if (!o->keys) glfwSetCursorPosCallback(win, on_mouse);
-    if (!o->keys) glfwSetInputMode(win, GLFW_CURSOR, GLFW_CURSOR_DISABLED);
-  }
-  size_t frames = o->frames > 0 ? (size_t)o->frames : (path_count > 1 ? path_count * 30 : 1);
-  /* per frame: the whole frame (waiting for the GPU), its CPU part up to
-   * the last GL call, object culling, terrain selection */
-  double(*ms)[4] = calloc(frames + 1, sizeof *ms);
-  size_t *trees = calloc(frames + 1, sizeof *trees), *bills = calloc(frames + 1, sizeof *bills),
-         *calls = calloc(frames + 1, sizeof *calls);
-  size_t *cmds = calloc(frames + 1, sizeof *cmds);
-  if (!ms || !trees || !bills || !calls || !cmds) {
+  u.win = bbcgl_context_window_handle(u.ctx);
+  if (u.win) connect_window(u.win, &u.st, o);
+  size_t frames = o->frames > 0 ? (size_t)o->frames : (u.path_count > 1 ? u.path_count * 30 : 1);
+  frame_records rec;
+  if (!records_alloc(&rec, frames)) {
     fprintf(stderr, "forest: out of memory\n");
     status = 1;
     goto done;
   }
-  frame_result res;
-  memset(&res, 0, sizeof res);
-  double ready_s = 0;
-  const double script_dt = 1.0 / 30;
-  double t = 0, fps = 0;
-  /* Scripted keys: names, numbers of frames to run, shot:FILE. */
   if (o->keys) {
-    char *copy = strdup(o->keys), *save = NULL;
-    for (char *tok = copy ? strtok_r(copy, " ,", &save) : NULL; tok && !st.quit;
-         tok = strtok_r(NULL, " ,", &save)) {
-      char *end;
-      long nframes = strtol(tok, &end, 10);
-      if (!strncmp(tok, "shot:", 5) && !tok[5]) {
-        fprintf(stderr, "forest: --keys: 'shot:' needs a file name (shot:FILE.png)\n");
-        status = 2;
-        break;
-      } else if (!strncmp(tok, "shot:", 5)) {
-        draw_frame(&st, ctx, r, fps, &res, t);
-        if (!screenshot(ctx, tok + 5)) status = 1;
-        bbcgl_context_end(ctx);
-      } else if (end != tok && end[0] == 'f' && end[1] == '\0' &&
-                 (nframes < 1 || nframes > 10000000)) {
-        fprintf(stderr, "forest: --keys: %s: frames from 1 to 10,000,000\n", tok);
-        status = 2;
-        break;
-      } else if (end != tok && end[0] == 'f' && end[1] == '\0') {
-        for (long i = 0; i < nframes && !st.quit; i++) {
-          if (win) glfwPollEvents();
-          move(&st, script_dt);
-          t += script_dt;
-          draw_frame(&st, ctx, r, fps, &res, t);
-          bbcgl_context_end(ctx);
-          fps = res.frame_ms > 0 ? 1000 / res.frame_ms : 0;
-        }
-      } else if (!handle_key(&st, tok, t)) {
-        fprintf(stderr,
-                "forest: --keys: unknown key or step '%s' (keys: s x a d y c space q e w "
-                "F1 F2 F3 F4 F5 F10 1 2 3 h esc, any case, z for y; frames to run "
-                "as Nf, e.g. 30f; shot:FILE.png)\n",
-                tok);
-        status = 2;
-        break;
-      }
-    }
-    free(copy);
+    status = run_keys(&u);
     if (status) goto done;
   }
-  if (win && !o->keys) {
-    double last = glfwGetTime(), fps_t = last;
-    int fps_n = 0;
-    while (!glfwWindowShouldClose(win) && !st.quit) {
-      glfwPollEvents();
-      double tn = glfwGetTime();
-      move(&st, tn - last);
-      last = tn;
-      draw_frame(&st, ctx, r, fps, &res, tn);
-      if (tn > 10 && st.help == 2) st.help = 0; /* the help shown at the start goes */
-      bbcgl_context_end(ctx);
-      fps_n++;
-      if (tn - fps_t >= 0.5) {
-        fps = fps_n / (tn - fps_t);
-        fps_t = tn;
-        fps_n = 0;
-      }
-    }
+  if (u.win && !o->keys) {
+    run_window(&u);
   } else {
-    if (o->bench) { /* one frame not counted: shaders are compiled at their first use */
-      draw_frame(&st, ctx, r, fps, &res, t);
-      bbcgl_context_end(ctx);
-      ready_s = now_s() - o->start_s;
-    }
-    if (st.quit) frames = 0; /* esc in a key script ends the run there */
-    for (size_t i = 0; i < frames; i++) {
-      if (path_count) {
-        double u = frames > 1 ? (double)i / (frames - 1) * (path_count - 1) : 0;
-        size_t a = (size_t)u < path_count - 1 ? (size_t)u : path_count - 1;
-        size_t b = a + 1 < path_count ? a + 1 : a;
-        double f = u - a;
-        double zoom = st.cam.zoom;
-        for (int k = 0; k < 3; k++) st.cam.pos[k] = path[a].pos[k] * (1 - f) + path[b].pos[k] * f;
-        double dy = path[b].yaw - path[a].yaw;
-        while (dy > 180) dy -= 360;
-        while (dy < -180) dy += 360;
-        st.cam.yaw = path[a].yaw + dy * f;
-        st.cam.pitch = path[a].pitch * (1 - f) + path[b].pitch * f;
-        st.cam.zoom = zoom;
-        move(&st, 0); /* above the ground */
-      } else if (i) {
-        move(&st, script_dt);
-      }
-      t += script_dt;
-      double f0 = now_s();
-      draw_frame(&st, ctx, r, fps, &res, t);
-      if (i + 1 == frames && o->screenshot && !screenshot(ctx, o->screenshot)) status = 1;
-      bbcgl_context_end(ctx);
-      ms[i][0] = (now_s() - f0) * 1000;
-      ms[i][1] = res.frame_ms;
-      ms[i][2] = res.cull_ms;
-      ms[i][3] = res.terrain_ms;
-      trees[i] = res.stats.trees;
-      bills[i] = res.stats.billboards;
-      calls[i] = res.stats.draw_calls;
-      cmds[i] = res.stats.draw_commands;
-      fps = res.frame_ms > 0 ? 1000 / res.frame_ms : 0;
-      if (o->progress && frames > 1) fprintf(stderr, "\rforest: frame %zu of %zu", i + 1, frames);
-    }
-    if (o->progress && frames > 1) fprintf(stderr, "\n");
-    if (o->bench && frames == 0) {
+    status = run_frames(&u, &frames, &rec);
+    if (o->bench && frames == 0)
       printf("frames=0 (esc in the key script)\n");
-    } else if (o->bench) {
-      double *sorted = malloc(frames * sizeof *sorted), med[4], p95[4];
-      size_t k95 = (size_t)ceil(0.95 * frames) - 1;
-      for (int q = 0; q < 4 && sorted; q++) {
-        for (size_t i = 0; i < frames; i++) sorted[i] = ms[i][q];
-        qsort(sorted, frames, sizeof *sorted, cmp_double);
-        med[q] = sorted[frames / 2];
-        p95[q] = sorted[k95];
-      }
-      if (sorted) {
-        size_t tsum = 0, bsum = 0, csum = 0, dsum = 0;
-        for (size_t i = 0; i < frames; i++) {
-          tsum += trees[i];
-          bsum += bills[i];
-          csum += calls[i];
-          dsum += cmds[i];
-        }
-        printf("frames=%zu size=%dx%d renderer=\"%s\"\n", frames, o->width, o->height,
-               bbcgl_context_describe(ctx));
-        /* memory: the peak so far (ru_maxrss, kB on Linux), the instance
-         * records, and each model's textures (level 0 plus its mip levels,
-         * about a third more; each image once) */
-        struct rusage ru;
-        getrusage(RUSAGE_SELF, &ru);
-        printf("load_s=%.3f ready_s=%.3f peak_rss_mb=%.1f objects=%zu instance_bytes=%zu",
-               o->load_s, ready_s, ru.ru_maxrss / 1024.0, s->world.instance_count,
-               sizeof(bbc_forest_instance));
-        for (size_t m = 0; m < s->model_count; m++) {
-          const uint8_t *seen[64];
-          size_t nseen = 0;
-          double bytes = 0;
-          for (size_t l = 0; l < s->models[m].lod_count; l++)
-            for (int k = 0; k < s->models[m].part_count[l]; k++) {
-              const bbc_mesh *me = &s->meshes[s->models[m].parts[l][k].mesh].mesh;
-              for (size_t ti = 0; ti < me->texture_count; ti++) {
-                const bbc_image *im = &me->textures[ti].image;
-                int dup = !im->rgba;
-                for (size_t q = 0; q < nseen && !dup; q++) dup = seen[q] == im->rgba;
-                if (dup) continue;
-                if (nseen < 64) seen[nseen++] = im->rgba;
-                bytes += (double)im->width * im->height * 4 *
-                         (s->models[m].parts[l][k].mipmap ? 4.0 / 3.0 : 1.0);
-              }
-            }
-          printf(" texture_mb[%s]=%.2f", s->models[m].name, bytes / (1024.0 * 1024.0));
-        }
-        printf("\n");
-        printf("frame_ms_median=%.3f frame_ms_p95=%.3f cpu_ms_median=%.3f cull_ms_median=%.3f "
-               "cull_ms_p95=%.3f terrain_ms_median=%.3f trees_drawn=%zu billboards_drawn=%zu "
-               "draw_calls=%zu draw_commands=%zu\n",
-               med[0], p95[0], med[1], med[2], p95[2], med[3], tsum / frames, bsum / frames,
-               csum / frames, dsum / frames);
-      }
-      free(sorted);
-    }
+    else if (o->bench)
+      print_bench(&u, s, frames, &rec);
   }
   if (o->keys && o->screenshot) {
-    draw_frame(&st, ctx, r, fps, &res, t);
-    if (!screenshot(ctx, o->screenshot)) status = 1;
-    bbcgl_context_end(ctx);
+    draw_frame(&u.st, u.ctx, u.r, u.fps, &u.res, u.t);
+    if (!screenshot(u.ctx, o->screenshot)) status = 1;
+    bbcgl_context_end(u.ctx);
   }
   if (o->print_camera)
-    printf("camera=%.3f,%.3f,%.3f,%.2f,%.2f\n", st.cam.pos[0], st.cam.pos[1], st.cam.pos[2],
-           st.cam.yaw, st.cam.pitch);
-  if (st.gpu_failed) status = 1;
+    printf("camera=%.3f,%.3f,%.3f,%.2f,%.2f\n", u.st.cam.pos[0], u.st.cam.pos[1], u.st.cam.pos[2],
+           u.st.cam.yaw, u.st.cam.pitch);
+  if (u.st.gpu_failed) status = 1;
 done:
-  free(ms);
-  free(cmds);
-  free(trees);
-  free(bills);
-  free(calls);
-  free(path);
-  free(st.stored);
-  bbcgl_forest_free(r);
-  bbcgl_context_free(ctx);
+  records_free(&rec);
+  free(u.path);
+  free(u.st.stored);
+  bbcgl_forest_free(u.r);
+  bbcgl_context_free(u.ctx);
   return status;
 }

@@ -146,6 +146,96 @@ static long find_mesh(scene *s, const char *path, int lod_node, FILE *log, int p
   return (long)s->mesh_count++;
 }
 
+/* Where a placement's model comes from: the file the map names, its mipmap
+ * flag and line, and what loading says where. */
+typedef struct model_source {
+  const char *file;
+  int mipmap, line;
+  const char *map_path;
+  FILE *log;
+  int progress;
+} model_source;
+
+/* A 3D file placed directly: one level, or each level of a glTF chain,
+ * switching at 40, 120, 360... times the model's radius. 0 on failure. */
+static int model_from_mesh_file(scene *s, scene_model *m, const model_source *src,
+                                const char *path) {
+  size_t cap = 8;
+  m->ranges = malloc(cap * 2 * sizeof *m->ranges);
+  m->parts = calloc(cap, sizeof *m->parts);
+  m->part_count = calloc(cap, sizeof *m->part_count);
+  if (!m->ranges || !m->parts || !m->part_count) return 0;
+  int chain = 0;
+  const char *dot = strrchr(src->file, '.');
+  if (dot && (!strcasecmp(dot, ".glb") || !strcasecmp(dot, ".gltf"))) chain = 1;
+  for (int level = 0; level < (chain ? 8 : 1); level++) {
+    long mesh = find_mesh(s, path, chain ? level + 1 : 0, src->log, src->progress, src->map_path,
+                          src->line);
+    if (mesh == -2 && level == 0)
+      mesh = find_mesh(s, path, 0, src->log, src->progress, src->map_path, src->line);
+    if (mesh == -2) break;
+    if (mesh < 0) return 0;
+    m->parts[level][0].mesh = (size_t)mesh;
+    m->parts[level][0].lit = 1;
+    m->parts[level][0].mipmap = src->mipmap;
+    m->part_count[level] = 1;
+    m->lod_count++;
+    if (s->meshes[mesh].lod_node == 0) break;
+  }
+  double r = s->meshes[m->parts[0][0].mesh].radius;
+  for (size_t l = 0; l < m->lod_count; l++) {
+    m->ranges[2 * l] = l ? 40 * r * pow(3, (double)l - 1) : 0;
+    m->ranges[2 * l + 1] = l + 1 < m->lod_count ? 40 * r * pow(3, (double)l) : 1e30;
+  }
+  m->fade = m->lod_count > 1 ? 4 * r : 0;
+  return 1;
+}
+
+/* A model description file (Appendix B): its LOD blocks, each part's 3D
+ * file relative to the description's folder. 0 on failure. */
+static int model_from_description(scene *s, scene_model *m, const model_source *src,
+                                  const char *path) {
+  bbc_forest_model d;
+  bbc_error err;
+  if (bbc_forest_model_load(path, &d, &err) != BBC_OK) {
+    fprintf(stderr, "%s:%d: model description %s: %s\n", src->map_path, src->line, src->file,
+            err.message);
+    return 0;
+  }
+  char mfolder[4096];
+  scene_folder_of(path, mfolder, sizeof mfolder);
+  m->lod_count = d.lod_count;
+  m->fade = d.fade;
+  m->shadow_radius = d.shadow_radius;
+  m->shadow_cutoff = d.shadow_cutoff;
+  m->ranges = malloc(d.lod_count * 2 * sizeof *m->ranges);
+  m->parts = calloc(d.lod_count, sizeof *m->parts);
+  m->part_count = calloc(d.lod_count, sizeof *m->part_count);
+  if (!m->ranges || !m->parts || !m->part_count) {
+    bbc_forest_model_free(&d);
+    return 0;
+  }
+  for (size_t l = 0; l < d.lod_count; l++) {
+    m->ranges[2 * l] = d.lods[l].min_dist;
+    m->ranges[2 * l + 1] = d.lods[l].max_dist;
+    m->part_count[l] = d.lods[l].part_count;
+    for (int k = 0; k < d.lods[l].part_count; k++) {
+      char p2[8300];
+      scene_join(mfolder, d.lods[l].part[k].file, p2, sizeof p2);
+      long mesh = find_mesh(s, p2, 0, src->log, src->progress, path, d.lods[l].line);
+      if (mesh < 0) {
+        bbc_forest_model_free(&d);
+        return 0;
+      }
+      m->parts[l][k].mesh = (size_t)mesh;
+      m->parts[l][k].lit = d.lods[l].part[k].lighting;
+      m->parts[l][k].mipmap = src->mipmap || d.lods[l].part[k].mipmap;
+    }
+  }
+  bbc_forest_model_free(&d);
+  return 1;
+}
+
 /* The model of a placement file (loaded once per file and mipmap flag). */
 static long find_model(scene *s, const char *file, int mipmap, int line, const char *map_path,
                        FILE *log, int progress) {
@@ -160,73 +250,15 @@ static long find_model(scene *s, const char *file, int mipmap, int line, const c
   memset(m, 0, sizeof *m);
   char path[4096];
   scene_join(s->folder, file, path, sizeof path);
-  if (scene_is_model_file(file)) {
-    /* A 3D file placed directly: one level, or each level of a glTF chain,
-     * switching at 40, 120, 360... times the model's radius. */
-    size_t cap = 8;
-    m->ranges = malloc(cap * 2 * sizeof *m->ranges);
-    m->parts = calloc(cap, sizeof *m->parts);
-    m->part_count = calloc(cap, sizeof *m->part_count);
-    if (!m->ranges || !m->parts || !m->part_count) goto fail;
-    int chain = 0;
-    const char *dot = strrchr(file, '.');
-    if (dot && (!strcasecmp(dot, ".glb") || !strcasecmp(dot, ".gltf"))) chain = 1;
-    for (int level = 0; level < (chain ? 8 : 1); level++) {
-      long mesh = find_mesh(s, path, chain ? level + 1 : 0, log, progress, map_path, line);
-      if (mesh == -2 && level == 0) mesh = find_mesh(s, path, 0, log, progress, map_path, line);
-      if (mesh == -2) break;
-      if (mesh < 0) goto fail;
-      m->parts[level][0].mesh = (size_t)mesh;
-      m->parts[level][0].lit = 1;
-      m->parts[level][0].mipmap = mipmap;
-      m->part_count[level] = 1;
-      m->lod_count++;
-      if (s->meshes[mesh].lod_node == 0) break;
-    }
-    double r = s->meshes[m->parts[0][0].mesh].radius;
-    for (size_t l = 0; l < m->lod_count; l++) {
-      m->ranges[2 * l] = l ? 40 * r * pow(3, (double)l - 1) : 0;
-      m->ranges[2 * l + 1] = l + 1 < m->lod_count ? 40 * r * pow(3, (double)l) : 1e30;
-    }
-    m->fade = m->lod_count > 1 ? 4 * r : 0;
-  } else {
-    bbc_forest_model d;
-    bbc_error err;
-    if (bbc_forest_model_load(path, &d, &err) != BBC_OK) {
-      fprintf(stderr, "%s:%d: model description %s: %s\n", map_path, line, file, err.message);
-      goto fail;
-    }
-    char mfolder[4096];
-    scene_folder_of(path, mfolder, sizeof mfolder);
-    m->lod_count = d.lod_count;
-    m->fade = d.fade;
-    m->shadow_radius = d.shadow_radius;
-    m->shadow_cutoff = d.shadow_cutoff;
-    m->ranges = malloc(d.lod_count * 2 * sizeof *m->ranges);
-    m->parts = calloc(d.lod_count, sizeof *m->parts);
-    m->part_count = calloc(d.lod_count, sizeof *m->part_count);
-    if (!m->ranges || !m->parts || !m->part_count) {
-      bbc_forest_model_free(&d);
-      goto fail;
-    }
-    for (size_t l = 0; l < d.lod_count; l++) {
-      m->ranges[2 * l] = d.lods[l].min_dist;
-      m->ranges[2 * l + 1] = d.lods[l].max_dist;
-      m->part_count[l] = d.lods[l].part_count;
-      for (int k = 0; k < d.lods[l].part_count; k++) {
-        char p2[8300];
-        scene_join(mfolder, d.lods[l].part[k].file, p2, sizeof p2);
-        long mesh = find_mesh(s, p2, 0, log, progress, path, d.lods[l].line);
-        if (mesh < 0) {
-          bbc_forest_model_free(&d);
-          goto fail;
-        }
-        m->parts[l][k].mesh = (size_t)mesh;
-        m->parts[l][k].lit = d.lods[l].part[k].lighting;
-        m->parts[l][k].mipmap = mipmap || d.lods[l].part[k].mipmap;
-      }
-    }
-    bbc_forest_model_free(&d);
+  model_source src = {file, mipmap, line, map_path, log, progress};
+  int ok = scene_is_model_file(file) ? model_from_mesh_file(s, m, &src, path)
+                                     : model_from_description(s, m, &src, path);
+  if (!ok) { /* nothing of a model that did not load stays allocated */
+    free(m->ranges);
+    free(m->parts);
+    free(m->part_count);
+    memset(m, 0, sizeof *m);
+    return -1;
   }
   for (size_t l = 0; l < m->lod_count; l++)
     for (int k = 0; k < m->part_count[l]; k++)
@@ -242,12 +274,6 @@ static long find_model(scene *s, const char *file, int mipmap, int line, const c
             m->shadow_cutoff, m->radius);
   }
   return (long)s->model_count++;
-fail: /* nothing of a model that did not load stays allocated */
-  free(m->ranges);
-  free(m->parts);
-  free(m->part_count);
-  memset(m, 0, sizeof *m);
-  return -1;
 }
 
 void scene_free(scene *s) {

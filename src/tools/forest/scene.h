@@ -62,10 +62,6 @@ typedef struct scene {
 int scene_load(scene *s, const char *map_path, FILE *log, int progress);
 void scene_free(scene *s);
 
-/* File names: `name` relative to `folder` (absolute names as they are;
- * "" when too long), the folder of a path ("." when none), whether a
- * regular file is there, whether a name is a 3D model by its extension
- * (else a model description file). */
 /* What loading a 3D file warns about (a texture missing or unreadable),
  * said with the map line that asked for the file: a bbc_callbacks.log. */
 typedef struct scene_load_note {
@@ -76,6 +72,10 @@ typedef struct scene_load_note {
 } scene_load_note;
 void scene_load_warning(void *user, bbc_log_level level, const char *message);
 
+/* File names: `name` relative to `folder` (absolute names as they are;
+ * "" when too long), the folder of a path ("." when none), whether a
+ * regular file is there, whether a name is a 3D model by its extension
+ * (else a model description file). */
 void scene_join(const char *folder, const char *name, char *out, size_t n);
 void scene_folder_of(const char *path, char *out, size_t n);
 int scene_file_exists(const char *path);

@@ -17,218 +17,6 @@
 
 #include <epoxy/gl.h>
 
-/* ---- shaders ------------------------------------------------------------ */
-
-#define GLSL_FOG                                                                                   \
-  "uniform vec3 u_eye;\n"                                                                          \
-  "uniform vec3 u_fog_colour;\n"                                                                   \
-  "uniform vec2 u_fog;\n" /* start, end; end <= start: none */                                     \
-  "vec3 fogged(vec3 c, vec3 world) {\n"                                                            \
-  "  if (u_fog.y <= u_fog.x) return c;\n"                                                          \
-  "  float f = clamp((distance(world, u_eye) - u_fog.x) / (u_fog.y - u_fog.x), 0.0, 1.0);\n"       \
-  "  return mix(c, u_fog_colour, f);\n"                                                            \
-  "}\n"
-
-static const char *const terrain_vs =
-    "#version 450 core\n"
-    "layout(location = 0) in vec2 a_grid;\n"
-    "layout(location = 1) in vec4 a_node;\n" /* origin x, z (squares), step, level */
-    "uniform mat4 u_viewproj;\n"
-    "uniform vec3 u_eye;\n"
-    "uniform float u_spacing;\n"
-    "uniform float u_squares;\n"
-    "uniform vec2 u_morph[24];\n"
-    "uniform sampler2D u_height;\n"
-    "out vec3 v_world;\n"
-    "out vec2 v_uv;\n"
-    "float height_at(vec2 sq) {\n"
-    "  return texture(u_height, (sq + 0.5) / (u_squares + 1.0)).r;\n"
-    "}\n"
-    "void main() {\n"
-    "  vec2 sq = a_node.xy + a_grid * a_node.z;\n"
-    "  vec3 p = vec3(sq.x * u_spacing, height_at(sq), sq.y * u_spacing);\n"
-    "  vec2 m = u_morph[int(a_node.w)];\n"
-    "  float k = clamp((distance(p, u_eye) - m.x) / max(m.y - m.x, 1e-6), 0.0, 1.0);\n"
-    "  vec2 g = a_grid - fract(a_grid * 0.5) * 2.0 * k;\n"
-    "  sq = a_node.xy + g * a_node.z;\n"
-    "  p = vec3(sq.x * u_spacing, height_at(sq), sq.y * u_spacing);\n"
-    "  v_world = p;\n"
-    "  v_uv = sq / u_squares;\n"
-    "  gl_Position = u_viewproj * vec4(p, 1.0);\n"
-    "}\n";
-
-static const char *const terrain_fs =
-    "#version 450 core\n" GLSL_FOG "in vec3 v_world;\n"
-    "in vec2 v_uv;\n"
-    "uniform sampler2D u_colour;\n"
-    "uniform int u_flat;\n"
-    "out vec4 o_colour;\n"
-    "void main() {\n"
-    "  if (u_flat != 0) { o_colour = vec4(0.08, 0.2, 0.08, 1.0); return; }\n"
-    "  vec3 c = texture(u_colour, v_uv).rgb;\n"
-    "  o_colour = vec4(fogged(c, v_world), 1.0);\n"
-    "}\n";
-
-static const char *const model_vs =
-    "#version 450 core\n"
-    "layout(location = 0) in vec3 a_pos;\n"
-    "layout(location = 1) in vec3 a_normal;\n"
-    "layout(location = 2) in vec2 a_uv;\n"
-    "layout(location = 3) in vec4 a_inst;\n"  /* x, y, z, yaw */
-    "layout(location = 4) in vec2 a_inst2;\n" /* scale, fade */
-    "uniform mat4 u_viewproj;\n"
-    "out vec3 v_world;\n"
-    "out vec3 v_normal;\n"
-    "out vec2 v_uv;\n"
-    "out float v_fade;\n"
-    "void main() {\n"
-    "  float c = cos(a_inst.w), s = sin(a_inst.w);\n"
-    "  vec3 p = a_pos * a_inst2.x;\n"
-    "  p = vec3(c * p.x + s * p.z, p.y, -s * p.x + c * p.z);\n"
-    "  v_normal = vec3(c * a_normal.x + s * a_normal.z, a_normal.y, -s * a_normal.x + c * "
-    "a_normal.z);\n"
-    "  v_world = p + a_inst.xyz;\n"
-    "  v_uv = vec2(a_uv.x, 1.0 - a_uv.y);\n" /* uvs: v up; images: rows top first */
-    "  v_fade = a_inst2.y;\n"
-    "  gl_Position = u_viewproj * vec4(v_world, 1.0);\n"
-    "}\n";
-
-static const char *const model_fs =
-    "#version 450 core\n" GLSL_FOG "in vec3 v_world;\n"
-    "in vec3 v_normal;\n"
-    "in vec2 v_uv;\n"
-    "in float v_fade;\n"
-    "uniform sampler2D u_tex;\n"
-    "uniform int u_has_tex;\n"
-    "uniform vec4 u_base;\n"
-    "uniform int u_lit;\n"
-    "uniform vec3 u_light;\n"
-    "uniform int u_fill;\n"
-    "uniform float u_gain;\n"
-    "uniform vec3 u_amb;\n"
-    "out vec4 o_colour;\n"
-    /* 8 x 8 ordered dither: the screen door of the level blending */
-    "float bayer(ivec2 p) {\n"
-    "  int v = 0;\n"
-    "  for (int i = 0; i < 3; i++) {\n"
-    "    int x = (p.x >> i) & 1, y = (p.y >> i) & 1;\n"
-    "    v |= (((x ^ y) << 1) | y) << (2 * (2 - i));\n"
-    "  }\n"
-    "  return (float(v) + 0.5) / 64.0;\n"
-    "}\n"
-    "void main() {\n"
-    "  if (v_fade < 1.0 && bayer(ivec2(gl_FragCoord.xy)) >= v_fade) discard;\n"
-    "  vec4 c = u_base;\n"
-    "  if (u_has_tex != 0) c *= texture(u_tex, v_uv);\n"
-    "  if (c.a < 0.5) discard;\n"
-    /* lit as bbcgen bakes its clouds (two-sided Lambert, 0.35 ambient, the
-     * model's light gain, X3D viewers' ambient), so that the polygon level
-     * and the clouds after it look alike */
-    "  if (u_lit != 0)\n"
-    "    c.rgb = c.rgb * (0.35 + 0.65 * abs(dot(normalize(v_normal), u_light))) * u_gain + u_amb;\n"
-    "  o_colour = u_fill != 0 ? vec4(1.0) : vec4(fogged(c.rgb, v_world), 1.0);\n"
-    "}\n";
-
-/* GPU culling: one invocation per static record of one model: the frustum
- * test, then a record per level with a weight, appended to the level's
- * region of the output (atomic counters per bucket; the last counter
- * counts trees whose first component is drawn). */
-static const char *const cull_cs =
-    "#version 450 core\n"
-    "layout(local_size_x = 256) in;\n"
-    "struct rec { float x, y, z, yaw, scale, fade; };\n"
-    "layout(std430, binding = 0) readonly buffer statics_b { rec statics[]; };\n"
-    "layout(std430, binding = 1) writeonly buffer out_b { rec outr[]; };\n"
-    "layout(std430, binding = 2) buffer counter_b { uint counter[]; };\n"
-    "layout(std430, binding = 3) readonly buffer first_b { uint first_bits[]; };\n"
-    "uniform uint u_first, u_count, u_bucket0, u_trees;\n"
-    "uniform vec4 u_planes[6];\n"
-    "uniform vec3 u_eye;\n"
-    "uniform float u_zoom, u_radius, u_fade;\n"
-    "uniform int u_lods;\n"
-    "uniform vec2 u_range[8];\n"
-    "uniform uint u_base[8];\n"
-    "void main() {\n"
-    "  uint i = gl_GlobalInvocationID.x;\n"
-    "  if (i >= u_count) return;\n"
-    "  uint k = u_first + i;\n"
-    "  rec r = statics[k];\n"
-    "  vec3 p = vec3(r.x, r.y, r.z);\n"
-    "  float rad = u_radius * r.scale;\n"
-    "  for (int j = 0; j < 6; j++)\n"
-    "    if (dot(u_planes[j].xyz, p) + u_planes[j].w < -rad) return;\n"
-    "  float d = distance(p, u_eye) / u_zoom;\n"
-    "  bool drawn = false;\n"
-    "  for (int l = 0; l < u_lods; l++) {\n"
-    "    float lo = u_range[l].x, hi = u_range[l].y, w;\n"
-    "    if (u_fade <= 0.0) w = (d >= lo && d < hi) ? 1.0 : 0.0;\n"
-    "    else w = clamp(min(lo <= 0.0 ? 1.0 : (d - (lo - u_fade)) / u_fade,\n"
-    "                       (hi + u_fade - d) / u_fade), 0.0, 1.0);\n"
-    "    if (w <= 0.0) continue;\n"
-    "    uint slot = atomicAdd(counter[u_bucket0 + uint(l)], 1u);\n"
-    "    r.fade = w;\n"
-    "    outr[u_base[l] + slot] = r;\n"
-    "    drawn = true;\n"
-    "  }\n"
-    "  if (drawn && ((first_bits[k >> 5] >> (k & 31u)) & 1u) != 0u)\n"
-    "    atomicAdd(counter[u_trees], 1u);\n"
-    "}\n";
-
-/* Then each draw command takes its bucket's count as its instance count. */
-static const char *const cmdfill_cs =
-    "#version 450 core\n"
-    "layout(local_size_x = 64) in;\n"
-    "layout(std430, binding = 2) readonly buffer counter_b { uint counter[]; };\n"
-    "layout(std430, binding = 4) buffer cmd_b { uint cmd[]; };\n"
-    "layout(std430, binding = 5) readonly buffer cmdb_b { uint cmd_bucket[]; };\n"
-    "uniform uint u_ncmd;\n"
-    "void main() {\n"
-    "  uint i = gl_GlobalInvocationID.x;\n"
-    "  if (i < u_ncmd) cmd[5u * i + 1u] = counter[cmd_bucket[i]];\n"
-    "}\n";
-
-static const char *const sky_vs =
-    "#version 450 core\n"
-    "out vec2 v_ndc;\n"
-    "void main() {\n"
-    "  vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2) * 2.0 - 1.0;\n"
-    "  v_ndc = p;\n"
-    "  gl_Position = vec4(p, 1.0, 1.0);\n"
-    "}\n";
-
-static const char *const sky_fs =
-    "#version 450 core\n"
-    "in vec2 v_ndc;\n"
-    "uniform mat4 u_inverse;\n"
-    "uniform vec3 u_fog_colour;\n"
-    "uniform int u_has_cube;\n"
-    "uniform samplerCube u_cube;\n"
-    "out vec4 o_colour;\n"
-    "void main() {\n"
-    "  vec4 a = u_inverse * vec4(v_ndc, -1.0, 1.0), b = u_inverse * vec4(v_ndc, 1.0, 1.0);\n"
-    "  vec3 d = normalize(b.xyz / b.w - a.xyz / a.w);\n"
-    "  if (u_has_cube != 0) { o_colour = vec4(texture(u_cube, d).rgb, 1.0); return; }\n"
-    "  vec3 zenith = vec3(0.30, 0.50, 0.82);\n"
-    "  float t = clamp(d.y * 2.2, 0.0, 1.0);\n"
-    "  o_colour = vec4(mix(u_fog_colour, zenith, sqrt(t)), 1.0);\n"
-    "}\n";
-
-static const char *const water_vs = "#version 450 core\n"
-                                    "layout(location = 0) in vec3 a_pos;\n"
-                                    "uniform mat4 u_viewproj;\n"
-                                    "out vec3 v_world;\n"
-                                    "void main() {\n"
-                                    "  v_world = a_pos;\n"
-                                    "  gl_Position = u_viewproj * vec4(a_pos, 1.0);\n"
-                                    "}\n";
-
-static const char *const water_fs =
-    "#version 450 core\n" GLSL_FOG "in vec3 v_world;\n"
-    "out vec4 o_colour;\n"
-    "void main() {\n"
-    "  o_colour = vec4(fogged(vec3(0.16, 0.32, 0.42), v_world), 0.82);\n"
-    "}\n";
-
 /* ---- the renderer -------------------------------------------------------- */
 
 typedef struct batch {
@@ -441,10 +229,14 @@ bbcgl_forest *bbcgl_forest_create(const bbcgl_scene *scene, char *err) {
   f->fog_colour[0] = 0.74f;
   f->fog_colour[1] = 0.81f;
   f->fog_colour[2] = 0.88f;
-  if (!(f->p_terrain = bbcgl__program(terrain_vs, terrain_fs, "terrain", err)) ||
-      !(f->p_model = bbcgl__program(model_vs, model_fs, "model", err)) ||
-      !(f->p_sky = bbcgl__program(sky_vs, sky_fs, "sky", err)) ||
-      !(f->p_water = bbcgl__program(water_vs, water_fs, "water", err)) ||
+  if (!(f->p_terrain = bbcgl__program(bbcgl__glsl_forest_terrain_vert,
+                                      bbcgl__glsl_forest_terrain_frag, "terrain", err)) ||
+      !(f->p_model = bbcgl__program(bbcgl__glsl_forest_model_vert, bbcgl__glsl_forest_model_frag,
+                                    "model", err)) ||
+      !(f->p_sky =
+            bbcgl__program(bbcgl__glsl_forest_sky_vert, bbcgl__glsl_forest_sky_frag, "sky", err)) ||
+      !(f->p_water = bbcgl__program(bbcgl__glsl_forest_water_vert, bbcgl__glsl_forest_water_frag,
+                                    "water", err)) ||
       !(f->text = bbcgl__text_new(err)) || !build_terrain(f, err)) {
     bbcgl_forest_free(f);
     return NULL;
@@ -861,8 +653,9 @@ static void vao_source(bbcgl_forest *f, GLuint buf) {
 static void gpu_build(bbcgl_forest *f, const bbc_forest_cull *c) {
   f->gpu_state = -1;
   snprintf(f->gpu_err, sizeof f->gpu_err, "GPU culling: out of memory");
-  if (!(f->p_cull = bbcgl__compute_program(cull_cs, "cull", f->gpu_err)) ||
-      !(f->p_cmdfill = bbcgl__compute_program(cmdfill_cs, "cmdfill", f->gpu_err)))
+  if (!(f->p_cull = bbcgl__compute_program(bbcgl__glsl_forest_cull_comp, "cull", f->gpu_err)) ||
+      !(f->p_cmdfill =
+            bbcgl__compute_program(bbcgl__glsl_forest_cmdfill_comp, "cmdfill", f->gpu_err)))
     return;
   size_t nb = c->bucket_count, ncell = c->cell_count, total = 0;
   f->g_base = calloc(nb + 1, sizeof *f->g_base);

@@ -36,7 +36,7 @@ int bbcgl_context_read(bbcgl_context *ctx, bbc_image *out, char *err);
 /* "OpenGL 4.5 (Core Profile) Mesa 22.3.6, llvmpipe ..." */
 const char *bbcgl_context_describe(bbcgl_context *ctx);
 
-/* ---- the forest renderer (forest.c) -------------------------------------- */
+/* ---- the forest renderer (forest.c, forest_*.c) -------------------------- */
 typedef struct bbcgl_forest bbcgl_forest;
 
 typedef struct bbcgl_scene {

@@ -8,6 +8,18 @@
 
 #include "bbcgl.h"
 
+/* The GLSL sources, src/gl/shaders/NAME.STAGE.glsl as bbcgl__glsl_NAME_STAGE:
+ * NUL-terminated text (includes expanded, // comments left out) that the
+ * build writes into a C file (cmake/embed_shaders.cmake). */
+extern const char bbcgl__glsl_forest_terrain_vert[], bbcgl__glsl_forest_terrain_frag[];
+extern const char bbcgl__glsl_forest_model_vert[], bbcgl__glsl_forest_model_frag[];
+extern const char bbcgl__glsl_forest_sky_vert[], bbcgl__glsl_forest_sky_frag[];
+extern const char bbcgl__glsl_forest_water_vert[], bbcgl__glsl_forest_water_frag[];
+extern const char bbcgl__glsl_forest_cull_comp[], bbcgl__glsl_forest_cmdfill_comp[];
+extern const char bbcgl__glsl_text_vert[], bbcgl__glsl_text_frag[];
+extern const char bbcgl__glsl_viewer_mesh_vert[], bbcgl__glsl_viewer_mesh_frag[];
+extern const char bbcgl__glsl_viewer_line_vert[], bbcgl__glsl_viewer_line_frag[];
+
 /* A program of a vertex and a fragment shader; `name` names it in messages. */
 GLuint bbcgl__program(const char *vs, const char *fs, const char *name, char *err);
 /* A program of one compute shader. */

@@ -13,28 +13,6 @@ struct bbcgl__text {
   float *x_data;
 };
 
-static const char *const text_vs = "#version 450 core\n"
-                                   "layout(location = 0) in vec4 a_v;\n" /* pixel x, y, u, v */
-                                   "uniform vec2 u_size;\n"
-                                   "out vec2 v_uv;\n"
-                                   "void main() {\n"
-                                   "  v_uv = a_v.zw;\n"
-                                   "  gl_Position = vec4(a_v.x / u_size.x * 2.0 - 1.0,\n"
-                                   "                     1.0 - a_v.y / u_size.y * 2.0, 0.0, 1.0);\n"
-                                   "}\n";
-
-static const char *const text_fs =
-    "#version 450 core\n"
-    "in vec2 v_uv;\n"
-    "uniform sampler2D u_font;\n"
-    "uniform vec4 u_colour;\n"
-    "out vec4 o_colour;\n"
-    "void main() {\n"
-    "  if (v_uv.x < 0.0) { o_colour = vec4(0.0, 0.0, 0.0, 0.55); return; }\n"
-    "  if (texelFetch(u_font, ivec2(v_uv), 0).r < 0.5) discard;\n"
-    "  o_colour = u_colour;\n"
-    "}\n";
-
 /* ---- the built-in 5 x 7 font ------------------------------------------- */
 
 static const char font_chars[] = " %()+,-./0123456789:=<>ABCDEFGHIJKLMNOPQRSTUVWXYZ_[]|";
@@ -101,7 +79,7 @@ bbcgl__text *bbcgl__text_new(char *err) {
     snprintf(err, BBCGL_ERR, "out of memory");
     return NULL;
   }
-  if (!(f->p_text = bbcgl__program(text_vs, text_fs, "text", err))) {
+  if (!(f->p_text = bbcgl__program(bbcgl__glsl_text_vert, bbcgl__glsl_text_frag, "text", err))) {
     free(f);
     return NULL;
   }

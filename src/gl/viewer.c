@@ -43,54 +43,6 @@ struct bbcgl_viewer {
   double center[3], radius; /* of the model (else the cloud) */
 };
 
-static const char *const mesh_vs = "#version 450 core\n"
-                                   "layout(location = 0) in vec3 a_pos;\n"
-                                   "layout(location = 1) in vec3 a_normal;\n"
-                                   "layout(location = 2) in vec2 a_uv;\n"
-                                   "uniform mat4 u_mvp;\n"
-                                   "out vec3 v_normal;\n"
-                                   "out vec2 v_uv;\n"
-                                   "void main() {\n"
-                                   "  v_normal = a_normal;\n"
-                                   "  v_uv = vec2(a_uv.x, 1.0 - a_uv.y);\n"
-                                   "  gl_Position = u_mvp * vec4(a_pos, 1.0);\n"
-                                   "}\n";
-
-/* Lit as bbcgen bakes (two-sided Lambert, 0.35 ambient) by a headlight;
- * prelit clouds (unlit materials) as they are. */
-static const char *const mesh_fs =
-    "#version 450 core\n"
-    "in vec3 v_normal;\n"
-    "in vec2 v_uv;\n"
-    "uniform sampler2D u_tex;\n"
-    "uniform int u_has_tex, u_unlit, u_lighting;\n"
-    "uniform vec4 u_base;\n"
-    "uniform vec3 u_light;\n"
-    "out vec4 o_colour;\n"
-    "void main() {\n"
-    "  vec4 c = u_base;\n"
-    "  if (u_has_tex != 0) c *= texture(u_tex, v_uv);\n"
-    "  if (c.a < 0.5) discard;\n"
-    "  if (u_unlit == 0 && u_lighting != 0)\n"
-    "    c.rgb *= 0.35 + 0.65 * abs(dot(normalize(v_normal), u_light));\n"
-    "  o_colour = vec4(c.rgb, 1.0);\n"
-    "}\n";
-
-static const char *const line_vs = "#version 450 core\n"
-                                   "layout(location = 0) in vec3 a_pos;\n"
-                                   "layout(location = 1) in vec3 a_colour;\n"
-                                   "uniform mat4 u_mvp;\n"
-                                   "out vec3 v_colour;\n"
-                                   "void main() {\n"
-                                   "  v_colour = a_colour;\n"
-                                   "  gl_Position = u_mvp * vec4(a_pos, 1.0);\n"
-                                   "}\n";
-
-static const char *const line_fs = "#version 450 core\n"
-                                   "in vec3 v_colour;\n"
-                                   "out vec4 o_colour;\n"
-                                   "void main() { o_colour = vec4(v_colour, 1.0); }\n";
-
 static const char *const k_mode_names[BBCGL_VIEW_COUNT] = {
     "input", "rects", "cloud-rects", "cloud", "domain", "continuous", "both", "density", "faces"};
 
@@ -188,8 +140,10 @@ bbcgl_viewer *bbcgl_viewer_new(char *err) {
     snprintf(err, BBCGL_ERR, "out of memory");
     return NULL;
   }
-  if (!(v->p_mesh = bbcgl__program(mesh_vs, mesh_fs, "viewer mesh", err)) ||
-      !(v->p_line = bbcgl__program(line_vs, line_fs, "viewer lines", err))) {
+  if (!(v->p_mesh = bbcgl__program(bbcgl__glsl_viewer_mesh_vert, bbcgl__glsl_viewer_mesh_frag,
+                                   "viewer mesh", err)) ||
+      !(v->p_line = bbcgl__program(bbcgl__glsl_viewer_line_vert, bbcgl__glsl_viewer_line_frag,
+                                   "viewer lines", err))) {
     bbcgl_viewer_free(v);
     return NULL;
   }

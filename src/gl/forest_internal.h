@@ -1,0 +1,93 @@
+/* forest_internal.h — the forest renderer's state, shared by its files
+ * (src/gl only): forest.c (creation, the frame), forest_terrain.c,
+ * forest_sky.c (sky and water), forest_parts.c (the models' meshes and
+ * textures) and forest_objects.c (drawing the objects, GPU culling). */
+#ifndef BBCGL_FOREST_INTERNAL_H
+#define BBCGL_FOREST_INTERNAL_H
+
+#include "bbcgl.h"
+#include "shader.h"
+
+typedef struct batch {
+  GLuint tex; /* 0 = untextured */
+  float base[4];
+  int lit;
+  float gain, amb[3];
+  size_t first, count; /* indices */
+  int limbs;           /* bbcgen's material "limbs": a mesh, not billboards */
+  uint32_t *runs;      /* naive mode: 2 per run of consecutive triangles in one
+                        * plane (a billboard): first index, index count; the
+                        * limbs one run */
+  size_t run_count;
+} batch;
+
+typedef struct part {
+  size_t bucket;
+  GLuint vao, vbo, ebo;
+  batch *batches;
+  size_t batch_count;
+  size_t triangles, billboards;
+} part;
+
+typedef struct texture_entry {
+  const uint8_t *key; /* the image's texels: one GL texture per image */
+  int mipmap;
+  GLuint tex;
+} texture_entry;
+
+struct bbcgl_forest {
+  bbcgl_scene scene;
+  const bbc_forest_world *world;
+  float fog_colour[3];
+  GLuint p_terrain, p_model, p_sky, p_water;
+  GLint u_has, u_base, u_lit, u_gain, u_amb; /* the model program's per-material uniforms */
+  /* terrain */
+  GLuint t_vao, t_vbo, t_ebo, t_nodes, t_height, t_colour;
+  size_t t_first[5], t_count[5], t_node_capacity;
+  float *t_node_data; /* 4 floats per node, grouped by quarter */
+  int leaf, squares;
+  /* sky, water */
+  GLuint sky_vao, cube, w_vao, w_vbo;
+  /* objects */
+  part *parts;
+  size_t part_count;
+  texture_entry *textures;
+  size_t texture_count;
+  GLuint instances;             /* the culling's static records, then this frame's */
+  size_t instance_capacity;     /* records */
+  const void *statics_uploaded; /* the static records in `instances` (NULL = none yet) */
+  size_t statics_count;
+  GLuint indirect; /* this frame's multi-draw commands */
+  uint32_t (*cmds)[5];
+  size_t cmd_capacity;
+  /* GPU culling (bbcgl_frame.gpu_cull), built at its first use */
+  int gpu_state; /* 0 not built, 1 ready, -1 failed */
+  char gpu_err[BBCGL_ERR];
+  GLuint p_cull, p_cmdfill;
+  GLuint g_out, g_counters, g_first, g_cmds, g_cmd_bucket;
+  size_t *g_base;    /* per bucket: the first record of its region in g_out */
+  size_t g_ncmd;     /* one command per part and material */
+  GLuint vao_source; /* the buffer the parts' VAOs take their instances from */
+  /* text */
+  bbcgl__text *text;
+};
+
+/* forest.c: the fog's uniforms (fog.glsl) of program `p`. */
+void bbcgl__forest_set_fog(GLuint p, const bbcgl_forest *f, const double eye[3]);
+
+/* forest_terrain.c */
+int bbcgl__forest_build_terrain(bbcgl_forest *f, char *err);
+void bbcgl__forest_draw_terrain(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_terrain *t,
+                                bbcgl_stats *st);
+
+/* forest_sky.c */
+void bbcgl__forest_build_water(bbcgl_forest *f);
+void bbcgl__forest_build_sky(bbcgl_forest *f);
+void bbcgl__forest_draw_sky(bbcgl_forest *f, const bbcgl_frame *fr, bbcgl_stats *st);
+void bbcgl__forest_draw_water(bbcgl_forest *f, const bbcgl_frame *fr, bbcgl_stats *st);
+
+/* forest_objects.c */
+void bbcgl__forest_draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_cull *c,
+                                bbcgl_stats *st);
+
+#endif

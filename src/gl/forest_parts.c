@@ -1,0 +1,199 @@
+/* forest_parts.c — the forest's models on the GPU: each component of each
+ * level a part (its mesh, a batch per material, the naive mode's draw
+ * calls), each image one GL texture whatever the number of models using it
+ * (thesis 3.2.2). */
+#include "forest_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <epoxy/gl.h>
+
+/* One GL texture per image (thesis 3.2.2: models that share a texture share
+ * it in memory). */
+static GLuint texture_for(bbcgl_forest *f, const bbc_image *im, int mipmap, char *err) {
+  for (size_t i = 0; i < f->texture_count; i++)
+    if (f->textures[i].key == im->rgba && f->textures[i].mipmap == mipmap)
+      return f->textures[i].tex;
+  texture_entry *t2 = realloc(f->textures, (f->texture_count + 1) * sizeof *t2);
+  if (!t2) {
+    snprintf(err, BBCGL_ERR, "out of memory");
+    return 0;
+  }
+  f->textures = t2;
+  bbc_image *mips = NULL;
+  int nm = 0;
+  bbc_error e;
+  if (mipmap && bbc_image_mipmaps(im, &mips, &nm, &e) != BBC_OK) {
+    snprintf(err, BBCGL_ERR, "%s", e.message);
+    return 0;
+  }
+  /* Alpha-tested textures stop at 8 x 8 texels: below, a level cannot keep
+   * the opaque fraction (a 1 x 1 level of a 40 % leaf is nothing at all)
+   * and small leaves would vanish; sampling 8 x 8 texels keeps it on
+   * average. */
+  int nm_all = nm;
+  if (nm && bbc_image_has_transparency(im))
+    while (nm > 0 && (mips[nm - 1].width < 8 || mips[nm - 1].height < 8)) nm--;
+  GLuint tex;
+  glCreateTextures(GL_TEXTURE_2D, 1, &tex);
+  glTextureStorage2D(tex, 1 + nm, GL_RGBA8, im->width, im->height);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage2D(tex, 0, 0, 0, im->width, im->height, GL_RGBA, GL_UNSIGNED_BYTE, im->rgba);
+  for (int l = 0; l < nm; l++) {
+    glTextureSubImage2D(tex, l + 1, 0, 0, mips[l].width, mips[l].height, GL_RGBA, GL_UNSIGNED_BYTE,
+                        mips[l].rgba);
+  }
+  for (int l = 0; l < nm_all; l++) bbc_image_free(&mips[l]);
+  free(mips);
+  glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, nm ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+  glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_REPEAT);
+  f->textures[f->texture_count].key = im->rgba;
+  f->textures[f->texture_count].mipmap = mipmap;
+  f->textures[f->texture_count++].tex = tex;
+  return tex;
+}
+
+/* A new part of bucket `bucket` at the end of f->parts (counted once it is
+ * complete). */
+static part *new_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *m, size_t billboards,
+                      char *err) {
+  part *p2 = realloc(f->parts, (f->part_count + 1) * sizeof *p2);
+  if (!p2) {
+    snprintf(err, BBCGL_ERR, "out of memory");
+    return NULL;
+  }
+  f->parts = p2;
+  part *p = &f->parts[f->part_count];
+  memset(p, 0, sizeof *p);
+  p->bucket = bucket;
+  p->triangles = m->triangle_count;
+  p->billboards = billboards;
+  return p;
+}
+
+/* A batch per material with triangles (first[], count[]: its indices), lit
+ * as bbcgl_forest_add_part says, its texture uploaded once; 0 when a
+ * texture fails. */
+static int add_batches(bbcgl_forest *f, part *p, const bbc_mesh *m, const size_t *first,
+                       const size_t *count, int lit, float light_gain, int mipmap, char *err) {
+  for (size_t mat = 0; mat < m->material_count; mat++) {
+    if (!count[mat]) continue;
+    const bbc_material *ma = &m->materials[mat];
+    batch *b = &p->batches[p->batch_count++];
+    b->first = first[mat];
+    b->count = count[mat];
+    memcpy(b->base, ma->base_color, sizeof b->base);
+    b->limbs = bbc_material_is_limbs(ma);
+    b->lit = lit && !ma->unlit;
+    b->gain = light_gain > 0 ? light_gain : 1.0f;
+    if (b->lit) { /* X3D viewers' ambient, as bbc_view.ambient bakes it */
+      double ka = (ma->ambient[0] + ma->ambient[1] + ma->ambient[2]) / 3;
+      double kd = (ma->base_color[0] + ma->base_color[1] + ma->base_color[2]) / 3;
+      if (!(ka > 0)) ka = 0.2;
+      for (int c = 0; c < 3 && kd > 0; c++) b->amb[c] = (float)(0.2 * ka / kd * ma->base_color[c]);
+    }
+    if (ma->texture >= 0 && (size_t)ma->texture < m->texture_count &&
+        m->textures[ma->texture].image.rgba) {
+      b->tex = texture_for(f, &m->textures[ma->texture].image, mipmap, err);
+      if (!b->tex) return 0;
+    }
+  }
+  return 1;
+}
+
+/* The naive mode's draw calls (thesis 3.3): each billboard (consecutive
+ * triangles in one plane) on its own; v, idx: the part's vertices (8 floats
+ * each) and indices. Without memory for them the batch has none. */
+static void naive_runs(batch *b, const float *v, const uint32_t *idx) {
+  b->runs = malloc((b->count / 3 + 1) * 2 * sizeof *b->runs);
+  if (!b->runs) return;
+  double prev[4] = {0, 0, 0, 0};
+  if (b->limbs) { /* one call for the whole mesh */
+    b->runs[0] = (uint32_t)b->first;
+    b->runs[1] = (uint32_t)b->count;
+    b->run_count = 1;
+    return;
+  }
+  for (size_t t = 0; t < b->count / 3; t++) {
+    const uint32_t *ix = idx + b->first + 3 * t;
+    const float *a = v + 8 * ix[0], *c1 = v + 8 * ix[1], *c2 = v + 8 * ix[2];
+    double e1[3] = {c1[0] - a[0], c1[1] - a[1], c1[2] - a[2]};
+    double e2[3] = {c2[0] - a[0], c2[1] - a[1], c2[2] - a[2]};
+    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                   e1[0] * e2[1] - e1[1] * e2[0]};
+    double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (l > 0)
+      for (int q = 0; q < 3; q++) n[q] /= l;
+    double d = n[0] * a[0] + n[1] * a[1] + n[2] * a[2];
+    int same = t > 0 && fabs(n[0] * prev[0] + n[1] * prev[1] + n[2] * prev[2]) > 0.9999 &&
+               fabs(fabs(d) - fabs(prev[3])) < 1e-3 * (1 + fabs(d));
+    if (!same) {
+      b->runs[2 * b->run_count] = (uint32_t)(b->first + 3 * t);
+      b->runs[2 * b->run_count + 1] = 0;
+      b->run_count++;
+    }
+    b->runs[2 * b->run_count - 1] += 3;
+    memcpy(prev, n, sizeof n);
+    prev[3] = d;
+  }
+}
+
+/* The instance records: attributes 3 (x, y, z, yaw) and 4 (scale, fade) of
+ * binding 1, from the instance buffer once it exists. */
+static void instance_attributes(const bbcgl_forest *f, GLuint a) {
+  glEnableVertexArrayAttrib(a, 3);
+  glVertexArrayAttribFormat(a, 3, 4, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(a, 3, 1);
+  glEnableVertexArrayAttrib(a, 4);
+  glVertexArrayAttribFormat(a, 4, 2, GL_FLOAT, GL_FALSE, 4 * sizeof(float));
+  glVertexArrayAttribBinding(a, 4, 1);
+  glVertexArrayBindingDivisor(a, 1, 1);
+  if (f->instances && f->instance_capacity)
+    glVertexArrayVertexBuffer(a, 1, f->instances, 0, sizeof(bbc_forest_draw));
+}
+
+int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *m, int lit,
+                          float light_gain, int mipmap, size_t billboards, char *err) {
+  if (m->kind != BBC_MESH_TRIANGLES || !m->triangle_count) {
+    snprintf(err, BBCGL_ERR, "a model to draw needs triangles");
+    return 0;
+  }
+  part *p = new_part(f, bucket, m, billboards, err);
+  if (!p) return 0;
+  size_t groups = m->material_count ? m->material_count : 1;
+  size_t *first = malloc(groups * sizeof *first), *count = malloc(groups * sizeof *count);
+  p->batches = calloc(groups, sizeof *p->batches);
+  float *v = NULL;
+  uint32_t *idx = NULL;
+  if (!first || !count || !p->batches ||
+      !bbcgl__mesh_upload(m, &p->vao, &p->vbo, &p->ebo, first, count, &v, &idx, err)) {
+    if (!first || !count || !p->batches) snprintf(err, BBCGL_ERR, "out of memory");
+    free(first);
+    free(count);
+    free(p->batches);
+    return 0;
+  }
+  int ok = add_batches(f, p, m, first, count, lit, light_gain, mipmap, err);
+  free(first);
+  free(count);
+  if (!ok) {
+    free(v);
+    free(idx);
+    free(p->batches);
+    GLuint bufs[2] = {p->vbo, p->ebo};
+    glDeleteBuffers(2, bufs);
+    glDeleteVertexArrays(1, &p->vao);
+    return 0;
+  }
+  for (size_t bi = 0; bi < p->batch_count; bi++) naive_runs(&p->batches[bi], v, idx);
+  free(v);
+  free(idx);
+  instance_attributes(f, p->vao);
+  f->part_count++;
+  return 1;
+}

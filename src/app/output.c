@@ -138,13 +138,18 @@ static bbc_result write_gltf_chain(const bbc_session *s, job_lod *const *lods, s
     if (k && coverage[k] > coverage[k - 1]) coverage[k] = coverage[k - 1];
   }
   char *params = bbc__params_json_text(&lods[0]->params);
-  size_t n = strlen(params) + 64;
-  char *extras = malloc(n + 128);
+  size_t n = params ? strlen(params) + 64 : 0;
+  char *extras = params ? malloc(n + 128) : NULL;
+  if (!extras) { /* the file would lose its parameters: an error, not a quiet loss */
+    cJSON_free(params);
+    for (size_t k = 0; k < count; k++) cJSON_free(texts[k]);
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", out);
+  }
   const double *og = s->model.origin;
-  if (extras && (og[0] != 0 || og[1] != 0 || og[2] != 0)) /* where the coordinates were */
+  if (og[0] != 0 || og[1] != 0 || og[2] != 0) /* where the coordinates were */
     snprintf(extras, n + 128, "{\"bbcgen_parameters\":%s,\"bbcgen_origin\":[%.17g,%.17g,%.17g]}",
              params, og[0], og[1], og[2]);
-  else if (extras)
+  else
     snprintf(extras, n, "{\"bbcgen_parameters\":%s}", params);
   bbc_gltf_options go;
   memset(&go, 0, sizeof go);

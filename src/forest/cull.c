@@ -137,6 +137,7 @@ static int copy_models(bbc_forest_cull *c, const bbc_forest_lod_model *models, s
   if (!c->models || !c->bucket_base || !c->placement_models) return 0;
   for (size_t i = 0; i < model_count; i++) {
     c->models[i] = models[i];
+    c->models[i].ranges = NULL; /* the caller's until the copy exists */
     double *r = malloc((models[i].lod_count ? models[i].lod_count : 1) * 2 * sizeof *r);
     if (!r) return 0;
     if (models[i].lod_count) memcpy(r, models[i].ranges, models[i].lod_count * 2 * sizeof *r);

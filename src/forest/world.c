@@ -193,8 +193,10 @@ static bbc_result build_heights(const bbc_forest_map *map, const char *path, bbc
     snprintf(w->note, sizeof w->note, "%s: %d x %d resampled to %d x %d (the thesis's 2^n+1)",
              map->hmap, rw, rh, target, target);
   if (box_filter(w->height, target, target, map->hmap_filter_radius, map->hmap_filter_passes) !=
-      BBC_OK)
+      BBC_OK) {
+    bbc_forest_world_free(w);
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+  }
   for (size_t i = 0; i < (size_t)target * target; i++)
     w->height[i] = (float)(w->height[i] * map->heightscale);
   w->spacing = map->stretch;

@@ -41,6 +41,34 @@ bbc_result bbc__atomic_commit(bbc__atomic_file *af, bbc_error *err);
 
 void bbc__atomic_abort(bbc__atomic_file *af);
 
+/* ---- texture files (src/io/texture_path.c) --------------------------------
+ * How a model spells a texture reference. Each reader's spelling is read as
+ * that reader always has, so that every texture found before is found again
+ * under the same path. */
+typedef enum bbc__texture_spelling {
+  /* A file path as exporters write it (PLY's TextureFile comment):
+   * backslashes separate folders too (Windows exporters). */
+  BBC__TEXTURE_FILE,
+  /* As FILE, but below the model's folder without any leading "./", and
+   * even when absolute (an exporter's "\textures\bark.png"): the formats
+   * Assimp reads (OBJ's map_Kd, 3DS, AC3D, glTF, ...). */
+  BBC__TEXTURE_ASSIMP,
+  /* A URL's path with its %XX escapes decoded (VRML's ImageTexture url):
+   * only '/' separates folders (RFC 3986 3.3). */
+  BBC__TEXTURE_URL
+} bbc__texture_spelling;
+
+/* Finds the file a model's texture reference `ref` names; the first regular
+ * file of: the reference as written when it is absolute; the reference
+ * below the model's folder (FILE, URL: when it is relative); its base name
+ * in the model's folder; its base name in textures/, Textures/,
+ * ../textures/ and ../Textures/ beside the model. Writes the file's path to
+ * out (n bytes) and returns 1; when there is none, returns 0 with the
+ * reference as written below the model's folder (or absolute) in out, the
+ * path a failed read names. */
+int bbc__texture_resolve(const char *model_path, const char *ref, bbc__texture_spelling spelling,
+                         char *out, size_t n);
+
 /* A PNG file of the image in memory (image.c): *out from malloc. */
 bbc_result bbc__png_encode(const bbc_image *image, uint8_t **out, size_t *out_size);
 

@@ -25,7 +25,6 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
-#include <sys/stat.h>
 
 /* A real PLY header is a few hundred bytes; this bounds the header scan of a
  * file that only starts with "ply". */
@@ -1259,37 +1258,6 @@ done:
 /* PLY meshes: material, group, texture                                      */
 /* ------------------------------------------------------------------------ */
 
-static int regular_file(const char *path) {
-  struct stat st;
-  return stat(path, &st) == 0 && S_ISREG(st.st_mode);
-}
-
-/* Finds the file a "comment TextureFile NAME" line names: NAME as written
- * when it is absolute, else NAME relative to the PLY file's folder, then its
- * base name in that folder. Backslashes (Windows exporters) count as
- * slashes. Writes the path found to out; 0 when there is none. */
-static int ply_resolve_texture(const char *ply_path, const char *ref, char *out, size_t n) {
-  char r[1024];
-  int w = snprintf(r, sizeof r, "%s", ref);
-  if (w <= 0 || (size_t)w >= sizeof r) return 0;
-  for (char *c = r; *c; c++)
-    if (*c == '\\') *c = '/';
-  if (r[0] == '/') {
-    w = snprintf(out, n, "%s", r);
-    if (w > 0 && (size_t)w < n && regular_file(out)) return 1;
-  }
-  const char *slash = strrchr(ply_path, '/');
-  int dir_len = slash ? (int)(slash - ply_path + 1) : 0;
-  const char *base = strrchr(r, '/') ? strrchr(r, '/') + 1 : r;
-  const char *candidates[2] = {r[0] == '/' ? base : r, base};
-  for (int i = 0; i < 2; i++) {
-    if (!candidates[i][0]) continue;
-    w = snprintf(out, n, "%.*s%s", dir_len, ply_path, candidates[i]);
-    if (w > 0 && (size_t)w < n && regular_file(out)) return 1;
-  }
-  return 0;
-}
-
 /* Gives the material the texture a "comment TextureFile" line names. A
  * texture that cannot be found or decoded is a warning, not an error: the
  * material keeps its base colour and texture_ref. */
@@ -1300,7 +1268,7 @@ static bbc_result ply_load_texture(ply_reader *pp, const char *ref, const bbc_lo
   mat->texture_ref = bbc__strdup(ref);
   if (!mat->texture_ref) goto oom;
   char resolved[4096];
-  if (!ply_resolve_texture(pp->path, ref, resolved, sizeof resolved)) {
+  if (!bbc__texture_resolve(pp->path, ref, BBC__TEXTURE_FILE, resolved, sizeof resolved)) {
     bbc__log(&opt->callbacks, BBC_LOG_WARNING,
              "%s: texture '%s' (named by the header's TextureFile comment) not found beside the "
              "model; using the base colour",

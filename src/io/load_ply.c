@@ -417,20 +417,23 @@ static uint64_t mul_add_sat(uint64_t a, uint64_t b, uint64_t c) {
   return m > UINT64_MAX - c ? UINT64_MAX : m + c;
 }
 
-static bbc_result ply_read_binary(ply_reader *pp, const ply_header *h, const char *buf, size_t size,
-                                  bbc_error *err) {
-  const char *path = pp->path;
-  const unsigned char *body = (const unsigned char *)buf + h->body_offset;
-  const unsigned char *end = (const unsigned char *)buf + size;
-  uint64_t have = (uint64_t)(end - body);
-  int swap = (h->format == PLY_BINARY_BE) != host_is_big_endian();
+/* A binary body being read: its records, the byte order, the vertex's
+ * values. */
+typedef struct binary_body {
+  const ply_header *h;
+  const unsigned char *body, *end; /* the first record; one past the file */
+  int swap;                        /* the file's byte order is not the host's */
+  double *vals;                    /* the scalar values of the vertex record */
+} binary_body;
+
+/* Before reading a single record, checks that the body can hold what the
+ * header declares: this refuses absurd counts without allocating, and it
+ * names truncation (the usual damage) as the reason instead of whatever
+ * garbage a shifted record would produce. */
+static bbc_result check_binary_size(const char *path, const ply_header *h, uint64_t have,
+                                    bbc_error *err) {
   int all_fixed = 1;
   char what[200];
-
-  /* Before reading a single record, check that the body can hold what the
-   * header declares: this refuses absurd counts without allocating, and it
-   * names truncation (the usual damage) as the reason instead of whatever
-   * garbage a shifted record would produce. */
   uint64_t need = 0;
   for (size_t i = 0; i < h->element_count; i++) {
     need = mul_add_sat(h->elements[i].count, h->elements[i].record_size, need);
@@ -451,95 +454,129 @@ static bbc_result ply_read_binary(ply_reader *pp, const ply_header *h, const cha
                      all_fixed ? "" : " at least", (unsigned long long)have,
                      (unsigned long long)need);
   }
+  return BBC_OK;
+}
 
-  bbc_result r = ply_alloc(pp, err);
-  if (r != BBC_OK) return r;
-  double *vals = malloc((pp->vertex->prop_count ? pp->vertex->prop_count : 1) * sizeof *vals);
-  if (!vals) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
-
-  const unsigned char *p = body;
-  for (size_t ei = 0; ei < h->element_count; ei++) {
-    const ply_element *e = &h->elements[ei];
-    int is_vertex = e == pp->vertex;
-    int is_polygon = e == pp->face || e == pp->strips;
-    if (!is_vertex && !is_polygon && e->fixed) {
-      /* The check above bounds the product, but lists before this element
-       * may have used more than their minimum: check what is left. */
-      uint64_t bytes = e->count * e->record_size;
-      if ((uint64_t)(end - p) < bytes) {
-        uint64_t i = (uint64_t)(end - p) / e->record_size;
-        r = bbc__fail(err, BBC_ERROR_CORRUPT,
-                      "%s: binary body ends inside %s %llu (byte offset %llu) of the %llu the "
-                      "header declares; the file is truncated or damaged",
-                      path, e->name, (unsigned long long)i,
-                      (unsigned long long)(p - body) + h->body_offset + i * e->record_size,
-                      (unsigned long long)e->count);
-        goto done;
-      }
-      p += bytes;
-      continue;
-    }
-    ply_list *list = NULL;
-    if (is_polygon) {
-      pp->list.prop = e == pp->face ? pp->face_list : pp->strip_list;
-      list = &pp->list;
-    }
-    for (uint64_t i = 0; i < e->count; i++) {
-      const unsigned char *start = p;
-      uint64_t offset = (uint64_t)(start - body) + h->body_offset;
-      size_t bad = 0;
-      record_status st = ply_binary_record(e, &p, end, swap, is_vertex ? vals : NULL, list, &bad);
-      if (st == RECORD_NO_MEMORY) {
-        r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory reading %s %llu", path,
-                      e->name, (unsigned long long)i);
-        goto done;
-      }
-      if (st == RECORD_SHORT) {
-        r = bbc__fail(err, BBC_ERROR_CORRUPT,
-                      "%s: binary body ends inside %s %llu (byte offset %llu) of the %llu the "
-                      "header declares; the file is truncated or damaged",
-                      path, e->name, (unsigned long long)i, (unsigned long long)offset,
-                      (unsigned long long)e->count);
-        goto done;
-      }
-      if (st == RECORD_NEGATIVE_LIST) {
-        r = bbc__fail(err, BBC_ERROR_CORRUPT,
-                      "%s: %s %llu (byte offset %llu) has a negative length for list '%s'; the "
-                      "file is damaged",
-                      path, e->name, (unsigned long long)i, (unsigned long long)offset,
-                      e->props[bad].name);
-        goto done;
-      }
-      if (is_vertex)
-        r = ply_store_vertex(pp, (size_t)i, vals, 0, offset, err);
-      else if (is_polygon)
-        r = bbc__ply_store_polygon(pp, e, e == pp->strips, i, 0, offset, err);
-      if (r != BBC_OK) goto done;
-      if (is_vertex || is_polygon) ply_progress(pp);
-    }
+/* Passes over the records of an element we do not read, whose records all
+ * have the same size. The size check bounds the product, but lists before
+ * this element may have used more than their minimum: checks what is
+ * left. */
+static bbc_result skip_binary_element(const char *path, const binary_body *bb, const ply_element *e,
+                                      const unsigned char **pos, bbc_error *err) {
+  const unsigned char *p = *pos;
+  uint64_t bytes = e->count * e->record_size;
+  if ((uint64_t)(bb->end - p) < bytes) {
+    uint64_t i = (uint64_t)(bb->end - p) / e->record_size;
+    return bbc__fail(err, BBC_ERROR_CORRUPT,
+                     "%s: binary body ends inside %s %llu (byte offset %llu) of the %llu the "
+                     "header declares; the file is truncated or damaged",
+                     path, e->name, (unsigned long long)i,
+                     (unsigned long long)(p - bb->body) + bb->h->body_offset + i * e->record_size,
+                     (unsigned long long)e->count);
   }
+  *pos = p + bytes;
+  return BBC_OK;
+}
 
-  /* Bytes left over mean the counts and the data disagree: refuse rather
-   * than guess which records are real. A final newline some writers append
-   * is harmless. */
+/* Reads the records of element e from *pos on, storing the vertices, faces
+ * and strips (other elements' records are read past). */
+static bbc_result read_binary_element(ply_reader *pp, const binary_body *bb, const ply_element *e,
+                                      const unsigned char **pos, bbc_error *err) {
+  const char *path = pp->path;
+  const unsigned char *body = bb->body, *end = bb->end;
+  const unsigned char *p = *pos;
+  int is_vertex = e == pp->vertex;
+  int is_polygon = e == pp->face || e == pp->strips;
+  bbc_result r = BBC_OK;
+  ply_list *list = NULL;
+  if (is_polygon) {
+    pp->list.prop = e == pp->face ? pp->face_list : pp->strip_list;
+    list = &pp->list;
+  }
+  for (uint64_t i = 0; i < e->count; i++) {
+    const unsigned char *start = p;
+    uint64_t offset = (uint64_t)(start - body) + bb->h->body_offset;
+    size_t bad = 0;
+    record_status st =
+        ply_binary_record(e, &p, end, bb->swap, is_vertex ? bb->vals : NULL, list, &bad);
+    if (st == RECORD_NO_MEMORY)
+      return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory reading %s %llu", path,
+                       e->name, (unsigned long long)i);
+    if (st == RECORD_SHORT)
+      return bbc__fail(err, BBC_ERROR_CORRUPT,
+                       "%s: binary body ends inside %s %llu (byte offset %llu) of the %llu the "
+                       "header declares; the file is truncated or damaged",
+                       path, e->name, (unsigned long long)i, (unsigned long long)offset,
+                       (unsigned long long)e->count);
+    if (st == RECORD_NEGATIVE_LIST)
+      return bbc__fail(err, BBC_ERROR_CORRUPT,
+                       "%s: %s %llu (byte offset %llu) has a negative length for list '%s'; the "
+                       "file is damaged",
+                       path, e->name, (unsigned long long)i, (unsigned long long)offset,
+                       e->props[bad].name);
+    if (is_vertex)
+      r = ply_store_vertex(pp, (size_t)i, bb->vals, 0, offset, err);
+    else if (is_polygon)
+      r = bbc__ply_store_polygon(pp, e, e == pp->strips, i, 0, offset, err);
+    if (r != BBC_OK) return r;
+    if (is_vertex || is_polygon) ply_progress(pp);
+  }
+  *pos = p;
+  return BBC_OK;
+}
+
+/* Bytes left over after the last record mean the counts and the data
+ * disagree: refused rather than guessing which records are real. A final
+ * newline some writers append is harmless. */
+static bbc_result check_binary_tail(const char *path, const binary_body *bb, const unsigned char *p,
+                                    bbc_error *err) {
+  const unsigned char *end = bb->end;
+  uint64_t have = (uint64_t)(end - bb->body);
+  char what[200];
   uint64_t extra = (uint64_t)(end - p);
   if (extra > 0) {
     int harmless = extra <= 2;
     for (const unsigned char *q = p; harmless && q < end; q++)
       harmless = *q == '\n' || *q == '\r' || *q == ' ' || *q == '\0';
     if (!harmless) {
-      ply_describe_counts(h, what, sizeof what);
-      r = bbc__fail(err, BBC_ERROR_CORRUPT,
-                    "%s: binary body is %llu byte%s longer than %s declared in the header need "
-                    "(%llu of %llu bytes); the file is damaged or its header counts are wrong",
-                    path, (unsigned long long)extra, extra == 1 ? "" : "s", what,
-                    (unsigned long long)have, (unsigned long long)(have - extra));
-      goto done;
+      ply_describe_counts(bb->h, what, sizeof what);
+      return bbc__fail(err, BBC_ERROR_CORRUPT,
+                       "%s: binary body is %llu byte%s longer than %s declared in the header "
+                       "need (%llu of %llu bytes); the file is damaged or its header counts are "
+                       "wrong",
+                       path, (unsigned long long)extra, extra == 1 ? "" : "s", what,
+                       (unsigned long long)have, (unsigned long long)(have - extra));
     }
   }
-  r = BBC_OK;
-done:
-  free(vals);
+  return BBC_OK;
+}
+
+static bbc_result ply_read_binary(ply_reader *pp, const ply_header *h, const char *buf, size_t size,
+                                  bbc_error *err) {
+  const char *path = pp->path;
+  binary_body bb;
+  bb.h = h;
+  bb.body = (const unsigned char *)buf + h->body_offset;
+  bb.end = (const unsigned char *)buf + size;
+  bb.swap = (h->format == PLY_BINARY_BE) != host_is_big_endian();
+  bbc_result r = check_binary_size(path, h, (uint64_t)(bb.end - bb.body), err);
+  if (r != BBC_OK) return r;
+
+  r = ply_alloc(pp, err);
+  if (r != BBC_OK) return r;
+  bb.vals = malloc((pp->vertex->prop_count ? pp->vertex->prop_count : 1) * sizeof *bb.vals);
+  if (!bb.vals) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+
+  const unsigned char *p = bb.body;
+  for (size_t ei = 0; ei < h->element_count && r == BBC_OK; ei++) {
+    const ply_element *e = &h->elements[ei];
+    if (e != pp->vertex && e != pp->face && e != pp->strips && e->fixed)
+      r = skip_binary_element(path, &bb, e, &p, err);
+    else
+      r = read_binary_element(pp, &bb, e, &p, err);
+  }
+  if (r == BBC_OK) r = check_binary_tail(path, &bb, p, err);
+  free(bb.vals);
   return r;
 }
 

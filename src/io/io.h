@@ -69,19 +69,15 @@ typedef enum bbc__texture_spelling {
 int bbc__texture_resolve(const char *model_path, const char *ref, bbc__texture_spelling spelling,
                          char *out, size_t n);
 
-/* A PNG file of the image in memory (image.c): *out from malloc. */
+/* A PNG file of the image in memory (image_io.c): *out from malloc. */
 bbc_result bbc__png_encode(const bbc_image *image, uint8_t **out, size_t *out_size);
 
 /* ---- loaders (src/io) ---------------------------------------------------- */
+/* A model Assimp reads, from its file (src/io/load_assimp.c). */
 bbc_result bbc__load_assimp(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
                             bbc_error *err);
-/* PLY (src/io/load_points.c), every .ply file: a triangle mesh when the
- * header declares `face` or `tristrips` records (polygons triangulated as
- * fans, one material "default", one group named after the file's stem), a
- * point cloud otherwise. Finishes the mesh with bbc_mesh_finalize and frees
- * it on failure; `options` may be NULL (defaults). */
 /* Reads a whole file into a NUL-terminated buffer (*size bytes without
- * the NUL); free with free() (src/io/load_points.c). */
+ * the NUL); free with free() (src/io/text_scan.c). */
 bbc_result bbc__read_whole_file(const char *path, char **data, size_t *size, bbc_error *err);
 
 /* Run-length encoded BMP (BI_RLE8, BI_RLE4), which stb_image does not
@@ -96,6 +92,12 @@ bbc_result bbc__bmp_rle_decode(const uint8_t *data, size_t size, const char *nam
  * themselves; the caller finalizes a VRML mesh (bbc_mesh_load does). */
 bbc_result bbc__parse_vrml(const char *path, char *buf, size_t size,
                            const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err);
+/* PLY (load_ply.c, ply_header.c, ply_mesh.c), every .ply file: a triangle
+ * mesh when the header declares `face` or `tristrips` records (polygons
+ * triangulated as fans, one material "default", one group named after the
+ * file's stem), a point cloud otherwise. Finishes the mesh with
+ * bbc_mesh_finalize and frees it on failure; `options` may be NULL
+ * (defaults). */
 bbc_result bbc__parse_ply(const char *path, char *buf, size_t size, const bbc_load_options *options,
                           bbc_mesh *mesh, bbc_error *err);
 bbc_result bbc__parse_xyz(const char *path, char *buf, size_t size, const bbc_load_options *options,

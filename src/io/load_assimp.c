@@ -94,10 +94,10 @@ static uint32_t group_index(loader *L, const char *name) {
 
 /* Vertices equal in position, normal and first UV set are one (what
  * Assimp's JoinIdenticalVertices did, at a fraction of its time and
- * memory: on a 1.1M-triangle OBJ it took 4.3 s and 900 MB). remap[v] is
- * vertex v's new index; first[u] the first vertex of new index u; new
- * indices follow first use, as Assimp numbers them. Returns the number of
- * distinct vertices, 0 when out of memory. */
+ * memory, which on large models run to seconds and hundreds of MB).
+ * remap[v] is vertex v's new index; first[u] the first vertex of new index
+ * u; new indices follow first use, as Assimp numbers them. Returns the
+ * number of distinct vertices, 0 when out of memory. */
 static float weld_key(float x) {
   return x + 0.0f; /* -0 as +0: equal values, equal bits */
 }
@@ -593,8 +593,7 @@ static const unsigned k_flags = aiProcess_Triangulate | aiProcess_SortByPType;
 
 /* Imported without post-processing, then given it only when some mesh
  * holds more than triangles: on a model of triangles alone both steps
- * change nothing (they cost 14 % of an import the Scopia pine's size; the
- * pine itself has quads and gets them). */
+ * change nothing but still cost a noticeable share of a large import. */
 static const struct aiScene *post_process(const struct aiScene *sc) {
   if (!sc) return NULL;
   for (unsigned i = 0; i < sc->mNumMeshes; i++)
@@ -633,7 +632,7 @@ bbc_result bbc__load_assimp_memory(const char *name, const void *data, size_t si
       if (cr != BBC_OK) return cr;
     }
   }
-  /* Assimp aborts on an empty buffer (an assertion, found by fuzz_obj) */
+  /* Assimp aborts on an empty buffer (an assertion) */
   if (size == 0) return bbc__fail(err, BBC_ERROR_EMPTY, "%s: empty (0 bytes)", name);
   if (size > UINT_MAX) return bbc__fail(err, BBC_ERROR_OUT_OF_RANGE, "%s: too large", name);
   struct aiPropertyStore *props = aiCreatePropertyStore();

@@ -625,8 +625,8 @@ static void mul(const double *a, const double *b, double *o) { /* 3 x 4 affine *
   memcpy(o, r, sizeof r);
 }
 
-/* Nodes walked at most: a scene that USEs a group inside itself (found by
- * fuzz_wrl) or nests many instances would otherwise take exponential time. */
+/* Nodes walked at most: a scene that USEs a group inside itself or nests
+ * many instances would otherwise take exponential time. */
 #define MAX_VISITS 2000000u
 
 static int walk(builder *b, const vnode *n, const double *xf, int depth) {

@@ -1,10 +1,9 @@
 /* bmp_rle.c — run-length encoded BMP images (BI_RLE8 and BI_RLE4), which
- * stb_image does not read: old terrain heightmaps (the Irrlicht engine's
- * example terrain among them) come that way. Format: Microsoft's
- * BITMAPINFOHEADER with a palette; runs of (count, index) pairs and escapes
- * 0 = end of line, 1 = end of bitmap, 2 = move (dx, dy), n >= 3 = n literal
- * indices padded to 16 bits. Every read is checked against the file's
- * size. */
+ * stb_image does not read: old terrain heightmaps come that way. Format:
+ * Microsoft's BITMAPINFOHEADER with a palette; runs of (count, index) pairs
+ * and escapes 0 = end of line, 1 = end of bitmap, 2 = move (dx, dy),
+ * n >= 3 = n literal indices padded to 16 bits. Every read is checked
+ * against the file's size. */
 #include "io.h"
 
 #include <stdlib.h>

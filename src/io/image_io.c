@@ -21,8 +21,8 @@ static bbc_result take_stb_pixels(unsigned char *px, int w, int h, bbc_image *im
 }
 
 /* The most pixels a texture may have (16384 x 8192: 512 MB decoded); a
- * header that claims more is refused before anything is decoded (found by
- * fuzz_scene: an embedded image asking for 2 GB). */
+ * header that claims more is refused before anything is decoded (a
+ * damaged or hostile embedded image can ask for gigabytes). */
 #define BBC_IMAGE_MAX_PIXELS ((size_t)1 << 27)
 
 static bbc_result check_size(int ok, int w, int h, const char *what, bbc_error *err) {

@@ -41,19 +41,43 @@ bbc_result bbc__atomic_commit(bbc__atomic_file *af, bbc_error *err);
 
 void bbc__atomic_abort(bbc__atomic_file *af);
 
-/* A PNG file of the image in memory (image.c): *out from malloc. */
+/* ---- texture files (src/io/texture_path.c) --------------------------------
+ * How a model spells a texture reference. Each reader's spelling is read as
+ * that reader always has, so that every texture found before is found again
+ * under the same path. */
+typedef enum bbc__texture_spelling {
+  /* A file path as exporters write it (PLY's TextureFile comment):
+   * backslashes separate folders too (Windows exporters). */
+  BBC__TEXTURE_FILE,
+  /* As FILE, but below the model's folder without any leading "./", and
+   * even when absolute (an exporter's "\textures\bark.png"): the formats
+   * Assimp reads (OBJ's map_Kd, 3DS, AC3D, glTF, ...). */
+  BBC__TEXTURE_ASSIMP,
+  /* A URL's path with its %XX escapes decoded (VRML's ImageTexture url):
+   * only '/' separates folders (RFC 3986 3.3). */
+  BBC__TEXTURE_URL
+} bbc__texture_spelling;
+
+/* Finds the file a model's texture reference `ref` names; the first regular
+ * file of: the reference as written when it is absolute; the reference
+ * below the model's folder (FILE, URL: when it is relative); its base name
+ * in the model's folder; its base name in textures/, Textures/,
+ * ../textures/ and ../Textures/ beside the model. Writes the file's path to
+ * out (n bytes) and returns 1; when there is none, returns 0 with the
+ * reference as written below the model's folder (or absolute) in out, the
+ * path a failed read names. */
+int bbc__texture_resolve(const char *model_path, const char *ref, bbc__texture_spelling spelling,
+                         char *out, size_t n);
+
+/* A PNG file of the image in memory (image_io.c): *out from malloc. */
 bbc_result bbc__png_encode(const bbc_image *image, uint8_t **out, size_t *out_size);
 
 /* ---- loaders (src/io) ---------------------------------------------------- */
+/* A model Assimp reads, from its file (src/io/load_assimp.c). */
 bbc_result bbc__load_assimp(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
                             bbc_error *err);
-/* PLY (src/io/load_points.c), every .ply file: a triangle mesh when the
- * header declares `face` or `tristrips` records (polygons triangulated as
- * fans, one material "default", one group named after the file's stem), a
- * point cloud otherwise. Finishes the mesh with bbc_mesh_finalize and frees
- * it on failure; `options` may be NULL (defaults). */
 /* Reads a whole file into a NUL-terminated buffer (*size bytes without
- * the NUL); free with free() (src/io/load_points.c). */
+ * the NUL); free with free() (src/io/text_scan.c). */
 bbc_result bbc__read_whole_file(const char *path, char **data, size_t *size, bbc_error *err);
 
 /* Run-length encoded BMP (BI_RLE8, BI_RLE4), which stb_image does not
@@ -68,6 +92,12 @@ bbc_result bbc__bmp_rle_decode(const uint8_t *data, size_t size, const char *nam
  * themselves; the caller finalizes a VRML mesh (bbc_mesh_load does). */
 bbc_result bbc__parse_vrml(const char *path, char *buf, size_t size,
                            const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err);
+/* PLY (load_ply.c, ply_header.c, ply_mesh.c), every .ply file: a triangle
+ * mesh when the header declares `face` or `tristrips` records (polygons
+ * triangulated as fans, one material "default", one group named after the
+ * file's stem), a point cloud otherwise. Finishes the mesh with
+ * bbc_mesh_finalize and frees it on failure; `options` may be NULL
+ * (defaults). */
 bbc_result bbc__parse_ply(const char *path, char *buf, size_t size, const bbc_load_options *options,
                           bbc_mesh *mesh, bbc_error *err);
 bbc_result bbc__parse_xyz(const char *path, char *buf, size_t size, const bbc_load_options *options,

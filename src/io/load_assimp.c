@@ -11,8 +11,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <sys/types.h>
 
 #include <assimp/cimport.h>
 #include <assimp/material.h>
@@ -96,10 +94,10 @@ static uint32_t group_index(loader *L, const char *name) {
 
 /* Vertices equal in position, normal and first UV set are one (what
  * Assimp's JoinIdenticalVertices did, at a fraction of its time and
- * memory: on a 1.1M-triangle OBJ it took 4.3 s and 900 MB). remap[v] is
- * vertex v's new index; first[u] the first vertex of new index u; new
- * indices follow first use, as Assimp numbers them. Returns the number of
- * distinct vertices, 0 when out of memory. */
+ * memory, which on large models run to seconds and hundreds of MB).
+ * remap[v] is vertex v's new index; first[u] the first vertex of new index
+ * u; new indices follow first use, as Assimp numbers them. Returns the
+ * number of distinct vertices, 0 when out of memory. */
 static float weld_key(float x) {
   return x + 0.0f; /* -0 as +0: equal values, equal bits */
 }
@@ -308,34 +306,6 @@ static bbc_result walk(loader *L, const struct aiNode *node, const struct aiMatr
 
 /* ---- materials and textures --------------------------------------------- */
 
-/* Finds a texture file the way artists' files need: as written, relative to
- * the model, then by its base name beside the model and in the usual
- * texture folders. Backslashes (Windows exporters) become slashes. Writes the
- * found path to out; 0 when none exists. */
-static int resolve_texture(const char *model_path, const char *ref, char *out, size_t n) {
-  char r[1024];
-  snprintf(r, sizeof r, "%s", ref);
-  for (char *c = r; *c; c++)
-    if (*c == '\\') *c = '/';
-  char dir[1024];
-  bbc__path_folder(model_path, dir, sizeof dir);
-  const char *base = strrchr(r, '/') ? strrchr(r, '/') + 1 : r;
-  if (r[0] == '/' && bbc__file_exists(r)) {
-    snprintf(out, n, "%s", r);
-    return 1;
-  }
-  const char *rel = r;
-  while (rel[0] == '.' && rel[1] == '/') rel += 2;
-  /* Candidate folders (relative to the model) and which name to append. */
-  static const char *const k_folders[] = {
-      "", "", "textures/", "Textures/", "../textures/", "../Textures/"};
-  for (size_t i = 0; i < sizeof k_folders / sizeof k_folders[0]; i++) {
-    int w = snprintf(out, n, "%s%s%s", dir, k_folders[i], i == 0 ? rel : base);
-    if (w > 0 && (size_t)w < n && bbc__file_exists(out)) return 1;
-  }
-  return 0;
-}
-
 /* Index of the texture with this key (resolved path or "*N"), adding it. */
 static int find_texture(const bbc_mesh *m, const char *key) {
   for (size_t i = 0; i < m->texture_count; i++)
@@ -412,7 +382,7 @@ static bbc_result load_material_texture(loader *L, bbc_material *mat, const char
     return r;
   }
   char resolved[2048];
-  if (!resolve_texture(L->path, ref, resolved, sizeof resolved)) {
+  if (!bbc__texture_resolve(L->path, ref, BBC__TEXTURE_ASSIMP, resolved, sizeof resolved)) {
     bbc__log(&L->opt->callbacks, BBC_LOG_WARNING,
              "%s: material '%s': texture '%s' not found beside the model; using the base colour",
              L->path, mat->name, ref);
@@ -623,8 +593,7 @@ static const unsigned k_flags = aiProcess_Triangulate | aiProcess_SortByPType;
 
 /* Imported without post-processing, then given it only when some mesh
  * holds more than triangles: on a model of triangles alone both steps
- * change nothing (they cost 14 % of an import the Scopia pine's size; the
- * pine itself has quads and gets them). */
+ * change nothing but still cost a noticeable share of a large import. */
 static const struct aiScene *post_process(const struct aiScene *sc) {
   if (!sc) return NULL;
   for (unsigned i = 0; i < sc->mNumMeshes; i++)
@@ -663,7 +632,7 @@ bbc_result bbc__load_assimp_memory(const char *name, const void *data, size_t si
       if (cr != BBC_OK) return cr;
     }
   }
-  /* Assimp aborts on an empty buffer (an assertion, found by fuzz_obj) */
+  /* Assimp aborts on an empty buffer (an assertion) */
   if (size == 0) return bbc__fail(err, BBC_ERROR_EMPTY, "%s: empty (0 bytes)", name);
   if (size > UINT_MAX) return bbc__fail(err, BBC_ERROR_OUT_OF_RANGE, "%s: too large", name);
   struct aiPropertyStore *props = aiCreatePropertyStore();

@@ -390,7 +390,6 @@ typedef struct builder {
   parser *p;
   bbc_mesh *m;
   size_t vcap, tcap, mcap, tex_cap; /* vertices, triangles, materials, textures */
-  char folder[4096];
   int load_textures;
   const bbc_callbacks *cb; /* warnings: a texture that cannot be read */
   size_t skipped;          /* geometry nodes other than IndexedFaceSet and PointSet */
@@ -459,11 +458,8 @@ static int texture_index(builder *b, const char *encoded) {
   bbc_mesh *m = b->m;
   char full[8192], url[4096];
   url_decode(encoded, url, sizeof url);
-  size_t fl = strlen(b->folder);
-  if (url[0] == '/' || !fl)
-    snprintf(full, sizeof full, "%s", url);
-  else
-    snprintf(full, sizeof full, "%s%s%s", b->folder, b->folder[fl - 1] == '/' ? "" : "/", url);
+  /* Not found: the url as written, which the read below names. */
+  bbc__texture_resolve(b->p->path, url, BBC__TEXTURE_URL, full, sizeof full);
   for (size_t i = 0; i < m->texture_count; i++)
     if (m->textures[i].path && !strcmp(m->textures[i].path, full))
       return b->load_textures && !m->textures[i].image.rgba ? -1 : (int)i;
@@ -629,8 +625,8 @@ static void mul(const double *a, const double *b, double *o) { /* 3 x 4 affine *
   memcpy(o, r, sizeof r);
 }
 
-/* Nodes walked at most: a scene that USEs a group inside itself (found by
- * fuzz_wrl) or nests many instances would otherwise take exponential time. */
+/* Nodes walked at most: a scene that USEs a group inside itself or nests
+ * many instances would otherwise take exponential time. */
 #define MAX_VISITS 2000000u
 
 static int walk(builder *b, const vnode *n, const double *xf, int depth) {
@@ -701,7 +697,6 @@ bbc_result bbc__parse_vrml(const char *path, char *text, size_t n, const bbc_loa
   b.m = mesh;
   b.load_textures = options->load_textures;
   b.cb = &options->callbacks;
-  bbc__path_folder(path, b.folder, sizeof b.folder);
   mesh->kind = BBC_MESH_TRIANGLES;
   const double id[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
   next(&p);

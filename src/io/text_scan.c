@@ -6,7 +6,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-/* The whole file in memory, NUL terminated (internal.h). */
+/* The whole file in memory, NUL terminated (io.h). */
 bbc_result bbc__read_whole_file(const char *path, char **data, size_t *size, bbc_error *err) {
   *data = NULL;
   *size = 0;

@@ -1,5 +1,5 @@
 /* text_scan.h — what the point and mesh readers we write ourselves share
- * (load_ply.c, load_xyz.c): whole-file reading, a line cursor that accepts
+ * (the PLY reader through ply.h, load_xyz.c): whole-file reading, a line cursor that accepts
  * every line end, number fields with full double precision, one-line
  * quoting of bad input, the finishing of a loaded mesh. Internal. */
 #ifndef BBC_TEXT_SCAN_H

@@ -306,6 +306,29 @@ typedef struct mesh_out {
   size_t images_written; /* images this mesh added (not shared with an earlier one) */
 } mesh_out;
 
+/* One scene being written: the nodes and options, the binary buffer and its
+ * bufferViews, the images, the JSON, and the side files written so far. */
+typedef struct gltf_writer {
+  const char *path;
+  const bbc_gltf_node *nodes;
+  size_t node_count;
+  const bbc_gltf_options *options;
+  const char *extras; /* the asset's extras_json, or NULL */
+  int binary, lod, unlit;
+  const char *stem, *dir; /* file names' stem; the output's folder */
+  gbuf bin, json;
+  mesh_out *mo; /* per node */
+  view *views;
+  size_t n_views;
+  size_t *image_view;       /* .glb: the bufferView of each image */
+  char (*image_names)[200]; /* each image's file name without ".png" */
+  const bbc_image **image_src;
+  size_t n_images;
+  size_t pngs_written; /* .gltf side files written, removed again on failure */
+  int bin_written;
+  bbc_error *err;
+} gltf_writer;
+
 static bbc_result check_mesh(const char *path, const bbc_mesh *m, bbc_error *err) {
   if (m->kind != BBC_MESH_TRIANGLES || m->triangle_count == 0 || m->vertex_count == 0)
     return bbc__fail(err, BBC_ERROR_EMPTY, "%s: nothing to write (no triangles)", path);
@@ -334,70 +357,89 @@ static int texture_used(const bbc_mesh *m, size_t t) {
   return 0;
 }
 
-/* Writes one mesh's vertex data, indices and images into the buffer. */
-static bbc_result put_mesh(const char *path, const bbc_mesh *m, int binary, const char *dir,
-                           const char *stem, gbuf *bin, view *views, size_t *n_views,
-                           size_t *n_images, size_t *image_view, char (*image_names)[200],
-                           const bbc_image **image_src, mesh_out *mo, size_t *pngs_written,
-                           bbc_error *err) {
-  size_t nv = m->vertex_count, n_mat = m->material_count;
-  mo->nv = nv;
-  for (size_t t = 0; t < m->triangle_count; t++) mo->mat_tris[m->face_material[t]]++;
-  views[(*n_views)++] = (view){bin->size, nv * 12, 34962};
+/* POSITION, with the bounds its accessor needs; a coordinate that does not
+ * fit in a float is refused. */
+static bbc_result put_positions(gltf_writer *w, const bbc_mesh *m, mesh_out *mo) {
+  size_t nv = m->vertex_count;
+  gbuf *bin = &w->bin;
+  w->views[w->n_views++] = (view){bin->size, nv * 12, 34962};
   for (size_t v = 0; v < nv; v++)
     for (int k = 0; k < 3; k++) {
       float f = (float)m->positions[3 * v + k];
       if (!isfinite(f))
-        return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
-                         "%s: vertex %zu does not fit in a float (%g)", path, v,
+        return bbc__fail(w->err, BBC_ERROR_INVALID_GEOMETRY,
+                         "%s: vertex %zu does not fit in a float (%g)", w->path, v,
                          m->positions[3 * v + k]);
       if (v == 0 || f < mo->pmin[k]) mo->pmin[k] = f;
       if (v == 0 || f > mo->pmax[k]) mo->pmax[k] = f;
       gbuf_f32(bin, f);
     }
-  if (m->normals) {
-    mo->has_normal = 1;
-    views[(*n_views)++] = (view){bin->size, nv * 12, 34962};
-    for (size_t v = 0; v < nv; v++) {
-      /* glTF requires unit normals: renormalise float rounding away; a zero
-       * or non-finite normal (never from bbc_mesh_finalize) becomes +Z. */
-      const float *n = m->normals + 3 * v;
-      double len = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
-      for (int k = 0; k < 3; k++)
-        gbuf_f32(bin, isfinite(len) && len > 1e-20 ? (float)(n[k] / len) : (k == 2 ? 1.0f : 0.0f));
-    }
+  return BBC_OK;
+}
+
+/* NORMAL, when the mesh has normals. */
+static void put_normals(gltf_writer *w, const bbc_mesh *m, mesh_out *mo) {
+  size_t nv = m->vertex_count;
+  gbuf *bin = &w->bin;
+  if (!m->normals) return;
+  mo->has_normal = 1;
+  w->views[w->n_views++] = (view){bin->size, nv * 12, 34962};
+  for (size_t v = 0; v < nv; v++) {
+    /* glTF requires unit normals: renormalise float rounding away; a zero
+     * or non-finite normal (never from bbc_mesh_finalize) becomes +Z. */
+    const float *n = m->normals + 3 * v;
+    double len = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
+    for (int k = 0; k < 3; k++)
+      gbuf_f32(bin, isfinite(len) && len > 1e-20 ? (float)(n[k] / len) : (k == 2 ? 1.0f : 0.0f));
   }
-  if (m->uvs) {
-    mo->has_uv = 1;
-    views[(*n_views)++] = (view){bin->size, nv * 8, 34962};
-    for (size_t v = 0; v < nv; v++) {
-      float u = m->uvs[2 * v], w = m->uvs[2 * v + 1];
-      if (!isfinite(u) || !isfinite(w))
-        return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY, "%s: vertex %zu has a non-finite uv",
-                         path, v);
-      gbuf_f32(bin, u);
-      gbuf_f32(bin, 1.0f - w); /* OpenGL's bottom-left origin -> glTF's top-left */
-    }
+}
+
+/* TEXCOORD_0, when the mesh has texture coordinates. */
+static bbc_result put_uvs(gltf_writer *w, const bbc_mesh *m, mesh_out *mo) {
+  size_t nv = m->vertex_count;
+  gbuf *bin = &w->bin;
+  if (!m->uvs) return BBC_OK;
+  mo->has_uv = 1;
+  w->views[w->n_views++] = (view){bin->size, nv * 8, 34962};
+  for (size_t v = 0; v < nv; v++) {
+    float u = m->uvs[2 * v], t = m->uvs[2 * v + 1];
+    if (!isfinite(u) || !isfinite(t))
+      return bbc__fail(w->err, BBC_ERROR_INVALID_GEOMETRY, "%s: vertex %zu has a non-finite uv",
+                       w->path, v);
+    gbuf_f32(bin, u);
+    gbuf_f32(bin, 1.0f - t); /* OpenGL's bottom-left origin -> glTF's top-left */
   }
-  if (m->tangents && m->normals) {
-    /* glTF: unit xyz, w = +-1; the bitangent is cross(normal, tangent) * w
-     * and points up the image (our v, glTF's -v). */
-    mo->has_tangent = 1;
-    views[(*n_views)++] = (view){bin->size, nv * 16, 34962};
-    for (size_t v = 0; v < nv; v++) {
-      const float *t = m->tangents + 4 * v;
-      double len = sqrt((double)t[0] * t[0] + (double)t[1] * t[1] + (double)t[2] * t[2]);
-      for (int k = 0; k < 3; k++)
-        gbuf_f32(bin, isfinite(len) && len > 1e-20 ? (float)(t[k] / len) : (k == 0 ? 1.0f : 0.0f));
-      gbuf_f32(bin, t[3] < 0 ? -1.0f : 1.0f);
-    }
+  return BBC_OK;
+}
+
+/* TANGENT, when the mesh has tangents and normals. glTF: unit xyz, w = +-1;
+ * the bitangent is cross(normal, tangent) * w and points up the image (our
+ * v, glTF's -v). */
+static void put_tangents(gltf_writer *w, const bbc_mesh *m, mesh_out *mo) {
+  size_t nv = m->vertex_count;
+  gbuf *bin = &w->bin;
+  if (!m->tangents || !m->normals) return;
+  mo->has_tangent = 1;
+  w->views[w->n_views++] = (view){bin->size, nv * 16, 34962};
+  for (size_t v = 0; v < nv; v++) {
+    const float *t = m->tangents + 4 * v;
+    double len = sqrt((double)t[0] * t[0] + (double)t[1] * t[1] + (double)t[2] * t[2]);
+    for (int k = 0; k < 3; k++)
+      gbuf_f32(bin, isfinite(len) && len > 1e-20 ? (float)(t[k] / len) : (k == 0 ? 1.0f : 0.0f));
+    gbuf_f32(bin, t[3] < 0 ? -1.0f : 1.0f);
   }
-  /* Indices grouped by material, keeping the face order within each. */
-  mo->small = nv <= 65535; /* 65535 itself is the primitive restart value */
-  for (size_t i = 0; i < n_mat; i++) {
+}
+
+/* The indices, one bufferView per material used, keeping the face order
+ * within each: 16 bits when every index fits below 65535 (itself the
+ * primitive restart value), else 32. */
+static void put_indices(gltf_writer *w, const bbc_mesh *m, mesh_out *mo) {
+  gbuf *bin = &w->bin;
+  mo->small = m->vertex_count <= 65535;
+  for (size_t i = 0; i < m->material_count; i++) {
     if (!mo->mat_tris[i]) continue;
     size_t count = 3 * mo->mat_tris[i];
-    views[(*n_views)++] = (view){bin->size, count * (mo->small ? 2 : 4), 34963};
+    w->views[w->n_views++] = (view){bin->size, count * (mo->small ? 2 : 4), 34963};
     for (size_t t = 0; t < m->triangle_count; t++) {
       if (m->face_material[t] != i) continue;
       for (int k = 0; k < 3; k++) {
@@ -412,8 +454,50 @@ static bbc_result put_mesh(const char *path, const bbc_mesh *m, int binary, cons
     }
     gbuf_pad4(bin, 0);
   }
-  /* Textures used by a material and decoded, in texture order. */
-  mo->first_image = *n_images;
+}
+
+/* Texture t of the mesh as the next image: a PNG in the buffer (.glb) or a
+ * file beside the .gltf named <stem>_<material>[_nm].png, made unique
+ * within the file. */
+static bbc_result put_image(gltf_writer *w, const bbc_mesh *m, mesh_out *mo, size_t t) {
+  const bbc_image *im = &m->textures[t].image;
+  size_t n = w->n_images;
+  w->image_src[n] = im;
+  mo->images_written++;
+  gbuf png = {0};
+  bbc_result pr = bbc__png_encode(im, &png.data, &png.size);
+  png.cap = png.size;
+  if (pr != BBC_OK)
+    return bbc__fail(w->err, pr, "%s: cannot encode texture %zu as PNG", w->path, t);
+  mo->tex_gltf[t] = (int)n;
+  char name[160];
+  bbc_texture_file_name(m, t, name, sizeof name);
+  snprintf(w->image_names[n], sizeof w->image_names[0], "%s_%s", w->stem, name);
+  for (size_t i = 0; i < n; i++)
+    if (!strcmp(w->image_names[i], w->image_names[n])) {
+      snprintf(w->image_names[n], sizeof w->image_names[0], "%s_%s_%zu", w->stem, name, n);
+      break;
+    }
+  bbc_result r = BBC_OK;
+  if (w->binary) {
+    w->image_view[n] = w->n_views;
+    w->views[w->n_views++] = (view){w->bin.size, png.size, 0};
+    gbuf_append(&w->bin, png.data, png.size);
+    gbuf_pad4(&w->bin, 0);
+  } else {
+    char full[2600];
+    snprintf(full, sizeof full, "%s%s.png", w->dir, w->image_names[n]);
+    r = bbc_write_file_atomic(full, png.data, png.size, w->err);
+    if (r == BBC_OK) w->pngs_written = n + 1;
+  }
+  w->n_images++;
+  free(png.data);
+  return r;
+}
+
+/* The textures a material uses and that were decoded, in texture order. */
+static bbc_result put_images(gltf_writer *w, const bbc_mesh *m, mesh_out *mo) {
+  mo->first_image = w->n_images;
   for (size_t t = 0; t < m->texture_count; t++) {
     mo->tex_gltf[t] = -1;
     if (!texture_used(m, t)) continue;
@@ -421,47 +505,34 @@ static bbc_result put_mesh(const char *path, const bbc_mesh *m, int binary, cons
     /* The same texels as an image written before (levels of detail sharing
      * one atlas): that image again. */
     int same = -1;
-    for (size_t i = 0; i < *n_images && same < 0; i++)
-      if (image_src[i]->width == im->width && image_src[i]->height == im->height &&
-          !memcmp(image_src[i]->rgba, im->rgba, 4 * (size_t)im->width * im->height))
+    for (size_t i = 0; i < w->n_images && same < 0; i++)
+      if (w->image_src[i]->width == im->width && w->image_src[i]->height == im->height &&
+          !memcmp(w->image_src[i]->rgba, im->rgba, 4 * (size_t)im->width * im->height))
         same = (int)i;
     if (same >= 0) {
       mo->tex_gltf[t] = same;
       continue;
     }
-    image_src[*n_images] = im;
-    mo->images_written++;
-    gbuf png = {0};
-    bbc_result pr = bbc__png_encode(im, &png.data, &png.size);
-    png.cap = png.size;
-    if (pr != BBC_OK) return bbc__fail(err, pr, "%s: cannot encode texture %zu as PNG", path, t);
-    mo->tex_gltf[t] = (int)*n_images;
-    /* <stem>_<material>[_nm].png, made unique within the file. */
-    char name[160];
-    bbc_texture_file_name(m, t, name, sizeof name);
-    snprintf(image_names[*n_images], sizeof image_names[0], "%s_%s", stem, name);
-    for (size_t i = 0; i < *n_images; i++)
-      if (!strcmp(image_names[i], image_names[*n_images])) {
-        snprintf(image_names[*n_images], sizeof image_names[0], "%s_%s_%zu", stem, name, *n_images);
-        break;
-      }
-    bbc_result r = BBC_OK;
-    if (binary) {
-      image_view[*n_images] = *n_views;
-      views[(*n_views)++] = (view){bin->size, png.size, 0};
-      gbuf_append(bin, png.data, png.size);
-      gbuf_pad4(bin, 0);
-    } else {
-      char full[2600];
-      snprintf(full, sizeof full, "%s%s.png", dir, image_names[*n_images]);
-      r = bbc_write_file_atomic(full, png.data, png.size, err);
-      if (r == BBC_OK) *pngs_written = *n_images + 1;
-    }
-    (*n_images)++;
-    free(png.data);
+    bbc_result r = put_image(w, m, mo, t);
     if (r != BBC_OK) return r;
   }
-  if (bin->oom) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+  return BBC_OK;
+}
+
+/* Writes one mesh's vertex data, indices and images into the buffer. */
+static bbc_result put_mesh(gltf_writer *w, const bbc_mesh *m, mesh_out *mo) {
+  mo->nv = m->vertex_count;
+  for (size_t t = 0; t < m->triangle_count; t++) mo->mat_tris[m->face_material[t]]++;
+  bbc_result r = put_positions(w, m, mo);
+  if (r != BBC_OK) return r;
+  put_normals(w, m, mo);
+  r = put_uvs(w, m, mo);
+  if (r != BBC_OK) return r;
+  put_tangents(w, m, mo);
+  put_indices(w, m, mo);
+  r = put_images(w, m, mo);
+  if (r != BBC_OK) return r;
+  if (w->bin.oom) return bbc__fail(w->err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", w->path);
   return BBC_OK;
 }
 
@@ -472,93 +543,116 @@ static void put_floats(gbuf *j, const float *v, int n) {
   }
 }
 
-bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, size_t node_count,
-                                const bbc_gltf_options *options, bbc_error *err) {
-  char ext[16];
-  bbc__path_extension(path, ext, sizeof ext);
-  int binary = options ? options->binary : !strcmp(ext, "glb");
-  const char *extras = options ? options->extras_json : NULL;
-  int lod = options && options->lod_chain && node_count > 1;
-  int unlit = options && options->unlit;
-  if (strcmp(ext, binary ? "glb" : "gltf"))
+/* Checks the path, the nodes and the extras before anything is written;
+ * counts the bufferViews and textures the writer makes room for. */
+static bbc_result check_scene(gltf_writer *w, const char *ext, size_t *total_views,
+                              size_t *total_tex) {
+  const char *path = w->path;
+  bbc_error *err = w->err;
+  if (strcmp(ext, w->binary ? "glb" : "gltf"))
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: glTF output must end in %s", path,
-                     binary ? ".glb" : ".gltf");
-  if (node_count == 0 || !nodes)
+                     w->binary ? ".glb" : ".gltf");
+  if (w->node_count == 0 || !w->nodes)
     return bbc__fail(err, BBC_ERROR_EMPTY, "%s: nothing to write (no meshes)", path);
-  if (extras && !is_json_object(extras))
+  if (w->extras && !is_json_object(w->extras))
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: extras_json is not one JSON object",
                      path);
-  size_t total_views = 0, total_tex = 0, total_mat = 0;
-  for (size_t n = 0; n < node_count; n++) {
-    bbc_result r = check_mesh(path, nodes[n].mesh, err);
+  *total_views = *total_tex = 0;
+  for (size_t n = 0; n < w->node_count; n++) {
+    bbc_result r = check_mesh(path, w->nodes[n].mesh, err);
     if (r != BBC_OK) return r;
-    if (nodes[n].extras_json && !is_json_object(nodes[n].extras_json))
+    if (w->nodes[n].extras_json && !is_json_object(w->nodes[n].extras_json))
       return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                        "%s: node %zu: extras_json is not one JSON object", path, n);
-    total_views += 4 + nodes[n].mesh->material_count + nodes[n].mesh->texture_count;
-    total_tex += nodes[n].mesh->texture_count;
-    total_mat += nodes[n].mesh->material_count;
+    *total_views += 4 + w->nodes[n].mesh->material_count + w->nodes[n].mesh->texture_count;
+    *total_tex += w->nodes[n].mesh->texture_count;
   }
+  return BBC_OK;
+}
 
-  char stem[256], dir[2048];
-  safe_stem(path, stem, sizeof stem);
-  bbc__path_folder(path, dir, sizeof dir);
-
-  gbuf bin = {0}, json = {0}, out = {0};
-  size_t pngs_written = 0; /* .gltf side files written, removed again on failure */
-  int bin_written = 0;
-  mesh_out *mo = calloc(node_count, sizeof *mo);
-  view *views = calloc(total_views, sizeof *views);
-  size_t *image_view = calloc(total_tex + 1, sizeof *image_view);
-  char(*image_names)[200] = calloc(total_tex + 1, sizeof *image_names);
-  const bbc_image **image_src = calloc(total_tex + 1, sizeof *image_src);
+/* The binary buffer: every mesh in node order (see the top of the file),
+ * numbering the accessors and materials each mesh's JSON refers to. */
+static bbc_result lay_out_buffer(gltf_writer *w) {
   bbc_result r = BBC_OK;
-  if (!mo || !views || !image_view || !image_names || !image_src) {
-    r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
-    goto done;
-  }
-  size_t n_views = 0, n_images = 0, n_acc = 0, n_mat = 0;
-  for (size_t n = 0; n < node_count && r == BBC_OK; n++) {
-    const bbc_mesh *m = nodes[n].mesh;
-    mo[n].mat_tris = calloc(m->material_count + 1, sizeof *mo[n].mat_tris);
-    mo[n].tex_gltf = calloc(m->texture_count + 1, sizeof *mo[n].tex_gltf);
-    if (!mo[n].mat_tris || !mo[n].tex_gltf) {
-      r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
-      break;
-    }
-    r = put_mesh(path, m, binary, dir, stem, &bin, views, &n_views, &n_images, image_view,
-                 image_names, image_src, &mo[n], &pngs_written, err);
-    mo[n].first_accessor = n_acc;
-    n_acc += 1 + (size_t)mo[n].has_normal + (size_t)mo[n].has_uv + (size_t)mo[n].has_tangent;
-    mo[n].first_index_accessor = n_acc;
-    for (size_t i = 0; i < m->material_count; i++) n_acc += mo[n].mat_tris[i] ? 1 : 0;
-    mo[n].first_material = n_mat;
+  size_t n_acc = 0, n_mat = 0;
+  for (size_t n = 0; n < w->node_count && r == BBC_OK; n++) {
+    const bbc_mesh *m = w->nodes[n].mesh;
+    mesh_out *mo = &w->mo[n];
+    mo->mat_tris = calloc(m->material_count + 1, sizeof *mo->mat_tris);
+    mo->tex_gltf = calloc(m->texture_count + 1, sizeof *mo->tex_gltf);
+    if (!mo->mat_tris || !mo->tex_gltf)
+      return bbc__fail(w->err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", w->path);
+    r = put_mesh(w, m, mo);
+    mo->first_accessor = n_acc;
+    n_acc += 1 + (size_t)mo->has_normal + (size_t)mo->has_uv + (size_t)mo->has_tangent;
+    mo->first_index_accessor = n_acc;
+    for (size_t i = 0; i < m->material_count; i++) n_acc += mo->mat_tris[i] ? 1 : 0;
+    mo->first_material = n_mat;
     n_mat += m->material_count;
   }
-  (void)total_mat;
-  if (r != BBC_OK) goto done;
+  return r;
+}
 
-  /* ---- JSON ---- */
-  gbuf *j = &json;
+/* "asset" (with the caller's extras), "extensionsUsed" and "scene(s)".
+ * Without a LOD chain every node is in the scene. With one, the scene holds
+ * a group node (after the levels) whose children are the levels, named as
+ * engines import LOD groups (<model>_LOD0, _LOD1, ...), and the finest
+ * names the coarser ones through MSFT_lod. */
+static void put_json_scene(gltf_writer *w) {
+  gbuf *j = &w->json;
+  size_t node_count = w->node_count;
   gbuf_puts(j, "{\"asset\":{\"generator\":\"bbcgen " BBC_VERSION_STRING "\",\"version\":\"2.0\"");
-  if (extras) {
+  if (w->extras) {
     gbuf_puts(j, ",\"extras\":");
-    gbuf_puts(j, extras);
+    gbuf_puts(j, w->extras);
   }
   gbuf_puts(j, "},\n");
-  if (lod || unlit)
-    gbuf_printf(j, "\"extensionsUsed\":[%s%s%s],\n", lod ? "\"MSFT_lod\"" : "",
-                lod && unlit ? "," : "", unlit ? "\"KHR_materials_unlit\"" : "");
-  /* Without a LOD chain every node is in the scene. With one, the scene holds
-   * a group node (after the levels) whose children are the levels, named as
-   * engines import LOD groups (<model>_LOD0, _LOD1, ...), and the finest
-   * names the coarser ones through MSFT_lod. */
+  if (w->lod || w->unlit)
+    gbuf_printf(j, "\"extensionsUsed\":[%s%s%s],\n", w->lod ? "\"MSFT_lod\"" : "",
+                w->lod && w->unlit ? "," : "", w->unlit ? "\"KHR_materials_unlit\"" : "");
   gbuf_puts(j, "\"scene\":0,\"scenes\":[{\"nodes\":[");
-  if (lod)
+  if (w->lod)
     gbuf_printf(j, "%zu", node_count);
   else
     for (size_t n = 0; n < node_count; n++) gbuf_printf(j, "%s%zu", n ? "," : "", n);
-  gbuf_puts(j, "]}],\n\"nodes\":[");
+  gbuf_puts(j, "]}],\n");
+}
+
+/* The finest level's MSFT_lod (the coarser levels' nodes) and, with
+ * screen coverages, its extras: MSFT_screencoverage, one value per level,
+ * before whatever the caller's extras `ex` hold. Returns the extras still to
+ * write (NULL once merged). */
+static const char *put_json_lod(gltf_writer *w, const char *ex) {
+  gbuf *j = &w->json;
+  const bbc_gltf_options *options = w->options;
+  gbuf_puts(j, ",\"extensions\":{\"MSFT_lod\":{\"ids\":[");
+  for (size_t k = 1; k < w->node_count; k++) gbuf_printf(j, "%s%zu", k > 1 ? "," : "", k);
+  gbuf_puts(j, "]}}");
+  if (options->screen_coverage) {
+    gbuf_puts(j, ",\"extras\":{\"MSFT_screencoverage\":[");
+    for (size_t k = 0; k < w->node_count; k++) {
+      if (k) gbuf_puts(j, ",");
+      gbuf_number(j, (float)options->screen_coverage[k]);
+    }
+    gbuf_puts(j, "]");
+    if (ex) {
+      const char *body = ex + strspn(ex, " \t\r\n") + 1; /* after '{' */
+      if (*(body + strspn(body, " \t\r\n")) != '}') gbuf_puts(j, ",");
+      gbuf_puts(j, body);
+    } else {
+      gbuf_puts(j, "}");
+    }
+    ex = NULL;
+  }
+  return ex;
+}
+
+/* "nodes": one per mesh, then the LOD group node when there is a chain. */
+static void put_json_nodes(gltf_writer *w) {
+  gbuf *j = &w->json;
+  const bbc_gltf_node *nodes = w->nodes;
+  size_t node_count = w->node_count;
+  gbuf_puts(j, "\"nodes\":[");
   for (size_t n = 0; n < node_count; n++) {
     gbuf_printf(j, "%s\n{\"mesh\":%zu", n ? "," : "", n);
     if (nodes[n].name) {
@@ -566,50 +660,34 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
       gbuf_string(j, nodes[n].name);
     }
     const char *ex = nodes[n].extras_json;
-    if (lod && n == 0) {
-      gbuf_puts(j, ",\"extensions\":{\"MSFT_lod\":{\"ids\":[");
-      for (size_t k = 1; k < node_count; k++) gbuf_printf(j, "%s%zu", k > 1 ? "," : "", k);
-      gbuf_puts(j, "]}}");
-      if (options->screen_coverage) {
-        /* MSFT_screencoverage: one value per level, in the node's extras
-         * before whatever the caller's extras hold. */
-        gbuf_puts(j, ",\"extras\":{\"MSFT_screencoverage\":[");
-        for (size_t k = 0; k < node_count; k++) {
-          if (k) gbuf_puts(j, ",");
-          gbuf_number(j, (float)options->screen_coverage[k]);
-        }
-        gbuf_puts(j, "]");
-        if (ex) {
-          const char *body = ex + strspn(ex, " \t\r\n") + 1; /* after '{' */
-          if (*(body + strspn(body, " \t\r\n")) != '}') gbuf_puts(j, ",");
-          gbuf_puts(j, body);
-        } else {
-          gbuf_puts(j, "}");
-        }
-        ex = NULL;
-      }
-    }
+    if (w->lod && n == 0) ex = put_json_lod(w, ex);
     if (ex) {
       gbuf_puts(j, ",\"extras\":");
       gbuf_puts(j, ex);
     }
     gbuf_puts(j, "}");
   }
-  if (lod) {
+  if (w->lod) {
     gbuf_puts(j, ",\n{\"name\":");
-    gbuf_string(j, options->lod_group_name ? options->lod_group_name : "lod_group");
+    gbuf_string(j, w->options->lod_group_name ? w->options->lod_group_name : "lod_group");
     gbuf_puts(j, ",\"children\":[");
     for (size_t n = 0; n < node_count; n++) gbuf_printf(j, "%s%zu", n ? "," : "", n);
     gbuf_puts(j, "]}");
   }
-  gbuf_puts(j, "],\n\"meshes\":[");
-  for (size_t n = 0; n < node_count; n++) {
-    const bbc_mesh *m = nodes[n].mesh;
-    const mesh_out *o = &mo[n];
+  gbuf_puts(j, "],\n");
+}
+
+/* "meshes": one primitive per material used. */
+static void put_json_meshes(gltf_writer *w) {
+  gbuf *j = &w->json;
+  gbuf_puts(j, "\"meshes\":[");
+  for (size_t n = 0; n < w->node_count; n++) {
+    const bbc_mesh *m = w->nodes[n].mesh;
+    const mesh_out *o = &w->mo[n];
     gbuf_puts(j, n ? ",\n{" : "\n{");
-    if (nodes[n].name) {
+    if (w->nodes[n].name) {
       gbuf_puts(j, "\"name\":");
-      gbuf_string(j, nodes[n].name);
+      gbuf_string(j, w->nodes[n].name);
       gbuf_puts(j, ",");
     }
     gbuf_puts(j, "\"primitives\":[");
@@ -628,10 +706,15 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
     gbuf_puts(j, "]}");
   }
   gbuf_puts(j, "],\n");
+}
 
+/* "materials": every material of every mesh, alpha-masked. */
+static void put_json_materials(gltf_writer *w) {
+  gbuf *j = &w->json;
   gbuf_puts(j, "\"materials\":[");
-  for (size_t n = 0; n < node_count; n++) {
-    const bbc_mesh *m = nodes[n].mesh;
+  for (size_t n = 0; n < w->node_count; n++) {
+    const bbc_mesh *m = w->nodes[n].mesh;
+    const mesh_out *mo = &w->mo[n];
     for (size_t i = 0; i < m->material_count; i++) {
       const bbc_material *mat = &m->materials[i];
       gbuf_puts(j, n || i ? ",\n{\"name\":" : "\n{\"name\":");
@@ -645,41 +728,47 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
       }
       gbuf_puts(j, "]");
       int t = mat->texture;
-      if (t >= 0 && (size_t)t < m->texture_count && mo[n].tex_gltf[t] >= 0)
-        gbuf_printf(j, ",\"baseColorTexture\":{\"index\":%d}", mo[n].tex_gltf[t]);
+      if (t >= 0 && (size_t)t < m->texture_count && mo->tex_gltf[t] >= 0)
+        gbuf_printf(j, ",\"baseColorTexture\":{\"index\":%d}", mo->tex_gltf[t]);
       gbuf_puts(j, ",\"metallicFactor\":0,\"roughnessFactor\":1}");
       int nmt = mat->normal_map - 1;
-      if (nmt >= 0 && mo[n].tex_gltf[nmt] >= 0 && mo[n].has_tangent)
-        gbuf_printf(j, ",\"normalTexture\":{\"index\":%d}", mo[n].tex_gltf[nmt]);
-      if (unlit) gbuf_puts(j, ",\"extensions\":{\"KHR_materials_unlit\":{}}");
+      if (nmt >= 0 && mo->tex_gltf[nmt] >= 0 && mo->has_tangent)
+        gbuf_printf(j, ",\"normalTexture\":{\"index\":%d}", mo->tex_gltf[nmt]);
+      if (w->unlit) gbuf_puts(j, ",\"extensions\":{\"KHR_materials_unlit\":{}}");
       gbuf_printf(j, ",\"alphaMode\":\"MASK\",\"alphaCutoff\":0.5,\"doubleSided\":%s}",
                   mat->single_sided ? "false" : "true");
     }
   }
   gbuf_puts(j, "],\n");
+}
 
-  if (n_images) {
-    gbuf_puts(j, "\"samplers\":[{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":33071,"
-                 "\"wrapT\":33071}],\n\"textures\":[");
-    for (size_t i = 0; i < n_images; i++)
-      gbuf_printf(j, "%s{\"sampler\":0,\"source\":%zu}", i ? "," : "", i);
-    gbuf_puts(j, "],\n\"images\":[");
-    for (size_t i = 0; i < n_images; i++) {
-      if (binary)
-        gbuf_printf(j, "%s{\"bufferView\":%zu,\"mimeType\":\"image/png\"}", i ? "," : "",
-                    image_view[i]);
-      else
-        gbuf_printf(j, "%s{\"uri\":\"%s.png\"}", i ? "," : "", image_names[i]);
-    }
-    gbuf_puts(j, "],\n");
+/* "samplers", "textures" and "images", when there are images. */
+static void put_json_images(gltf_writer *w) {
+  gbuf *j = &w->json;
+  if (!w->n_images) return;
+  gbuf_puts(j, "\"samplers\":[{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":33071,"
+               "\"wrapT\":33071}],\n\"textures\":[");
+  for (size_t i = 0; i < w->n_images; i++)
+    gbuf_printf(j, "%s{\"sampler\":0,\"source\":%zu}", i ? "," : "", i);
+  gbuf_puts(j, "],\n\"images\":[");
+  for (size_t i = 0; i < w->n_images; i++) {
+    if (w->binary)
+      gbuf_printf(j, "%s{\"bufferView\":%zu,\"mimeType\":\"image/png\"}", i ? "," : "",
+                  w->image_view[i]);
+    else
+      gbuf_printf(j, "%s{\"uri\":\"%s.png\"}", i ? "," : "", w->image_names[i]);
   }
+  gbuf_puts(j, "],\n");
+}
 
-  /* Accessors follow the bufferViews one to one, except images. */
+/* "accessors": they follow the bufferViews one to one, except images. */
+static void put_json_accessors(gltf_writer *w) {
+  gbuf *j = &w->json;
   gbuf_puts(j, "\"accessors\":[");
   size_t vi = 0, acc = 0;
-  for (size_t n = 0; n < node_count; n++) {
-    const bbc_mesh *m = nodes[n].mesh;
-    const mesh_out *o = &mo[n];
+  for (size_t n = 0; n < w->node_count; n++) {
+    const bbc_mesh *m = w->nodes[n].mesh;
+    const mesh_out *o = &w->mo[n];
     gbuf_printf(j,
                 "%s\n{\"bufferView\":%zu,\"componentType\":5126,\"count\":%zu,"
                 "\"type\":\"VEC3\",\"min\":[",
@@ -706,79 +795,136 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
                   ",\n{\"bufferView\":%zu,\"componentType\":%d,\"count\":%zu,\"type\":\"SCALAR\"}",
                   vi++, o->small ? 5123 : 5125, 3 * o->mat_tris[i]);
     }
-    if (binary) vi += o->images_written;
+    if (w->binary) vi += o->images_written;
   }
-  gbuf_puts(j, "],\n\"bufferViews\":[");
-  for (size_t i = 0; i < n_views; i++) {
+  gbuf_puts(j, "],\n");
+}
+
+/* "bufferViews" and the one buffer (.gltf: the .bin beside it). */
+static void put_json_buffer(gltf_writer *w) {
+  gbuf *j = &w->json;
+  gbuf_puts(j, "\"bufferViews\":[");
+  for (size_t i = 0; i < w->n_views; i++) {
     gbuf_printf(j, "%s\n{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu", i ? "," : "",
-                views[i].offset, views[i].length);
-    if (views[i].target) gbuf_printf(j, ",\"target\":%d", views[i].target);
+                w->views[i].offset, w->views[i].length);
+    if (w->views[i].target) gbuf_printf(j, ",\"target\":%d", w->views[i].target);
     gbuf_puts(j, "}");
   }
   gbuf_puts(j, "],\n\"buffers\":[{");
-  if (!binary) gbuf_printf(j, "\"uri\":\"%s.bin\",", stem);
-  gbuf_printf(j, "\"byteLength\":%zu}]}\n", bin.size);
-  if (json.oom) {
-    r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
-    goto done;
-  }
+  if (!w->binary) gbuf_printf(j, "\"uri\":\"%s.bin\",", w->stem);
+  gbuf_printf(j, "\"byteLength\":%zu}]}\n", w->bin.size);
+}
 
-  if (binary) {
-    gbuf_pad4(&json, ' ');
-    size_t total = 12 + 8 + json.size + 8 + bin.size;
-    if (total > UINT32_MAX) {
-      r = bbc__fail(err, BBC_ERROR_OUT_OF_RANGE, "%s: %zu bytes: too large for GLB (4 GiB)", path,
-                    total);
-      goto done;
-    }
-    gbuf_append(&out, "glTF", 4);
-    gbuf_u32(&out, 2);
-    gbuf_u32(&out, (uint32_t)total);
-    gbuf_u32(&out, (uint32_t)json.size);
-    gbuf_append(&out, "JSON", 4);
-    gbuf_append(&out, json.data, json.size);
-    gbuf_u32(&out, (uint32_t)bin.size);
-    gbuf_append(&out, "BIN\0", 4);
-    gbuf_append(&out, bin.data, bin.size);
-    if (out.oom) {
-      r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
-      goto done;
-    }
-    r = bbc_write_file_atomic(path, out.data, out.size, err);
-  } else {
-    /* The .bin before the .gltf, so the .gltf never names a missing file. */
-    char full[2600];
-    snprintf(full, sizeof full, "%s%s.bin", dir, stem);
-    r = bbc_write_file_atomic(full, bin.data, bin.size, err);
-    bin_written = r == BBC_OK;
-    if (r == BBC_OK) r = bbc_write_file_atomic(path, json.data, json.size, err);
-  }
-
-done:
-  /* .gltf: a failed write leaves none of its side files behind. */
-  if (r != BBC_OK && !binary) {
-    char full[2600];
-    for (size_t i = 0; i < pngs_written; i++) {
-      snprintf(full, sizeof full, "%s%s.png", dir, image_names[i]);
-      remove(full);
-    }
-    if (bin_written) {
-      snprintf(full, sizeof full, "%s%s.bin", dir, stem);
-      remove(full);
-    }
-  }
-  free(bin.data);
-  free(json.data);
+/* The .glb: header, the JSON chunk (padded with blanks), the BIN chunk. */
+static bbc_result write_glb(gltf_writer *w) {
+  gbuf *json = &w->json, *bin = &w->bin;
+  gbuf out = {0};
+  gbuf_pad4(json, ' ');
+  size_t total = 12 + 8 + json->size + 8 + bin->size;
+  if (total > UINT32_MAX)
+    return bbc__fail(w->err, BBC_ERROR_OUT_OF_RANGE, "%s: %zu bytes: too large for GLB (4 GiB)",
+                     w->path, total);
+  gbuf_append(&out, "glTF", 4);
+  gbuf_u32(&out, 2);
+  gbuf_u32(&out, (uint32_t)total);
+  gbuf_u32(&out, (uint32_t)json->size);
+  gbuf_append(&out, "JSON", 4);
+  gbuf_append(&out, json->data, json->size);
+  gbuf_u32(&out, (uint32_t)bin->size);
+  gbuf_append(&out, "BIN\0", 4);
+  gbuf_append(&out, bin->data, bin->size);
+  bbc_result r;
+  if (out.oom)
+    r = bbc__fail(w->err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", w->path);
+  else
+    r = bbc_write_file_atomic(w->path, out.data, out.size, w->err);
   free(out.data);
-  for (size_t n = 0; mo && n < node_count; n++) {
-    free(mo[n].mat_tris);
-    free(mo[n].tex_gltf);
+  return r;
+}
+
+/* The .gltf and its .bin: the .bin first, so the .gltf never names a
+ * missing file. */
+static bbc_result write_gltf_files(gltf_writer *w) {
+  char full[2600];
+  snprintf(full, sizeof full, "%s%s.bin", w->dir, w->stem);
+  bbc_result r = bbc_write_file_atomic(full, w->bin.data, w->bin.size, w->err);
+  w->bin_written = r == BBC_OK;
+  if (r == BBC_OK) r = bbc_write_file_atomic(w->path, w->json.data, w->json.size, w->err);
+  return r;
+}
+
+/* .gltf: a failed write leaves none of its side files behind. */
+static void remove_side_files(const gltf_writer *w) {
+  char full[2600];
+  for (size_t i = 0; i < w->pngs_written; i++) {
+    snprintf(full, sizeof full, "%s%s.png", w->dir, w->image_names[i]);
+    remove(full);
   }
-  free(mo);
-  free(views);
-  free(image_view);
-  free(image_names);
-  free(image_src);
+  if (w->bin_written) {
+    snprintf(full, sizeof full, "%s%s.bin", w->dir, w->stem);
+    remove(full);
+  }
+}
+
+static void free_writer(gltf_writer *w) {
+  free(w->bin.data);
+  free(w->json.data);
+  for (size_t n = 0; w->mo && n < w->node_count; n++) {
+    free(w->mo[n].mat_tris);
+    free(w->mo[n].tex_gltf);
+  }
+  free(w->mo);
+  free(w->views);
+  free(w->image_view);
+  free(w->image_names);
+  free(w->image_src);
+}
+
+bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, size_t node_count,
+                                const bbc_gltf_options *options, bbc_error *err) {
+  gltf_writer w;
+  memset(&w, 0, sizeof w);
+  w.path = path;
+  w.nodes = nodes;
+  w.node_count = node_count;
+  w.options = options;
+  w.err = err;
+  char ext[16];
+  bbc__path_extension(path, ext, sizeof ext);
+  w.binary = options ? options->binary : !strcmp(ext, "glb");
+  w.extras = options ? options->extras_json : NULL;
+  w.lod = options && options->lod_chain && node_count > 1;
+  w.unlit = options && options->unlit;
+  size_t total_views = 0, total_tex = 0;
+  bbc_result r = check_scene(&w, ext, &total_views, &total_tex);
+  if (r != BBC_OK) return r;
+
+  char stem[256], dir[2048];
+  safe_stem(path, stem, sizeof stem);
+  bbc__path_folder(path, dir, sizeof dir);
+  w.stem = stem;
+  w.dir = dir;
+  w.mo = calloc(node_count, sizeof *w.mo);
+  w.views = calloc(total_views, sizeof *w.views);
+  w.image_view = calloc(total_tex + 1, sizeof *w.image_view);
+  w.image_names = calloc(total_tex + 1, sizeof *w.image_names);
+  w.image_src = calloc(total_tex + 1, sizeof *w.image_src);
+  if (!w.mo || !w.views || !w.image_view || !w.image_names || !w.image_src)
+    r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+  if (r == BBC_OK) r = lay_out_buffer(&w);
+  if (r == BBC_OK) {
+    put_json_scene(&w);
+    put_json_nodes(&w);
+    put_json_meshes(&w);
+    put_json_materials(&w);
+    put_json_images(&w);
+    put_json_accessors(&w);
+    put_json_buffer(&w);
+    if (w.json.oom) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+  }
+  if (r == BBC_OK) r = w.binary ? write_glb(&w) : write_gltf_files(&w);
+  if (r != BBC_OK && !w.binary) remove_side_files(&w);
+  free_writer(&w);
   return r;
 }
 

@@ -29,33 +29,12 @@ bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m, bbc_error
   return bbc_mesh_write_obj_ex(obj_path, m, NULL, 0, err);
 }
 
-bbc_result bbc_mesh_write_obj_ex(const char *obj_path, const bbc_mesh *m, const char *comment,
-                                 int unlit, bbc_error *err) {
-  size_t len = strlen(obj_path);
-  if (len < 5 || strcasecmp(obj_path + len - 4, ".obj"))
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: OBJ output must end in .obj", obj_path);
-  if (m->kind != BBC_MESH_TRIANGLES || m->triangle_count == 0)
-    return bbc__fail(err, BBC_ERROR_EMPTY, "%s: nothing to write (no triangles)", obj_path);
-
-  char stem[256], dir[2048];
-  /* The MTL and PNG names: the OBJ's stem with bytes outside
-   * [A-Za-z0-9_.-] as '_', since `mtllib` and `map_Kd` split at spaces
-   * (an OBJ named "my tree.obj" gets my_tree.mtl, my_tree_billboards.png). */
-  char raw_stem[256];
-  path_stem(obj_path, raw_stem, sizeof raw_stem);
-  bbc__safe_name(raw_stem, stem, sizeof stem);
-  bbc__path_folder(obj_path, dir, sizeof dir);
-
-  /* Texture file names: bbc_texture_file_name's rule. */
-  char(*tex_names)[520] = calloc(m->texture_count ? m->texture_count : 1, sizeof *tex_names);
-  /* Files written so far: removed again when a later one fails. */
-  char(*written)[2600] = calloc(m->texture_count + 1, sizeof *written);
-  size_t n_written = 0;
-  if (!tex_names || !written) {
-    free(tex_names);
-    free(written);
-    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", obj_path);
-  }
+/* The decoded textures the materials use, as <stem>_<name>.png beside the
+ * OBJ (bbc_texture_file_name's rule): tex_names gets each file's name,
+ * written (n_written) each file's path. */
+static bbc_result write_textures(const bbc_mesh *m, const char *stem, const char *dir,
+                                 char (*tex_names)[520], char (*written)[2600], size_t *n_written,
+                                 bbc_error *err) {
   bbc_result r = BBC_OK;
   for (size_t i = 0; i < m->material_count && r == BBC_OK; i++) {
     int t = m->materials[i].texture;
@@ -66,22 +45,18 @@ bbc_result bbc_mesh_write_obj_ex(const char *obj_path, const bbc_mesh *m, const 
     char full[2600];
     snprintf(full, sizeof full, "%s%s", dir, tex_names[t]);
     r = bbc_image_write_png(full, &m->textures[t].image, err);
-    if (r == BBC_OK) memcpy(written[n_written++], full, sizeof full);
+    if (r == BBC_OK) memcpy(written[(*n_written)++], full, sizeof full);
   }
-  if (r != BBC_OK) {
-    free(tex_names);
-    goto fail;
-  }
+  return r;
+}
 
-  /* MTL */
-  char mtl_path[2400];
-  snprintf(mtl_path, sizeof mtl_path, "%s%s.mtl", dir, stem);
+/* The MTL: each material's colour, opacity and textures (map_d too when the
+ * texture has alpha); illum 0 when unlit. */
+static bbc_result write_mtl(const char *mtl_path, const bbc_mesh *m, char (*tex_names)[520],
+                            int unlit, bbc_error *err) {
   bbc__atomic_file af;
-  r = bbc__atomic_open(&af, mtl_path, err);
-  if (r != BBC_OK) {
-    free(tex_names);
-    goto fail;
-  }
+  bbc_result r = bbc__atomic_open(&af, mtl_path, err);
+  if (r != BBC_OK) return r;
   fprintf(af.fp, "# written by bbcgen %s\n", BBC_VERSION_STRING);
   for (size_t i = 0; i < m->material_count; i++) {
     const bbc_material *mat = &m->materials[i];
@@ -97,29 +72,13 @@ bbc_result bbc_mesh_write_obj_ex(const char *obj_path, const bbc_mesh *m, const 
         fprintf(af.fp, "map_d %s\n", tex_names[mat->texture]);
     }
   }
-  free(tex_names);
-  r = bbc__atomic_commit(&af, err);
-  if (r != BBC_OK) goto fail;
-  snprintf(written[n_written++], sizeof written[0], "%s", mtl_path);
+  return bbc__atomic_commit(&af, err);
+}
 
-  /* OBJ */
-  r = bbc__atomic_open(&af, obj_path, err);
-  if (r != BBC_OK) goto fail;
-  FILE *f = af.fp;
-  fprintf(f, "# written by bbcgen %s: %zu vertices, %zu triangles\nmtllib %s.mtl\n",
-          BBC_VERSION_STRING, m->vertex_count, m->triangle_count, stem);
-  put_comment(f, comment);
-  for (size_t v = 0; v < m->vertex_count; v++) {
-    const double *p = m->positions + 3 * v;
-    fprintf(f, "v %.9g %.9g %.9g\n", p[0], p[1], p[2]);
-  }
-  if (m->uvs)
-    for (size_t v = 0; v < m->vertex_count; v++)
-      fprintf(f, "vt %.7g %.7g\n", m->uvs[2 * v], m->uvs[2 * v + 1]);
-  if (m->normals)
-    for (size_t v = 0; v < m->vertex_count; v++)
-      fprintf(f, "vn %.6g %.6g %.6g\n", m->normals[3 * v], m->normals[3 * v + 1],
-              m->normals[3 * v + 2]);
+/* The faces in mesh order: a group line whenever the group changes, a
+ * usemtl line whenever the material does (restated inside each group);
+ * corners name their vt and vn when the mesh has them. */
+static void put_faces(FILE *f, const bbc_mesh *m) {
   uint32_t cur_group = UINT32_MAX, cur_mat = UINT32_MAX;
   for (size_t t = 0; t < m->triangle_count; t++) {
     if (m->face_group[t] != cur_group) {
@@ -150,13 +109,72 @@ bbc_result bbc_mesh_write_obj_ex(const char *obj_path, const bbc_mesh *m, const 
     }
     fputc('\n', f);
   }
-  r = bbc__atomic_commit(&af, err);
-  if (r == BBC_OK) {
-    free(written);
-    return BBC_OK;
+}
+
+/* The OBJ: a header naming the MTL, the caller's comment, the vertices,
+ * texture coordinates and normals, then the faces. */
+static bbc_result write_obj_file(const char *obj_path, const bbc_mesh *m, const char *stem,
+                                 const char *comment, bbc_error *err) {
+  bbc__atomic_file af;
+  bbc_result r = bbc__atomic_open(&af, obj_path, err);
+  if (r != BBC_OK) return r;
+  FILE *f = af.fp;
+  fprintf(f, "# written by bbcgen %s: %zu vertices, %zu triangles\nmtllib %s.mtl\n",
+          BBC_VERSION_STRING, m->vertex_count, m->triangle_count, stem);
+  put_comment(f, comment);
+  for (size_t v = 0; v < m->vertex_count; v++) {
+    const double *p = m->positions + 3 * v;
+    fprintf(f, "v %.9g %.9g %.9g\n", p[0], p[1], p[2]);
   }
-fail:
-  for (size_t i = 0; i < n_written; i++) remove(written[i]);
+  if (m->uvs)
+    for (size_t v = 0; v < m->vertex_count; v++)
+      fprintf(f, "vt %.7g %.7g\n", m->uvs[2 * v], m->uvs[2 * v + 1]);
+  if (m->normals)
+    for (size_t v = 0; v < m->vertex_count; v++)
+      fprintf(f, "vn %.6g %.6g %.6g\n", m->normals[3 * v], m->normals[3 * v + 1],
+              m->normals[3 * v + 2]);
+  put_faces(f, m);
+  return bbc__atomic_commit(&af, err);
+}
+
+bbc_result bbc_mesh_write_obj_ex(const char *obj_path, const bbc_mesh *m, const char *comment,
+                                 int unlit, bbc_error *err) {
+  size_t len = strlen(obj_path);
+  if (len < 5 || strcasecmp(obj_path + len - 4, ".obj"))
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: OBJ output must end in .obj", obj_path);
+  if (m->kind != BBC_MESH_TRIANGLES || m->triangle_count == 0)
+    return bbc__fail(err, BBC_ERROR_EMPTY, "%s: nothing to write (no triangles)", obj_path);
+
+  char stem[256], dir[2048];
+  /* The MTL and PNG names: the OBJ's stem with bytes outside
+   * [A-Za-z0-9_.-] as '_', since `mtllib` and `map_Kd` split at spaces
+   * (an OBJ named "my tree.obj" gets my_tree.mtl, my_tree_billboards.png). */
+  char raw_stem[256];
+  path_stem(obj_path, raw_stem, sizeof raw_stem);
+  bbc__safe_name(raw_stem, stem, sizeof stem);
+  bbc__path_folder(obj_path, dir, sizeof dir);
+
+  /* Texture file names: bbc_texture_file_name's rule. */
+  char(*tex_names)[520] = calloc(m->texture_count ? m->texture_count : 1, sizeof *tex_names);
+  /* Files written so far: removed again when a later one fails. */
+  char(*written)[2600] = calloc(m->texture_count + 1, sizeof *written);
+  size_t n_written = 0;
+  if (!tex_names || !written) {
+    free(tex_names);
+    free(written);
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", obj_path);
+  }
+  bbc_result r = write_textures(m, stem, dir, tex_names, written, &n_written, err);
+  char mtl_path[2400];
+  snprintf(mtl_path, sizeof mtl_path, "%s%s.mtl", dir, stem);
+  if (r == BBC_OK) r = write_mtl(mtl_path, m, tex_names, unlit, err);
+  free(tex_names);
+  if (r == BBC_OK) {
+    snprintf(written[n_written++], sizeof written[0], "%s", mtl_path);
+    r = write_obj_file(obj_path, m, stem, comment, err);
+  }
+  if (r != BBC_OK)
+    for (size_t i = 0; i < n_written; i++) remove(written[i]);
   free(written);
   return r;
 }

@@ -224,8 +224,11 @@ static void put_side(text *t, const vrml_ctx *x, size_t k, int back, size_t base
   }
 }
 
-bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, int format,
-                                const char *comment, bbc_error *err) {
+/* The request: a NAME.wrl path, a cloud, and format 0 or 1 with the
+ * BBC_VRML_UNLIT and BBC_VRML_DDS flags (taken off *format into *unlit and
+ * *dds). */
+static bbc_result check_request(const char *wrl_path, const bbc_cloud *cloud, int *format,
+                                int *unlit, int *dds, bbc_error *err) {
   if (!wrl_path || !cloud)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "VRML output: no path or no cloud");
   char ext[8];
@@ -233,12 +236,21 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
   const char *base_name = strrchr(wrl_path, '/') ? strrchr(wrl_path, '/') + 1 : wrl_path;
   if (strcmp(ext, "wrl") || strlen(base_name) <= 4)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: VRML output must be NAME.wrl", wrl_path);
-  int unlit = (format & BBC_VRML_UNLIT) != 0, dds = (format & BBC_VRML_DDS) != 0;
-  format &= ~(BBC_VRML_UNLIT | BBC_VRML_DDS);
-  if (format != 0 && format != 1)
+  *unlit = (*format & BBC_VRML_UNLIT) != 0;
+  *dds = (*format & BBC_VRML_DDS) != 0;
+  *format &= ~(BBC_VRML_UNLIT | BBC_VRML_DDS);
+  if (*format != 0 && *format != 1)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "%s: VRML format must be 0 (VRML 2.0 with extensions) or 1 (VRML97), not %d",
-                     wrl_path, format);
+                     wrl_path, *format);
+  return BBC_OK;
+}
+
+/* The cloud has billboards and a mesh with its colour atlas, and the normal
+ * atlas when its material names one; *nm is that normal atlas when the
+ * format writes it (format 0), else NULL. */
+static bbc_result check_atlases(const char *wrl_path, const bbc_cloud *cloud, int format,
+                                const bbc_image **nm, bbc_error *err) {
   const bbc_mesh *m = &cloud->mesh;
   if (cloud->billboard_count == 0 || !cloud->billboards)
     return bbc__fail(err, BBC_ERROR_EMPTY, "%s: the cloud has no billboards", wrl_path);
@@ -247,17 +259,23 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "%s: the cloud has no mesh with a colour atlas", wrl_path);
   const bbc_material *mat = &m->materials[0];
-  const bbc_image *nm = NULL;
+  *nm = NULL;
   if (mat->normal_map == 2) {
     if (m->texture_count < 2 || !m->textures[1].image.rgba)
       return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: the cloud's normal atlas is missing",
                        wrl_path);
-    nm = &m->textures[1].image;
+    *nm = &m->textures[1].image;
   }
-  if ((format & ~(BBC_VRML_UNLIT | BBC_VRML_DDS)) == 1) nm = NULL; /* VRML97: no normal maps */
-  int sides = mat->single_sided ? 2 : 1;
+  if ((format & ~(BBC_VRML_UNLIT | BBC_VRML_DDS)) == 1) *nm = NULL; /* VRML97: no normal maps */
+  return BBC_OK;
+}
 
-  /* The mesh must hold, per billboard and side, its outline's fan. */
+/* The mesh must hold, per billboard and side, its outline's fan, then the
+ * limbs' mesh (`limbs`): the remaining triangles, on the remaining
+ * vertices. *fan_triangles: the triangles of the fans. */
+static bbc_result check_layout(const char *wrl_path, const bbc_cloud *cloud, int sides,
+                               size_t *fan_triangles, bbc_error *err) {
+  const bbc_mesh *m = &cloud->mesh;
   size_t nv = 0, nt = 0;
   for (size_t k = 0; k < cloud->billboard_count; k++) {
     int n = cloud->billboards[k].corner_count;
@@ -280,8 +298,6 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
       nv += (size_t)n;
     }
   }
-  /* Then the limbs' mesh (`limbs`): the remaining triangles, on the
-   * remaining vertices. */
   for (size_t i = 3 * nt; i < 3 * m->triangle_count; i++)
     if (m->indices[i] < nv || m->indices[i] >= m->vertex_count)
       return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
@@ -296,11 +312,136 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
       (cloud->limb_triangles == 0) != (m->vertex_count == nv))
     return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY,
                      "%s: the cloud's mesh has more than its billboards", wrl_path);
+  *fan_triangles = nt;
+  return BBC_OK;
+}
 
+/* The header comments: what the file is, the caller's comment (each line
+ * a comment), the format, the sides and the atlases. */
+static void put_header(text *t, const bbc_cloud *cloud, const char *comment, int format, int sides,
+                       const bbc_image *nm, int unlit) {
+  const bbc_mesh *m = &cloud->mesh;
+  put(t, "#VRML V2.0 utf8\n");
+  put(t, "# Billboard Cloud: %zu billboards, written by bbcgen " BBC_VERSION_STRING "\n",
+      cloud->billboard_count);
+  for (const char *p = comment; p && *p;) {
+    size_t n = strcspn(p, "\r\n");
+    put(t, n ? "# " : "#");
+    put_line_text(t, p, n);
+    put(t, "\n");
+    p += n;
+    if (*p == '\r' && p[1] == '\n') p++;
+    if (*p) p++;
+  }
+  put(t, "# format %d (%s); %s; atlas %dx%d%s%s\n", format,
+      format ? "VRML97" : "VRML 2.0 with extensions",
+      sides == 2 ? "front and back images, one-sided" : "one image, double-sided",
+      m->textures[0].image.width, m->textures[0].image.height, nm ? ", normal atlas" : "",
+      unlit ? "; unlit (no Material: the textures carry the light)" : "");
+}
+
+/* The Shapes' common settings and the atlases' file name suffixes. */
+static void init_ctx(vrml_ctx *x, const bbc_mesh *m, const char *stem, int format, int unlit,
+                     int dds, const bbc_image *nm, int sides) {
+  memset(x, 0, sizeof *x);
+  x->m = m;
+  x->stem = stem;
+  x->unlit = unlit;
+  x->nm_nodes = format == 0 && nm;
+  x->solid = sides == 2;
+  char name[160];
+  bbc_texture_file_name(m, 0, name, sizeof name);
+  snprintf(x->col_suffix, sizeof x->col_suffix, "_%s.png", name);
+  if (dds && bbc_image_has_transparency(&m->textures[0].image))
+    snprintf(x->dds_suffix, sizeof x->dds_suffix, "_%s.dds", name);
+  bbc_texture_file_name(m, 1, name, sizeof name);
+  snprintf(x->nm_suffix, sizeof x->nm_suffix, "_%s.png", name);
+}
+
+/* Every billboard's sides, in order; returns the vertices they take. */
+static size_t put_billboards(text *t, const vrml_ctx *x, const bbc_cloud *cloud, int sides) {
+  const bbc_mesh *m = x->m;
+  size_t v = 0;
+  for (size_t k = 0; k < cloud->billboard_count; k++) {
+    const bbc_cloud_billboard *b = &cloud->billboards[k];
+    put(t, "\n# billboard %zu: %s plane, part %u", k, bbc_plane_kind_name(b->kind),
+        (unsigned)b->part);
+    if (b->part < m->group_count && m->group_names && m->group_names[b->part]) {
+      const char *g = m->group_names[b->part];
+      put(t, " (");
+      put_line_text(t, g, strlen(g));
+      put(t, ")");
+    }
+    put(t, ", %d corners\n", b->corner_count);
+    for (int side = 0; side < sides; side++) {
+      put_side(t, x, k, side, v, b->corner_count);
+      v += (size_t)b->corner_count;
+    }
+  }
+  return v;
+}
+
+/* The images first (DDS, PNGs), the .wrl last; a failed write leaves none
+ * of its images behind. `png` (png_size bytes) holds each image's path. */
+static bbc_result write_files(const char *wrl_path, const char *dir, char *png, size_t png_size,
+                              const vrml_ctx *x, const bbc_image *nm, const text *t,
+                              bbc_error *err) {
+  const bbc_mesh *m = x->m;
+  const char *stem = x->stem;
+  bbc_result r = BBC_OK;
+  int dds_written = 0;
+  if (x->dds_suffix[0]) {
+    snprintf(png, png_size, "%s%s%s", dir, stem, x->dds_suffix);
+    r = bbc_image_write_dds(png, &m->textures[0].image, err);
+    dds_written = r == BBC_OK;
+  }
+  int written = 0;
+  if (r == BBC_OK) {
+    snprintf(png, png_size, "%s%s%s", dir, stem, x->col_suffix);
+    r = bbc_image_write_png(png, &m->textures[0].image, err);
+    written = r == BBC_OK;
+  }
+  if (r == BBC_OK && nm) {
+    snprintf(png, png_size, "%s%s%s", dir, stem, x->nm_suffix);
+    r = bbc_image_write_png(png, nm, err);
+    written += r == BBC_OK;
+  }
+  if (r == BBC_OK) r = bbc_write_file_atomic(wrl_path, t->data, t->size, err);
+  if (r != BBC_OK) {
+    if (dds_written) {
+      snprintf(png, png_size, "%s%s%s", dir, stem, x->dds_suffix);
+      remove(png);
+    }
+    if (written >= 1) {
+      snprintf(png, png_size, "%s%s%s", dir, stem, x->col_suffix);
+      remove(png);
+    }
+    if (written >= 2) {
+      snprintf(png, png_size, "%s%s%s", dir, stem, x->nm_suffix);
+      remove(png);
+    }
+  }
+  return r;
+}
+
+bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, int format,
+                                const char *comment, bbc_error *err) {
+  int unlit = 0, dds = 0;
+  bbc_result r = check_request(wrl_path, cloud, &format, &unlit, &dds, err);
+  if (r != BBC_OK) return r;
+  const bbc_mesh *m = &cloud->mesh;
+  const bbc_image *nm = NULL;
+  r = check_atlases(wrl_path, cloud, format, &nm, err);
+  if (r != BBC_OK) return r;
+  int sides = m->materials[0].single_sided ? 2 : 1;
+  size_t nt = 0;
+  r = check_layout(wrl_path, cloud, sides, &nt, err);
+  if (r != BBC_OK) return r;
+
+  const char *base_name = strrchr(wrl_path, '/') ? strrchr(wrl_path, '/') + 1 : wrl_path;
   size_t len = strlen(wrl_path), stem_len = strlen(base_name) - 4;
   char *dir = malloc(len + 1), *stem = malloc(stem_len + 1), *png = malloc(len + 200);
   text t = {0};
-  bbc_result r = BBC_OK;
   if (!dir || !stem || !png) {
     r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", wrl_path);
     goto done;
@@ -309,101 +450,22 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, in
   memcpy(stem, base_name, stem_len);
   stem[stem_len] = 0;
 
-  /* Header. */
-  put(&t, "#VRML V2.0 utf8\n");
-  put(&t, "# Billboard Cloud: %zu billboards, written by bbcgen " BBC_VERSION_STRING "\n",
-      cloud->billboard_count);
-  for (const char *p = comment; p && *p;) {
-    size_t n = strcspn(p, "\r\n");
-    put(&t, n ? "# " : "#");
-    put_line_text(&t, p, n);
-    put(&t, "\n");
-    p += n;
-    if (*p == '\r' && p[1] == '\n') p++;
-    if (*p) p++;
-  }
-  put(&t, "# format %d (%s); %s; atlas %dx%d%s%s\n", format,
-      format ? "VRML97" : "VRML 2.0 with extensions",
-      sides == 2 ? "front and back images, one-sided" : "one image, double-sided",
-      m->textures[0].image.width, m->textures[0].image.height, nm ? ", normal atlas" : "",
-      unlit ? "; unlit (no Material: the textures carry the light)" : "");
+  put_header(&t, cloud, comment, format, sides, nm, unlit);
   vrml_ctx x;
-  memset(&x, 0, sizeof x);
-  x.m = m;
-  x.stem = stem;
-  x.unlit = unlit;
-  x.nm_nodes = format == 0 && nm;
-  x.solid = sides == 2;
-  char name[160];
-  bbc_texture_file_name(m, 0, name, sizeof name);
-  snprintf(x.col_suffix, sizeof x.col_suffix, "_%s.png", name);
-  if (dds && bbc_image_has_transparency(&m->textures[0].image))
-    snprintf(x.dds_suffix, sizeof x.dds_suffix, "_%s.dds", name);
-  bbc_texture_file_name(m, 1, name, sizeof name);
-  snprintf(x.nm_suffix, sizeof x.nm_suffix, "_%s.png", name);
+  init_ctx(&x, m, stem, format, unlit, dds, nm, sides);
   if (x.nm_nodes) {
     put(&t, "# NormalMap: the normal atlas (tangent space) of the Shape beside it; a no-op\n"
             "# for VRML97 readers.\n");
     put(&t, "PROTO NormalMap [ exposedField MFString url [] ] { Group { } }\n");
   }
-
   /* Billboards, then the limbs. */
-  size_t v = 0;
-  for (size_t k = 0; k < cloud->billboard_count; k++) {
-    const bbc_cloud_billboard *b = &cloud->billboards[k];
-    put(&t, "\n# billboard %zu: %s plane, part %u", k, bbc_plane_kind_name(b->kind),
-        (unsigned)b->part);
-    if (b->part < m->group_count && m->group_names && m->group_names[b->part]) {
-      const char *g = m->group_names[b->part];
-      put(&t, " (");
-      put_line_text(&t, g, strlen(g));
-      put(&t, ")");
-    }
-    put(&t, ", %d corners\n", b->corner_count);
-    for (int side = 0; side < sides; side++) {
-      put_side(&t, &x, k, side, v, b->corner_count);
-      v += (size_t)b->corner_count;
-    }
-  }
+  size_t v = put_billboards(&t, &x, cloud, sides);
   if (cloud->limb_triangles) put_limbs(&t, &x, v, nt);
   if (t.oom) {
     r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", wrl_path);
     goto done;
   }
-
-  /* The images first (DDS, PNGs), the .wrl last. */
-  int dds_written = 0;
-  if (x.dds_suffix[0]) {
-    snprintf(png, len + 200, "%s%s%s", dir, stem, x.dds_suffix);
-    r = bbc_image_write_dds(png, &m->textures[0].image, err);
-    dds_written = r == BBC_OK;
-  }
-  int written = 0;
-  if (r == BBC_OK) {
-    snprintf(png, len + 200, "%s%s%s", dir, stem, x.col_suffix);
-    r = bbc_image_write_png(png, &m->textures[0].image, err);
-    written = r == BBC_OK;
-  }
-  if (r == BBC_OK && nm) {
-    snprintf(png, len + 200, "%s%s%s", dir, stem, x.nm_suffix);
-    r = bbc_image_write_png(png, nm, err);
-    written += r == BBC_OK;
-  }
-  if (r == BBC_OK) r = bbc_write_file_atomic(wrl_path, t.data, t.size, err);
-  if (r != BBC_OK) { /* a failed write leaves none of its images behind */
-    if (dds_written) {
-      snprintf(png, len + 200, "%s%s%s", dir, stem, x.dds_suffix);
-      remove(png);
-    }
-    if (written >= 1) {
-      snprintf(png, len + 200, "%s%s%s", dir, stem, x.col_suffix);
-      remove(png);
-    }
-    if (written >= 2) {
-      snprintf(png, len + 200, "%s%s%s", dir, stem, x.nm_suffix);
-      remove(png);
-    }
-  }
+  r = write_files(wrl_path, dir, png, len + 200, &x, nm, &t, err);
 
 done:
   free(t.data);

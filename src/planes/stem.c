@@ -27,14 +27,14 @@
  *     the axis, 180/n degrees apart, each baked with a slab as thick as the
  *     stem, so that from any side one of them is within 90/n degrees of
  *     facing the viewer and shows the whole stem (a trunk on one or two
- *     planes is a line from the side those planes are seen edge-on).
+ *     planes is a line from the side those planes are seen edge-on, and
+ *     where it is thicker than their slab its middle is cut away).
  *
  * The two views have their own bases (a slice of face centroids, and faces
  * reaching into the lowest 5 % weighted by area), and their own centroid
  * arithmetic: they give different numbers, and each user's result is kept
  * exactly as it is. What they share is the rule for the up axis.
  */
-#include "dual.h"
 #include "planes.h"
 
 #include <math.h>

@@ -4,6 +4,7 @@
  * 2.3.9, 2.3.11). */
 #include "cloud.h"
 #include "dual.h"
+#include "planes.h"
 #include "raster.h"
 
 #include <math.h>

@@ -17,28 +17,6 @@ bbc_result bbc__cloud_build_rects(const bbc_mesh *mesh, const bbc_planeset *set,
 /* Texels of all images for rectangles rects[n] at resolution texres. */
 size_t bbc__cloud_texels(const bbc_billboard *rects, size_t n, int texres, int sides);
 
-/* ---- the stem's billboards (src/core/stem.c) -------------------------------- */
-#define BBC__STEM_MAX 8
-typedef struct bbc__stem {
-  size_t count;                       /* planes; 0 = no stem (no trunk part, or none found) */
-  bbc_plane planes[BBC__STEM_MAX];    /* kind BBC_PLANE_STEM, part = the trunk part */
-  bbc_billboard rects[BBC__STEM_MAX]; /* the stem faces' bounds on each (plane UINT32_MAX) */
-  double slab[BBC__STEM_MAX];         /* half the thickness of each one's slab: all the
-                                       * stem faces lie inside */
-  uint8_t *face_mask;                 /* per triangle: 1 = a stem face */
-  size_t face_count;
-  double axis[3], base[3], base_radius; /* the axis (unit, up), base centre, radius */
-} bbc__stem;
-
-/* The trunk part's stem (the part named "trunk"): base = its faces in the
- * lowest 5 % of its height, axis = principal direction of its faces within
- * 2.5 base radii of the axis (refined twice from the up axis), and
- * `planes` planes through the axis. out->count = 0 when there is no trunk
- * part or it leans more than 60 degrees. Free with bbc__stem_free. */
-bbc_result bbc__stem_find(const bbc_mesh *mesh, const bbc_planeset *set, int planes, int up_axis,
-                          bbc__stem *out, bbc_error *err);
-void bbc__stem_free(bbc__stem *stem);
-
 /* ---- the trunk part as a mesh (src/core/limbs.c) ------------------------------ */
 /* The faces no plane simplifies (set->face_plane BBC_NO_PLANE: the trunk
  * part with `limbs`), welded and simplified to at most `target` triangles,

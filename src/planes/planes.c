@@ -1,13 +1,16 @@
 /*
  * planes.c — bbc_planes_find: steps 1 and 2 over the parts of a model.
- * Reads like the thesis's list of steps; the algorithms live in
- * dualgrid.c (step 1) and select.c (step 2).
+ * Reads like the thesis's list of steps; the algorithms live in parts.c,
+ * parts_geometry.c and stem.c (the split), dualgrid.c (step 1: the dual
+ * grid), select.c, cluster.c, tweak.c and merge.c (step 2: select, cluster,
+ * tweak, merge).
  *
  *   1. split the faces into parts (trunk / foliage, thesis 2.2.4, 3.1.1);
  *   2. per part: its own parameters, epsilon in percent of the WHOLE model's
  *      radius, its own centre of gravity as the grid centre (2.1.4);
  *      step 1: dual grid and density; step 2: greedy select;
- *   3. merge: planes back to the model's frame, one face -> plane table.
+ *   3. the parts' planes together: back to the model's frame, one face ->
+ *      plane table.
  */
 #include "grid.h"
 #include "planes.h"
@@ -21,8 +24,8 @@
 
 /* Two triangles of a part join into one face for steps 1 and 2 when they
  * bend by less than this times the part's radius (1.7 % of epsilon at the
- * default 6 %, 0.1 at 1 %): the folded quads of modelled needles and
- * leaves: 62 % of the Scopia pine's needle quads. */
+ * default 6 %, 0.1 at 1 %): modelled needles and leaves are often quads
+ * folded that little. */
 #define FLAT_TOL 1e-3
 
 void bbc_planes_options_default(bbc_planes_options *o) {
@@ -231,28 +234,13 @@ bbc_result bbc_grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc
   return r;
 }
 
-static bbc_result grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_grid **out,
-                             bbc_error *err) {
-  *out = NULL;
+/* Splits the model into parts (a point cloud is one) into g->face_part,
+ * their names into names; warns of part parameters for parts the model
+ * does not have. */
+static bbc_result grid_split(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_grid *g,
+                             char names[2][32], bbc_error *err) {
   int points = mesh->kind == BBC_MESH_POINTS;
-  if ((!points && mesh->kind != BBC_MESH_TRIANGLES) ||
-      (points ? mesh->vertex_count : mesh->triangle_count) == 0)
-    return bbc__fail(err, BBC_ERROR_EMPTY, "plane selection: the model has no %s",
-                     points ? "points" : "triangles");
-  if (points && mesh->vertex_count > UINT32_MAX)
-    return bbc__fail(err, BBC_ERROR_OUT_OF_RANGE, "plane selection: more than 2^32 points");
-  bbc_grid *g = calloc(1, sizeof *g);
-  /* "faces": a point cloud's points (thesis 2.4) */
-  size_t nf = points ? mesh->vertex_count : mesh->triangle_count;
-  if (g) g->face_part = malloc(nf * sizeof *g->face_part);
-  if (!g || !g->face_part) {
-    bbc_grid_free(g);
-    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
-  }
-  bbc__planes_options_copy(&g->options, g->text, o);
-  g->face_count = nf;
-  g->mesh_radius = mesh->radius;
-  char names[2][32];
+  size_t nf = g->face_count;
   bbc_split_options split = o->split;
   split.up_axis = o->params.up_axis;
   split.all_trunk_by_geometry = o->params.limbs > 0; /* a leafless tree: limbs and twigs */
@@ -278,54 +266,85 @@ static bbc_result grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, 
                o->part_overrides[i].part, names[0], g->part_count > 1 ? " and " : "",
                g->part_count > 1 ? names[1] : "");
   }
-  for (size_t pi = 0; r == BBC_OK && pi < g->part_count; pi++) {
-    grid_part *gp = &g->part[pi];
-    snprintf(gp->name, sizeof gp->name, "%s", names[pi]);
-    gp->params = part_params(&g->options, gp->name);
-    for (size_t t = 0; t < nf; t++) gp->n += g->face_part[t] == pi;
-    if (!points && gp->params->limbs > 0 && g->part_count > 1 && !strcmp(gp->name, "trunk")) {
-      gp->meshed = gp->n; /* limbs: no planes; step 3 keeps these faces as a mesh */
-      gp->n = 0;
-    }
-    if (!gp->n) continue;
-    gp->tris = malloc(gp->n * sizeof *gp->tris);
-    if (!gp->tris) {
-      r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
-      break;
-    }
-    size_t n = 0;
-    for (size_t t = 0; t < nf; t++)
-      if (g->face_part[t] == pi) gp->tris[n++] = (uint32_t)t;
-    if (points)
-      points_frame(mesh, gp->center, &gp->radius, &gp->total_area);
-    else
-      part_frame(mesh, gp->tris, n, gp->center, &gp->radius, &gp->total_area);
-    float *normals = NULL; /* pointnormals: the file's, else estimated */
-    if (points && gp->params->point_normals) {
-      if (mesh->normals) {
-        normals = mesh->normals;
-      } else {
-        normals = malloc(mesh->vertex_count * 3 * sizeof *normals);
-        if (!normals) {
-          r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
-          break;
-        }
-        r = bbc_point_normals(mesh, gp->params->threads, normals, err);
-        if (r != BBC_OK) {
-          free(normals);
-          break;
-        }
+  return r;
+}
+
+/* Part pi of the grid (name `name`): its parameters, triangles, frame and
+ * faces in dual form (a point cloud's points, with pointnormals the
+ * file's normals, else estimated ones). */
+static bbc_result grid_part_faces(const bbc_mesh *mesh, bbc_grid *g, size_t pi, const char *name,
+                                  bbc_error *err) {
+  int points = mesh->kind == BBC_MESH_POINTS;
+  size_t nf = g->face_count;
+  grid_part *gp = &g->part[pi];
+  snprintf(gp->name, sizeof gp->name, "%s", name);
+  gp->params = part_params(&g->options, gp->name);
+  for (size_t t = 0; t < nf; t++) gp->n += g->face_part[t] == pi;
+  if (!points && gp->params->limbs > 0 && g->part_count > 1 && !strcmp(gp->name, "trunk")) {
+    gp->meshed = gp->n; /* limbs: no planes; step 3 keeps these faces as a mesh */
+    gp->n = 0;
+  }
+  if (!gp->n) return BBC_OK;
+  gp->tris = malloc(gp->n * sizeof *gp->tris);
+  if (!gp->tris) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
+  size_t n = 0;
+  for (size_t t = 0; t < nf; t++)
+    if (g->face_part[t] == pi) gp->tris[n++] = (uint32_t)t;
+  if (points)
+    points_frame(mesh, gp->center, &gp->radius, &gp->total_area);
+  else
+    part_frame(mesh, gp->tris, n, gp->center, &gp->radius, &gp->total_area);
+  float *normals = NULL; /* pointnormals: the file's, else estimated */
+  if (points && gp->params->point_normals) {
+    if (mesh->normals) {
+      normals = mesh->normals;
+    } else {
+      normals = malloc(mesh->vertex_count * 3 * sizeof *normals);
+      if (!normals)
+        return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
+      bbc_result r = bbc_point_normals(mesh, gp->params->threads, normals, err);
+      if (r != BBC_OK) {
+        free(normals);
+        return r;
       }
     }
-    gp->nf = n;
-    bbc_result rb = points
-                        ? bbc__dual_points_build(mesh, gp->tris, n, gp->center, normals, &gp->faces)
-                        : bbc__dual_faces_build_merged(mesh, gp->tris, n, gp->center,
-                                                       FLAT_TOL * gp->radius, &gp->faces, &gp->nf);
-    if (normals && normals != mesh->normals) free(normals);
-    if (rb != BBC_OK)
-      r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory for the grid");
   }
+  gp->nf = n;
+  bbc_result rb = points
+                      ? bbc__dual_points_build(mesh, gp->tris, n, gp->center, normals, &gp->faces)
+                      : bbc__dual_faces_build_merged(mesh, gp->tris, n, gp->center,
+                                                     FLAT_TOL * gp->radius, &gp->faces, &gp->nf);
+  if (normals && normals != mesh->normals) free(normals);
+  if (rb != BBC_OK)
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory for the grid");
+  return BBC_OK;
+}
+
+static bbc_result grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_grid **out,
+                             bbc_error *err) {
+  *out = NULL;
+  int points = mesh->kind == BBC_MESH_POINTS;
+  if ((!points && mesh->kind != BBC_MESH_TRIANGLES) ||
+      (points ? mesh->vertex_count : mesh->triangle_count) == 0)
+    return bbc__fail(err, BBC_ERROR_EMPTY, "plane selection: the model has no %s",
+                     points ? "points" : "triangles");
+  if (points && mesh->vertex_count > UINT32_MAX)
+    return bbc__fail(err, BBC_ERROR_OUT_OF_RANGE, "plane selection: more than 2^32 points");
+  bbc_grid *g = calloc(1, sizeof *g);
+  /* "faces": a point cloud's points (thesis 2.4) */
+  size_t nf = points ? mesh->vertex_count : mesh->triangle_count;
+  if (g) g->face_part = malloc(nf * sizeof *g->face_part);
+  if (!g || !g->face_part) {
+    bbc_grid_free(g);
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
+  }
+  bbc__planes_options_copy(&g->options, g->text, o);
+  g->face_count = nf;
+  g->mesh_radius = mesh->radius;
+  char names[2][32];
+  bbc_result r = grid_split(mesh, o, g, names, err);
+  for (size_t pi = 0; r == BBC_OK && pi < g->part_count; pi++)
+    r = grid_part_faces(mesh, g, pi, names[pi], err);
   size_t first;
   if (r == BBC_OK) r = level_at(g, o, 1.0, 1, &first, err);
   g->current = 0;
@@ -341,7 +360,7 @@ static bbc_result grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, 
  * planes, lo_n of them) and hi (hi_n <= maxp) where the count, interpolated
  * as a power of epsilon through both ends, reaches maxp; 0 when the two are
  * already within 2 % or hi already uses 7/8 of the budget (each run builds
- * a grid: the 1.13M-triangle oak's steps 1+2 take 2.5 s a run). */
+ * a grid: seconds a run on a model of a million triangles). */
 enum { NARROW_TRIES = 3 };
 static double narrow_scale(double lo, size_t lo_n, double hi, size_t hi_n, int maxp) {
   if (8 * hi_n >= 7 * (size_t)maxp || hi < lo * 1.02 || lo_n <= hi_n) return 0;
@@ -361,14 +380,10 @@ static void show_level(bbc_grid *g, double scale) {
 
 /* ---- step 2 on the grid ------------------------------------------------------- */
 
-static bbc_result select_once(bbc_grid *g, const bbc_planes_options *o, double scale, int attempt,
-                              bbc_planeset *set, bbc_error *err) {
-  memset(set, 0, sizeof *set);
-  size_t nf = g->face_count, li;
-  bbc_result r = level_at(g, o, scale, attempt, &li, err);
-  if (r != BBC_OK) return r;
-  grid_level *L = &g->levels[li];
-  g->current = li;
+/* A planeset for the grid's faces, no plane yet: every face
+ * BBC_NO_PLANE (limbs), the grid's parts and the split's explanation. */
+static bbc_result planeset_start(const bbc_grid *g, bbc_planeset *set, bbc_error *err) {
+  size_t nf = g->face_count;
   set->face_count = nf;
   set->radius = g->mesh_radius;
   set->face_plane = malloc(nf * sizeof *set->face_plane);
@@ -381,88 +396,190 @@ static bbc_result select_once(bbc_grid *g, const bbc_planes_options *o, double s
   memcpy(set->face_part, g->face_part, nf * sizeof *set->face_part);
   for (size_t f = 0; f < nf; f++) set->face_plane[f] = BBC_NO_PLANE; /* limbs */
   snprintf(set->split_why, sizeof set->split_why, "%s", g->split_why);
-  for (size_t pi = 0; r == BBC_OK && pi < g->part_count; pi++) {
-    grid_part *gp = &g->part[pi];
-    bbc_part_result *pr = &set->parts[pi];
-    snprintf(pr->name, sizeof pr->name, "%s", gp->name);
-    pr->face_count = gp->n + gp->meshed;
-    pr->limbs = gp->meshed ? gp->params->limbs : 0;
-    set->part_count = pi + 1;
-    if (!gp->n) continue;
-    /* select asks for the parameters of step 2 as they are now */
-    const bbc_params *p = part_params(o, gp->name);
-    pr->epsilon_abs = L->eps_abs[pi];
-    if (pr->epsilon_abs > set->epsilon_abs) set->epsilon_abs = pr->epsilon_abs;
-    memcpy(pr->center, gp->center, sizeof pr->center);
-    pr->radius = gp->radius;
-    const dual_grid *kept = &L->g[pi];
-    pr->grid_cells = (size_t)kept->n_theta * kept->n_phi * kept->n_rho;
-    pr->step1_s = L->reported ? 0 : L->step1_s[pi];
+  return BBC_OK;
+}
 
-    bbc__label lab;
-    bbc_callbacks cb;
-    part_callbacks(o, g, gp, scale, attempt, &lab, &cb);
-    /* the greedy select consumes the density: a copy of the kept grid */
-    dual_grid work;
-    if (bbc__dual_grid_copy(&work, kept) != BBC_OK) {
-      r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory for the grid");
-      break;
-    }
-    double t1 = bbc__now_s();
-    select_result sr;
-    r = bbc__select_planes(gp->faces, gp->nf, &work, p, pr->epsilon_abs, gp->radius, &cb, &sr);
-    pr->step2_s = bbc__now_s() - t1;
-    bbc__dual_grid_free(&work);
-    if (r == BBC_ERROR_CANCELLED) {
-      bbc__fail(err, r, "plane selection: cancelled");
-      break;
-    }
-    if (r != BBC_OK) {
-      bbc__fail(err, r, "plane selection failed: %s", bbc_result_string(r));
-      break;
-    }
-    /* Merge: the model's frame and global plane indices. */
-    bbc_plane *planes = realloc(set->planes, (set->plane_count + sr.plane_count) * sizeof *planes);
-    if (!planes) {
-      bbc__select_result_free(&sr);
-      r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
-      break;
-    }
-    set->planes = planes;
-    size_t base = set->plane_count;
-    for (size_t k = 0; k < sr.plane_count; k++) {
-      bbc_plane pl = sr.planes[k];
-      pl.d += pl.normal[0] * gp->center[0] + pl.normal[1] * gp->center[1] +
-              pl.normal[2] * gp->center[2];
-      pl.part = (uint32_t)pi;
-      if (pl.mother >= 0) pl.mother += (int32_t)base;
-      planes[base + k] = pl;
-    }
-    /* faces to mesh triangles (a face of four vertices is two); a plane's
-     * face count is its triangles' */
-    for (size_t k = 0; k < sr.plane_count; k++)
-      if (planes[base + k].kind != BBC_PLANE_CARDBOARD) planes[base + k].face_count = 0;
-    for (size_t i = 0; i < gp->nf; i++) {
-      const dual_face *f = &gp->faces[i];
-      uint32_t pl = (uint32_t)(base + sr.face_plane[i]);
-      set->face_plane[f->mesh_index] = pl;
-      planes[pl].face_count++;
-      if (f->mesh_index2 != UINT32_MAX) {
-        set->face_plane[f->mesh_index2] = pl;
-        planes[pl].face_count++;
-      }
-    }
-    set->plane_count += sr.plane_count;
-    pr->plane_count = sr.plane_count;
-    bbc__select_result_free(&sr);
-    bbc__progress(&cb, "select", 1.0);
+/* Part pi's planes (sr) into the set: the model's frame and global plane
+ * indices; faces to mesh triangles (a face of four vertices is two), a
+ * plane's face count its triangles'. */
+static bbc_result add_part_planes(bbc_planeset *set, const grid_part *gp, size_t pi,
+                                  const select_result *sr, bbc_error *err) {
+  bbc_plane *planes = realloc(set->planes, (set->plane_count + sr->plane_count) * sizeof *planes);
+  if (!planes) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
+  set->planes = planes;
+  size_t base = set->plane_count;
+  for (size_t k = 0; k < sr->plane_count; k++) {
+    bbc_plane pl = sr->planes[k];
+    pl.d +=
+        pl.normal[0] * gp->center[0] + pl.normal[1] * gp->center[1] + pl.normal[2] * gp->center[2];
+    pl.part = (uint32_t)pi;
+    if (pl.mother >= 0) pl.mother += (int32_t)base;
+    planes[base + k] = pl;
   }
+  for (size_t k = 0; k < sr->plane_count; k++)
+    if (planes[base + k].kind != BBC_PLANE_CARDBOARD) planes[base + k].face_count = 0;
+  for (size_t i = 0; i < gp->nf; i++) {
+    const dual_face *f = &gp->faces[i];
+    uint32_t pl = (uint32_t)(base + sr->face_plane[i]);
+    set->face_plane[f->mesh_index] = pl;
+    planes[pl].face_count++;
+    if (f->mesh_index2 != UINT32_MAX) {
+      set->face_plane[f->mesh_index2] = pl;
+      planes[pl].face_count++;
+    }
+  }
+  set->plane_count += sr->plane_count;
+  set->parts[pi].plane_count = sr->plane_count;
+  return BBC_OK;
+}
+
+/* Step 2 for part pi at level L into the set. */
+static bbc_result select_part(bbc_grid *g, const bbc_planes_options *o, const grid_level *L,
+                              size_t pi, double scale, int attempt, bbc_planeset *set,
+                              bbc_error *err) {
+  grid_part *gp = &g->part[pi];
+  bbc_part_result *pr = &set->parts[pi];
+  snprintf(pr->name, sizeof pr->name, "%s", gp->name);
+  pr->face_count = gp->n + gp->meshed;
+  pr->limbs = gp->meshed ? gp->params->limbs : 0;
+  set->part_count = pi + 1;
+  if (!gp->n) return BBC_OK;
+  /* select asks for the parameters of step 2 as they are now */
+  const bbc_params *p = part_params(o, gp->name);
+  pr->epsilon_abs = L->eps_abs[pi];
+  if (pr->epsilon_abs > set->epsilon_abs) set->epsilon_abs = pr->epsilon_abs;
+  memcpy(pr->center, gp->center, sizeof pr->center);
+  pr->radius = gp->radius;
+  const dual_grid *kept = &L->g[pi];
+  pr->grid_cells = (size_t)kept->n_theta * kept->n_phi * kept->n_rho;
+  pr->step1_s = L->reported ? 0 : L->step1_s[pi];
+
+  bbc__label lab;
+  bbc_callbacks cb;
+  part_callbacks(o, g, gp, scale, attempt, &lab, &cb);
+  /* the greedy select consumes the density: a copy of the kept grid */
+  dual_grid work;
+  if (bbc__dual_grid_copy(&work, kept) != BBC_OK)
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory for the grid");
+  double t1 = bbc__now_s();
+  select_result sr;
+  bbc_result r =
+      bbc__select_planes(gp->faces, gp->nf, &work, p, pr->epsilon_abs, gp->radius, &cb, &sr);
+  pr->step2_s = bbc__now_s() - t1;
+  bbc__dual_grid_free(&work);
+  if (r == BBC_ERROR_CANCELLED) return bbc__fail(err, r, "plane selection: cancelled");
+  if (r != BBC_OK) return bbc__fail(err, r, "plane selection failed: %s", bbc_result_string(r));
+  r = add_part_planes(set, gp, pi, &sr, err);
+  bbc__select_result_free(&sr);
+  if (r != BBC_OK) return r;
+  bbc__progress(&cb, "select", 1.0);
+  return BBC_OK;
+}
+
+static bbc_result select_once(bbc_grid *g, const bbc_planes_options *o, double scale, int attempt,
+                              bbc_planeset *set, bbc_error *err) {
+  memset(set, 0, sizeof *set);
+  size_t li;
+  bbc_result r = level_at(g, o, scale, attempt, &li, err);
+  if (r != BBC_OK) return r;
+  grid_level *L = &g->levels[li];
+  g->current = li;
+  r = planeset_start(g, set, err);
+  if (r != BBC_OK) return r;
+  for (size_t pi = 0; r == BBC_OK && pi < g->part_count; pi++)
+    r = select_part(g, o, L, pi, scale, attempt, set, err);
   if (r != BBC_OK) {
     bbc_planeset_free(set);
     return r;
   }
   L->reported = 1;
   return BBC_OK;
+}
+
+/* bbc_planes_select's search over epsilon scales for maxplanes and
+ * minplanes. */
+typedef struct scale_search {
+  const bbc_planes_options *o;
+  int maxp, minp;
+  double scale, retry;
+  int grown;         /* epsilon grew: too many planes at the asked one */
+  bbc_planeset best; /* shrinking: the last result within maxplanes */
+  int have_best, narrow;
+  /* Growing: the largest scale known to give more than maxplanes and its
+   * count, to narrow the step between it and the first scale within. */
+  double over_scale;
+  size_t over_n;
+} scale_search;
+
+/* Narrowing overshot: the result (n planes) at this scale is the new lower
+ * end; returns 1 when a scale between it and the best is to be tried. */
+static int narrow_overshot(scale_search *s, bbc_planeset *set, size_t n, double t0) {
+  int maxp = s->maxp;
+  if (!(s->grown && maxp > 0 && n > (size_t)maxp && s->have_best && s->narrow < NARROW_TRIES))
+    return 0;
+  s->over_scale = s->scale;
+  s->over_n = n;
+  double next =
+      narrow_scale(s->over_scale, s->over_n, s->best.epsilon_scale, s->best.plane_count, maxp);
+  if (!(next > 0)) return 0;
+  s->narrow++;
+  bbc__log(&s->o->callbacks, BBC_LOG_INFO,
+           "%zu planes at epsilon %.3g %%, more than maxplanes %d: trying %.3g %%", n,
+           s->o->params.epsilon_pct * s->scale, maxp, s->o->params.epsilon_pct * next);
+  bbc_planeset_free(set);
+  memset(set, 0, sizeof *set);
+  s->retry += bbc__now_s() - t0;
+  s->scale = next;
+  return 1;
+}
+
+/* Growing by at least 1.25 may land well below maxplanes: a scale between
+ * the last one over it and this one, while within, keeps more fidelity
+ * (more planes, still within maxplanes). Returns 1 when such a scale is to
+ * be tried (this result kept as the best). */
+static int narrow_within(scale_search *s, bbc_planeset *set, size_t n, double t0) {
+  int maxp = s->maxp;
+  if (!(s->grown && maxp > 0 && n <= (size_t)maxp && s->over_n && s->narrow < NARROW_TRIES))
+    return 0;
+  double next = narrow_scale(s->over_scale, s->over_n, s->scale, n, maxp);
+  if (!(next > 0)) return 0;
+  s->narrow++;
+  bbc__log(&s->o->callbacks, BBC_LOG_INFO,
+           "%zu planes at epsilon %.3g %%, within maxplanes %d: trying %.3g %%", n,
+           s->o->params.epsilon_pct * s->scale, maxp, s->o->params.epsilon_pct * next);
+  s->best = *set;
+  s->have_best = 1;
+  memset(set, 0, sizeof *set);
+  s->retry += bbc__now_s() - t0;
+  s->scale = next;
+  return 1;
+}
+
+/* The factor for the next scale after n planes at attempt `attempt`, 0
+ * when the result stands. */
+static double next_factor(scale_search *s, bbc_planeset *set, size_t n, int attempt) {
+  const bbc_planes_options *o = s->o;
+  int maxp = s->maxp, minp = s->minp;
+  double f = 0, scale = s->scale;
+  if (maxp > 0 && n > (size_t)maxp && attempt < 12 &&
+      o->params.epsilon_pct * scale < 99) { /* epsilon's own range ends at 99 % */
+    /* Too many planes: grow epsilon by a factor that follows the excess
+     * (planes fall roughly with epsilon^1.5), between 1.25 and 2. */
+    f = pow((double)n / maxp, 1.0 / 1.5);
+    f = f < 1.25 ? 1.25 : f > 2 ? 2 : f;
+    s->grown = 1;
+    s->over_scale = scale;
+    s->over_n = n;
+  } else if (minp > 0 && n < (size_t)minp && !s->grown && scale > 0.2 + 1e-9 &&
+             (maxp <= 0 || minp <= maxp)) {
+    /* Few planes: a smaller epsilon buys fidelity within the budget, down
+     * to 1/5 of the asked epsilon. */
+    f = 1.0 / fmin(2.0, fmax(1.25, pow((double)minp / (double)(n ? n : 1), 1.0 / 1.5)));
+    if (scale * f < 0.2) f = 0.2 / scale;
+    s->best = *set;
+    s->have_best = 1;
+  }
+  return f;
 }
 
 bbc_result bbc_planes_select(bbc_grid *grid, const bbc_planes_options *o, bbc_planeset *set,
@@ -472,111 +589,57 @@ bbc_result bbc_planes_select(bbc_grid *grid, const bbc_planes_options *o, bbc_pl
   if (bbc_planes_options_first_step(&grid->options, o, &which) == 1)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "%s changed since step 1: the grid must be built again (step 1)", which);
-  double scale = 1, retry = 0;
-  int maxp = o->params.max_planes, minp = o->params.min_planes, grown = 0;
-  if (minp > 0 && maxp > 0 && minp > maxp)
-    bbc__log(&o->callbacks, BBC_LOG_WARNING, "minplanes %d is above maxplanes %d: ignored", minp,
-             maxp);
-  bbc_planeset best; /* shrinking: the last result within maxplanes */
-  int have_best = 0, narrow = 0;
-  memset(&best, 0, sizeof best);
-  /* Growing: the largest scale known to give more than maxplanes and its
-   * count, to narrow the step between it and the first scale within. */
-  double over_scale = 0;
-  size_t over_n = 0;
+  scale_search s;
+  memset(&s, 0, sizeof s);
+  s.o = o;
+  s.scale = 1;
+  s.maxp = o->params.max_planes;
+  s.minp = o->params.min_planes;
+  if (s.minp > 0 && s.maxp > 0 && s.minp > s.maxp)
+    bbc__log(&o->callbacks, BBC_LOG_WARNING, "minplanes %d is above maxplanes %d: ignored", s.minp,
+             s.maxp);
   for (int attempt = 1;; attempt++) {
     double t0 = bbc__now_s();
-    bbc_result r = select_once(grid, o, scale, attempt, set, err);
+    bbc_result r = select_once(grid, o, s.scale, attempt, set, err);
     if (r != BBC_OK) {
-      if (have_best) bbc_planeset_free(&best);
+      if (s.have_best) bbc_planeset_free(&s.best);
       return r;
     }
-    set->epsilon_scale = scale;
+    set->epsilon_scale = s.scale;
     set->attempts = attempt;
-    set->retry_s = retry;
+    set->retry_s = s.retry;
     size_t n = set->plane_count;
-    if (grown && maxp > 0 && n > (size_t)maxp && have_best && narrow < NARROW_TRIES) {
-      /* Narrowing overshot: this scale is the new lower end. */
-      over_scale = scale;
-      over_n = n;
-      double next = narrow_scale(over_scale, over_n, best.epsilon_scale, best.plane_count, maxp);
-      if (next > 0) {
-        narrow++;
-        bbc__log(&o->callbacks, BBC_LOG_INFO,
-                 "%zu planes at epsilon %.3g %%, more than maxplanes %d: trying %.3g %%", n,
-                 o->params.epsilon_pct * scale, maxp, o->params.epsilon_pct * next);
-        bbc_planeset_free(set);
-        memset(set, 0, sizeof *set);
-        retry += bbc__now_s() - t0;
-        scale = next;
-        continue;
-      }
-    }
-    if (have_best && maxp > 0 && n > (size_t)maxp) {
+    if (narrow_overshot(&s, set, n, t0)) continue;
+    if (s.have_best && s.maxp > 0 && n > (size_t)s.maxp) {
       /* Shrinking (or narrowing) went one step too far: the previous result
        * it is. */
-      retry += bbc__now_s() - t0;
+      s.retry += bbc__now_s() - t0;
       bbc_planeset_free(set);
-      *set = best;
+      *set = s.best;
       set->attempts = attempt;
-      set->retry_s = retry;
+      set->retry_s = s.retry;
       show_level(grid, set->epsilon_scale);
       return BBC_OK;
     }
-    if (have_best) bbc_planeset_free(&best);
-    have_best = 0;
-    if (grown && maxp > 0 && n <= (size_t)maxp && over_n && narrow < NARROW_TRIES) {
-      /* Growing by at least 1.25 may land well below maxplanes: a scale
-       * between the last one over it and this one, while within, keeps
-       * more fidelity (Scopia bush: 41 planes at 6 %, 31 at 7.5 %, 32 at
-       * 7.25 %). */
-      double next = narrow_scale(over_scale, over_n, scale, n, maxp);
-      if (next > 0) {
-        narrow++;
-        bbc__log(&o->callbacks, BBC_LOG_INFO,
-                 "%zu planes at epsilon %.3g %%, within maxplanes %d: trying %.3g %%", n,
-                 o->params.epsilon_pct * scale, maxp, o->params.epsilon_pct * next);
-        best = *set;
-        have_best = 1;
-        memset(set, 0, sizeof *set);
-        retry += bbc__now_s() - t0;
-        scale = next;
-        continue;
-      }
-    }
-    double f = 0;
-    if (maxp > 0 && n > (size_t)maxp && attempt < 12 &&
-        o->params.epsilon_pct * scale < 99) { /* epsilon's own range ends at 99 % */
-      /* Too many planes: grow epsilon by a factor that follows the excess
-       * (planes fall roughly with epsilon^1.5), between 1.25 and 2. */
-      f = pow((double)n / maxp, 1.0 / 1.5);
-      f = f < 1.25 ? 1.25 : f > 2 ? 2 : f;
-      grown = 1;
-      over_scale = scale;
-      over_n = n;
-    } else if (minp > 0 && n < (size_t)minp && !grown && scale > 0.2 + 1e-9 &&
-               (maxp <= 0 || minp <= maxp)) {
-      /* Few planes: a smaller epsilon buys fidelity within the budget, down
-       * to 1/5 of the asked epsilon. */
-      f = 1.0 / fmin(2.0, fmax(1.25, pow((double)minp / (double)(n ? n : 1), 1.0 / 1.5)));
-      if (scale * f < 0.2) f = 0.2 / scale;
-      best = *set;
-      have_best = 1;
-    }
+    if (s.have_best) bbc_planeset_free(&s.best);
+    s.have_best = 0;
+    if (narrow_within(&s, set, n, t0)) continue;
+    double f = next_factor(&s, set, n, attempt);
     if (f == 0) {
-      if (maxp > 0 && n > (size_t)maxp)
+      if (s.maxp > 0 && n > (size_t)s.maxp)
         bbc__log(&o->callbacks, BBC_LOG_WARNING,
-                 "%zu planes after %d tries (maxplanes %d): keeping them", n, attempt, maxp);
+                 "%zu planes after %d tries (maxplanes %d): keeping them", n, attempt, s.maxp);
       show_level(grid, set->epsilon_scale);
       return BBC_OK;
     }
     bbc__log(&o->callbacks, BBC_LOG_INFO, "%zu planes at epsilon %.3g %%, %s %d: trying %.3g %%", n,
-             o->params.epsilon_pct * scale, f > 1 ? "more than maxplanes" : "fewer than minplanes",
-             f > 1 ? maxp : minp, o->params.epsilon_pct * scale * f);
-    scale *= f;
-    if (!have_best) bbc_planeset_free(set);
+             o->params.epsilon_pct * s.scale,
+             f > 1 ? "more than maxplanes" : "fewer than minplanes", f > 1 ? s.maxp : s.minp,
+             o->params.epsilon_pct * s.scale * f);
+    s.scale *= f;
+    if (!s.have_best) bbc_planeset_free(set);
     memset(set, 0, sizeof *set);
-    retry += bbc__now_s() - t0;
+    s.retry += bbc__now_s() - t0;
   }
 }
 

@@ -3,8 +3,9 @@
  * greedy select with recursive refinement (thesis 2.1.8) and the extensions
  * that act on it: fail-safe "parachute" (2.3.4), supergreedy (2.3.6),
  * cardboard planes (2.3.7), view-dependent penalty (2.3.8), simple and
- * pre-clustering (2.3.10), coplanar optimisation and post-plane tweaking
- * (2.3.2, 2.3.3, in tweak.c).
+ * pre-clustering (2.3.10, in cluster.c), coplanar optimisation and
+ * post-plane tweaking (2.3.2, 2.3.3, in tweak.c); then merging redundant
+ * planes (merge.c).
  *
  * Per plane: pick the densest grid cell; take the unassigned faces simply
  * valid for it (the largest cluster of them when clustering); refine: while
@@ -40,6 +41,12 @@ typedef struct ctx {
   uint32_t *scratch;            /* scratch per face */
   uint32_t *label;              /* scratch per face */
   uint32_t *ev_faces, *ev_done; /* debug events: mesh triangles (NULL: no debug) */
+  double part_radius;
+  /* per face, for the select loop: the plane's faces (set), the faces a
+   * candidate cell's plane came from and those it simplifies (cand0,
+   * cand), the unassigned faces for the parachute (set0), and a work
+   * buffer */
+  uint32_t *set, *set0, *cand0, *cand, *work;
 } ctx;
 
 /* An Appendix A debug event (parameter `debug`): `set` as mesh triangles,
@@ -282,13 +289,19 @@ static BBC__CLONES void faces_subcells(const ctx *c, const uint32_t *set, size_t
   }
 }
 
-/* One refinement step: the densest of the 216 subcells of box b and its 26
- * neighbours, from the faces of set. Returns 0 when none has density > 0. */
-static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n, dual_box *best) {
-  double dt = 0.5 * (b->t1 - b->t0), dp = 0.5 * (b->p1 - b->p0), dr = 0.5 * (b->r1 - b->r0);
-  int64_t contrib[ND * ND][NR], penalty[ND * ND][NR];
-  int valid_dir[ND * ND];
+/* A refinement step's 36 sub-directions of box b (ND x ND, those beyond a
+ * pole not valid), the same as structure-of-arrays, and their bound. */
+typedef struct refine_dirs {
+  int valid[ND * ND];
   dual_dir dirs[ND * ND];
+  subdirs sd;
+  subdir_bound u;
+} refine_dirs;
+
+static void refine_dirs_of(const ctx *c, const dual_box *b, refine_dirs *rd) {
+  double dt = 0.5 * (b->t1 - b->t0), dp = 0.5 * (b->p1 - b->p0), dr = 0.5 * (b->r1 - b->r0);
+  int *valid_dir = rd->valid;
+  dual_dir *dirs = rd->dirs;
   for (int j = 0; j < ND; j++)
     for (int i = 0; i < ND; i++) {
       int s = j * ND + i;
@@ -302,20 +315,13 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
       valid_dir[s] = sb.p0 >= -M_PI / 2 - 1e-12 && sb.p1 <= M_PI / 2 + 1e-12;
       if (valid_dir[s]) bbc__dual_dir_of_box(&c->g->frame, &sb, &dirs[s]);
     }
-  /* Each face (or point) read once for the 36 sub-directions, chunks of the
-   * set per thread, integer sums (the same whatever the split). A
-   * sub-direction per thread streaming the set 36 times made memory the
-   * bottleneck on large sets. A part is all points or all triangles. */
-  int points = n && c->faces[set[0]].point;
-  subdirs sd;
+  subdirs *sd = &rd->sd;
   for (int s = 0; s < ND * ND; s++) {
-    sd.nx[s] = valid_dir[s] ? dirs[s].n[0] : 0;
-    sd.ny[s] = valid_dir[s] ? dirs[s].n[1] : 0;
-    sd.nz[s] = valid_dir[s] ? dirs[s].n[2] : 0;
-    sd.rad[s] = valid_dir[s] ? dirs[s].radius : 0;
+    sd->nx[s] = valid_dir[s] ? dirs[s].n[0] : 0;
+    sd->ny[s] = valid_dir[s] ? dirs[s].n[1] : 0;
+    sd->nz[s] = valid_dir[s] ? dirs[s].n[2] : 0;
+    sd->rad[s] = valid_dir[s] ? dirs[s].radius : 0;
   }
-  memset(contrib, 0, sizeof contrib);
-  memset(penalty, 0, sizeof penalty);
   /* The bound of every valid sub-direction, for whole_in_subcells. */
   subdir_bound u = {{0, 0, 0}, 0, HUGE_VAL, b->r0 - 2 * dr, b->r0 + 4 * dr};
   for (int s = 0; s < ND * ND; s++)
@@ -330,6 +336,17 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
     u.rmin = fmin(u.rmin, dirs[s].radius);
   }
   u.d = u.d * (1 + 1e-9) + 1e-12;
+  rd->u = u;
+}
+
+/* The faces' (or points') shares in the 36 x 6 subcells, added to contrib
+ * and penalty. Each face read once for the 36 sub-directions, chunks of the
+ * set per thread, integer sums (the same whatever the split). A
+ * sub-direction per thread streaming the set 36 times made memory the
+ * bottleneck on large sets. A part is all points or all triangles. */
+static void refine_sums(const ctx *c, const dual_box *b, const uint32_t *set, size_t n,
+                        const refine_dirs *rd, int64_t (*contrib)[NR], int64_t (*penalty)[NR]) {
+  int points = n && c->faces[set[0]].point;
   int64_t agg[3] = {0, 0, 0};
   int nt = thread_count(c);
   (void)nt;
@@ -354,9 +371,9 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
       size_t i1 = n - i0 > CHUNK ? i0 + CHUNK : n;
       if (points)
         for (size_t i = i0; i < i1; i++)
-          point_subcells(c, &c->faces[set[i]], b, dirs, valid_dir, lc, lp);
+          point_subcells(c, &c->faces[set[i]], b, rd->dirs, rd->valid, lc, lp);
       else
-        faces_subcells(c, set + i0, i1 - i0, b, &sd, valid_dir, &u, diff, lw, la);
+        faces_subcells(c, set + i0, i1 - i0, b, &rd->sd, rd->valid, &rd->u, diff, lw, la);
     }
     if (!points)
       for (int s = 0; s < ND * ND; s++) {
@@ -378,18 +395,25 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
   /* The faces whole in every subcell: their summed area vector, the same
    * share in each slice of a sub-direction. */
   for (int s = 0; s < ND * ND; s++) {
-    if (!valid_dir[s]) continue;
-    double w = (double)agg[0] * dirs[s].n[0] + (double)agg[1] * dirs[s].n[1] +
-               (double)agg[2] * dirs[s].n[2];
+    if (!rd->valid[s]) continue;
+    const dual_dir *ds = &rd->dirs[s];
+    double w = (double)agg[0] * ds->n[0] + (double)agg[1] * ds->n[1] + (double)agg[2] * ds->n[2];
     int64_t wi = w > 0 ? (int64_t)(w + 0.5) : 0;
     for (int r = 0; r < NR; r++) contrib[s][r] += wi;
   }
+}
+
+/* The densest subcell (sub-penalty as penalty factor) into best; 0 when
+ * none has density > 0. */
+static int refine_best(const ctx *c, const dual_box *b, const refine_dirs *rd,
+                       int64_t (*contrib)[NR], int64_t (*penalty)[NR], dual_box *best) {
+  double dt = 0.5 * (b->t1 - b->t0), dp = 0.5 * (b->p1 - b->p0), dr = 0.5 * (b->r1 - b->r0);
   double best_d = 0;
   int found = 0;
   for (int s = 0; s < ND * ND; s++) {
-    if (!valid_dir[s]) continue;
+    if (!rd->valid[s]) continue;
     for (int r = 0; r < NR; r++) {
-      double d = read_density(c, contrib[s][r], penalty[s][r], c->p->sub_penalty, dirs[s].phi);
+      double d = read_density(c, contrib[s][r], penalty[s][r], c->p->sub_penalty, rd->dirs[s].phi);
       if (d > best_d) {
         best_d = d;
         found = 1;
@@ -404,6 +428,18 @@ static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n,
     }
   }
   return found;
+}
+
+/* One refinement step: the densest of the 216 subcells of box b and its 26
+ * neighbours, from the faces of set. Returns 0 when none has density > 0. */
+static int refine_step(ctx *c, const dual_box *b, const uint32_t *set, size_t n, dual_box *best) {
+  int64_t contrib[ND * ND][NR], penalty[ND * ND][NR];
+  refine_dirs rd;
+  refine_dirs_of(c, b, &rd);
+  memset(contrib, 0, sizeof contrib);
+  memset(penalty, 0, sizeof penalty);
+  refine_sums(c, b, set, n, &rd, contrib, penalty);
+  return refine_best(c, b, &rd, contrib, penalty, best);
 }
 
 typedef struct found_plane {
@@ -533,7 +569,7 @@ static int densest_cells(ctx *c, size_t *cells, int want) {
  * buffer `set`): stops when the centre plane simplifies every face of the
  * current set, and takes that plane. (Keeping instead the centre plane that
  * simplified the most on the way was tried: it takes more faces per plane
- * early but needs about 20 % more planes in all on the Scopia pine, because
+ * early but needs more planes in all, because
  * such planes cut through foliage layers instead of lying in them.) After
  * `break` steps with more than `breaknum` faces left, the best centre plane
  * seen is taken. Returns 0 when no plane was found (parachute). */
@@ -640,151 +676,178 @@ static bbc_result add_cardboard(ctx *c, const found_plane *mother, const uint32_
   return push_plane(c, &best, best_n, best_area, mother_index, 100.0 * best_area / mother_area);
 }
 
-/* Faces assigned to plane pi, into list; returns their number. */
-static size_t faces_of(const select_result *out, size_t nf, uint32_t pi, uint32_t *list) {
+/* The select's buffers, and out->face_plane; BBC_ERROR_OUT_OF_MEMORY when
+ * one could not be had (ctx_free frees what was). */
+static bbc_result ctx_alloc(ctx *c) {
+  size_t nf = c->nf;
+  select_result *out = c->out;
+  c->assigned = calloc(nf ? nf : 1, 1);
+  c->flag = malloc(nf ? nf : 1);
+  c->scratch = malloc((nf ? nf : 1) * sizeof *c->scratch);
+  c->label = malloc((nf ? nf : 1) * sizeof *c->label);
+  c->set = malloc((nf ? nf : 1) * sizeof *c->set);
+  c->set0 = malloc((nf ? nf : 1) * sizeof *c->set0);
+  c->cand0 = malloc((nf ? nf : 1) * sizeof *c->cand0);
+  c->cand = malloc((nf ? nf : 1) * sizeof *c->cand);
+  c->work = malloc((nf ? nf : 1) * sizeof *c->work);
+  out->face_plane = malloc((nf ? nf : 1) * sizeof *out->face_plane);
+  bbc_result r = BBC_OK;
+  if (c->p->debug > 0 && c->cb && c->cb->debug) {
+    c->ev_faces = malloc((nf ? 2 * nf : 1) * sizeof *c->ev_faces);
+    c->ev_done = malloc((nf ? 2 * nf : 1) * sizeof *c->ev_done);
+    if (!c->ev_faces || !c->ev_done) r = BBC_ERROR_OUT_OF_MEMORY;
+  }
+  if (!c->assigned || !c->flag || !c->scratch || !c->label || !c->set || !c->set0 || !c->cand0 ||
+      !c->cand || !c->work || !out->face_plane)
+    r = BBC_ERROR_OUT_OF_MEMORY;
+  return r;
+}
+
+static void ctx_free(ctx *c) {
+  free(c->ev_faces);
+  free(c->ev_done);
+  free(c->assigned);
+  free(c->flag);
+  free(c->scratch);
+  free(c->label);
+  free(c->set);
+  free(c->set0);
+  free(c->cand0);
+  free(c->cand);
+  free(c->work);
+}
+
+/* Candidates: the densest cells (one in the thesis; more with the
+ * `candidates` extension), each refined to a plane; the plane that
+ * simplifies the largest projected area wins. Its faces (those of its
+ * cell's set valid for it) go to c->set; returns their number (0: none). */
+static size_t best_candidate(ctx *c, int want, found_plane *fp) {
+  const dual_face *faces = c->faces;
+  dual_grid *g = c->g;
+  uint32_t *cand0 = c->cand0, *cand = c->cand;
+  size_t cells[4];
+  int ncand = densest_cells(c, cells, want);
   size_t n = 0;
-  for (size_t f = 0; f < nf; f++)
-    if (out->face_plane[f] == pi) list[n++] = (uint32_t)f;
+  double best_area = -1;
+  for (int k = 0; k < ncand; k++) {
+    dual_box box;
+    bbc__dual_grid_cell_box(g, cells[k] / g->n_rho, (int)(cells[k] % g->n_rho), &box);
+    size_t m0 = simply_valid(c, &box, NULL, 0, cand0);
+    if (m0 == 0) continue;
+    if (c->p->clustering > 0) {
+      m0 = largest_cluster(c, cand0, m0, g->dirs[cells[k] / g->n_rho].n, NULL);
+      debug_event(c, 3, 0, cand0, m0);
+    }
+    found_plane cp;
+    if (!refine_plane(c, box, cand0, m0, c->work, &cp)) cp = parachute(c, cand0, m0);
+    /* The faces it simplifies: those of the cell's set valid for it. */
+    size_t m = 0;
+    double area = 0;
+    for (size_t i = 0; i < m0; i++)
+      if (bbc__dual_face_valid(&faces[cand0[i]], cp.n, cp.rho, c->eps)) {
+        cand[m++] = cand0[i];
+        area += dual_projected_area(&faces[cand0[i]], cp.n);
+      }
+    if (area > best_area) {
+      best_area = area;
+      *fp = cp;
+      memcpy(c->set, cand, m * sizeof *c->set);
+      n = m;
+    }
+  }
   return n;
 }
 
-static void move_faces(select_result *out, const uint32_t *list, size_t n, uint32_t to) {
-  for (size_t i = 0; i < n; i++) out->face_plane[list[i]] = to;
-  out->planes[to].face_count += n;
+/* No positive density left (penalties dominate) or rounding: the parachute
+ * over every unassigned face always progresses. Its faces go to c->set;
+ * returns their number. */
+static size_t parachute_all(ctx *c, found_plane *fp) {
+  size_t n0 = 0, n = 0;
+  for (size_t f = 0; f < c->nf; f++)
+    if (!c->assigned[f]) c->set0[n0++] = (uint32_t)f;
+  *fp = parachute(c, c->set0, n0);
+  for (size_t i = 0; i < n0; i++)
+    if (bbc__dual_face_valid(&c->faces[c->set0[i]], fp->n, fp->rho, c->eps))
+      c->set[n++] = c->set0[i];
+  return n;
 }
 
-static void recompute_area(const dual_face *faces, select_result *out, size_t nf, uint32_t pi) {
-  double a = 0;
-  for (size_t f = 0; f < nf; f++)
-    if (out->face_plane[f] == pi) a += dual_projected_area(&faces[f], out->planes[pi].normal);
-  out->planes[pi].area = a;
+/* Tweaks (2.3.2, 2.3.3) of a standard plane and its n faces (c->set). */
+static void tweak_plane(const ctx *c, found_plane *fp, size_t n) {
+  const dual_face *faces = c->faces;
+  const uint32_t *set = c->set;
+  if (fp->kind == BBC_PLANE_STANDARD && n > 0 && !faces[set[0]].point) { /* 2.4.4: not for points */
+    if (bbc__dual_coplanar(faces, set, n, 1e-9 * (c->part_radius + c->eps), fp->n, &fp->rho))
+      fp->kind = BBC_PLANE_COPLANAR;
+    else if (c->p->post_tweak && bbc__dual_posttweak(faces, set, n, c->eps, fp->n, &fp->rho))
+      fp->kind = BBC_PLANE_POSTTWEAKED;
+  }
 }
 
-/* Merging (an extension, parameter `merge`), smallest planes first:
- *  (a) a plane whose every face is also valid for some other plane is
- *      dissolved, each face going to the plane that suits its orientation
- *      best (the greedy select restricts a plane to the faces simply valid
- *      for its grid cell, so late planes often hold faces an earlier plane
- *      could have taken);
- *  (b) otherwise, a plane whose faces all lie within 2 eps of a larger
- *      plane is merged into it when one plane -- the larger one, the post-tweaked
- *      plane (Eq. 2-7/2-8) of both sets of faces, or their least-squares
- *      plane -- keeps every face valid
- *      (clustering often splits one layer of sparse leaves in two). */
-static bbc_result merge_planes(const dual_face *faces, size_t nf, double eps, select_result *out) {
-  size_t np = out->plane_count;
-  if (np < 2) return BBC_OK;
-  uint32_t *list = malloc(nf * sizeof *list), *other = malloc(nf * sizeof *other);
-  uint32_t *target = malloc(nf * sizeof *target), *order = malloc(np * sizeof *order);
-  uint8_t *alive = malloc(np);
-  if (!list || !other || !target || !order || !alive) {
-    free(list);
-    free(other);
-    free(target);
-    free(order);
-    free(alive);
-    return BBC_ERROR_OUT_OF_MEMORY;
+/* Supergreedy (2.3.6) after the tweaks: a tweaked plane lies closer to its
+ * faces' own plane, and so takes more of the faces around it. Adds to the
+ * n faces of c->set every unassigned face valid for fp; returns their
+ * number. */
+static size_t super_greedy(ctx *c, const found_plane *fp, size_t n) {
+  uint32_t *set = c->set;
+  for (size_t i = 0; i < n; i++) c->assigned[set[i]] = 2; /* in the set already */
+  size_t k = n;
+  for (size_t f = 0; f < c->nf; f++)
+    if (!c->assigned[f] && bbc__dual_face_valid(&c->faces[f], fp->n, fp->rho, c->eps))
+      set[k++] = (uint32_t)f;
+  for (size_t i = 0; i < n; i++) c->assigned[set[i]] = 0;
+  return k;
+}
+
+/* Plane fp with its n faces (c->set): pushed, its faces assigned to it,
+ * and its cardboard plane (2.3.7) after it. */
+static bbc_result take_plane(ctx *c, const found_plane *fp, size_t n) {
+  const uint32_t *set = c->set;
+  select_result *out = c->out;
+  if (n == 0) /* cannot happen: a face is valid for its own plane */
+    return BBC_ERROR_INVALID_GEOMETRY;
+  double area = 0;
+  for (size_t i = 0; i < n; i++) area += dual_projected_area(&c->faces[set[i]], fp->n);
+  int32_t index = (int32_t)out->plane_count;
+  bbc_result r = push_plane(c, fp, n, area, -1, 100.0);
+  if (r != BBC_OK) return r;
+  debug_event(c, 1, 0, set, n);
+  for (size_t i = 0; i < n; i++) {
+    c->assigned[set[i]] = 1;
+    out->face_plane[set[i]] = (uint32_t)index;
   }
-  for (size_t i = 0; i < np; i++) {
-    order[i] = (uint32_t)i;
-    alive[i] = 1;
+  c->remaining -= n;
+  if (c->p->cardboard && (r = add_cardboard(c, fp, set, n, area, index)) != BBC_OK) return r;
+  return BBC_OK;
+}
+
+/* Grid update: exactly reverse the n simplified faces' density (2.1.8); or,
+ * when fewer faces remain than were simplified, the grid anew from those
+ * that remain (the same integer sums, less work). */
+static void update_grid(ctx *c, size_t n) {
+  dual_grid *g = c->g;
+  if (c->remaining >= n) {
+    bbc__dual_grid_accumulate(g, c->faces, c->set, n, -1, NULL);
+  } else if (c->remaining > 0) {
+    size_t k = 0, ncell = (size_t)g->n_theta * g->n_phi * g->n_rho;
+    for (size_t f = 0; f < c->nf; f++)
+      if (!c->assigned[f]) c->work[k++] = (uint32_t)f;
+    memset(g->contrib, 0, ncell * sizeof *g->contrib);
+    memset(g->penalty, 0, ncell * sizeof *g->penalty);
+    bbc__dual_grid_accumulate(g, c->faces, c->work, k, +1, NULL);
   }
-  /* Ascending face count, ties by index (insertion sort: np is small). */
-  for (size_t i = 1; i < np; i++) {
-    uint32_t x = order[i];
-    size_t j = i;
-    while (j > 0 && out->planes[order[j - 1]].face_count > out->planes[x].face_count) {
-      order[j] = order[j - 1];
-      j--;
-    }
-    order[j] = x;
-  }
-  for (size_t oi = 0; oi < np; oi++) {
-    uint32_t pi = order[oi];
-    if (out->planes[pi].kind == BBC_PLANE_CARDBOARD || !alive[pi]) continue;
-    size_t n = faces_of(out, nf, pi, list);
-    /* (a) dissolve */
-    int ok = 1;
-    for (size_t i = 0; i < n && ok; i++) {
-      double best = -1;
-      uint32_t best_q = UINT32_MAX;
-      for (size_t q = 0; q < np; q++) {
-        const bbc_plane *pq = &out->planes[q];
-        if (q == pi || !alive[q] || pq->kind == BBC_PLANE_CARDBOARD) continue;
-        if (!bbc__dual_face_valid(&faces[list[i]], pq->normal, pq->d, eps)) continue;
-        double a = dual_projected_area(&faces[list[i]], pq->normal);
-        if (a > best) {
-          best = a;
-          best_q = (uint32_t)q;
-        }
-      }
-      target[i] = best_q;
-      ok = best_q != UINT32_MAX;
-    }
-    uint32_t into = UINT32_MAX;
-    if (ok) {
-      for (size_t i = 0; i < n; i++) {
-        out->face_plane[list[i]] = target[i];
-        out->planes[target[i]].face_count++;
-        out->planes[target[i]].area +=
-            dual_projected_area(&faces[list[i]], out->planes[target[i]].normal);
-      }
-    } else {
-      /* (b) merge into a larger plane the faces lie close to, largest first. */
-      for (size_t oj = np; oj-- > oi + 1 && into == UINT32_MAX;) {
-        uint32_t q = order[oj];
-        bbc_plane *pq = &out->planes[q];
-        if (!alive[q] || pq->kind == BBC_PLANE_CARDBOARD) continue;
-        /* Only planes the faces lie close to (within 2 eps) are tried. */
-        int near = 1;
-        for (size_t i = 0; i < n && near; i++)
-          near = bbc__dual_face_valid(&faces[list[i]], pq->normal, pq->d, 2 * eps);
-        if (!near) continue;
-        size_t m = faces_of(out, nf, q, other);
-        int all = 1;
-        for (size_t i = 0; i < n && all; i++)
-          all = bbc__dual_face_valid(&faces[list[i]], pq->normal, pq->d, eps);
-        if (all) {
-          into = q;
-          break;
-        }
-        memcpy(other + m, list, n * sizeof *list);
-        double nn[3] = {pq->normal[0], pq->normal[1], pq->normal[2]}, rr = pq->d;
-        /* points: no tweaking (2.4.4); a refit by least squares only */
-        if ((!faces[list[0]].point && bbc__dual_posttweak(faces, other, m + n, eps, nn, &rr)) ||
-            bbc__dual_fit_plane(faces, other, m + n, eps, nn, &rr)) {
-          memcpy(pq->normal, nn, sizeof nn);
-          pq->d = rr;
-          if (pq->kind == BBC_PLANE_STANDARD && !faces[list[0]].point)
-            pq->kind = BBC_PLANE_POSTTWEAKED;
-          into = q;
-        }
-      }
-      if (into == UINT32_MAX) continue;
-      move_faces(out, list, n, into);
-      recompute_area(faces, out, nf, into);
-    }
-    alive[pi] = 0;
-    for (size_t q = 0; q < np; q++) /* its cardboard plane goes with it */
-      if (out->planes[q].kind == BBC_PLANE_CARDBOARD && out->planes[q].mother == (int32_t)pi)
-        alive[q] = 0;
-  }
-  /* Compact. */
-  uint32_t *remap = order; /* reuse */
-  size_t k = 0;
-  for (size_t i = 0; i < np; i++) {
-    remap[i] = alive[i] ? (uint32_t)k : UINT32_MAX;
-    if (alive[i]) out->planes[k++] = out->planes[i];
-  }
-  out->plane_count = k;
-  for (size_t i = 0; i < k; i++)
-    if (out->planes[i].mother >= 0) out->planes[i].mother = (int32_t)remap[out->planes[i].mother];
-  for (size_t f = 0; f < nf; f++) out->face_plane[f] = remap[out->face_plane[f]];
-  free(list);
-  free(other);
-  free(target);
-  free(order);
-  free(alive);
+}
+
+/* One plane of the greedy select (2.1.8): found, tweaked, taken. */
+static bbc_result select_plane(ctx *c, int want) {
+  found_plane fp = {{0, 0, 0}, 0, BBC_PLANE_STANDARD};
+  size_t n = best_candidate(c, want, &fp);
+  if (n == 0) n = parachute_all(c, &fp);
+  tweak_plane(c, &fp, n);
+  if (c->p->super_greedy) n = super_greedy(c, &fp, n);
+  bbc_result r = take_plane(c, &fp, n);
+  if (r != BBC_OK) return r;
+  update_grid(c, n);
   return BBC_OK;
 }
 
@@ -800,144 +863,24 @@ bbc_result bbc__select_planes(const dual_face *faces, size_t nf, dual_grid *g, c
   c.p = p;
   c.eps = eps;
   c.gap = 0.02 * part_radius;
+  c.part_radius = part_radius;
   c.threads = p->threads;
   c.cb = cb;
   c.out = out;
   c.remaining = nf;
-  c.assigned = calloc(nf ? nf : 1, 1);
-  c.flag = malloc(nf ? nf : 1);
-  c.scratch = malloc((nf ? nf : 1) * sizeof *c.scratch);
-  c.label = malloc((nf ? nf : 1) * sizeof *c.label);
-  uint32_t *set = malloc((nf ? nf : 1) * sizeof *set);
-  uint32_t *set0 = malloc((nf ? nf : 1) * sizeof *set0);
-  uint32_t *cand0 = malloc((nf ? nf : 1) * sizeof *cand0);
-  uint32_t *cand = malloc((nf ? nf : 1) * sizeof *cand);
-  uint32_t *work = malloc((nf ? nf : 1) * sizeof *work);
-  out->face_plane = malloc((nf ? nf : 1) * sizeof *out->face_plane);
-  bbc_result r = BBC_OK;
-  if (p->debug > 0 && cb && cb->debug) {
-    c.ev_faces = malloc((nf ? 2 * nf : 1) * sizeof *c.ev_faces);
-    c.ev_done = malloc((nf ? 2 * nf : 1) * sizeof *c.ev_done);
-    if (!c.ev_faces || !c.ev_done) r = BBC_ERROR_OUT_OF_MEMORY;
-  }
-  if (!c.assigned || !c.flag || !c.scratch || !c.label || !set || !set0 || !cand0 || !cand ||
-      !work || !out->face_plane)
-    r = BBC_ERROR_OUT_OF_MEMORY;
-
+  bbc_result r = ctx_alloc(&c);
   int want = p->candidates < 1 ? 1 : (p->candidates > 4 ? 4 : p->candidates);
   while (r == BBC_OK && c.remaining > 0) {
-    /* Candidates: the densest cells (one in the thesis; more with the
-     * `candidates` extension), each refined to a plane; the plane that
-     * simplifies the largest projected area wins. */
-    size_t cells[4];
-    int ncand = densest_cells(&c, cells, want);
-    size_t n = 0, n0 = 0;
-    found_plane fp = {{0, 0, 0}, 0, BBC_PLANE_STANDARD};
-    double best_area = -1;
-    for (int k = 0; k < ncand; k++) {
-      dual_box box;
-      bbc__dual_grid_cell_box(g, cells[k] / g->n_rho, (int)(cells[k] % g->n_rho), &box);
-      size_t m0 = simply_valid(&c, &box, NULL, 0, cand0);
-      if (m0 == 0) continue;
-      if (p->clustering > 0) {
-        m0 = largest_cluster(&c, cand0, m0, g->dirs[cells[k] / g->n_rho].n, NULL);
-        debug_event(&c, 3, 0, cand0, m0);
-      }
-      found_plane cp;
-      if (!refine_plane(&c, box, cand0, m0, work, &cp)) cp = parachute(&c, cand0, m0);
-      /* The faces it simplifies: those of the cell's set valid for it. */
-      size_t m = 0;
-      double area = 0;
-      for (size_t i = 0; i < m0; i++)
-        if (bbc__dual_face_valid(&faces[cand0[i]], cp.n, cp.rho, eps)) {
-          cand[m++] = cand0[i];
-          area += dual_projected_area(&faces[cand0[i]], cp.n);
-        }
-      if (area > best_area) {
-        best_area = area;
-        fp = cp;
-        memcpy(set, cand, m * sizeof *set);
-        n = m;
-        memcpy(set0, cand0, m0 * sizeof *set0);
-        n0 = m0;
-      }
-    }
-    if (n == 0) {
-      /* No positive density left (penalties dominate) or rounding: the
-       * parachute over every unassigned face always progresses. */
-      n0 = 0;
-      for (size_t f = 0; f < nf; f++)
-        if (!c.assigned[f]) set0[n0++] = (uint32_t)f;
-      fp = parachute(&c, set0, n0);
-      for (size_t i = 0; i < n0; i++)
-        if (bbc__dual_face_valid(&faces[set0[i]], fp.n, fp.rho, eps)) set[n++] = set0[i];
-    }
-    /* Tweaks (2.3.2, 2.3.3). */
-    if (fp.kind == BBC_PLANE_STANDARD && n > 0 &&
-        !faces[set[0]].point) { /* 2.4.4: not for points */
-      if (bbc__dual_coplanar(faces, set, n, 1e-9 * (part_radius + eps), fp.n, &fp.rho))
-        fp.kind = BBC_PLANE_COPLANAR;
-      else if (p->post_tweak && bbc__dual_posttweak(faces, set, n, eps, fp.n, &fp.rho))
-        fp.kind = BBC_PLANE_POSTTWEAKED;
-    }
-    /* Supergreedy (2.3.6) after the tweaks: a tweaked plane lies closer to
-     * its faces' own plane, and so takes more of the faces around it. */
-    if (p->super_greedy) {
-      for (size_t i = 0; i < n; i++) c.assigned[set[i]] = 2; /* in the set already */
-      size_t k = n;
-      for (size_t f = 0; f < nf; f++)
-        if (!c.assigned[f] && bbc__dual_face_valid(&faces[f], fp.n, fp.rho, eps))
-          set[k++] = (uint32_t)f;
-      for (size_t i = 0; i < n; i++) c.assigned[set[i]] = 0;
-      n = k;
-    }
-    if (n == 0) { /* cannot happen: a face is valid for its own plane */
-      r = BBC_ERROR_INVALID_GEOMETRY;
-      break;
-    }
-    double area = 0;
-    for (size_t i = 0; i < n; i++) area += dual_projected_area(&faces[set[i]], fp.n);
-    int32_t index = (int32_t)out->plane_count;
-    r = push_plane(&c, &fp, n, area, -1, 100.0);
+    r = select_plane(&c, want);
     if (r != BBC_OK) break;
-    debug_event(&c, 1, 0, set, n);
-    for (size_t i = 0; i < n; i++) {
-      c.assigned[set[i]] = 1;
-      out->face_plane[set[i]] = (uint32_t)index;
-    }
-    c.remaining -= n;
-    if (p->cardboard && (r = add_cardboard(&c, &fp, set, n, area, index)) != BBC_OK) break;
-    /* Grid update: exactly reverse the simplified faces' density (2.1.8);
-     * or, when fewer faces remain than were simplified, the grid anew from
-     * those that remain (the same integer sums, less work). */
-    if (c.remaining >= n) {
-      bbc__dual_grid_accumulate(g, faces, set, n, -1, NULL);
-    } else if (c.remaining > 0) {
-      size_t k = 0, ncell = (size_t)g->n_theta * g->n_phi * g->n_rho;
-      for (size_t f = 0; f < nf; f++)
-        if (!c.assigned[f]) work[k++] = (uint32_t)f;
-      memset(g->contrib, 0, ncell * sizeof *g->contrib);
-      memset(g->penalty, 0, ncell * sizeof *g->penalty);
-      bbc__dual_grid_accumulate(g, faces, work, k, +1, NULL);
-    }
     bbc__progress(cb, "select", 1.0 - (double)c.remaining / (double)nf);
     if (bbc__cancelled(cb)) {
       r = BBC_ERROR_CANCELLED;
       break;
     }
   }
-  if (r == BBC_OK && p->merge) r = merge_planes(faces, nf, eps, out);
-  free(c.ev_faces);
-  free(c.ev_done);
-  free(c.assigned);
-  free(c.flag);
-  free(c.scratch);
-  free(c.label);
-  free(set);
-  free(set0);
-  free(cand0);
-  free(cand);
-  free(work);
+  if (r == BBC_OK && p->merge) r = bbc__merge_planes(faces, nf, eps, out);
+  ctx_free(&c);
   if (r != BBC_OK) bbc__select_result_free(out);
   return r;
 }

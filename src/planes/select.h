@@ -1,4 +1,4 @@
-/* select.h — step 2 for one part (select.c); internal. */
+/* select.h — step 2 for one part (select.c, merge.c); internal. */
 #ifndef BBC_SELECT_H
 #define BBC_SELECT_H
 
@@ -16,5 +16,10 @@ bbc_result bbc__select_planes(const dual_face *faces, size_t nf, dual_grid *g, c
                               double eps, double part_radius, const bbc_callbacks *cb,
                               select_result *out);
 void bbc__select_result_free(select_result *r);
+
+/* Merges redundant planes of a select's result over its nf faces
+ * (merge.c; parameter `merge`): planes dissolved into others or merged
+ * with a larger one, then renumbered. */
+bbc_result bbc__merge_planes(const dual_face *faces, size_t nf, double eps, select_result *out);
 
 #endif

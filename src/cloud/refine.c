@@ -373,3 +373,31 @@ bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
   }
   return BBC_OK;
 }
+
+bbc_result bbc__refine_baked(const bbc_mesh *m, const bbc_params *prm, bbc_cloud *cl,
+                             bbc__baked *bk, const bbc_mesh *limbs, const bbc_callbacks *cbk,
+                             bbc_error *err) {
+  size_t nk = cl->billboard_count;
+  int points = m->kind == BBC_MESH_POINTS;
+  bbc_result r = BBC_OK;
+  bbc__refine_image *ri = calloc(nk, sizeof *ri);
+  if (!ri) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
+  for (size_t k = 0; r == BBC_OK && k < nk; k++) {
+    for (int i = 0; i < 2; i++) {
+      ri[k].alpha[i] = bk[k].mask[i];
+      ri[k].cand[i] = bk[k].cand[i];
+    }
+    ri[k].width = cl->billboards[k].tex_width;
+    ri[k].height = cl->billboards[k].tex_height;
+  }
+  if (r == BBC_OK && prm->refine > 0 && !points) { /* renders of triangles */
+    if (cbk) bbc__progress(cbk, "refining", 0.0);
+    bbc__refine_options ro = {prm->refine, 256, 3, prm->up_axis, prm->threads, NULL};
+    ro.solid = limbs->triangle_count ? limbs : NULL;
+    r = bbc__refine_alpha(m, cl->billboards, ri, nk, &ro, err);
+    if (cbk) bbc__progress(cbk, "refining", 1.0);
+  }
+  for (size_t k = 0; r == BBC_OK && k < nk; k++) bbc__baked_clear_transparent(&bk[k]);
+  free(ri);
+  return r;
+}

@@ -1,6 +1,7 @@
 /* raster.c — a small software rasterizer: orthographic, depth-buffered,
- * textured with an alpha test. Used for previews now; the texture baking of
- * step 3 (thesis 2.1.9) and the fidelity metrics build on the same rules.
+ * textured with an alpha test. Used for previews, step 3's texture baking
+ * (thesis 2.1.9) and alpha refinement, and the fidelity metrics (src/eval),
+ * all by the same rules.
  *
  * Conventions: pixel (x, y) has its centre at (x + 0.5, y + 0.5) in screen
  * units, y down. A pixel is covered when its centre lies inside the
@@ -222,8 +223,9 @@ static int all_covered(const uint8_t *cover, int w, int x0, int x1, int y0, int 
   return 1;
 }
 
-/* The set-up of draw_triangle, split from it by stage and inlined into it
- * (and so into each of its compiled versions, BBC__CLONES). */
+/* draw_triangle's set-up stages, always inlined into it: no call per
+ * triangle, and each of its compiled versions (BBC__CLONES) gets them
+ * compiled for its instruction set. */
 #if defined(__GNUC__)
 #define ALWAYS_INLINE inline __attribute__((always_inline))
 #else
@@ -232,22 +234,24 @@ static int all_covered(const uint8_t *cover, int w, int x0, int x1, int y0, int 
 
 /* A triangle on the screen, set up for drawing. */
 typedef struct tri {
-  double s[3][3];            /* its corners projected (x, y, depth) */
   int order[3];              /* the corners in the order a, b, c */
   const double *a, *b, *c;   /* oriented: the edge functions are positive inside */
   double area;               /* twice its screen area, > 0 */
   int x0, x1, y0, y1;        /* the pixels it may cover */
   int want_front, want_back; /* the images it may draw into */
+  int slab, need_normal;     /* the view has a slab; the pixels need the normal */
   const bbc_material *mat;
 } tri;
 
-/* Projects triangle t and decides whether it can draw anything: 0 when it
- * is culled, degenerate, outside the slab or covers no pixel centre. */
-static ALWAYS_INLINE int triangle_setup(const bbc_mesh *m, size_t t, const target *tg, tri *tr) {
+/* Projects triangle t (its corners into s: x, y, depth) and decides
+ * whether it can draw anything: 0 when it is culled, degenerate, outside
+ * the slab or covers no pixel centre. The corners stay apart from tr, so
+ * that tr's fields can live in registers. */
+static ALWAYS_INLINE int triangle_setup(const bbc_mesh *m, size_t t, const target *tg,
+                                        double s[3][3], tri *tr) {
   const camera *cam = tg->cam;
   const bbc_view *view = tg->view;
   const uint32_t *ix = m->indices + 3 * t;
-  double(*s)[3] = tr->s;
   if (tg->proj)
     for (int k = 0; k < 3; k++) memcpy(s[k], tg->proj + 3 * (size_t)ix[k], sizeof s[k]);
   else
@@ -307,22 +311,22 @@ static ALWAYS_INLINE int triangle_setup(const bbc_mesh *m, size_t t, const targe
   tr->y1 = y1;
   tr->want_front = want_front;
   tr->want_back = want_back;
+  tr->slab = view->depth_max > view->depth_min;
+  tr->need_normal = view->lighting || (tg->bake && (tg->bake->front_nm || tg->bake->back_nm));
   tr->mat = mat;
   return 1;
 }
 
-/* What a triangle's pixels interpolate and how they are shaded. */
-typedef struct tri_shading {
-  const bbc_image *tex, *tex_rgb; /* alpha from tex, colour from tex_rgb (a mip level) */
-  const float *uv[3], *nv[3];     /* the corners' texture coordinates and normals */
-  float sh[3];                    /* their voxel shadowing */
-  int slab, need_normal;
-  double gain;   /* the light's gain */
-  double amb[3]; /* the ambient light */
-} tri_shading;
-
+/* What a triangle's pixels interpolate and how they are shaded: alpha from
+ * *tex, colour from *tex_rgb (a mip level); the corners' texture
+ * coordinates, normals and voxel shadowing; the light's gain and the
+ * ambient light. The arrays come initialised (no texture coordinates or
+ * normals, no shadow, no ambient light). */
 static ALWAYS_INLINE void triangle_shading(const bbc_mesh *m, size_t t, const target *tg,
-                                           const tri *tr, tri_shading *sd) {
+                                           const tri *tr, const bbc_image **tex_out,
+                                           const bbc_image **tex_rgb_out, const float *uv[3],
+                                           const float *nv[3], float sh[3], double *gain,
+                                           double amb[3]) {
   const bbc_view *view = tg->view;
   const uint32_t *ix = m->indices + 3 * t;
   const int *order = tr->order;
@@ -331,12 +335,6 @@ static ALWAYS_INLINE void triangle_shading(const bbc_mesh *m, size_t t, const ta
   const bbc_image *tex = NULL, *tex_rgb = NULL;
   if (mat->texture >= 0 && m->uvs && m->textures[mat->texture].image.rgba)
     tex = tex_rgb = &m->textures[mat->texture].image;
-  const float **uv = sd->uv, **nv = sd->nv;
-  float *sh = sd->sh;
-  for (int k = 0; k < 3; k++) {
-    uv[k] = nv[k] = NULL;
-    sh[k] = 1;
-  }
   for (int k = 0; k < 3; k++) {
     uint32_t vi = ix[order[k]];
     if (m->uvs) uv[k] = m->uvs + 2 * vi;
@@ -354,18 +352,14 @@ static ALWAYS_INLINE void triangle_shading(const bbc_mesh *m, size_t t, const ta
     if (level > mp->levels) level = mp->levels;
     if (level > 0) tex_rgb = &mp->level[level - 1];
   }
-  sd->tex = tex;
-  sd->tex_rgb = tex_rgb;
-  sd->slab = view->depth_max > view->depth_min;
-  sd->need_normal = view->lighting || (tg->bake && (tg->bake->front_nm || tg->bake->back_nm));
-  sd->gain = view->light_gain > 0 ? view->light_gain : 1.0;
+  *tex_out = tex;
+  *tex_rgb_out = tex_rgb;
+  *gain = view->light_gain > 0 ? view->light_gain : 1.0;
   /* The ambient light of X3D viewers: 0.2 x ambientIntensity x the diffuse
    * colour, untextured, with ambientIntensity the mean over the channels of
    * Ka / Kd, as view3dscene maps an MTL (measured on flat quads of coloured
    * Kd and Ka; Ka 0.2 when the material gives none); for a grey Kd this is
    * OpenGL's fixed-function 0.2 x Ka. */
-  double *amb = sd->amb;
-  amb[0] = amb[1] = amb[2] = 0;
   if (view->lighting && view->ambient && !mat->unlit) {
     int given = mat->ambient[0] > 0 || mat->ambient[1] > 0 || mat->ambient[2] > 0;
     double ai = 0;
@@ -435,22 +429,22 @@ static ALWAYS_INLINE int row_span(const edges *ed, double py, int x0, int x1, in
  * depth tests, the alpha test, the colour, the shading and the normal, into
  * the front and back images (or only the coverage). */
 static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
-  tri tr;
-  if (!triangle_setup(m, t, tg, &tr)) return;
-  tri_shading sd;
-  triangle_shading(m, t, tg, &tr, &sd);
-  edges ed;
-  edge_setup(&tr, &ed);
   const camera *cam = tg->cam;
   const bbc_view *view = tg->view;
+  double s[3][3];
+  tri tr;
+  if (!triangle_setup(m, t, tg, s, &tr)) return;
+  const bbc_image *tex, *tex_rgb;
+  const float *uv[3] = {NULL, NULL, NULL}, *nv[3] = {NULL, NULL, NULL};
+  float sh[3] = {1, 1, 1};
+  double gain, amb[3] = {0, 0, 0}, inv_area = 1.0 / tr.area;
+  triangle_shading(m, t, tg, &tr, &tex, &tex_rgb, uv, nv, sh, &gain, amb);
+  edges ed;
+  edge_setup(&tr, &ed);
   const double *a = tr.a, *b = tr.b, *c = tr.c;
   const bbc_material *mat = tr.mat;
-  int want_front = tr.want_front, want_back = tr.want_back, slab = sd.slab;
-  int tl0 = ed.tl[0], tl1 = ed.tl[1], tl2 = ed.tl[2], need_normal = sd.need_normal;
-  const bbc_image *tex = sd.tex, *tex_rgb = sd.tex_rgb;
-  const float *const *uv = sd.uv, *const *nv = sd.nv, *sh = sd.sh;
-  const double *amb = sd.amb;
-  double gain = sd.gain, inv_area = 1.0 / tr.area;
+  int want_front = tr.want_front, want_back = tr.want_back, slab = tr.slab;
+  int tl0 = ed.tl[0], tl1 = ed.tl[1], tl2 = ed.tl[2], need_normal = tr.need_normal;
   for (int y = tr.y0; y <= tr.y1; y++) {
     double py = y + 0.5;
     int xs, xe;

@@ -1,12 +1,13 @@
 /* cloud.c — step 3 (thesis 2.1.9, 2.2.5, 2.3.1, 2.3.5, 2.3.9, 2.3.11): the
- * pipeline that builds a Billboard Cloud on the planes of steps 1-2, its
- * stages in order: the limbs' part; the billboards' rectangles
- * (billboard.c); voxel shadowing (shade.c); the planes that get a billboard
- * and their texture sizes (texsize.c); the light, and every billboard baked
- * in parallel (bake.c); the limbs' mesh and colour (limbs.c); quality 2's
- * alpha refinement (refine.c); the atlas and the cloud's mesh
- * (cloud_mesh.c). With `atlasmax`, the texture resolution is chosen first
- * so that the images fit one atlas (texsize.c). */
+ * pipeline that builds a Billboard Cloud on the planes of steps 1-2,
+ * calling its stages in order: the stem's billboards (bbc__stem_find), or
+ * the limbs' part; the billboards' rectangles (billboard.c); voxel
+ * shadowing (bake.c, shade.c); the planes that get a billboard
+ * (billboard.c) and their texture sizes (texsize.c); the light, and every
+ * billboard baked in parallel (bake.c); the limbs' mesh and colour
+ * (limbs.c); quality 2's alpha refinement (refine.c); the atlas and the
+ * cloud's mesh (cloud_mesh.c). With `atlasmax` the texture resolution is
+ * chosen first, so that the images fit one atlas (texsize.c). */
 #include "cloud.h"
 
 #include <stdlib.h>

@@ -17,7 +17,9 @@
  * or always hidden) are not judged: after the rounds they are thinned as
  * the judged ones of their image were (unseen_thin).
  * Counts are integers summed per thread in a fixed order, so the result
- * does not depend on the number of threads. */
+ * does not depend on the number of threads.
+ * Step 3 runs it on quality 2's baked masks (bbc__refine_baked), then
+ * clears the colour of the texels left transparent. */
 #include "cloud.h"
 #include "raster.h"
 

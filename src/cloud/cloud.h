@@ -72,8 +72,9 @@ bbc_result bbc__refine_alpha(const bbc_mesh *mesh, const bbc_cloud_billboard *cb
                              bbc__refine_image *im, size_t n, const bbc__refine_options *options,
                              bbc_error *err);
 
-/* ==== step 3's stages, in the order src/cloud/cloud.c runs them ============= */
-/* Each returns BBC_OK or an error with its message in err. */
+/* ==== step 3's stages, which src/cloud/cloud.c runs in order ================ */
+/* Those returning a bbc_result return BBC_OK or an error, its message in
+ * err. */
 
 /* -- the planes that get a billboard (src/cloud/billboard.c) -- */
 /* Whether plane i gets a billboard (2.3.5, 2.3.7). */

@@ -213,21 +213,13 @@ static bbc_result check_args(const bbc_image *images, size_t count, int padding,
   return BBC_OK;
 }
 
-bbc_result bbc_atlas_pack(const bbc_image *images, size_t count, int padding, int max_size,
-                          bbc_image *atlas, bbc_atlas_rect *rects, bbc_error *err) {
-  if (!atlas) return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "atlas: no output image");
-  memset(atlas, 0, sizeof *atlas);
-  bbc_result r = check_args(images, count, padding, max_size, rects, err);
-  if (r != BBC_OK) return r;
-  if (count == 0) {
-    r = bbc_image_alloc(atlas, 1, 1);
-    if (r != BBC_OK) return bbc__fail(err, r, "atlas: out of memory");
-    return BBC_OK;
-  }
-
-  /* Cheap lower bounds first: a side no image fits in, or an area smaller
-   * than the padded images', is never tried. 64-bit arithmetic: sides up to
-   * 2^30 plus padding do not overflow. */
+/* Cheap lower bounds first: a side no image fits in, or an area smaller
+ * than the padded images', is never tried. 64-bit arithmetic: sides up to
+ * 2^30 plus padding do not overflow. An image too large for max_size is
+ * an error. */
+static bbc_result lower_bounds(const bbc_image *images, size_t count, int padding, int max_size,
+                               long long *need_w_out, long long *need_h_out,
+                               unsigned long long *need_area_out, bbc_error *err) {
   long long need_w = 0, need_h = 0;
   unsigned long long need_area = 0;
   size_t widest = 0, tallest = 0;
@@ -239,6 +231,9 @@ bbc_result bbc_atlas_pack(const bbc_image *images, size_t count, int padding, in
     need_area += (unsigned long long)(images[i].width + (long long)padding) *
                  (unsigned long long)(images[i].height + (long long)padding);
   }
+  *need_w_out = need_w;
+  *need_h_out = need_h;
+  *need_area_out = need_area;
   if (need_w > max_size || need_h > max_size) {
     size_t i = need_w > max_size ? widest : tallest;
     return bbc__fail(err, BBC_ERROR_OUT_OF_RANGE,
@@ -246,28 +241,19 @@ bbc_result bbc_atlas_pack(const bbc_image *images, size_t count, int padding, in
                      "max_size %dx%d",
                      i, images[i].width, images[i].height, padding, max_size, max_size);
   }
+  return BBC_OK;
+}
 
-  order_key *order = malloc(count * sizeof *order);
-  stbrp_rect *rr = calloc(count, sizeof *rr);
-  stbrp_node *nodes = malloc((count + 1) * sizeof *nodes);
-  if (!order || !rr || !nodes) {
-    r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "atlas: out of memory for %zu images", count);
-    goto done;
-  }
-  for (size_t i = 0; i < count; i++) {
-    order[i].w = images[i].width;
-    order[i].h = images[i].height;
-    order[i].index = i;
-  }
-  qsort(order, count, sizeof *order, order_compare);
-
-  /* Sizes by ascending area 2^e: e even -> square, e odd -> 2:1, wide
-   * first. Squares and 2:1 never share an area, so "smallest area, ties
-   * square first" reduces to this order. */
+/* The smallest atlas size everything fits in, tried by ascending area 2^e:
+ * e even -> square, e odd -> 2:1, wide first. Squares and 2:1 never share
+ * an area, so "smallest area, ties square first" reduces to this order.
+ * *found_w stays 0 when no size up to max_size fits. */
+static void find_size(const order_key *order, stbrp_rect *rr, size_t count, int padding,
+                      int max_size, long long need_w, long long need_h,
+                      unsigned long long need_area, stbrp_node *nodes, int *found_w, int *found_h) {
   int log_max = 0;
   while ((1 << log_max) < max_size) log_max++;
-  int found_w = 0, found_h = 0;
-  for (int e = 0; e <= 2 * log_max && !found_w; e++) {
+  for (int e = 0; e <= 2 * log_max && !*found_w; e++) {
     int shapes[2][2];
     int shape_count = 0;
     if (e % 2 == 0) {
@@ -286,12 +272,64 @@ bbc_result bbc_atlas_pack(const bbc_image *images, size_t count, int padding, in
           (unsigned long long)(w - padding) * (unsigned long long)(h - padding);
       if (inner < need_area) continue;
       if (try_pack(order, rr, count, w, h, padding, nodes)) {
-        found_w = w;
-        found_h = h;
+        *found_w = w;
+        *found_h = h;
         break;
       }
     }
   }
+}
+
+/* Each image copied to its packed place (shifted by `padding`), which
+ * rects[] records. */
+static void place_images(const bbc_image *images, size_t count, int padding, const stbrp_rect *rr,
+                         bbc_image *atlas, bbc_atlas_rect *rects) {
+  for (size_t i = 0; i < count; i++) {
+    const bbc_image *im = &images[i];
+    bbc_atlas_rect *dst = &rects[i];
+    dst->x = rr[i].x + padding;
+    dst->y = rr[i].y + padding;
+    dst->width = im->width;
+    dst->height = im->height;
+    size_t row = (size_t)im->width * 4;
+    for (int y = 0; y < im->height; y++)
+      memcpy(atlas->rgba + ((size_t)(dst->y + y) * (size_t)atlas->width + (size_t)dst->x) * 4,
+             im->rgba + (size_t)y * row, row);
+  }
+}
+
+bbc_result bbc_atlas_pack(const bbc_image *images, size_t count, int padding, int max_size,
+                          bbc_image *atlas, bbc_atlas_rect *rects, bbc_error *err) {
+  if (!atlas) return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "atlas: no output image");
+  memset(atlas, 0, sizeof *atlas);
+  bbc_result r = check_args(images, count, padding, max_size, rects, err);
+  if (r != BBC_OK) return r;
+  if (count == 0) {
+    r = bbc_image_alloc(atlas, 1, 1);
+    if (r != BBC_OK) return bbc__fail(err, r, "atlas: out of memory");
+    return BBC_OK;
+  }
+  long long need_w, need_h;
+  unsigned long long need_area;
+  r = lower_bounds(images, count, padding, max_size, &need_w, &need_h, &need_area, err);
+  if (r != BBC_OK) return r;
+
+  order_key *order = malloc(count * sizeof *order);
+  stbrp_rect *rr = calloc(count, sizeof *rr);
+  stbrp_node *nodes = malloc((count + 1) * sizeof *nodes);
+  if (!order || !rr || !nodes) {
+    r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "atlas: out of memory for %zu images", count);
+    goto done;
+  }
+  for (size_t i = 0; i < count; i++) {
+    order[i].w = images[i].width;
+    order[i].h = images[i].height;
+    order[i].index = i;
+  }
+  qsort(order, count, sizeof *order, order_compare);
+  int found_w = 0, found_h = 0;
+  find_size(order, rr, count, padding, max_size, need_w, need_h, need_area, nodes, &found_w,
+            &found_h);
   if (!found_w) {
     r = bbc__fail(err, BBC_ERROR_OUT_OF_RANGE,
                   "atlas: %zu images need %llu texels with %d texels of padding; they do not "
@@ -305,18 +343,7 @@ bbc_result bbc_atlas_pack(const bbc_image *images, size_t count, int padding, in
     r = bbc__fail(err, r, "atlas: out of memory for a %dx%d atlas", found_w, found_h);
     goto done;
   }
-  for (size_t i = 0; i < count; i++) {
-    const bbc_image *im = &images[i];
-    bbc_atlas_rect *dst = &rects[i];
-    dst->x = rr[i].x + padding;
-    dst->y = rr[i].y + padding;
-    dst->width = im->width;
-    dst->height = im->height;
-    size_t row = (size_t)im->width * 4;
-    for (int y = 0; y < im->height; y++)
-      memcpy(atlas->rgba + ((size_t)(dst->y + y) * (size_t)found_w + (size_t)dst->x) * 4,
-             im->rgba + (size_t)y * row, row);
-  }
+  place_images(images, count, padding, rr, atlas, rects);
   r = dilate(atlas, padding > 4 ? padding : 4);
   if (r != BBC_OK) {
     bbc_image_free(atlas);

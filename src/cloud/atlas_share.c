@@ -33,6 +33,87 @@ static size_t rect_count(const bbc_cloud *c) {
   return n + (c->limb_triangles > 0); /* the limbs' swatch last */
 }
 
+/* Copies of every cloud's images (and normal images, nm), in the order of
+ * rect_count, and their old places. */
+static bbc_result crop_all(const bbc_cloud *clouds, size_t count, int nm, bbc_image *imgs,
+                           bbc_image *nimgs, bbc_atlas_rect *old) {
+  bbc_result r = BBC_OK;
+  size_t i = 0;
+  for (size_t k = 0; k < count && r == BBC_OK; k++) {
+    const bbc_cloud *c = &clouds[k];
+    for (size_t b = 0; b < c->billboard_count && r == BBC_OK; b++)
+      for (int side = 0; side < 2 && r == BBC_OK; side++) {
+        const bbc_atlas_rect *q = side ? &c->billboards[b].back : &c->billboards[b].front;
+        if (side && q->width == 0) continue;
+        old[i] = *q;
+        r = crop(&c->mesh.textures[0].image, q, &imgs[i]);
+        if (r == BBC_OK && nm) r = crop(&c->mesh.textures[1].image, q, &nimgs[i]);
+        i++;
+      }
+    if (r == BBC_OK && c->limb_triangles) {
+      old[i] = c->limb_swatch;
+      r = crop(&c->mesh.textures[0].image, &c->limb_swatch, &imgs[i]);
+      if (r == BBC_OK && nm) r = crop(&c->mesh.textures[1].image, &c->limb_swatch, &nimgs[i]);
+      i++;
+    }
+  }
+  return r;
+}
+
+/* Moves every vertex's texture coordinates to its image's new place; the
+ * mesh holds per billboard the front fan, then the back fan. */
+static void move_all_uvs(bbc_cloud *clouds, size_t count, const bbc_atlas_rect *old,
+                         const bbc_atlas_rect *rects, const bbc_image *atlas) {
+  size_t i = 0;
+  for (size_t k = 0; k < count; k++) {
+    bbc_cloud *c = &clouds[k];
+    bbc_mesh *m = &c->mesh;
+    double ow = m->textures[0].image.width, oh = m->textures[0].image.height;
+    size_t v = 0;
+    for (size_t b = 0; b < c->billboard_count; b++)
+      for (int side = 0; side < 2; side++) {
+        bbc_atlas_rect *q = side ? &c->billboards[b].back : &c->billboards[b].front;
+        if (side && q->width == 0) continue;
+        for (int corner = 0; corner < c->billboards[b].corner_count; corner++, v++) {
+          if (v >= m->vertex_count) break;
+          move_uv(m->uvs + 2 * v, ow, oh, &old[i], &rects[i], atlas);
+        }
+        *q = rects[i];
+        i++;
+      }
+    if (c->limb_triangles) { /* the limbs: the remaining vertices, on the swatch */
+      for (; v < m->vertex_count; v++) move_uv(m->uvs + 2 * v, ow, oh, &old[i], &rects[i], atlas);
+      c->limb_swatch = rects[i];
+      i++;
+    }
+  }
+}
+
+/* Each level gets its own copy of the shared atlas (writers keep one
+ * image when several meshes carry the same texels). */
+static bbc_result copy_atlases(bbc_cloud *clouds, size_t count, int nm, const bbc_image *atlas,
+                               const bbc_image *nm_atlas, bbc_error *err) {
+  bbc_result r = BBC_OK;
+  for (size_t k = 0; k < count && r == BBC_OK; k++) {
+    bbc_mesh *m = &clouds[k].mesh;
+    for (int t = 0; t < 1 + nm && r == BBC_OK; t++) {
+      const bbc_image *src = t ? nm_atlas : atlas;
+      bbc_image copy;
+      r = bbc_image_alloc(&copy, src->width, src->height);
+      if (r != BBC_OK) {
+        r = bbc__fail(err, r, "shared atlas: out of memory");
+        break;
+      }
+      memcpy(copy.rgba, src->rgba, 4 * (size_t)src->width * src->height);
+      bbc_image_free(&m->textures[t].image);
+      m->textures[t].image = copy;
+    }
+    bbc_cloud *c = &clouds[k];
+    c->atlas_fill = (double)c->texels / ((double)atlas->width * atlas->height);
+  }
+  return r;
+}
+
 bbc_result bbc_clouds_share_atlas(bbc_cloud *clouds, size_t count, int max_size, int *shared,
                                   bbc_error *err) {
   *shared = 0;
@@ -54,25 +135,7 @@ bbc_result bbc_clouds_share_atlas(bbc_cloud *clouds, size_t count, int max_size,
     r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "shared atlas: out of memory");
     goto done;
   }
-  size_t i = 0;
-  for (size_t k = 0; k < count && r == BBC_OK; k++) {
-    const bbc_cloud *c = &clouds[k];
-    for (size_t b = 0; b < c->billboard_count && r == BBC_OK; b++)
-      for (int side = 0; side < 2 && r == BBC_OK; side++) {
-        const bbc_atlas_rect *q = side ? &c->billboards[b].back : &c->billboards[b].front;
-        if (side && q->width == 0) continue;
-        old[i] = *q;
-        r = crop(&c->mesh.textures[0].image, q, &imgs[i]);
-        if (r == BBC_OK && nm) r = crop(&c->mesh.textures[1].image, q, &nimgs[i]);
-        i++;
-      }
-    if (r == BBC_OK && c->limb_triangles) {
-      old[i] = c->limb_swatch;
-      r = crop(&c->mesh.textures[0].image, &c->limb_swatch, &imgs[i]);
-      if (r == BBC_OK && nm) r = crop(&c->mesh.textures[1].image, &c->limb_swatch, &nimgs[i]);
-      i++;
-    }
-  }
+  r = crop_all(clouds, count, nm, imgs, nimgs, old);
   if (r != BBC_OK) {
     r = bbc__fail(err, r, "shared atlas: out of memory");
     goto done;
@@ -86,50 +149,8 @@ bbc_result bbc_clouds_share_atlas(bbc_cloud *clouds, size_t count, int max_size,
       r = bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "shared atlas: normal layout differs");
     if (r != BBC_OK) goto done;
   }
-  /* Move every vertex's texture coordinates to its image's new place; the
-   * mesh holds per billboard the front fan, then the back fan. */
-  i = 0;
-  for (size_t k = 0; k < count; k++) {
-    bbc_cloud *c = &clouds[k];
-    bbc_mesh *m = &c->mesh;
-    double ow = m->textures[0].image.width, oh = m->textures[0].image.height;
-    size_t v = 0;
-    for (size_t b = 0; b < c->billboard_count; b++)
-      for (int side = 0; side < 2; side++) {
-        bbc_atlas_rect *q = side ? &c->billboards[b].back : &c->billboards[b].front;
-        if (side && q->width == 0) continue;
-        for (int corner = 0; corner < c->billboards[b].corner_count; corner++, v++) {
-          if (v >= m->vertex_count) break;
-          move_uv(m->uvs + 2 * v, ow, oh, &old[i], &rects[i], &atlas);
-        }
-        *q = rects[i];
-        i++;
-      }
-    if (c->limb_triangles) { /* the limbs: the remaining vertices, on the swatch */
-      for (; v < m->vertex_count; v++) move_uv(m->uvs + 2 * v, ow, oh, &old[i], &rects[i], &atlas);
-      c->limb_swatch = rects[i];
-      i++;
-    }
-  }
-  /* Each level gets its own copy of the shared atlas (writers keep one
-   * image when several meshes carry the same texels). */
-  for (size_t k = 0; k < count && r == BBC_OK; k++) {
-    bbc_mesh *m = &clouds[k].mesh;
-    for (int t = 0; t < 1 + nm && r == BBC_OK; t++) {
-      const bbc_image *src = t ? &nm_atlas : &atlas;
-      bbc_image copy;
-      r = bbc_image_alloc(&copy, src->width, src->height);
-      if (r != BBC_OK) {
-        r = bbc__fail(err, r, "shared atlas: out of memory");
-        break;
-      }
-      memcpy(copy.rgba, src->rgba, 4 * (size_t)src->width * src->height);
-      bbc_image_free(&m->textures[t].image);
-      m->textures[t].image = copy;
-    }
-    bbc_cloud *c = &clouds[k];
-    c->atlas_fill = (double)c->texels / ((double)atlas.width * atlas.height);
-  }
+  move_all_uvs(clouds, count, old, rects, &atlas);
+  r = copy_atlases(clouds, count, nm, &atlas, &nm_atlas, err);
   *shared = r == BBC_OK;
 done:
   for (size_t q = 0; q < total && imgs; q++) bbc_image_free(&imgs[q]);

@@ -1,8 +1,11 @@
 /* billboard.c — the rectangle of each plane (thesis 2.1.9): the faces it
  * simplifies projected onto it, their minimum-area bounding rectangle
- * (tweak.c: convex hull and rotating calipers), back in model coordinates. */
+ * (src/planes/tweak.c: convex hull and rotating calipers), back in model
+ * coordinates; and which planes get a billboard (2.3.5, 2.3.7). */
+#include "cloud.h"
 #include "dual.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -81,4 +84,36 @@ bbc_result bbc_billboards_compute(const bbc_mesh *mesh, const bbc_planeset *set,
   free(all);
   if (oom) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "billboards: out of memory");
   return BBC_OK;
+}
+
+int bbc__plane_kept(const bbc_mesh *m, const bbc_planeset *set, size_t i, const bbc_params *prm) {
+  const bbc_plane *p = &set->planes[i];
+  if (p->kind == BBC_PLANE_CARDBOARD) return p->coverage_pct >= prm->cb_coverage_pct;
+  /* 2.4.4: a point cloud's planes with fewer than pointskip points go */
+  if (m->kind == BBC_MESH_POINTS) return p->face_count >= (size_t)prm->point_skip;
+  double largest = 0;
+  for (size_t j = 0; j < set->plane_count; j++)
+    if (set->planes[j].part == p->part && set->planes[j].kind != BBC_PLANE_CARDBOARD &&
+        set->planes[j].area > largest)
+      largest = set->planes[j].area;
+  return p->area >= prm->poly_skip_pct / 100.0 * largest;
+}
+
+size_t bbc__billboards_keep(const bbc_mesh *m, const bbc_planeset *set, const bbc_params *prm,
+                            const bbc_billboard *bb, const bbc__stem *stem, size_t *order,
+                            size_t *np_kept, double *longest) {
+  size_t nk = 0;
+  double lg = 0;
+  for (size_t i = 0; i < set->plane_count; i++)
+    if (bbc__plane_kept(m, set, i, prm)) {
+      order[nk++] = i;
+      lg = fmax(lg, fmax(bb[i].width, bb[i].height));
+    }
+  *np_kept = nk;
+  for (size_t i = 0; i < stem->count; i++) {
+    lg = fmax(lg, fmax(stem->rects[i].width, stem->rects[i].height));
+    nk++;
+  }
+  *longest = lg;
+  return nk;
 }

@@ -7,8 +7,9 @@
 #define BBC_CLOUD_H
 
 #include "base.h"
+#include "planes.h" /* the stem (bbc__stem) */
 
-/* ---- step 3 internals (src/core/cloud.c) ----------------------------------- */
+/* ---- step 3 internals (src/cloud/cloud.c, texsize.c) ------------------------- */
 /* bbc_cloud_build with the billboards' rectangles given (one per plane of
  * `set`, NULL = computed as usual): baselines use it. */
 bbc_result bbc__cloud_build_rects(const bbc_mesh *mesh, const bbc_planeset *set,
@@ -17,7 +18,7 @@ bbc_result bbc__cloud_build_rects(const bbc_mesh *mesh, const bbc_planeset *set,
 /* Texels of all images for rectangles rects[n] at resolution texres. */
 size_t bbc__cloud_texels(const bbc_billboard *rects, size_t n, int texres, int sides);
 
-/* ---- the trunk part as a mesh (src/core/limbs.c) ------------------------------ */
+/* ---- the trunk part as a mesh (src/cloud/limbs.c) ----------------------------- */
 /* The faces no plane simplifies (set->face_plane BBC_NO_PLANE: the trunk
  * part with `limbs`), welded and simplified to at most `target` triangles,
  * with smooth normals, one material and one group; an empty mesh (all
@@ -25,7 +26,7 @@ size_t bbc__cloud_texels(const bbc_billboard *rects, size_t n, int texres, int s
 bbc_result bbc__limbs_build(const bbc_mesh *mesh, const bbc_planeset *set, int target,
                             bbc_mesh *out, bbc_error *err);
 
-/* ---- alpha refinement (src/core/refine.c) ------------------------------------ */
+/* ---- alpha refinement (src/cloud/refine.c) ----------------------------------- */
 /* One billboard's texels: alpha[side] nonzero = opaque (side 1 NULL: the
  * front image is seen from both sides), cand[side] nonzero = may turn
  * opaque (some sample of the original covered it; NULL = none may). */
@@ -45,9 +46,102 @@ typedef struct bbc__refine_options {
 } bbc__refine_options;
 
 /* Refines the alpha of the billboards cb[n] (images im[n]) of a cloud of
- * `mesh` against renders of the mesh (src/core/refine.c). */
+ * `mesh` against renders of the mesh. */
 bbc_result bbc__refine_alpha(const bbc_mesh *mesh, const bbc_cloud_billboard *cb,
                              bbc__refine_image *im, size_t n, const bbc__refine_options *options,
                              bbc_error *err);
+
+/* ==== step 3's stages, which src/cloud/cloud.c runs in order ================ */
+/* Those returning a bbc_result return BBC_OK or an error, its message in
+ * err. */
+
+/* -- the planes that get a billboard (src/cloud/billboard.c) -- */
+/* Whether plane i gets a billboard (2.3.5, 2.3.7). */
+int bbc__plane_kept(const bbc_mesh *mesh, const bbc_planeset *set, size_t i,
+                    const bbc_params *params);
+/* The kept planes' indices into order[] (*kept_planes of them), then the
+ * stem's billboards: returns the count of both; *longest: the longest side
+ * of their rectangles (rects: one per plane). */
+size_t bbc__billboards_keep(const bbc_mesh *mesh, const bbc_planeset *set, const bbc_params *params,
+                            const bbc_billboard *rects, const bbc__stem *stem, size_t *order,
+                            size_t *kept_planes, double *longest);
+
+/* -- texture sizes (src/cloud/texsize.c; thesis 2.1.9) -- */
+/* The largest power of two <= x (at least 1, at most 2^14). */
+int bbc__floor_pow2(double x);
+/* atlasmax: the largest texres (8192 down to 8, else 4) whose images of
+ * rectangles rects[n] (`sides` each, `scale` times the texels a side) the
+ * packer fits in one limit x limit atlas. */
+int bbc__texres_fitting(const bbc_billboard *rects, size_t n, int sides, int scale, int limit);
+/* The cloud's billboards 0..kept_planes-1 from the kept planes (order[]),
+ * then the stem's (count billboards in all, allocated): plane, rectangle
+ * and texture size at `texres` for the longest side `longest`. */
+void bbc__cloud_billboards_init(bbc_cloud *cloud, const bbc_planeset *set,
+                                const bbc_billboard *rects, const size_t *order, size_t kept_planes,
+                                const bbc__stem *stem, size_t count, double longest, int texres);
+
+/* -- baking (src/cloud/bake.c; thesis 2.1.9, 2.2.5, 2.3.9) -- */
+/* What every billboard's bake shares. */
+typedef struct bbc__bake_inputs {
+  const bbc_mesh *mesh;
+  const bbc_planeset *set;
+  const bbc_params *params;
+  float *vshade;          /* per vertex: voxel shadowing's light (2.3.11), or NULL */
+  struct bbc__mips *mips; /* the mesh's textures' mipmaps, or NULL */
+  uint8_t *share;         /* pure 2: per triangle, its alpha share, or NULL */
+  double light[3];        /* the prelight's direction */
+  double light_gain;      /* prelight: its brightness as a lit viewer's */
+} bbc__bake_inputs;
+
+/* The images of one billboard before packing. */
+typedef struct bbc__baked {
+  bbc_image front, back, front_nm, back_nm;
+  uint8_t *mask[2], *cand[2]; /* quality 2: per texel opaque / has covered samples */
+  bbc_error err;
+  bbc_result r;
+} bbc__baked;
+
+/* Voxel shadowing (2.3.11): in->vshade when the parameters ask for it. */
+bbc_result bbc__bake_shading(bbc__bake_inputs *in, bbc_error *err);
+/* The light, its gain, the mipmaps and (pure 2) the faces' alpha shares
+ * among the kept planes order[0..kept_planes-1]. */
+bbc_result bbc__bake_lighting(bbc__bake_inputs *in, const size_t *order, size_t kept_planes,
+                              bbc_error *err);
+/* Bakes every billboard of the cloud (those of the kept planes order[],
+ * then the stem's) into bk[], in parallel, with progress and cancelling. */
+bbc_result bbc__bake_all(const bbc__bake_inputs *in, const size_t *order, size_t kept_planes,
+                         const bbc__stem *stem, const bbc_callbacks *callbacks, bbc_cloud *cloud,
+                         bbc__baked *bk, bbc_error *err);
+/* quality 2: texels left transparent by the masks become (0, 0, 0, 0),
+ * opaque ones alpha 255. */
+void bbc__baked_clear_transparent(bbc__baked *b);
+void bbc__baked_free(bbc__baked *b);
+void bbc__bake_inputs_free(bbc__bake_inputs *in);
+
+/* -- the limbs (src/cloud/limbs.c) -- */
+/* The part whose faces `limbs` keeps as a mesh: its triangle budget (0 =
+ * none) and, when part is not NULL, its index. */
+int bbc__limbs_part(const bbc_planeset *set, uint32_t *part);
+/* The limbs' mesh (at most `target` triangles, fewer for a cloud of few
+ * billboards) and the 4 x 4 swatches of their colour and flat normal
+ * (swatch[1] only with normal maps). */
+bbc_result bbc__limbs_stage(const bbc__bake_inputs *in, const bbc_cloud *cloud, int target,
+                            bbc_mesh *limbs, bbc_image swatch[2], bbc_error *err);
+
+/* -- refinement (src/cloud/refine.c) -- */
+/* quality 2: the baked masks refined against renders of the original (the
+ * limbs drawn with the cloud), then the transparent texels cleared. */
+bbc_result bbc__refine_baked(const bbc_mesh *mesh, const bbc_params *params, bbc_cloud *cloud,
+                             bbc__baked *bk, const bbc_mesh *limbs, const bbc_callbacks *callbacks,
+                             bbc_error *err);
+
+/* -- the atlas and the mesh (src/cloud/cloud_mesh.c) -- */
+/* The baked images packed into the atlas (and the normal atlas, 2.3.1), the
+ * swatch last, and the cloud's mesh: each billboard's outline, then the
+ * limbs' mesh (part limbs_group) on the swatch. */
+bbc_result bbc__cloud_atlas_mesh(const bbc_planeset *set, const bbc_params *params,
+                                 bbc_cloud *cloud, const bbc__baked *bk, const bbc_image swatch[2],
+                                 const bbc_mesh *limbs, uint32_t limbs_group, int atlas_limit,
+                                 bbc_error *err);
 
 #endif /* BBC_CLOUD_H */

@@ -1,5 +1,5 @@
 /* limbs.c — beyond the thesis: the trunk part kept as a small mesh inside
- * the cloud (`limbs`, issue 11). A stem and its limbs are thin cylinders: on
+ * the cloud (`limbs`). A stem and its limbs are thin cylinders: on
  * billboards they are lines from the sides those planes are seen edge-on
  * (a conifer's whorls lie on near-horizontal planes, so from the side its
  * limbs vanish) and up to epsilon off their place. As a mesh they hold from
@@ -7,8 +7,9 @@
  * simplifies, BBC_NO_PLANE) are welded by position and simplified with
  * meshoptimizer (edge collapses keeping the topology; where that stops
  * above the budget, clustering on the result) to at most `target`
- * triangles, with smooth normals. */
+ * triangles, with smooth normals. Their colour: a swatch in the atlas. */
 #include "cloud.h"
+#include "raster.h"
 
 #include <math.h>
 #include <meshoptimizer.h>
@@ -99,5 +100,97 @@ bbc_result bbc__limbs_build(const bbc_mesh *m, const bbc_planeset *set, int targ
   free(upos);
   if (r != BBC_OK || !out->triangle_count) bbc_mesh_free(out);
   if (r != BBC_OK) memset(out, 0, sizeof *out);
+  return r;
+}
+
+int bbc__limbs_part(const bbc_planeset *set, uint32_t *part) {
+  for (size_t pi = 0; pi < set->part_count; pi++)
+    if (set->parts[pi].limbs > 0) {
+      if (part) *part = (uint32_t)pi;
+      return set->parts[pi].limbs;
+    }
+  return 0;
+}
+
+/* The limbs' colour: their original faces baked as the stem billboards
+ * are (prelit by a headlight from the side, textures at the distance of a
+ * 64-texel image), seen from two sides, averaged over what they cover. */
+static void limb_colour(const bbc__bake_inputs *in, uint8_t rgba[4]) {
+  const bbc_mesh *m = in->mesh;
+  const bbc_planeset *set = in->set;
+  const bbc_params *prm = in->params;
+  enum { SIDE = 64 };
+  uint32_t *faces = malloc((m->triangle_count ? m->triangle_count : 1) * sizeof *faces);
+  uint8_t *img = malloc(4 * SIDE * SIDE);
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  size_t n = 0;
+  for (size_t t = 0; faces && t < m->triangle_count; t++) {
+    if (set->face_plane[t] != BBC_NO_PLANE) continue;
+    faces[n++] = (uint32_t)t;
+    for (int c = 0; c < 3; c++)
+      for (int k = 0; k < 3; k++) {
+        double x = m->positions[3 * (size_t)m->indices[3 * t + c] + k];
+        lo[k] = fmin(lo[k], x);
+        hi[k] = fmax(hi[k], x);
+      }
+  }
+  double sum[3] = {0, 0, 0}, weight = 0;
+  int up = prm->up_axis >= 0 && prm->up_axis <= 2 ? prm->up_axis : 1;
+  for (int side = 0; n && img && side < 2; side++) {
+    int ax = (up + 1 + side) % 3, across = (up + 2 - side) % 3;
+    bbc_view v;
+    memset(&v, 0, sizeof v);
+    v.direction[ax] = -1;
+    v.up[up] = 1;
+    for (int k = 0; k < 3; k++) v.center[k] = 0.5 * (lo[k] + hi[k]);
+    v.half_extent = fmax(0.5 * (hi[across] - lo[across]), 1e-9);
+    v.half_extent_y = fmax(0.5 * (hi[up] - lo[up]), 1e-9);
+    v.lighting = prm->prelight;
+    v.headlight = 1;
+    v.light_gain = 1;
+    v.ambient = prm->viewer_ambient;
+    v.vertex_shade = in->vshade;
+    bbc__bake bk;
+    memset(&bk, 0, sizeof bk);
+    bk.width = bk.height = SIDE;
+    bk.front = img;
+    bk.mips = in->mips;
+    memset(img, 0, 4 * SIDE * SIDE);
+    bbc_error quiet;
+    if (bbc__render_bake(m, faces, n, &v, &bk, &quiet) != BBC_OK) continue;
+    for (size_t i = 0; i < (size_t)SIDE * SIDE; i++) {
+      double a = img[4 * i + 3] / 255.0;
+      for (int c = 0; c < 3; c++) sum[c] += a * img[4 * i + c];
+      weight += a;
+    }
+  }
+  for (int c = 0; c < 3; c++) rgba[c] = (uint8_t)(weight > 0 ? sum[c] / weight + 0.5 : 128);
+  rgba[3] = 255;
+  free(faces);
+  free(img);
+}
+
+bbc_result bbc__limbs_stage(const bbc__bake_inputs *in, const bbc_cloud *cl, int limbs_target,
+                            bbc_mesh *limbs, bbc_image swatch[2], bbc_error *err) {
+  const bbc_params *prm = in->params;
+  size_t nk = cl->billboard_count;
+  /* At most `limbs` triangles, and at most 4 times the billboards' (at
+   * least 16): a coarse level of a chain keeps its weight. */
+  size_t bt = 0;
+  for (size_t k = 0; k < nk; k++)
+    bt += (size_t)(prm->back_images ? 2 : 1) * (size_t)(cl->billboards[k].corner_count - 2);
+  if ((size_t)limbs_target > 4 * bt) limbs_target = (int)(4 * bt < 16 ? 16 : 4 * bt);
+  bbc_result r = bbc__limbs_build(in->mesh, in->set, limbs_target, limbs, err);
+  if (r == BBC_OK && limbs->triangle_count) {
+    uint8_t rgba[4];
+    limb_colour(in, rgba);
+    for (int i = 0; r == BBC_OK && i < (prm->normal_maps ? 2 : 1); i++)
+      r = bbc_image_alloc(&swatch[i], 4, 4);
+    if (r != BBC_OK) r = bbc__fail(err, r, "step 3: out of memory");
+    static const uint8_t flat[4] = {128, 128, 255, 255};
+    for (int i = 0; r == BBC_OK && i < 2; i++)
+      for (size_t x = 0; swatch[i].rgba && x < 16; x++)
+        memcpy(swatch[i].rgba + 4 * x, i ? flat : rgba, 4);
+  }
   return r;
 }

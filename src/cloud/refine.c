@@ -1,5 +1,5 @@
 /* refine.c — beyond the thesis: each billboard's binary alpha refined
- * against renders of the original (issue 11). The original's coverage is
+ * against renders of the original. The original's coverage is
  * rendered once from views spread over the sphere; then, for a few rounds,
  * the cloud is drawn from the same views keeping per pixel the nearest
  * opaque texel and the nearest texel that could turn opaque (one that some
@@ -17,7 +17,9 @@
  * or always hidden) are not judged: after the rounds they are thinned as
  * the judged ones of their image were (unseen_thin).
  * Counts are integers summed per thread in a fixed order, so the result
- * does not depend on the number of threads. */
+ * does not depend on the number of threads.
+ * Step 3 runs it on quality 2's baked masks (bbc__refine_baked), then
+ * clears the colour of the texels left transparent. */
 #include "cloud.h"
 #include "raster.h"
 
@@ -148,9 +150,9 @@ static const uint8_t k_bayer[8][8] = {
  * judged ones of the same image kept (of those opaque before the rounds;
  * the whole cloud's share for an image with fewer than 64 judged), in an
  * ordered-dither pattern. Without it they keep the bake's density, which
- * refinement found too high where it could judge: on the ez-tree aspen,
- * whose texels are smaller than the views' pixels (62 % of the opaque ones
- * unjudged), side coverage 1.17 -> 1.10, side block IoU 0.828 -> 0.861. */
+ * refinement found too high where it could judge: that matters where
+ * texels are smaller than the views' pixels and most opaque ones go
+ * unjudged. */
 /* `kept`: 2 n zeroed pairs, per image side the judged texels opaque
  * before the rounds and how many of them still are. */
 static void unseen_thin(bbc__refine_image *im, size_t n, const size_t *offset, const uint8_t *seen,
@@ -184,11 +186,45 @@ static void unseen_thin(bbc__refine_image *im, size_t n, const size_t *offset, c
     }
 }
 
-bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
-                             bbc__refine_image *im, size_t n, const bbc__refine_options *opt,
-                             bbc_error *err) {
-  int nv = opt->views, size = opt->size;
-  if (nv <= 0 || n == 0) return BBC_OK;
+/* Refinement's state over its rounds. */
+typedef struct refine {
+  const bbc_mesh *m;
+  const bbc_cloud_billboard *cb;
+  bbc__refine_image *im;
+  size_t n;
+  const bbc__refine_options *opt;
+  int nv, size, nt;  /* views, pixels per side, threads */
+  size_t np, total;  /* pixels a view, texels of all images */
+  size_t *offset;    /* per image side: its first texel among all */
+  uint8_t *orig;     /* per view: the original's coverage */
+  uint8_t *solid;    /* per view: the solid geometry's, or NULL */
+  bbc__camera *cams; /* per view */
+  int32_t *counts;   /* per thread, per texel: COUNTS counts */
+  uint8_t *seen;     /* per texel: judged in some round */
+  uint8_t *before;   /* per texel: opaque before the rounds */
+  size_t (*kept)[2]; /* unseen_thin's counts */
+  int failed;        /* a view or a buffer failed: first says why */
+  bbc_error first;
+} refine;
+
+static void refine_free(refine *rf) {
+  free(rf->seen);
+  free(rf->before);
+  free(rf->kept);
+  free(rf->offset);
+  free(rf->orig);
+  free(rf->solid);
+  free(rf->cams);
+  free(rf->counts);
+}
+
+/* Each image side's first texel among all, and the buffers; out of memory:
+ * an error, nothing allocated. */
+static bbc_result refine_alloc(refine *rf, bbc_error *err) {
+  const bbc__refine_options *opt = rf->opt;
+  bbc__refine_image *im = rf->im;
+  size_t n = rf->n;
+  int nv = rf->nv, size = rf->size;
   size_t *offset = malloc(2 * n * sizeof *offset), total = 0;
   if (!offset) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "refine: out of memory");
   for (size_t k = 0; k < n; k++)
@@ -196,47 +232,52 @@ bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
       offset[2 * k + s] = total;
       if (im[k].alpha[s]) total += (size_t)im[k].width * im[k].height;
     }
+  rf->offset = offset;
+  rf->total = total;
   size_t np = (size_t)size * size;
-  uint8_t *orig = malloc((size_t)nv * np);
+  rf->np = np;
+  rf->orig = malloc((size_t)nv * np);
   /* The opaque geometry drawn with the cloud (the limbs' mesh): no texel
    * is judged at its pixels, and they stay out of a block's count of what
    * the cloud covers (not of the original's), so that the foliage's
-   * density is matched as if they were not drawn. Measured on the
-   * generated larch (`limbs 256`, side block IoU at 1/8): 0.784, against
-   * 0.764 counting them as covered and 0.773 leaving them out of both. */
-  uint8_t *solid = opt->solid ? malloc((size_t)nv * np) : NULL;
-  bbc__camera *cams = malloc((size_t)nv * sizeof *cams);
+   * density is matched as if they were not drawn (closer to the original
+   * than counting them as covered, or leaving them out of both counts). */
+  rf->solid = opt->solid ? malloc((size_t)nv * np) : NULL;
+  rf->cams = malloc((size_t)nv * sizeof *rf->cams);
   int nt = opt->threads;
 #ifdef _OPENMP
   if (nt <= 0) nt = omp_get_max_threads();
 #else
   nt = 1;
 #endif
-  int32_t *counts = calloc((size_t)nt * COUNTS * (total ? total : 1), sizeof *counts);
-  uint8_t *seen = calloc(total ? total : 1, 1), *before = malloc(total ? total : 1);
-  size_t(*kept)[2] = calloc(2 * n, sizeof *kept);
-  if (!orig || !cams || !counts || !seen || !before || !kept || (opt->solid && !solid)) {
-    free(seen);
-    free(before);
-    free(kept);
-    free(offset);
-    free(orig);
-    free(solid);
-    free(cams);
-    free(counts);
+  rf->nt = nt;
+  rf->counts = calloc((size_t)nt * COUNTS * (total ? total : 1), sizeof *rf->counts);
+  rf->seen = calloc(total ? total : 1, 1);
+  rf->before = malloc(total ? total : 1);
+  rf->kept = calloc(2 * n, sizeof *rf->kept);
+  if (!rf->orig || !rf->cams || !rf->counts || !rf->seen || !rf->before || !rf->kept ||
+      (opt->solid && !rf->solid)) {
+    refine_free(rf);
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "refine: out of memory");
   }
   for (size_t k = 0; k < n; k++)
     for (int s = 0; s < 2; s++)
       if (im[k].alpha[s]) {
         size_t nx = (size_t)im[k].width * im[k].height;
-        for (size_t i = 0; i < nx; i++) before[offset[2 * k + s] + i] = im[k].alpha[s][i] != 0;
+        for (size_t i = 0; i < nx; i++) rf->before[offset[2 * k + s] + i] = im[k].alpha[s][i] != 0;
       }
+  return BBC_OK;
+}
+
+/* The original's coverage from every view (and the solid geometry's). */
+static void render_originals(refine *rf) {
+  const bbc__refine_options *opt = rf->opt;
+  const bbc_mesh *m = rf->m;
+  int nv = rf->nv, size = rf->size, nt = rf->nt;
+  size_t np = rf->np;
+  uint8_t *orig = rf->orig, *solid = rf->solid;
+  bbc__camera *cams = rf->cams;
   int up = opt->up_axis >= 0 && opt->up_axis <= 2 ? opt->up_axis : 1;
-  int failed = 0;
-  bbc_error first;
-  memset(&first, 0, sizeof first);
-  /* The original's coverage from every view. */
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nt)
   for (int v = 0; v < nv; v++) {
     double dir[3], upv[3] = {0, 0, 0};
@@ -258,118 +299,185 @@ bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
          bbc__render_coverage(opt->solid, &view, size, solid + (size_t)v * np, &e) != BBC_OK)) {
 #pragma omp critical(bbc_refine_fail)
       {
-        if (!failed) first = e;
-        failed = 1;
+        if (!rf->failed) rf->first = e;
+        rf->failed = 1;
       }
     }
   }
-  for (int round = 0; !failed && round < opt->rounds; round++) {
-#pragma omp parallel num_threads(nt)
-    {
-      int tid = 0, tn = 1;
-#ifdef _OPENMP
-      tid = omp_get_thread_num();
-      tn = omp_get_num_threads();
-#endif
-      int32_t *cnt = counts + (size_t)tid * COUNTS * total;
-      /* Every copy cleared, also those of threads the team lacks. */
-      for (int t = tid; t < nt; t += tn)
-        memset(counts + (size_t)t * COUNTS * total, 0, COUNTS * total * sizeof *counts);
-#pragma omp barrier
-      buffers b;
-      b.z = malloc(np * sizeof *b.z);
-      b.cz = malloc(np * sizeof *b.cz);
-      b.id = malloc(np * sizeof *b.id);
-      b.cid = malloc(np * sizeof *b.cid);
-      int ok = b.z && b.cz && b.id && b.cid;
-      if (!ok) {
-#pragma omp critical(bbc_refine_fail)
-        failed = 1;
-      }
-#pragma omp for schedule(dynamic, 1)
-      for (int v = 0; v < nv; v++) {
-        if (!ok) continue;
-        draw_cloud(cb, im, n, offset, &cams[v], size, &b);
-        const uint8_t *o = orig + (size_t)v * np, *so = solid ? solid + (size_t)v * np : NULL;
-        /* Per block: pixels the cloud covers, and the original. */
-        for (int by = 0; by < size; by += BLOCK)
-          for (int bx = 0; bx < size; bx += BLOCK) {
-            int ey = by + BLOCK < size ? by + BLOCK : size,
-                ex = bx + BLOCK < size ? bx + BLOCK : size;
-            int cov = 0, ob = 0, any = 0;
-            for (int y = by; y < ey; y++)
-              for (int x = bx; x < ex; x++) {
-                size_t i = (size_t)y * size + x;
-                ob += o[i];
-                cov += b.id[i] != 0;
-                any |= b.id[i] || b.cid[i];
-              }
-            if (!any) continue;
-            int over = cov > ob, under = cov < ob;
-            for (int y = by; y < ey; y++)
-              for (int x = bx; x < ex; x++) {
-                size_t i = (size_t)y * size + x;
-                uint32_t t = b.id[i] ? b.id[i] : b.cid[i];
-                if (!t || (so && so[i])) continue;
-                t--;
-                int32_t *ct = cnt + (size_t)t * COUNTS;
-                ct[o[i] ? RIGHT : WRONG]++;
-                ct[BALANCE] += over - under;
-              }
-          }
-      }
-      free(b.z);
-      free(b.cz);
-      free(b.id);
-      free(b.cid);
+}
+
+/* View v's counts: per block, the pixels the cloud covers and the
+ * original's; each pixel's texel (the nearest opaque one, else the nearest
+ * candidate) counted right or wrong and in a too dense or too sparse
+ * block, into cnt. */
+static void count_view(const refine *rf, int v, const buffers *b, int32_t *cnt) {
+  int size = rf->size;
+  size_t np = rf->np;
+  const uint8_t *o = rf->orig + (size_t)v * np, *so = rf->solid ? rf->solid + (size_t)v * np : NULL;
+  for (int by = 0; by < size; by += BLOCK)
+    for (int bx = 0; bx < size; bx += BLOCK) {
+      int ey = by + BLOCK < size ? by + BLOCK : size, ex = bx + BLOCK < size ? bx + BLOCK : size;
+      int cov = 0, ob = 0, any = 0;
+      for (int y = by; y < ey; y++)
+        for (int x = bx; x < ex; x++) {
+          size_t i = (size_t)y * size + x;
+          ob += o[i];
+          cov += b->id[i] != 0;
+          any |= b->id[i] || b->cid[i];
+        }
+      if (!any) continue;
+      int over = cov > ob, under = cov < ob;
+      for (int y = by; y < ey; y++)
+        for (int x = bx; x < ex; x++) {
+          size_t i = (size_t)y * size + x;
+          uint32_t t = b->id[i] ? b->id[i] : b->cid[i];
+          if (!t || (so && so[i])) continue;
+          t--;
+          int32_t *ct = cnt + (size_t)t * COUNTS;
+          ct[o[i] ? RIGHT : WRONG]++;
+          ct[BALANCE] += over - under;
+        }
     }
-    if (failed) break;
-    /* Each texel's counts summed over the threads' copies, then its flip
-     * decided. */
-    size_t changed = 0;
+}
+
+/* One round's counts: the cloud drawn from every view, each thread into
+ * its own copy of the counts. */
+static void count_round(refine *rf) {
+  int nv = rf->nv, size = rf->size, nt = rf->nt;
+  size_t np = rf->np, total = rf->total;
+  int32_t *counts = rf->counts;
+#pragma omp parallel num_threads(nt)
+  {
+    int tid = 0, tn = 1;
+#ifdef _OPENMP
+    tid = omp_get_thread_num();
+    tn = omp_get_num_threads();
+#endif
+    int32_t *cnt = counts + (size_t)tid * COUNTS * total;
+    /* Every copy cleared, also those of threads the team lacks. */
+    for (int t = tid; t < nt; t += tn)
+      memset(counts + (size_t)t * COUNTS * total, 0, COUNTS * total * sizeof *counts);
+#pragma omp barrier
+    buffers b;
+    b.z = malloc(np * sizeof *b.z);
+    b.cz = malloc(np * sizeof *b.cz);
+    b.id = malloc(np * sizeof *b.id);
+    b.cid = malloc(np * sizeof *b.cid);
+    int ok = b.z && b.cz && b.id && b.cid;
+    if (!ok) {
+#pragma omp critical(bbc_refine_fail)
+      rf->failed = 1;
+    }
+#pragma omp for schedule(dynamic, 1)
+    for (int v = 0; v < nv; v++) {
+      if (!ok) continue;
+      draw_cloud(rf->cb, rf->im, rf->n, rf->offset, &rf->cams[v], size, &b);
+      count_view(rf, v, &b, cnt);
+    }
+    free(b.z);
+    free(b.cz);
+    free(b.id);
+    free(b.cid);
+  }
+}
+
+/* Each texel's counts summed over the threads' copies, then its flip
+ * decided. Returns the texels flipped. */
+static size_t flip_texels(refine *rf) {
+  bbc__refine_image *im = rf->im;
+  size_t n = rf->n, total = rf->total;
+  const size_t *offset = rf->offset;
+  const int32_t *counts = rf->counts;
+  uint8_t *seen = rf->seen;
+  int nt = rf->nt;
+  size_t changed = 0;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : changed) num_threads(nt)
-    for (size_t k = 0; k < n; k++)
-      for (int s = 0; s < 2; s++) {
-        if (!im[k].alpha[s]) continue;
-        size_t nx = (size_t)im[k].width * im[k].height, base = offset[2 * k + s];
-        for (size_t i = 0; i < nx; i++) {
-          int32_t c[COUNTS] = {0, 0, 0};
-          for (int t = 0; t < nt; t++)
-            for (int j = 0; j < COUNTS; j++)
-              c[j] += counts[((size_t)t * total + base + i) * COUNTS + (size_t)j];
-          int32_t right = c[RIGHT], wrong = c[WRONG], bal = c[BALANCE];
-          if (right || wrong) seen[base + i] = 1;
-          /* Cleared when more often wrong than right (a tie too) and not
-           * where the cloud is too sparse, or, where it is too dense, when
-           * wrong at least 0.7 times as often as right; set when more often
-           * right than wrong and not where it is too dense. */
-          int flip = im[k].alpha[s][i]
-                         ? (wrong > right && bal >= 0) ||
-                               (wrong && 10 * (int64_t)wrong >= 7 * (int64_t)right && bal > 0)
-                         : right > wrong && bal <= 0;
-          if (flip) {
-            im[k].alpha[s][i] = im[k].alpha[s][i] ? 0 : 255;
-            changed++;
-          }
+  for (size_t k = 0; k < n; k++)
+    for (int s = 0; s < 2; s++) {
+      if (!im[k].alpha[s]) continue;
+      size_t nx = (size_t)im[k].width * im[k].height, base = offset[2 * k + s];
+      for (size_t i = 0; i < nx; i++) {
+        int32_t c[COUNTS] = {0, 0, 0};
+        for (int t = 0; t < nt; t++)
+          for (int j = 0; j < COUNTS; j++)
+            c[j] += counts[((size_t)t * total + base + i) * COUNTS + (size_t)j];
+        int32_t right = c[RIGHT], wrong = c[WRONG], bal = c[BALANCE];
+        if (right || wrong) seen[base + i] = 1;
+        /* Cleared when more often wrong than right (a tie too) and not
+         * where the cloud is too sparse, or, where it is too dense, when
+         * wrong at least 0.7 times as often as right; set when more often
+         * right than wrong and not where it is too dense. */
+        int flip = im[k].alpha[s][i]
+                       ? (wrong > right && bal >= 0) ||
+                             (wrong && 10 * (int64_t)wrong >= 7 * (int64_t)right && bal > 0)
+                       : right > wrong && bal <= 0;
+        if (flip) {
+          im[k].alpha[s][i] = im[k].alpha[s][i] ? 0 : 255;
+          changed++;
         }
       }
-    if (!changed) break;
+    }
+  return changed;
+}
+
+bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
+                             bbc__refine_image *im, size_t n, const bbc__refine_options *opt,
+                             bbc_error *err) {
+  int nv = opt->views, size = opt->size;
+  if (nv <= 0 || n == 0) return BBC_OK;
+  refine rf;
+  memset(&rf, 0, sizeof rf);
+  rf.m = m;
+  rf.cb = cb;
+  rf.im = im;
+  rf.n = n;
+  rf.opt = opt;
+  rf.nv = nv;
+  rf.size = size;
+  bbc_result r = refine_alloc(&rf, err);
+  if (r != BBC_OK) return r;
+  render_originals(&rf);
+  for (int round = 0; !rf.failed && round < opt->rounds; round++) {
+    count_round(&rf);
+    if (rf.failed) break;
+    if (!flip_texels(&rf)) break;
   }
-  if (!failed) unseen_thin(im, n, offset, seen, before, kept);
-  free(seen);
-  free(before);
-  free(kept);
-  free(offset);
-  free(orig);
-  free(solid);
-  free(cams);
-  free(counts);
-  if (failed) {
-    if (first.message[0]) {
-      if (err) *err = first;
-      return first.code;
+  if (!rf.failed) unseen_thin(im, n, rf.offset, rf.seen, rf.before, rf.kept);
+  refine_free(&rf);
+  if (rf.failed) {
+    if (rf.first.message[0]) {
+      if (err) *err = rf.first;
+      return rf.first.code;
     }
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "refine: out of memory");
   }
   return BBC_OK;
+}
+
+bbc_result bbc__refine_baked(const bbc_mesh *m, const bbc_params *prm, bbc_cloud *cl,
+                             bbc__baked *bk, const bbc_mesh *limbs, const bbc_callbacks *cbk,
+                             bbc_error *err) {
+  size_t nk = cl->billboard_count;
+  int points = m->kind == BBC_MESH_POINTS;
+  bbc_result r = BBC_OK;
+  bbc__refine_image *ri = calloc(nk, sizeof *ri);
+  if (!ri) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
+  for (size_t k = 0; r == BBC_OK && k < nk; k++) {
+    for (int i = 0; i < 2; i++) {
+      ri[k].alpha[i] = bk[k].mask[i];
+      ri[k].cand[i] = bk[k].cand[i];
+    }
+    ri[k].width = cl->billboards[k].tex_width;
+    ri[k].height = cl->billboards[k].tex_height;
+  }
+  if (r == BBC_OK && prm->refine > 0 && !points) { /* renders of triangles */
+    if (cbk) bbc__progress(cbk, "refining", 0.0);
+    bbc__refine_options ro = {prm->refine, 256, 3, prm->up_axis, prm->threads, NULL};
+    ro.solid = limbs->triangle_count ? limbs : NULL;
+    r = bbc__refine_alpha(m, cl->billboards, ri, nk, &ro, err);
+    if (cbk) bbc__progress(cbk, "refining", 1.0);
+  }
+  for (size_t k = 0; r == BBC_OK && k < nk; k++) bbc__baked_clear_transparent(&bk[k]);
+  free(ri);
+  return r;
 }

@@ -9,6 +9,88 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* One part ("all") of n planes, every face in every slab: a slab far wider
+ * than the model (c: the model's centre). */
+static void crossed_set(const bbc_mesh *m, size_t n, const double c[3], bbc_planeset *set) {
+  size_t nf = m->triangle_count;
+  double eps = 4 * m->radius + 1;
+  set->radius = m->radius;
+  set->epsilon_abs = eps;
+  set->plane_count = n;
+  set->face_count = nf;
+  set->part_count = 1;
+  snprintf(set->parts[0].name, sizeof set->parts[0].name, "all");
+  set->parts[0].epsilon_abs = eps;
+  set->parts[0].face_count = nf;
+  set->parts[0].plane_count = n;
+  memcpy(set->parts[0].center, c, 3 * sizeof *c);
+  set->parts[0].radius = m->radius;
+  snprintf(set->split_why, sizeof set->split_why, "crossed billboards: one part");
+}
+
+/* Plane i through the centre c (the first `planes` vertical, 180 / planes
+ * degrees apart, then the horizontal one) and its rectangle rb: the whole
+ * model projected onto it. */
+static void crossed_plane(const bbc_mesh *m, size_t i, int planes, int up, const double c[3],
+                          bbc_plane *p, bbc_billboard *rb) {
+  int a = (up + 1) % 3, b = (up + 2) % 3;
+  double nrm[3] = {0, 0, 0}, u[3] = {0, 0, 0}, w[3] = {0, 0, 0};
+  if (i < (size_t)planes) { /* vertical: u horizontal, w = up */
+    double th = 3.14159265358979323846 * (double)i / planes;
+    nrm[a] = cos(th);
+    nrm[b] = sin(th);
+    w[up] = 1;
+    /* u = w x n, so that u x w = n */
+    u[0] = w[1] * nrm[2] - w[2] * nrm[1];
+    u[1] = w[2] * nrm[0] - w[0] * nrm[2];
+    u[2] = w[0] * nrm[1] - w[1] * nrm[0];
+  } else { /* horizontal: normal = up, (u, w) = (a, b) */
+    nrm[up] = 1;
+    u[a] = 1;
+    w[b] = 1;
+  }
+  memcpy(p->normal, nrm, sizeof nrm);
+  p->d = nrm[0] * c[0] + nrm[1] * c[1] + nrm[2] * c[2];
+  p->kind = BBC_PLANE_STANDARD;
+  p->mother = -1;
+  p->coverage_pct = 100;
+  p->area = 1;
+  p->face_count = i == 0 ? m->triangle_count : 0;
+  /* The rectangle: the whole model projected onto the plane. */
+  double smin = INFINITY, smax = -INFINITY, tmin = INFINITY, tmax = -INFINITY;
+  for (size_t v = 0; v < m->vertex_count; v++) {
+    const double *x = m->positions + 3 * v;
+    double d[3] = {x[0] - c[0], x[1] - c[1], x[2] - c[2]};
+    double s = d[0] * u[0] + d[1] * u[1] + d[2] * u[2];
+    double t = d[0] * w[0] + d[1] * w[1] + d[2] * w[2];
+    smin = fmin(smin, s);
+    smax = fmax(smax, s);
+    tmin = fmin(tmin, t);
+    tmax = fmax(tmax, t);
+  }
+  rb->plane = (uint32_t)i;
+  memcpy(rb->u, u, sizeof u);
+  memcpy(rb->w, w, sizeof w);
+  for (int k = 0; k < 3; k++) rb->origin[k] = c[k] + smin * u[k] + tmin * w[k];
+  rb->width = smax - smin;
+  rb->height = tmax - tmin;
+}
+
+/* The texture resolution whose texels come closest to the budget. */
+static int crossed_texres(const bbc_billboard *rects, size_t n, int sides, size_t texel_budget) {
+  int best = 4;
+  double best_d = INFINITY;
+  for (int t = 4; t <= 8192; t *= 2) {
+    size_t tx = bbc__cloud_texels(rects, n, t, sides);
+    double d = fabs(log((double)tx / (double)(texel_budget ? texel_budget : 1)));
+    if (d < best_d - 1e-12) {
+      best_d = d;
+      best = t;
+    }
+  }
+  return best;
+}
+
 bbc_result bbc_baseline_crossed(const bbc_mesh *m, int planes, int horizontal,
                                 const bbc_params *params, size_t texel_budget,
                                 const bbc_callbacks *callbacks, bbc_cloud *cloud, bbc_error *err) {
@@ -20,7 +102,6 @@ bbc_result bbc_baseline_crossed(const bbc_mesh *m, int planes, int horizontal,
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "crossed billboards: 1 to 16 vertical planes, not %d", planes);
   int up = params->up_axis >= 0 && params->up_axis <= 2 ? params->up_axis : 1;
-  int a = (up + 1) % 3, b = (up + 2) % 3;
   size_t n = (size_t)planes + (horizontal ? 1 : 0), nf = m->triangle_count;
   bbc_planeset set;
   memset(&set, 0, sizeof set);
@@ -35,79 +116,12 @@ bbc_result bbc_baseline_crossed(const bbc_mesh *m, int planes, int horizontal,
   if (r == BBC_OK) {
     double c[3];
     for (int k = 0; k < 3; k++) c[k] = 0.5 * (m->bbox_min[k] + m->bbox_max[k]);
-    /* Every face in every image: a slab far wider than the model. */
-    double eps = 4 * m->radius + 1;
-    set.radius = m->radius;
-    set.epsilon_abs = eps;
-    set.plane_count = n;
-    set.face_count = nf;
-    set.part_count = 1;
-    snprintf(set.parts[0].name, sizeof set.parts[0].name, "all");
-    set.parts[0].epsilon_abs = eps;
-    set.parts[0].face_count = nf;
-    set.parts[0].plane_count = n;
-    memcpy(set.parts[0].center, c, sizeof c);
-    set.parts[0].radius = m->radius;
-    snprintf(set.split_why, sizeof set.split_why, "crossed billboards: one part");
-    for (size_t i = 0; i < n; i++) {
-      bbc_plane *p = &set.planes[i];
-      double nrm[3] = {0, 0, 0}, u[3] = {0, 0, 0}, w[3] = {0, 0, 0};
-      if (i < (size_t)planes) { /* vertical: u horizontal, w = up */
-        double th = 3.14159265358979323846 * (double)i / planes;
-        nrm[a] = cos(th);
-        nrm[b] = sin(th);
-        w[up] = 1;
-        /* u = w x n, so that u x w = n */
-        u[0] = w[1] * nrm[2] - w[2] * nrm[1];
-        u[1] = w[2] * nrm[0] - w[0] * nrm[2];
-        u[2] = w[0] * nrm[1] - w[1] * nrm[0];
-      } else { /* horizontal: normal = up, (u, w) = (a, b) */
-        nrm[up] = 1;
-        u[a] = 1;
-        w[b] = 1;
-      }
-      memcpy(p->normal, nrm, sizeof nrm);
-      p->d = nrm[0] * c[0] + nrm[1] * c[1] + nrm[2] * c[2];
-      p->kind = BBC_PLANE_STANDARD;
-      p->mother = -1;
-      p->coverage_pct = 100;
-      p->area = 1;
-      p->face_count = i == 0 ? nf : 0;
-      /* The rectangle: the whole model projected onto the plane. */
-      double smin = INFINITY, smax = -INFINITY, tmin = INFINITY, tmax = -INFINITY;
-      for (size_t v = 0; v < m->vertex_count; v++) {
-        const double *x = m->positions + 3 * v;
-        double d[3] = {x[0] - c[0], x[1] - c[1], x[2] - c[2]};
-        double s = d[0] * u[0] + d[1] * u[1] + d[2] * u[2];
-        double t = d[0] * w[0] + d[1] * w[1] + d[2] * w[2];
-        smin = fmin(smin, s);
-        smax = fmax(smax, s);
-        tmin = fmin(tmin, t);
-        tmax = fmax(tmax, t);
-      }
-      bbc_billboard *rb = &rects[i];
-      rb->plane = (uint32_t)i;
-      memcpy(rb->u, u, sizeof u);
-      memcpy(rb->w, w, sizeof w);
-      for (int k = 0; k < 3; k++) rb->origin[k] = c[k] + smin * u[k] + tmin * w[k];
-      rb->width = smax - smin;
-      rb->height = tmax - tmin;
-    }
-    /* The texture resolution whose texels come closest to the budget. */
+    crossed_set(m, n, c, &set);
+    for (size_t i = 0; i < n; i++) crossed_plane(m, i, planes, up, c, &set.planes[i], &rects[i]);
     bbc_params prm = *params;
     prm.pure = 0;
     prm.poly_skip_pct = 0;
-    int sides = prm.back_images ? 2 : 1, best = 4;
-    double best_d = INFINITY;
-    for (int t = 4; t <= 8192; t *= 2) {
-      size_t tx = bbc__cloud_texels(rects, n, t, sides);
-      double d = fabs(log((double)tx / (double)(texel_budget ? texel_budget : 1)));
-      if (d < best_d - 1e-12) {
-        best_d = d;
-        best = t;
-      }
-    }
-    prm.texres = best;
+    prm.texres = crossed_texres(rects, n, prm.back_images ? 2 : 1, texel_budget);
     prm.atlas_max = 0; /* the texel budget decides */
     r = bbc__cloud_build_rects(m, &set, rects, &prm, callbacks, cloud, err);
   }

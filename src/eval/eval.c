@@ -165,119 +165,100 @@ static void put_row(bbc_image *sheet, int row, const bbc_image *a, const bbc_ima
     }
 }
 
-bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_options *opt,
-                    bbc_eval_result *res, bbc_error *err) {
-  memset(res, 0, sizeof *res);
-  bbc_eval_options o;
-  if (opt)
-    o = *opt;
-  else
-    bbc_eval_options_default(&o);
-  int n = o.direction_count ? (int)o.direction_count : o.views;
-  if (n < 1 || n > 100000 || o.size < 8 || o.size > 8192)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
-                     "eval: views must be 1..100000 and size 8..8192 (got %d, %d)", n, o.size);
-  if (orig->vertex_count == 0 || other->vertex_count == 0)
-    return bbc__fail(err, BBC_ERROR_EMPTY, "eval: a model is empty");
-  /* Lit as prelight bakes: as bright as a lit viewer shows the original. */
-  double gain = 1.0;
-  if (o.lighting) {
-    bbc_result r = bbc_light_gain(orig, o.light, o.up_axis, &gain, err);
-    if (r != BBC_OK) return r;
+/* What every view of bbc_eval shares. */
+typedef struct eval_ctx {
+  const bbc_mesh *orig, *other;
+  const bbc_eval_options *o;
+  int n, up, rows;     /* views, the up axis, the sheet's rows */
+  double lo[3], hi[3]; /* both models' bounds */
+  double gain;         /* the light's gain */
+  bbc_eval_result *res;
+} eval_ctx;
+
+/* View k: both models rendered (into a and b) and compared into
+ * res->views[k], and the sheet's rows that show it. 0 when a render failed
+ * (e says why). */
+static int eval_view(const eval_ctx *c, int k, bbc_image *a, bbc_image *b, bbc_error *e) {
+  const bbc_eval_options *o = c->o;
+  int n = c->n, up = c->up;
+  bbc_eval_view *ev = &c->res->views[k];
+  double dir[3];
+  if (o->direction_count) {
+    memcpy(dir, o->directions + 3 * k, sizeof dir);
+    double l = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+    for (int i = 0; i < 3; i++) dir[i] = l > 0 ? dir[i] / l : (i == up ? -1 : 0);
+  } else {
+    bbc_eval_direction(k, n, up, dir);
   }
-  double lo[3], hi[3];
-  for (int k = 0; k < 3; k++) {
-    lo[k] = fmin(orig->bbox_min[k], other->bbox_min[k]);
-    hi[k] = fmax(orig->bbox_max[k], other->bbox_max[k]);
-  }
-  res->views = calloc((size_t)n, sizeof *res->views);
-  if (!res->views) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "eval: out of memory");
-  res->view_count = (size_t)n;
-  int rows = 0;
-  if (o.sheet) {
-    rows = n < o.sheet_views ? n : o.sheet_views;
-    if (rows < 1) rows = n < 8 ? n : 8;
-    if (bbc_image_alloc(o.sheet, 3 * o.size, rows * o.size) != BBC_OK) {
-      bbc_eval_result_free(res);
-      return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "eval: out of memory for the sheet");
+  memcpy(ev->direction, dir, sizeof dir);
+  ev->elevation_deg = asin(fmax(-1.0, fmin(1.0, -dir[up]))) * 180.0 / 3.14159265358979323846;
+  ev->side = fabs(ev->elevation_deg) <= o->side_elevation_deg + 1e-9; /* "within" */
+  bbc_view v;
+  frame_view(dir, up, c->lo, c->hi, o, c->gain, &v);
+  /* a point cloud splatted as step 3 splats it: pointsize pixels of a
+   * 256-pixel picture of the whole model (its bounding sphere) */
+  v.point_size_px =
+      (float)(o->point_size * (2 * c->orig->radius / 256.0) * (o->size / (2 * v.half_extent)));
+  if (bbc_render_ortho(c->orig, &v, a, e) != BBC_OK ||
+      bbc_render_ortho(c->other, &v, b, e) != BBC_OK)
+    return 0;
+  compare(a, b, ev);
+  /* Sheet rows: views spread over the whole list. */
+  for (int r = 0; r < c->rows; r++)
+    if ((int)((long long)r * n / c->rows) == k) {
+      put_row(o->sheet, r, a, b);
+      char t1[16], t2[16];
+      snprintf(t1, sizeof t1, "%.2f", ev->coverage_ratio);
+      snprintf(t2, sizeof t2, "%.2f", ev->block_iou);
+      int sc = o->size >= 256 ? 2 : 1;
+      put_text(o->sheet, 2 * o->size + 2, r * o->size + 2, t1, sc);
+      put_text(o->sheet, 2 * o->size + 2, r * o->size + 2 + 8 * sc, t2, sc);
     }
-  }
-  int up = o.up_axis >= 0 && o.up_axis <= 2 ? o.up_axis : 1;
-  int nt = o.threads;
+  return 1;
+}
+
+/* Every view, in parallel (each thread with its own pair of images).
+ * Returns 1 when one failed: first_err says why, if a render said. */
+static int eval_views(const eval_ctx *c, bbc_error *first_err) {
+  const bbc_eval_options *o = c->o;
+  int n = c->n;
+  int nt = o->threads;
 #ifdef _OPENMP
   if (nt <= 0) nt = omp_get_max_threads();
 #else
   nt = 1;
 #endif
   int failed = 0;
-  bbc_error first_err;
-  memset(&first_err, 0, sizeof first_err);
 #pragma omp parallel num_threads(nt)
   {
     bbc_image a, b;
-    int ok = bbc_image_alloc(&a, o.size, o.size) == BBC_OK &&
-             bbc_image_alloc(&b, o.size, o.size) == BBC_OK;
+    int ok = bbc_image_alloc(&a, o->size, o->size) == BBC_OK &&
+             bbc_image_alloc(&b, o->size, o->size) == BBC_OK;
 #pragma omp for schedule(dynamic, 1)
     for (int k = 0; k < n; k++) {
-      bbc_eval_view *ev = &res->views[k];
       if (!ok) {
 #pragma omp critical(bbc_eval_fail)
         failed = 1;
         continue;
       }
-      double dir[3];
-      if (o.direction_count) {
-        memcpy(dir, o.directions + 3 * k, sizeof dir);
-        double l = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-        for (int c = 0; c < 3; c++) dir[c] = l > 0 ? dir[c] / l : (c == up ? -1 : 0);
-      } else {
-        bbc_eval_direction(k, n, up, dir);
-      }
-      memcpy(ev->direction, dir, sizeof dir);
-      ev->elevation_deg = asin(fmax(-1.0, fmin(1.0, -dir[up]))) * 180.0 / 3.14159265358979323846;
-      ev->side = fabs(ev->elevation_deg) <= o.side_elevation_deg + 1e-9; /* "within" */
-      bbc_view v;
-      frame_view(dir, up, lo, hi, &o, gain, &v);
-      /* a point cloud splatted as step 3 splats it: pointsize pixels of a
-       * 256-pixel picture of the whole model (its bounding sphere) */
-      v.point_size_px =
-          (float)(o.point_size * (2 * orig->radius / 256.0) * (o.size / (2 * v.half_extent)));
       bbc_error e;
-      if (bbc_render_ortho(orig, &v, &a, &e) != BBC_OK ||
-          bbc_render_ortho(other, &v, &b, &e) != BBC_OK) {
+      if (!eval_view(c, k, &a, &b, &e)) {
 #pragma omp critical(bbc_eval_fail)
         {
-          if (!failed) first_err = e;
+          if (!failed) *first_err = e;
           failed = 1;
         }
         continue;
       }
-      compare(&a, &b, ev);
-      /* Sheet rows: views spread over the whole list. */
-      for (int r = 0; r < rows; r++)
-        if ((int)((long long)r * n / rows) == k) {
-          put_row(o.sheet, r, &a, &b);
-          char t1[16], t2[16];
-          snprintf(t1, sizeof t1, "%.2f", ev->coverage_ratio);
-          snprintf(t2, sizeof t2, "%.2f", ev->block_iou);
-          int sc = o.size >= 256 ? 2 : 1;
-          put_text(o.sheet, 2 * o.size + 2, r * o.size + 2, t1, sc);
-          put_text(o.sheet, 2 * o.size + 2, r * o.size + 2 + 8 * sc, t2, sc);
-        }
     }
     bbc_image_free(&a);
     bbc_image_free(&b);
   }
-  if (failed) {
-    if (o.sheet) bbc_image_free(o.sheet);
-    bbc_eval_result_free(res);
-    if (first_err.message[0]) {
-      if (err) *err = first_err;
-      return first_err.code;
-    }
-    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "eval: out of memory");
-  }
-  /* Summaries. */
+  return failed;
+}
+
+/* The summaries over all n views and over the side views. */
+static void summarise(bbc_eval_result *res, int n) {
   size_t ns = 0;
   double ob[3] = {0, 0, 0}, tb[3] = {0, 0, 0};
   res->iou_min = res->iou_side_min = res->psnr_min = 1e300;
@@ -324,5 +305,62 @@ bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_
   } else {
     res->iou_side_min = 0;
   }
+}
+
+bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_options *opt,
+                    bbc_eval_result *res, bbc_error *err) {
+  memset(res, 0, sizeof *res);
+  bbc_eval_options o;
+  if (opt)
+    o = *opt;
+  else
+    bbc_eval_options_default(&o);
+  int n = o.direction_count ? (int)o.direction_count : o.views;
+  if (n < 1 || n > 100000 || o.size < 8 || o.size > 8192)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
+                     "eval: views must be 1..100000 and size 8..8192 (got %d, %d)", n, o.size);
+  if (orig->vertex_count == 0 || other->vertex_count == 0)
+    return bbc__fail(err, BBC_ERROR_EMPTY, "eval: a model is empty");
+  eval_ctx c;
+  memset(&c, 0, sizeof c);
+  c.orig = orig;
+  c.other = other;
+  c.o = &o;
+  c.n = n;
+  c.res = res;
+  /* Lit as prelight bakes: as bright as a lit viewer shows the original. */
+  c.gain = 1.0;
+  if (o.lighting) {
+    bbc_result r = bbc_light_gain(orig, o.light, o.up_axis, &c.gain, err);
+    if (r != BBC_OK) return r;
+  }
+  for (int k = 0; k < 3; k++) {
+    c.lo[k] = fmin(orig->bbox_min[k], other->bbox_min[k]);
+    c.hi[k] = fmax(orig->bbox_max[k], other->bbox_max[k]);
+  }
+  res->views = calloc((size_t)n, sizeof *res->views);
+  if (!res->views) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "eval: out of memory");
+  res->view_count = (size_t)n;
+  if (o.sheet) {
+    c.rows = n < o.sheet_views ? n : o.sheet_views;
+    if (c.rows < 1) c.rows = n < 8 ? n : 8;
+    if (bbc_image_alloc(o.sheet, 3 * o.size, c.rows * o.size) != BBC_OK) {
+      bbc_eval_result_free(res);
+      return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "eval: out of memory for the sheet");
+    }
+  }
+  c.up = o.up_axis >= 0 && o.up_axis <= 2 ? o.up_axis : 1;
+  bbc_error first_err;
+  memset(&first_err, 0, sizeof first_err);
+  if (eval_views(&c, &first_err)) {
+    if (o.sheet) bbc_image_free(o.sheet);
+    bbc_eval_result_free(res);
+    if (first_err.message[0]) {
+      if (err) *err = first_err;
+      return first_err.code;
+    }
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "eval: out of memory");
+  }
+  summarise(res, n);
   return BBC_OK;
 }

@@ -1,6 +1,7 @@
 /* raster.c — a small software rasterizer: orthographic, depth-buffered,
- * textured with an alpha test. Used for previews now; the texture baking of
- * step 3 (thesis 2.1.9) and the fidelity metrics build on the same rules.
+ * textured with an alpha test. Used for previews, step 3's texture baking
+ * (thesis 2.1.9) and alpha refinement, and the fidelity metrics (src/eval),
+ * all by the same rules.
  *
  * Conventions: pixel (x, y) has its centre at (x + 0.5, y + 0.5) in screen
  * units, y down. A pixel is covered when its centre lies inside the
@@ -222,11 +223,35 @@ static int all_covered(const uint8_t *cover, int w, int x0, int x1, int y0, int 
   return 1;
 }
 
-static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
+/* draw_triangle's set-up stages, always inlined into it: no call per
+ * triangle, and each of its compiled versions (BBC__CLONES) gets them
+ * compiled for its instruction set. */
+#if defined(__GNUC__)
+#define ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define ALWAYS_INLINE inline
+#endif
+
+/* A triangle on the screen, set up for drawing. */
+typedef struct tri {
+  int order[3];              /* the corners in the order a, b, c */
+  const double *a, *b, *c;   /* oriented: the edge functions are positive inside */
+  double area;               /* twice its screen area, > 0 */
+  int x0, x1, y0, y1;        /* the pixels it may cover */
+  int want_front, want_back; /* the images it may draw into */
+  int slab, need_normal;     /* the view has a slab; the pixels need the normal */
+  const bbc_material *mat;
+} tri;
+
+/* Projects triangle t (its corners into s: x, y, depth) and decides
+ * whether it can draw anything: 0 when it is culled, degenerate, outside
+ * the slab or covers no pixel centre. The corners stay apart from tr, so
+ * that tr's fields can live in registers. */
+static ALWAYS_INLINE int triangle_setup(const bbc_mesh *m, size_t t, const target *tg,
+                                        double s[3][3], tri *tr) {
   const camera *cam = tg->cam;
   const bbc_view *view = tg->view;
   const uint32_t *ix = m->indices + 3 * t;
-  double s[3][3];
   if (tg->proj)
     for (int k = 0; k < 3; k++) memcpy(s[k], tg->proj + 3 * (size_t)ix[k], sizeof s[k]);
   else
@@ -240,14 +265,14 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
    * them before any other work. */
   int whole = !tg->bake && !(view->depth_max > view->depth_min);
   if (whole) {
-    if (!pixel_bounds(minx, maxx, miny, maxy, tg->width, tg->height, &x0, &x1, &y0, &y1)) return;
+    if (!pixel_bounds(minx, maxx, miny, maxy, tg->width, tg->height, &x0, &x1, &y0, &y1)) return 0;
     /* Coverage only grows: a face whose every candidate pixel is covered
      * already changes nothing (inside a dense crown, most). */
-    if (tg->cover && all_covered(tg->cover, tg->width, x0, x1, y0, y1)) return;
+    if (tg->cover && all_covered(tg->cover, tg->width, x0, x1, y0, y1)) return 0;
   }
   double area =
       (s[1][0] - s[0][0]) * (s[2][1] - s[0][1]) - (s[1][1] - s[0][1]) * (s[2][0] - s[0][0]);
-  if (area == 0 || !isfinite(area)) return;
+  if (area == 0 || !isfinite(area)) return 0;
   /* Counter-clockwise seen by the camera turns clockwise on the y-down
    * screen: area < 0 means the triangle's front faces the camera. */
   int faces_camera = area < 0;
@@ -257,9 +282,12 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
     want_front = faces_camera;
     want_back = want_back && !faces_camera;
   }
-  if (!want_front && !want_back) return;
+  if (!want_front && !want_back) return 0;
   /* Orient so that the edge functions are positive inside. */
-  int order[3] = {0, 1, 2};
+  int *order = tr->order;
+  order[0] = 0;
+  order[1] = 1;
+  order[2] = 2;
   if (area < 0) {
     order[1] = 2;
     order[2] = 1;
@@ -270,20 +298,43 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
                b[2] <= view->depth_max && c[2] >= view->depth_min && c[2] <= view->depth_max;
   if (view->depth_max > view->depth_min && !inside &&
       !slab_bounds(a, b, c, view->depth_min, view->depth_max, &minx, &maxx, &miny, &maxy))
-    return; /* no part of it inside the slab */
+    return 0; /* no part of it inside the slab */
   if (!whole && !pixel_bounds(minx, maxx, miny, maxy, tg->width, tg->height, &x0, &x1, &y0, &y1))
-    return;
+    return 0;
+  tr->a = a;
+  tr->b = b;
+  tr->c = c;
+  tr->area = area;
+  tr->x0 = x0;
+  tr->x1 = x1;
+  tr->y0 = y0;
+  tr->y1 = y1;
+  tr->want_front = want_front;
+  tr->want_back = want_back;
+  tr->slab = view->depth_max > view->depth_min;
+  tr->need_normal = view->lighting || (tg->bake && (tg->bake->front_nm || tg->bake->back_nm));
+  tr->mat = mat;
+  return 1;
+}
 
-  int tl0 = is_top_left(b[0], b[1], c[0], c[1]);
-  int tl1 = is_top_left(c[0], c[1], a[0], a[1]);
-  int tl2 = is_top_left(a[0], a[1], b[0], b[1]);
-
+/* What a triangle's pixels interpolate and how they are shaded: alpha from
+ * *tex, colour from *tex_rgb (a mip level); the corners' texture
+ * coordinates, normals and voxel shadowing; the light's gain and the
+ * ambient light. The arrays come initialised (no texture coordinates or
+ * normals, no shadow, no ambient light). */
+static ALWAYS_INLINE void triangle_shading(const bbc_mesh *m, size_t t, const target *tg,
+                                           const tri *tr, const bbc_image **tex_out,
+                                           const bbc_image **tex_rgb_out, const float *uv[3],
+                                           const float *nv[3], float sh[3], double *gain,
+                                           double amb[3]) {
+  const bbc_view *view = tg->view;
+  const uint32_t *ix = m->indices + 3 * t;
+  const int *order = tr->order;
+  const bbc_material *mat = tr->mat;
+  double area = tr->area;
   const bbc_image *tex = NULL, *tex_rgb = NULL;
   if (mat->texture >= 0 && m->uvs && m->textures[mat->texture].image.rgba)
     tex = tex_rgb = &m->textures[mat->texture].image;
-  const float *uv[3] = {NULL, NULL, NULL};
-  const float *nv[3] = {NULL, NULL, NULL};
-  float sh[3] = {1, 1, 1};
   for (int k = 0; k < 3; k++) {
     uint32_t vi = ix[order[k]];
     if (m->uvs) uv[k] = m->uvs + 2 * vi;
@@ -301,15 +352,14 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
     if (level > mp->levels) level = mp->levels;
     if (level > 0) tex_rgb = &mp->level[level - 1];
   }
-  int slab = view->depth_max > view->depth_min;
-  int need_normal = view->lighting || (tg->bake && (tg->bake->front_nm || tg->bake->back_nm));
-  double gain = view->light_gain > 0 ? view->light_gain : 1.0;
+  *tex_out = tex;
+  *tex_rgb_out = tex_rgb;
+  *gain = view->light_gain > 0 ? view->light_gain : 1.0;
   /* The ambient light of X3D viewers: 0.2 x ambientIntensity x the diffuse
    * colour, untextured, with ambientIntensity the mean over the channels of
    * Ka / Kd, as view3dscene maps an MTL (measured on flat quads of coloured
    * Kd and Ka; Ka 0.2 when the material gives none); for a grey Kd this is
    * OpenGL's fixed-function 0.2 x Ka. */
-  double amb[3] = {0, 0, 0};
   if (view->lighting && view->ambient && !mat->unlit) {
     int given = mat->ambient[0] > 0 || mat->ambient[1] > 0 || mat->ambient[2] > 0;
     double ai = 0;
@@ -322,35 +372,83 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
     if (n)
       for (int k = 0; k < 3; k++) amb[k] = 0.2 * ai / n * mat->base_color[k];
   }
+}
 
-  double inv_area = 1.0 / area;
-  /* Edge function k at pixel centre px of a row: ea[k] * px + eb[k]. */
-  /* Edge k from E0 to E1: its function along a row is ea x + eb(row), ea
-   * and the reciprocal fixed for the triangle. */
-  const double *E0[3] = {b, c, a}, *E1[3] = {c, a, b};
+/* A triangle's edge functions: edge k from E0 to E1, its function along a
+ * row ea x + eb(row), ea and the reciprocal fixed for the triangle; tl:
+ * whether it is a top or left edge (the pixels on it are the triangle's). */
+typedef struct edges {
+  const double *E0[3], *E1[3];
   double edx[3], ea[3], inv_ea[3], t2[3];
+  int tl[3];
+} edges;
+
+static ALWAYS_INLINE void edge_setup(const tri *tr, edges *ed) {
+  const double *a = tr->a, *b = tr->b, *c = tr->c;
+  ed->tl[0] = is_top_left(b[0], b[1], c[0], c[1]);
+  ed->tl[1] = is_top_left(c[0], c[1], a[0], a[1]);
+  ed->tl[2] = is_top_left(a[0], a[1], b[0], b[1]);
+  ed->E0[0] = b;
+  ed->E0[1] = c;
+  ed->E0[2] = a;
+  ed->E1[0] = c;
+  ed->E1[1] = a;
+  ed->E1[2] = b;
+  const double *const *E0 = ed->E0, *const *E1 = ed->E1;
   for (int k = 0; k < 3; k++) {
-    edx[k] = E1[k][0] - E0[k][0];
-    ea[k] = -(E1[k][1] - E0[k][1]);
-    t2[k] = (E1[k][1] - E0[k][1]) * E0[k][0];
-    inv_ea[k] = ea[k] > 1e-12 || ea[k] < -1e-12 ? 1.0 / ea[k] : 0;
+    ed->edx[k] = E1[k][0] - E0[k][0];
+    ed->ea[k] = -(E1[k][1] - E0[k][1]);
+    ed->t2[k] = (E1[k][1] - E0[k][1]) * E0[k][0];
+    ed->inv_ea[k] = ed->ea[k] > 1e-12 || ed->ea[k] < -1e-12 ? 1.0 / ed->ea[k] : 0;
   }
-  for (int y = y0; y <= y1; y++) {
+}
+
+/* The row's span where every edge function can be >= 0, widened for
+ * rounding (PIXEL_MARGIN, and the error of eb over the slope: a nearly
+ * horizontal edge); the exact test decides each pixel. 0 when empty. */
+static ALWAYS_INLINE int row_span(const edges *ed, double py, int x0, int x1, int *xs, int *xe) {
+  const double *const *E0 = ed->E0;
+  const double *edx = ed->edx, *ea = ed->ea, *inv_ea = ed->inv_ea, *t2 = ed->t2;
+  double lo = x0, hi = x1;
+  for (int k = 0; k < 3; k++) {
+    double t1 = edx[k] * (py - E0[k][1]), eb = t1 + t2[k];
+    double err = 1e-13 * (fabs(t1) + fabs(t2[k])) * inv_ea[k];
+    if (ea[k] > 1e-12)
+      lo = max2(lo, ceil(-eb * inv_ea[k] - 0.5 - PIXEL_MARGIN - err));
+    else if (ea[k] < -1e-12)
+      hi = min2(hi, floor(-eb * inv_ea[k] - 0.5 + PIXEL_MARGIN - err));
+  }
+  if (!(lo <= hi)) return 0;
+  *xs = (int)lo;
+  *xe = (int)hi;
+  return 1;
+}
+
+/* One triangle: its set-up by stage, then every pixel whose centre it
+ * covers (the top-left rule on its edges) within the view's slab, with the
+ * depth tests, the alpha test, the colour, the shading and the normal, into
+ * the front and back images (or only the coverage). */
+static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
+  const camera *cam = tg->cam;
+  const bbc_view *view = tg->view;
+  double s[3][3];
+  tri tr;
+  if (!triangle_setup(m, t, tg, s, &tr)) return;
+  const bbc_image *tex, *tex_rgb;
+  const float *uv[3] = {NULL, NULL, NULL}, *nv[3] = {NULL, NULL, NULL};
+  float sh[3] = {1, 1, 1};
+  double gain, amb[3] = {0, 0, 0}, inv_area = 1.0 / tr.area;
+  triangle_shading(m, t, tg, &tr, &tex, &tex_rgb, uv, nv, sh, &gain, amb);
+  edges ed;
+  edge_setup(&tr, &ed);
+  const double *a = tr.a, *b = tr.b, *c = tr.c;
+  const bbc_material *mat = tr.mat;
+  int want_front = tr.want_front, want_back = tr.want_back, slab = tr.slab;
+  int tl0 = ed.tl[0], tl1 = ed.tl[1], tl2 = ed.tl[2], need_normal = tr.need_normal;
+  for (int y = tr.y0; y <= tr.y1; y++) {
     double py = y + 0.5;
-    /* The row's span where every edge function can be >= 0, widened for
-     * rounding (PIXEL_MARGIN, and the error of eb over the slope: a nearly
-     * horizontal edge); the exact test below decides each pixel. */
-    double lo = x0, hi = x1;
-    for (int k = 0; k < 3; k++) {
-      double t1 = edx[k] * (py - E0[k][1]), eb = t1 + t2[k];
-      double err = 1e-13 * (fabs(t1) + fabs(t2[k])) * inv_ea[k];
-      if (ea[k] > 1e-12)
-        lo = max2(lo, ceil(-eb * inv_ea[k] - 0.5 - PIXEL_MARGIN - err));
-      else if (ea[k] < -1e-12)
-        hi = min2(hi, floor(-eb * inv_ea[k] - 0.5 + PIXEL_MARGIN - err));
-    }
-    if (!(lo <= hi)) continue;
-    int xs = (int)lo, xe = (int)hi;
+    int xs, xe;
+    if (!row_span(&ed, py, tr.x0, tr.x1, &xs, &xe)) continue;
     for (int x = xs; x <= xe; x++) {
       double px = x + 0.5;
       /* Edge functions: w0 opposite a, etc. */

@@ -8,20 +8,7 @@
 
 #include "base.h"
 
-/* ---- baking (src/core/raster.c) ------------------------------------------
- * One rasterization of `faces` (indices into mesh triangles; all when NULL)
- * for a billboard seen along view->direction (= minus the plane's normal),
- * filling the front image (the nearest surface seen from the front, along
- * +direction) and, when `back` is not NULL, the back image (the nearest
- * seen from behind) at once, with two depth buffers. Both images are laid out
- * in the plane's frame (texel x along the camera's right, rows top first), so
- * the same texel shows the same point of the plane. The view's slab, lighting,
- * light and vertex_shade apply. Normal maps (when not NULL) receive the
- * interpolated vertex normal in the billboard's tangent space (x = right,
- * y = up, z = towards that image's viewer, flipped to face it), encoded as
- * rgb = 255 (n + 1) / 2, alpha as the colour image. `backface`: each image
- * shows only faces whose winding faces its viewer. Images must be allocated
- * width x height and cleared by the caller. */
+/* ---- baking, coverage, splats (src/raster/raster.c) ----------------------- */
 /* A texture's mipmaps as a GPU makes them (glGenerateMipmap: each level
  * the 2x2 box average of the one before, every channel on its own, so the
  * colour of transparent texels bleeds into their opaque neighbours). */
@@ -56,6 +43,19 @@ typedef struct bbc__bake {
  * size image, 0 or 1 a pixel, without colours or depths: faster. */
 bbc_result bbc__render_coverage(const bbc_mesh *mesh, const bbc_view *view, int size,
                                 uint8_t *cover, bbc_error *err);
+/* One rasterization of `faces` (indices into mesh triangles; all when NULL)
+ * for a billboard seen along view->direction (= minus the plane's normal),
+ * filling the front image (the nearest surface seen from the front, along
+ * +direction) and, when `back` is not NULL, the back image (the nearest
+ * seen from behind) at once, with two depth buffers. Both images are laid out
+ * in the plane's frame (texel x along the camera's right, rows top first), so
+ * the same texel shows the same point of the plane. The view's slab, lighting,
+ * light and vertex_shade apply. Normal maps (when not NULL) receive the
+ * interpolated vertex normal in the billboard's tangent space (x = right,
+ * y = up, z = towards that image's viewer, flipped to face it), encoded as
+ * rgb = 255 (n + 1) / 2, alpha as the colour image. `backface`: each image
+ * shows only faces whose winding faces its viewer. Images must be allocated
+ * width x height and cleared by the caller. */
 bbc_result bbc__render_bake(const bbc_mesh *mesh, const uint32_t *faces, size_t face_count,
                             const bbc_view *view, bbc__bake *bake, bbc_error *err);
 /* The same for a point cloud's points (NULL: all), splatted `size_px`
@@ -65,7 +65,7 @@ bbc_result bbc__render_splats(const bbc_mesh *mesh, const uint32_t *points, size
                               const bbc_view *view, bbc__bake *bake, double size_px, int smooth,
                               bbc_error *err);
 
-/* The orthographic camera of a bbc_view on a w x h image (src/core/raster.c). */
+/* The orthographic camera of a bbc_view on a w x h image. */
 typedef struct bbc__camera {
   double r[3], u[3], f[3]; /* right, up, forward (unit) */
   double c[3];

@@ -111,6 +111,7 @@ case "$mode" in
       find "$build"/CMakeFiles/bbc_*.dir "$build"/CMakeFiles/{bbcgl,bbcgen,forest,bbc_paramdoc}.dir \
         -path '*/src/*' -name '*.c.o' 2> /dev/null | while read -r o; do
         rel=src/${o#*/src/}
+        [ -f "$root/${rel%.o}" ] || continue # the object of a source that is gone
         printf '%s\n' "$(layer_of "${rel%.o}") $o"
       done | sort > "$tmp/objects"
       [ -s "$tmp/objects" ] || { echo "layers: no object files in $build" >&2; exit 1; }

@@ -116,7 +116,7 @@ int main(int argc, char **argv) {
   }
   bbc_eval_options eo;
   bbc_eval_options_default(&eo);
-  eo.up_axis = o.params.up_axis;
+  eo.up = bbc_up_from_axis(o.params.up_axis);
   bbc_eval_result e;
   if (bbc_eval(&m, &other, &eo, &e, &err) != BBC_OK) return fail(&err);
   printf("{\"bench\": \"fidelity\", \"model\": \"%s\", \"method\": \"%s\", \"params\": \"%s\", "

@@ -30,7 +30,7 @@ int main(int argc, char **argv) {
   }
   bbc_load_options lo;
   bbc_load_options_default(&lo);
-  lo.load_textures = 0;
+  lo.skip_textures = 1;
   bbc_mesh m;
   if (bbc_mesh_load(argv[1], &lo, &m, &err) != BBC_OK) {
     fprintf(stderr, "bench_planes: %s\n", err.message);

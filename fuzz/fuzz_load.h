@@ -13,7 +13,7 @@
 static inline int bbc_fuzz_load(const char *name, const uint8_t *data, size_t size) {
   bbc_load_options o;
   bbc_load_options_default(&o);
-  o.load_textures = 0;
+  o.skip_textures = 1;
   bbc_mesh m;
   bbc_error err;
   if (bbc_mesh_load_memory(name, data, size, &o, &m, &err) == BBC_OK) {

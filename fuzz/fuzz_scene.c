@@ -291,8 +291,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   bbc_load_options o;
   bbc_load_options_default(&o);
   o.lod_node = (head >> 1) % 3;        /* 0: all; k: the nodes *_LOD<k-1> */
-  o.compute_normals = (head >> 3) & 1; /* as --normals */
-  o.load_textures = 1;                 /* embedded ones: from memory */
+  o.flat_normals = !((head >> 3) & 1); /* as --normals */
+  o.skip_textures = 0;                 /* embedded ones: from memory */
   const char *name = (head & 16) ? "/nonexistent-fuzz/scene.glb" : "/nonexistent-fuzz/scene.obj";
   bbc_mesh mesh;
   bbc_error err;

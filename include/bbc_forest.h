@@ -3,7 +3,28 @@
  * runtime without its drawing: the map and model description files of the
  * thesis's Appendix B, the world they describe, culling and levels of
  * detail, terrain level of detail and colour, the camera, and a procedural
- * landscape. GL-free: `forest` draws with it. Conventions as in bbc.h.
+ * landscape. GL-free: `forest` draws with it (the thesis's Perfect Motion
+ * engine, section 3.2 and Appendix B). Conventions as in bbc.h; distances
+ * are world units, angles degrees.
+ *
+ * Start here — a map to the trees one frame draws:
+ *
+ *   bbc_forest_map map;          bbc_forest_world world;    bbc_error err;
+ *   bbc_forest_map_load("map.txt", &map, &err);            // 1. the map file
+ *   bbc_forest_world_build(&map, "maps/", &world, &err);    // 2. terrain, trees
+ *   bbc_forest_cull cull;                                   // 3. one LOD model
+ *   bbc_forest_cull_init(&cull, &world, models, n,          //    per model file,
+ *                        placement_models, map.placement_count, &err);
+ *   bbc_forest_camera cam = {{500, 80, 500}, 135, -6, 1};  // 4. each frame:
+ *   float vp[16];
+ *   bbc_forest_camera_get_viewproj(&cam, 16.0 / 9, 1, 2000, vp);
+ *   bbc_forest_cull_run(&cull, vp, cam.pos, cam.zoom);     //    the trees, by level
+ *   // draw bucket b's bbc_forest_cull_get_bucket_size(&cull, b) records
+ *   bbc_forest_cull_free(&cull); bbc_forest_world_free(&world);
+ *   bbc_forest_map_free(&map);
+ *
+ * Sections: 1 map and model description files; 2 the world; 3 culling and
+ * levels of detail; 4 terrain; 5 the camera; 6 a procedural landscape.
  */
 #ifndef BBC_FOREST_H
 #define BBC_FOREST_H
@@ -14,7 +35,9 @@
 extern "C" {
 #endif
 
-/* ---- forest: map and model description files (thesis Appendix B) ------ */
+/* ======================================================================== */
+/* 1. Map and model description files (thesis Appendix B)                   */
+/* ======================================================================== */
 /* The forest engine's text files, as the thesis's "Perfect Motion manual"
  * defines them: whitespace-separated words, a command's arguments wherever
  * the lines break, comment lines beginning with ' (high comma), a word in
@@ -66,11 +89,15 @@ typedef struct bbc_forest_map {
   int hmap_line, colmap_line, skymap_line; /* where those commands are (0: not given) */
 } bbc_forest_map;
 
-/* The defaults above, nothing placed. */
+/* Writes the defaults above into `map`, nothing placed. */
 void bbc_forest_map_default(bbc_forest_map *map);
+/* Parses a map file's `size` bytes of text (`name` names it in messages)
+ * into `map` (bbc_forest_map_free). */
 bbc_result bbc_forest_map_parse(const char *text, size_t size, const char *name,
                                 bbc_forest_map *map, bbc_error *err);
+/* Reads and parses the map file at `path`. */
 bbc_result bbc_forest_map_load(const char *path, bbc_forest_map *map, bbc_error *err);
+/* Releases what the map owns and zeroes it (NULL: nothing). */
 void bbc_forest_map_free(bbc_forest_map *map);
 
 typedef struct bbc_forest_lod_file {
@@ -93,13 +120,18 @@ typedef struct bbc_forest_model {
   bbc_forest_lod *lods;
 } bbc_forest_model;
 
+/* Parses a model description file's `size` bytes of text (`name` names it
+ * in messages) into `model` (bbc_forest_model_free). */
 bbc_result bbc_forest_model_parse(const char *text, size_t size, const char *name,
                                   bbc_forest_model *model, bbc_error *err);
+/* Reads and parses the model description file at `path`. */
 bbc_result bbc_forest_model_load(const char *path, bbc_forest_model *model, bbc_error *err);
+/* Releases what the model owns and zeroes it (NULL: nothing). */
 void bbc_forest_model_free(bbc_forest_model *model);
 
-/* A map's world, GL-free (src/forest/world.c): the terrain's heights, its
- * colour map and every placed object on the ground. */
+/* ======================================================================== */
+/* 2. The world: the terrain's heights, its colour map and every object     */
+/* ======================================================================== */
 typedef struct bbc_forest_instance {
   float x, y, z;      /* world units: x, z across the map from its corner, y up */
   float yaw_deg;      /* rotation about the up axis */
@@ -132,13 +164,16 @@ typedef struct bbc_forest_world {
  * map), facing a random direction with `random 1`. Deterministic. */
 bbc_result bbc_forest_world_build(const bbc_forest_map *map, const char *folder,
                                   bbc_forest_world *world, bbc_error *err);
-/* The terrain's height at (x, z) (bilinear), and whether the ground there
- * is green enough for vegetation. */
-double bbc_forest_world_height(const bbc_forest_world *world, double x, double z);
-int bbc_forest_world_green(const bbc_forest_world *world, double x, double z);
+/* Returns the terrain's height at (x, z), bilinear (0 without heights). */
+double bbc_forest_world_get_height(const bbc_forest_world *world, double x, double z);
+/* Returns 1 when the ground at (x, z) is green enough for vegetation. */
+int bbc_forest_world_is_green(const bbc_forest_world *world, double x, double z);
+/* Releases what the world owns and zeroes it (NULL: nothing). */
 void bbc_forest_world_free(bbc_forest_world *world);
 
-/* ---- forest: culling and levels of detail (thesis 3.2.3), GL-free ------- */
+/* ======================================================================== */
+/* 3. Culling and levels of detail (thesis 3.2.3)                           */
+/* ======================================================================== */
 /* Every tree is stored once per model it uses as a static draw record
  * (weight 1), ordered by model and then by cell of a grid over the map
  * (cells numbered in blocks of 8 x 8), so that the drawing layer uploads
@@ -208,8 +243,11 @@ typedef struct bbc_forest_cull {
   size_t cells_visible, cells_tested_per_tree, trees_visible;
 } bbc_forest_cull;
 
-/* `placement_models[p]` names the model(s) of placement p: [0] and, for
- * two components, [1] (UINT32_MAX when none). */
+/* Prepares the culling of `world`'s trees: models[model_count] are the
+ * levels of each model (copied), and placement_models[p] names the
+ * model(s) of placement p: [0] and, for two components, [1] (UINT32_MAX
+ * when none). Stores every tree once per model as a static record;
+ * bbc_forest_cull_free releases it all. */
 bbc_result bbc_forest_cull_init(bbc_forest_cull *cull, const bbc_forest_world *world,
                                 const bbc_forest_lod_model *models, size_t model_count,
                                 const uint32_t (*placement_models)[2], size_t placement_count,
@@ -227,22 +265,24 @@ void bbc_forest_cull_run(bbc_forest_cull *cull, const float viewproj[16], const 
 void bbc_forest_cull_run_flat(bbc_forest_cull *cull, const float viewproj[16], const double eye[3],
                               double zoom);
 /* How many records bucket b draws this frame (static ranges and per-frame). */
-size_t bbc_forest_cull_bucket_size(const bbc_forest_cull *cull, size_t bucket);
-/* Writes bucket b's records of this frame into out (bbc_forest_cull_bucket_size
+size_t bbc_forest_cull_get_bucket_size(const bbc_forest_cull *cull, size_t bucket);
+/* Writes bucket b's records of this frame into out (bbc_forest_cull_get_bucket_size
  * of them): its static ranges, then its per-frame records. */
-void bbc_forest_cull_bucket_records(const bbc_forest_cull *cull, size_t bucket,
-                                    bbc_forest_draw *out);
+void bbc_forest_cull_copy_bucket(const bbc_forest_cull *cull, size_t bucket, bbc_forest_draw *out);
 /* The weight (0..1) level `lod` of `model` gets at distance d. */
-double bbc_forest_lod_weight(const bbc_forest_lod_model *model, size_t lod, double d);
+double bbc_forest_lod_get_weight(const bbc_forest_lod_model *model, size_t lod, double d);
+/* Releases what the culling owns and zeroes it (NULL: nothing). */
 void bbc_forest_cull_free(bbc_forest_cull *cull);
 
 /* Frustum planes (a, b, c, d: inside when a x + b y + c z + d >= 0) of a
  * column-major view-projection matrix. */
-void bbc_forest_frustum(const float viewproj[16], double planes[6][4]);
+void bbc_forest_frustum_from_matrix(const float viewproj[16], double planes[6][4]);
 /* 0 = the box is outside, 1 = it crosses the frustum, 2 = wholly inside. */
-int bbc_forest_box_in_frustum(const double planes[6][4], const double lo[3], const double hi[3]);
+int bbc_forest_frustum_test_box(const double planes[6][4], const double lo[3], const double hi[3]);
 
-/* ---- forest: terrain (thesis 3.2.1), GL-free --------------------------- */
+/* ======================================================================== */
+/* 4. Terrain (thesis 3.2.1)                                                */
+/* ======================================================================== */
 /* Continuous level of detail on the GPU's terms (CDLOD, Strugar 2010, in
  * place of Roettger et al. 1998): a quadtree over the (2^n+1)^2 heightmap
  * whose leaves are 32 x 32 squares; each frame the nodes to draw are chosen
@@ -279,6 +319,7 @@ bbc_result bbc_forest_terrain_init(bbc_forest_terrain *t, const bbc_forest_world
  * (column-major) and detail factor `detail` (roetger). */
 void bbc_forest_terrain_select(bbc_forest_terrain *t, const bbc_forest_world *world,
                                const float viewproj[16], const double eye[3], double detail);
+/* Releases what the terrain owns and zeroes it (NULL: nothing). */
 void bbc_forest_terrain_free(bbc_forest_terrain *t);
 
 /* The terrain's colour texture with the `light` direction's lighting baked
@@ -287,10 +328,13 @@ void bbc_forest_terrain_free(bbc_forest_terrain *t);
  * world units ({0, 0} = none; full darkness up to cutoff, then falling off
  * to none at radius). Without a colour map, grass and rock by slope and
  * height. (width - 1) x (depth - 1) texels. */
-bbc_result bbc_forest_terrain_colour(const bbc_forest_world *world, const double light[3],
-                                     const double (*shadow)[2], bbc_image *out, bbc_error *err);
+bbc_result bbc_forest_terrain_bake_colour(const bbc_forest_world *world, const double light[3],
+                                          const double (*shadow)[2], bbc_image *out,
+                                          bbc_error *err);
 
-/* ---- forest: the camera and stored positions, GL-free ------------------- */
+/* ======================================================================== */
+/* 5. The camera and stored positions                                       */
+/* ======================================================================== */
 typedef struct bbc_forest_camera {
   double pos[3]; /* world units */
   double yaw;    /* degrees: 0 looks along -z, 90 along +x */
@@ -299,10 +343,10 @@ typedef struct bbc_forest_camera {
 } bbc_forest_camera;
 
 /* Unit vector the camera looks along. */
-void bbc_forest_camera_forward(const bbc_forest_camera *cam, double f[3]);
+void bbc_forest_camera_get_forward(const bbc_forest_camera *cam, double f[3]);
 /* Column-major perspective x view matrix (OpenGL clip space). */
-void bbc_forest_camera_matrix(const bbc_forest_camera *cam, double aspect, double near_clip,
-                              double far_clip, float viewproj[16]);
+void bbc_forest_camera_get_viewproj(const bbc_forest_camera *cam, double aspect, double near_clip,
+                                    double far_clip, float viewproj[16]);
 /* Stored positions (Appendix B's F3/F2): text lines "x y z yaw pitch".
  * Appends one; reads all into a malloc'd array (NULL and 0 when the file
  * does not exist). */
@@ -311,7 +355,9 @@ bbc_result bbc_forest_positions_append(const char *path, const bbc_forest_camera
 bbc_result bbc_forest_positions_read(const char *path, bbc_forest_camera **cams, size_t *count,
                                      bbc_error *err);
 
-/* ---- forest: a procedural landscape for the demo map ------------------- */
+/* ======================================================================== */
+/* 6. A procedural landscape for the demo maps                              */
+/* ======================================================================== */
 typedef enum bbc_forest_demo_kind {
   BBC_FOREST_DEMO_HILLS = 0, /* hills, a ridge, a lake */
   BBC_FOREST_DEMO_ISLANDS    /* islands in a sea (the thesis's Tropic Islands) */

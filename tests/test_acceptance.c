@@ -229,7 +229,7 @@ static void test_lod_and_vrml(void **state) {
   for (int k = 0; k <= 4; k++) {
     bbc_load_options lo;
     bbc_load_options_default(&lo);
-    lo.load_textures = 0;
+    lo.skip_textures = 1;
     lo.lod_node = k;
     bbc_mesh lm;
     bbc_error lerr;

@@ -45,23 +45,23 @@ static void test_frustum(void **state) {
   bbc_forest_camera c;
   look(&c, 0, 0, 0, 0, 0); /* looks along -z */
   float vp[16];
-  bbc_forest_camera_matrix(&c, 1.0, 0.1, 100, vp);
+  bbc_forest_camera_get_viewproj(&c, 1.0, 0.1, 100, vp);
   double p[6][4];
-  bbc_forest_frustum(vp, p);
+  bbc_forest_frustum_from_matrix(vp, p);
   double lo[3] = {-1, -1, -11}, hi[3] = {1, 1, -9};
-  assert_int_equal(bbc_forest_box_in_frustum(p, lo, hi), 2); /* ahead */
+  assert_int_equal(bbc_forest_frustum_test_box(p, lo, hi), 2); /* ahead */
   double lo2[3] = {-1, -1, 9}, hi2[3] = {1, 1, 11};
-  assert_int_equal(bbc_forest_box_in_frustum(p, lo2, hi2), 0); /* behind */
+  assert_int_equal(bbc_forest_frustum_test_box(p, lo2, hi2), 0); /* behind */
   double lo3[3] = {-1, -1, -200}, hi3[3] = {1, 1, -50};
-  assert_int_equal(bbc_forest_box_in_frustum(p, lo3, hi3), 1); /* crosses the far plane */
+  assert_int_equal(bbc_forest_frustum_test_box(p, lo3, hi3), 1); /* crosses the far plane */
   double lo4[3] = {30, -1, -11}, hi4[3] = {40, 1, -9};
-  assert_int_equal(bbc_forest_box_in_frustum(p, lo4, hi4), 0); /* far to the right */
+  assert_int_equal(bbc_forest_frustum_test_box(p, lo4, hi4), 0); /* far to the right */
   /* yaw 90 looks along +x */
   look(&c, 0, 0, 0, 90, 0);
-  bbc_forest_camera_matrix(&c, 1.0, 0.1, 100, vp);
-  bbc_forest_frustum(vp, p);
+  bbc_forest_camera_get_viewproj(&c, 1.0, 0.1, 100, vp);
+  bbc_forest_frustum_from_matrix(vp, p);
   double lo5[3] = {9, -1, -1}, hi5[3] = {11, 1, 1};
-  assert_int_equal(bbc_forest_box_in_frustum(p, lo5, hi5), 2);
+  assert_int_equal(bbc_forest_frustum_test_box(p, lo5, hi5), 2);
 }
 
 static void test_lod_weights(void **state) {
@@ -69,27 +69,32 @@ static void test_lod_weights(void **state) {
   double ranges[6] = {0, 100, 100, 300, 300, 1000};
   bbc_forest_lod_model m = {3, ranges, 10, 5};
   /* far from a switch: one level, whole */
-  assert_true(bbc_forest_lod_weight(&m, 0, 50) == 1 && bbc_forest_lod_weight(&m, 1, 50) == 0);
+  assert_true(bbc_forest_lod_get_weight(&m, 0, 50) == 1 &&
+              bbc_forest_lod_get_weight(&m, 1, 50) == 0);
   /* the next level blends in before the switch while the first is whole */
-  assert_true(bbc_forest_lod_weight(&m, 0, 95) == 1);
-  assert_true(fabs(bbc_forest_lod_weight(&m, 1, 95) - 0.5) < 1e-9);
+  assert_true(bbc_forest_lod_get_weight(&m, 0, 95) == 1);
+  assert_true(fabs(bbc_forest_lod_get_weight(&m, 1, 95) - 0.5) < 1e-9);
   /* at the switch both are whole; after it the first fades out */
-  assert_true(bbc_forest_lod_weight(&m, 0, 100) == 1 && bbc_forest_lod_weight(&m, 1, 100) == 1);
-  assert_true(fabs(bbc_forest_lod_weight(&m, 0, 105) - 0.5) < 1e-9);
-  assert_true(bbc_forest_lod_weight(&m, 0, 110) == 0 && bbc_forest_lod_weight(&m, 1, 110) == 1);
+  assert_true(bbc_forest_lod_get_weight(&m, 0, 100) == 1 &&
+              bbc_forest_lod_get_weight(&m, 1, 100) == 1);
+  assert_true(fabs(bbc_forest_lod_get_weight(&m, 0, 105) - 0.5) < 1e-9);
+  assert_true(bbc_forest_lod_get_weight(&m, 0, 110) == 0 &&
+              bbc_forest_lod_get_weight(&m, 1, 110) == 1);
   /* the last level fades out past its max; nothing beyond */
-  assert_true(fabs(bbc_forest_lod_weight(&m, 2, 1005) - 0.5) < 1e-9);
-  assert_true(bbc_forest_lod_weight(&m, 2, 1011) == 0);
+  assert_true(fabs(bbc_forest_lod_get_weight(&m, 2, 1005) - 0.5) < 1e-9);
+  assert_true(bbc_forest_lod_get_weight(&m, 2, 1011) == 0);
   /* fade 0: a hard switch */
   m.fade = 0;
-  assert_true(bbc_forest_lod_weight(&m, 0, 99.9) == 1 && bbc_forest_lod_weight(&m, 1, 99.9) == 0);
-  assert_true(bbc_forest_lod_weight(&m, 0, 100) == 0 && bbc_forest_lod_weight(&m, 1, 100) == 1);
+  assert_true(bbc_forest_lod_get_weight(&m, 0, 99.9) == 1 &&
+              bbc_forest_lod_get_weight(&m, 1, 99.9) == 0);
+  assert_true(bbc_forest_lod_get_weight(&m, 0, 100) == 0 &&
+              bbc_forest_lod_get_weight(&m, 1, 100) == 1);
   /* always: weights are continuous in distance with fade > 0 */
   m.fade = 10;
   for (size_t l = 0; l < 3; l++)
     for (double d = 0; d < 1100; d += 0.5)
-      assert_true(fabs(bbc_forest_lod_weight(&m, l, d + 0.5) - bbc_forest_lod_weight(&m, l, d)) <=
-                  0.05 + 1e-9);
+      assert_true(fabs(bbc_forest_lod_get_weight(&m, l, d + 0.5) -
+                       bbc_forest_lod_get_weight(&m, l, d)) <= 0.05 + 1e-9);
 }
 
 static int cmp_draw(const void *a, const void *b) {
@@ -112,7 +117,7 @@ static void test_cull_matches_flat(void **state) {
     w.instances[i].x = (float)(s >> 8) / (float)(1u << 24) * 1024;
     s = s * 1664525u + 1013904223u;
     w.instances[i].z = (float)(s >> 8) / (float)(1u << 24) * 1024;
-    w.instances[i].y = (float)bbc_forest_world_height(&w, w.instances[i].x, w.instances[i].z);
+    w.instances[i].y = (float)bbc_forest_world_get_height(&w, w.instances[i].x, w.instances[i].z);
     w.instances[i].scale = 0.8f + (float)(i % 5) * 0.1f;
     w.instances[i].yaw_deg = (float)(i * 53 % 360);
     w.instances[i].placement = (uint32_t)(i % 3);
@@ -133,14 +138,14 @@ static void test_cull_matches_flat(void **state) {
     bbc_forest_camera cam;
     look(&cam, 80 + 70 * v, 30 + 5 * (v % 4), 900 - 60 * v, v * 31.0, -(v % 5) * 8.0);
     float vp[16];
-    bbc_forest_camera_matrix(&cam, 1.3, 0.5, 1500, vp);
+    bbc_forest_camera_get_viewproj(&cam, 1.3, 0.5, 1500, vp);
     double zoom = v % 4 == 3 ? 2.5 : 1;
     bbc_forest_cull_run(&c, vp, cam.pos, zoom);
     ranged += c.range_start[nb];
     size_t vis = c.trees_visible, at = 0, sizes[8];
     for (size_t k = 0; k < nb; k++) {
-      sizes[k] = bbc_forest_cull_bucket_size(&c, k);
-      bbc_forest_cull_bucket_records(&c, k, a + at);
+      sizes[k] = bbc_forest_cull_get_bucket_size(&c, k);
+      bbc_forest_cull_copy_bucket(&c, k, a + at);
       qsort(a + at, sizes[k], sizeof *a, cmp_draw);
       at += sizes[k];
     }
@@ -148,8 +153,8 @@ static void test_cull_matches_flat(void **state) {
     assert_int_equal(c.trees_visible, vis);
     at = 0;
     for (size_t k = 0; k < nb; k++) {
-      assert_int_equal(bbc_forest_cull_bucket_size(&c, k), sizes[k]);
-      bbc_forest_cull_bucket_records(&c, k, b + at);
+      assert_int_equal(bbc_forest_cull_get_bucket_size(&c, k), sizes[k]);
+      bbc_forest_cull_copy_bucket(&c, k, b + at);
       qsort(b + at, sizes[k], sizeof *b, cmp_draw);
       at += sizes[k];
     }
@@ -188,11 +193,11 @@ static void test_cull(void **state) {
   bbc_forest_camera cam;
   look(&cam, 128, 10, 300, 0, 0); /* south of the map, looking north over it */
   float vp[16];
-  bbc_forest_camera_matrix(&cam, 1.0, 0.5, 2000, vp);
+  bbc_forest_camera_get_viewproj(&cam, 1.0, 0.5, 2000, vp);
   bbc_forest_cull_run(&c, vp, cam.pos, 1);
   /* every tree ahead within the 60 degree view; count by brute force */
   double planes[6][4];
-  bbc_forest_frustum(vp, planes);
+  bbc_forest_frustum_from_matrix(vp, planes);
   size_t expect_visible = 0, expect_b1 = 0;
   for (size_t i = 0; i < w.instance_count; i++) {
     const bbc_forest_instance *in = &w.instances[i];
@@ -203,23 +208,23 @@ static void test_cull(void **state) {
     expect_visible++;
     double d =
         sqrt(pow(in->x - cam.pos[0], 2) + pow(in->y - cam.pos[1], 2) + pow(in->z - cam.pos[2], 2));
-    expect_b1 += bbc_forest_lod_weight(&models[0], 1, d) > 0;
+    expect_b1 += bbc_forest_lod_get_weight(&models[0], 1, d) > 0;
   }
   assert_true(expect_visible > 50 && expect_visible < 256);
   assert_int_equal(c.trees_visible, expect_visible);
-  assert_int_equal(bbc_forest_cull_bucket_size(&c, 1), expect_b1);
+  assert_int_equal(bbc_forest_cull_get_bucket_size(&c, 1), expect_b1);
   /* placement 1's second component: model 1's only level, half the trees */
-  size_t n2 = bbc_forest_cull_bucket_size(&c, 2);
+  size_t n2 = bbc_forest_cull_get_bucket_size(&c, 2);
   assert_true(n2 > 0 && n2 <= expect_visible);
   /* whole cells drawn from the static records, and some trees one by one */
   assert_true(c.range_start[3] > 0 && c.bucket_start[3] > 0);
   size_t total = 0;
-  for (size_t b = 0; b < 3; b++) total += bbc_forest_cull_bucket_size(&c, b);
+  for (size_t b = 0; b < 3; b++) total += bbc_forest_cull_get_bucket_size(&c, b);
   bbc_forest_draw *grid = malloc(total * sizeof *grid);
   assert_non_null(grid);
   for (size_t b = 0, at = 0; b < 3; b++) {
-    bbc_forest_cull_bucket_records(&c, b, grid + at);
-    at += bbc_forest_cull_bucket_size(&c, b);
+    bbc_forest_cull_copy_bucket(&c, b, grid + at);
+    at += bbc_forest_cull_get_bucket_size(&c, b);
   }
   /* records carry the instance and a weight in (0, 1] */
   for (size_t i = 0; i < total; i++)
@@ -230,8 +235,8 @@ static void test_cull(void **state) {
     assert_non_null(again);
     bbc_forest_cull_run(&c, vp, cam.pos, 1);
     for (size_t b = 0, at = 0; b < 3; b++) {
-      bbc_forest_cull_bucket_records(&c, b, again + at);
-      at += bbc_forest_cull_bucket_size(&c, b);
+      bbc_forest_cull_copy_bucket(&c, b, again + at);
+      at += bbc_forest_cull_get_bucket_size(&c, b);
     }
     assert_memory_equal(grid, again, total * sizeof *grid);
     free(again);
@@ -240,11 +245,12 @@ static void test_cull(void **state) {
    * in another order, none from static ranges */
   {
     size_t sizes[3];
-    for (size_t b = 0; b < 3; b++) sizes[b] = bbc_forest_cull_bucket_size(&c, b);
+    for (size_t b = 0; b < 3; b++) sizes[b] = bbc_forest_cull_get_bucket_size(&c, b);
     size_t vis = c.trees_visible;
     bbc_forest_cull_run_flat(&c, vp, cam.pos, 1);
     assert_int_equal(c.range_start[3], 0);
-    for (size_t b = 0; b < 3; b++) assert_int_equal(bbc_forest_cull_bucket_size(&c, b), sizes[b]);
+    for (size_t b = 0; b < 3; b++)
+      assert_int_equal(bbc_forest_cull_get_bucket_size(&c, b), sizes[b]);
     assert_int_equal(c.trees_visible, vis);
     for (size_t b = 0, at = 0; b < 3; b++) {
       for (size_t i = at; i < at + sizes[b]; i++) {
@@ -259,17 +265,17 @@ static void test_cull(void **state) {
   free(grid);
   /* looking away: nothing */
   look(&cam, 128, 10, 300, 180, 0);
-  bbc_forest_camera_matrix(&cam, 1.0, 0.5, 2000, vp);
+  bbc_forest_camera_get_viewproj(&cam, 1.0, 0.5, 2000, vp);
   bbc_forest_cull_run(&c, vp, cam.pos, 1);
   assert_int_equal(c.bucket_start[3] + c.range_start[3], 0);
   assert_int_equal(c.trees_visible, 0);
   /* zooming in (distances / zoom) moves trees to finer levels */
   look(&cam, 128, 10, 300, 0, 0);
-  bbc_forest_camera_matrix(&cam, 1.0, 0.5, 2000, vp);
+  bbc_forest_camera_get_viewproj(&cam, 1.0, 0.5, 2000, vp);
   bbc_forest_cull_run(&c, vp, cam.pos, 1);
-  size_t fine0 = bbc_forest_cull_bucket_size(&c, 0);
+  size_t fine0 = bbc_forest_cull_get_bucket_size(&c, 0);
   bbc_forest_cull_run(&c, vp, cam.pos, 8);
-  assert_true(bbc_forest_cull_bucket_size(&c, 0) > fine0);
+  assert_true(bbc_forest_cull_get_bucket_size(&c, 0) > fine0);
   bbc_forest_cull_free(&c);
   bbc_forest_world_free(&w);
 }
@@ -313,7 +319,7 @@ static void test_terrain_select(void **state) {
   bbc_forest_camera cam;
   look(&cam, 512, 3000, 512, 0, -89);
   float vp[16];
-  bbc_forest_camera_matrix(&cam, 1.0, 1, 10000, vp);
+  bbc_forest_camera_get_viewproj(&cam, 1.0, 1, 10000, vp);
   bbc_forest_terrain_select(&t, &w, vp, cam.pos, 10);
   check_terrain_cover(&t, 512, 1);
   size_t covered = 0;
@@ -322,7 +328,7 @@ static void test_terrain_select(void **state) {
   /* low over the ground: finest near the camera, coarse far away */
   for (int k = 0; k < 8; k++) {
     look(&cam, 100 + 100 * k, 60, 900 - 80 * k, 30 + 40 * k, -10);
-    bbc_forest_camera_matrix(&cam, 1.5, 1, 3000, vp);
+    bbc_forest_camera_get_viewproj(&cam, 1.5, 1, 3000, vp);
     bbc_forest_terrain_select(&t, &w, vp, cam.pos, 2 + 2 * k);
     assert_true(t.node_count > 0 && t.node_count < t.capacity);
     check_terrain_cover(&t, 512, 1);
@@ -336,7 +342,7 @@ static void test_terrain_select(void **state) {
   }
   /* more detail, more nodes */
   look(&cam, 100, 60, 900, 45, -10);
-  bbc_forest_camera_matrix(&cam, 1.5, 1, 3000, vp);
+  bbc_forest_camera_get_viewproj(&cam, 1.5, 1, 3000, vp);
   bbc_forest_terrain_select(&t, &w, vp, cam.pos, 10);
   size_t coarse = t.node_count;
   bbc_forest_terrain_select(&t, &w, vp, cam.pos, 60);
@@ -370,7 +376,7 @@ static void test_terrain_colour(void **state) {
   double light[3] = {1, 1, 0}, shadow[1][2] = {{6, 2}};
   bbc_image im;
   bbc_error err;
-  assert_int_equal(bbc_forest_terrain_colour(&w, light, (const double(*)[2])shadow, &im, &err),
+  assert_int_equal(bbc_forest_terrain_bake_colour(&w, light, (const double(*)[2])shadow, &im, &err),
                    BBC_OK);
   assert_int_equal(im.width, 64);
   const uint8_t *flat = im.rgba + 4 * (40 * 64 + 10), *lit = im.rgba + 4 * (40 * 64 + 50);

@@ -306,19 +306,19 @@ static void test_world(void **state) {
   /* The ramp: 0 at x = 0, 190 x heightscale at the far edge. */
   assert_true(fabs(w[0].height[0]) < 1e-4);
   assert_true(fabs(w[0].height[32] - 380) < 1e-3);
-  double mid = bbc_forest_world_height(&w[0], 16 * 3.0, 10);
+  double mid = bbc_forest_world_get_height(&w[0], 16 * 3.0, 10);
   assert_true(fabs(mid - 190) < 1.0);
   assert_int_equal(w[0].instance_count, 501);
   const bbc_forest_instance *o = &w[0].instances[0];
   assert_true(o->x == 30 && o->z == 45 && o->yaw_deg == 90);
-  assert_true(fabs(o->y - (bbc_forest_world_height(&w[0], 30, 45) + 0.5)) < 1e-3);
+  assert_true(fabs(o->y - (bbc_forest_world_get_height(&w[0], 30, 45) + 0.5)) < 1e-3);
   double extent = 32 * 3.0;
   for (size_t i = 1; i < w[0].instance_count; i++) {
     const bbc_forest_instance *t = &w[0].instances[i];
     assert_true(t->x >= 0 && t->x < extent / 2 + 1e-9); /* the green half */
     assert_true(t->z >= 0 && t->z < extent);
     assert_true(t->scale == 1.5f && t->yaw_deg >= 0 && t->yaw_deg < 360);
-    assert_true(fabs(t->y - bbc_forest_world_height(&w[0], t->x, t->z)) < 1e-3);
+    assert_true(fabs(t->y - bbc_forest_world_get_height(&w[0], t->x, t->z)) < 1e-3);
   }
   assert_int_equal(w[0].placements_short, 0);
   assert_true(fabs(w[0].green_fraction - 0.5) < 1e-9);

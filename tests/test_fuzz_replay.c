@@ -49,7 +49,7 @@ static bbc_result feed(const char *format, const char *name, const void *data, s
   }
   bbc_load_options o;
   bbc_load_options_default(&o);
-  o.load_textures = 0;
+  o.skip_textures = 1;
   bbc_mesh m;
   bbc_result r = bbc_mesh_load_memory(name, data, size, &o, &m, err);
   if (r == BBC_OK) bbc_mesh_free(&m);

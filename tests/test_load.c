@@ -289,7 +289,7 @@ static void test_obj_round_trip(void **state) {
   char path[1024];
   snprintf(path, sizeof path, "%s/oak copy.obj", dir);
   bbc_error err;
-  assert_int_equal(bbc_mesh_write_obj(path, &a, &err), BBC_OK);
+  assert_int_equal(bbc_mesh_write_obj(path, &a, NULL, &err), BBC_OK);
   assert_int_equal(bbc_mesh_load(path, NULL, &b, &err), BBC_OK);
   assert_int_equal(b.triangle_count, a.triangle_count);
   assert_int_equal(group_triangles(&b, "leaves"), 10640);

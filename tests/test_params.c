@@ -142,7 +142,7 @@ static void test_first_step(void **state) {
   const char *which;
   bbc_params_default(&a);
   b = a;
-  assert_int_equal(bbc_params_first_step(&a, &b, &which), 0);
+  assert_int_equal(bbc_params_stale_step(&a, &b, &which), 0);
   assert_null(which);
   struct {
     const char *name, *value;
@@ -157,7 +157,7 @@ static void test_first_step(void **state) {
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
     b = a;
     assert_int_equal(bbc_params_set(&b, cases[i].name, cases[i].value, &err), BBC_OK);
-    int step = bbc_params_first_step(&a, &b, &which);
+    int step = bbc_params_stale_step(&a, &b, &which);
     if (step != cases[i].step)
       fail_msg("%s: step %d, expected %d", cases[i].name, step, cases[i].step);
     if (step) assert_string_equal(which, cases[i].name);
@@ -166,10 +166,10 @@ static void test_first_step(void **state) {
   b = a;
   assert_int_equal(bbc_params_set(&b, "texres", "64", &err), BBC_OK);
   assert_int_equal(bbc_params_set(&b, "punishval", "0.5", &err), BBC_OK);
-  assert_int_equal(bbc_params_first_step(&a, &b, &which), 2);
+  assert_int_equal(bbc_params_stale_step(&a, &b, &which), 2);
   assert_string_equal(which, "punishval");
   assert_int_equal(bbc_params_set(&b, "epsilon", "3", &err), BBC_OK);
-  assert_int_equal(bbc_params_first_step(&a, &b, &which), 1);
+  assert_int_equal(bbc_params_stale_step(&a, &b, &which), 1);
   assert_string_equal(which, "epsilon");
   /* every parameter is in one class */
   for (size_t i = 0; i < bbc_param_count(); i++) {
@@ -184,7 +184,7 @@ static void test_first_step(void **state) {
       snprintf(text, sizeof text, "%.17g", info->min);
       if (bbc_params_set(&b, info->name, text, &err) != BBC_OK) fail_msg("%s", err.message);
     }
-    int step = bbc_params_first_step(&a, &b, NULL);
+    int step = bbc_params_stale_step(&a, &b, NULL);
     assert_true(step >= 0 && step <= 3);
     if (info->flags & BBC_PARAM_STEP3_ONLY) assert_int_equal(step, 3);
   }

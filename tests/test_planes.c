@@ -396,7 +396,7 @@ static size_t real_model(const char *rel, double eps_pct) {
   if (!tu_have_file(path)) skip();
   bbc_load_options lo;
   bbc_load_options_default(&lo);
-  lo.load_textures = 0;
+  lo.skip_textures = 1;
   bbc_mesh m;
   bbc_error err;
   if (bbc_mesh_load(path, &lo, &m, &err) != BBC_OK) fail_msg("%s", err.message);

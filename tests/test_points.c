@@ -1168,7 +1168,7 @@ static void test_ply_cube_frame(void **state) {
   char *p = write_text(state, "cube.ply", cube);
   bbc_load_options opts;
   bbc_load_options_default(&opts);
-  opts.compute_normals = 0; /* flat normals: outward for this winding */
+  opts.flat_normals = 1; /* flat normals: outward for this winding */
   bbc_mesh m;
   bbc_error err;
   assert_int_equal(bbc_mesh_load(p, &opts, &m, &err), BBC_OK);

@@ -32,82 +32,82 @@ static void test_session(void **state) {
   o.params.atlas_max = 0;
   bbc_error err;
   /* out of order */
-  assert_int_equal(bbc_session_planes(s, &o, &err), BBC_ERROR_INVALID_ARGUMENT);
-  assert_int_equal(bbc_session_cloud(s, &o, &err), BBC_ERROR_INVALID_ARGUMENT);
-  assert_null(bbc_session_model(s));
-  assert_int_equal(bbc_session_stale(s, &o, NULL), -1);
+  assert_int_equal(bbc_session_select_planes(s, &o, &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(bbc_session_build_cloud(s, &o, &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_null(bbc_session_get_model(s));
+  assert_int_equal(bbc_session_stale_step(s, &o, NULL), -1);
   bbc_load_options lo;
   bbc_load_options_default(&lo);
   assert_int_equal(bbc_session_load(s, path, &lo, &err), BBC_OK);
-  assert_non_null(bbc_session_model(s));
-  assert_int_equal(bbc_session_cloud(s, &o, &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_non_null(bbc_session_get_model(s));
+  assert_int_equal(bbc_session_build_cloud(s, &o, &err), BBC_ERROR_INVALID_ARGUMENT);
   assert_int_equal(bbc_session_run(s, &o, &err), BBC_OK);
-  const bbc_cloud *c = bbc_session_result(s);
+  const bbc_cloud *c = bbc_session_get_cloud(s);
   assert_non_null(c);
-  assert_int_equal(bbc_session_stale(s, &o, NULL), 0);
+  assert_int_equal(bbc_session_stale_step(s, &o, NULL), 0);
   /* a texturing change: step 3 alone, the very cloud a full run gives */
   o.params.quality = 0;
   const char *which;
-  assert_int_equal(bbc_session_stale(s, &o, &which), 3);
+  assert_int_equal(bbc_session_stale_step(s, &o, &which), 3);
   assert_string_equal(which, "quality");
-  const bbc_planeset *before = bbc_session_planeset(s);
+  const bbc_planeset *before = bbc_session_get_planes(s);
   size_t planes = before->plane_count;
-  assert_int_equal(bbc_session_cloud(s, &o, &err), BBC_OK);
-  assert_int_equal(bbc_session_planeset(s)->plane_count, planes);
-  const bbc_image *a = &bbc_session_result(s)->mesh.textures[0].image;
+  assert_int_equal(bbc_session_build_cloud(s, &o, &err), BBC_OK);
+  assert_int_equal(bbc_session_get_planes(s)->plane_count, planes);
+  const bbc_image *a = &bbc_session_get_cloud(s)->mesh.textures[0].image;
   bbc_session *t = bbc_session_new();
   assert_non_null(t);
   assert_int_equal(bbc_session_load(t, path, &lo, &err), BBC_OK);
   assert_int_equal(bbc_session_run(t, &o, &err), BBC_OK);
-  const bbc_image *b = &bbc_session_result(t)->mesh.textures[0].image;
+  const bbc_image *b = &bbc_session_get_cloud(t)->mesh.textures[0].image;
   assert_int_equal(a->width, b->width);
   assert_int_equal(a->height, b->height);
   assert_memory_equal(a->rgba, b->rgba, (size_t)a->width * a->height * 4);
   bbc_session_free(t);
   /* a step-1 change: step 3 refused, naming it; the cloud stays */
   o.params.epsilon_pct = 9;
-  assert_int_equal(bbc_session_stale(s, &o, &which), 1);
-  assert_int_equal(bbc_session_cloud(s, &o, &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(bbc_session_stale_step(s, &o, &which), 1);
+  assert_int_equal(bbc_session_build_cloud(s, &o, &err), BBC_ERROR_INVALID_ARGUMENT);
   assert_non_null(strstr(err.message, "epsilon"));
-  assert_non_null(bbc_session_result(s));
+  assert_non_null(bbc_session_get_cloud(s));
   /* a part's step-2 setting names the part */
   o.params.epsilon_pct = 6;
   o.part_override_count = 1;
   snprintf(o.part_overrides[0].part, sizeof o.part_overrides[0].part, "foliage");
   o.part_overrides[0].params = o.params;
   o.part_overrides[0].params.punish_value = 0.4;
-  assert_int_equal(bbc_session_stale(s, &o, &which), 2);
+  assert_int_equal(bbc_session_stale_step(s, &o, &which), 2);
   assert_string_equal(which, "foliage.punishval");
   o.part_override_count = 0;
   /* the split by content: patterns the caller later overwrites are copied */
   char pattern[64] = "trunk*";
   o.split.mode = BBC_SPLIT_PATTERNS;
   o.split.trunk_patterns = pattern;
-  assert_int_equal(bbc_session_stale(s, &o, &which), 1);
+  assert_int_equal(bbc_session_stale_step(s, &o, &which), 1);
   assert_string_equal(which, "split");
-  assert_int_equal(bbc_session_grid_stale(s, &o, &which), 1);
-  assert_int_equal(bbc_session_planes(s, &o, &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(bbc_session_grid_stale_step(s, &o, &which), 1);
+  assert_int_equal(bbc_session_select_planes(s, &o, &err), BBC_ERROR_INVALID_ARGUMENT);
   assert_non_null(strstr(err.message, "split"));
-  assert_int_equal(bbc_session_grid(s, &o, &err), BBC_OK);
-  assert_null(bbc_session_result(s)); /* a new grid: planes and cloud are gone */
-  assert_null(bbc_session_planeset(s));
-  assert_int_equal(bbc_session_planes(s, &o, &err), BBC_OK);
-  assert_null(bbc_session_result(s)); /* new planes: the cloud is gone */
-  assert_int_equal(bbc_session_stale(s, &o, NULL), 0);
+  assert_int_equal(bbc_session_build_grid(s, &o, &err), BBC_OK);
+  assert_null(bbc_session_get_cloud(s)); /* a new grid: planes and cloud are gone */
+  assert_null(bbc_session_get_planes(s));
+  assert_int_equal(bbc_session_select_planes(s, &o, &err), BBC_OK);
+  assert_null(bbc_session_get_cloud(s)); /* new planes: the cloud is gone */
+  assert_int_equal(bbc_session_stale_step(s, &o, NULL), 0);
   snprintf(pattern, sizeof pattern, "bark*");
-  assert_int_equal(bbc_session_stale(s, &o, &which), 1);
+  assert_int_equal(bbc_session_stale_step(s, &o, &which), 1);
   snprintf(pattern, sizeof pattern, "trunk*");
   /* a cancelled or failed step leaves the session as it was */
-  assert_int_equal(bbc_session_cloud(s, &o, &err), BBC_OK);
-  planes = bbc_session_planeset(s)->plane_count;
+  assert_int_equal(bbc_session_build_cloud(s, &o, &err), BBC_OK);
+  planes = bbc_session_get_planes(s)->plane_count;
   o.callbacks.cancel = always;
   assert_int_equal(bbc_session_run(s, &o, &err), BBC_ERROR_CANCELLED);
-  assert_int_equal(bbc_session_cloud(s, &o, &err), BBC_ERROR_CANCELLED);
+  assert_int_equal(bbc_session_build_cloud(s, &o, &err), BBC_ERROR_CANCELLED);
   o.callbacks.cancel = NULL;
-  assert_non_null(bbc_session_result(s));
-  assert_int_equal(bbc_session_planeset(s)->plane_count, planes);
+  assert_non_null(bbc_session_get_cloud(s));
+  assert_int_equal(bbc_session_get_planes(s)->plane_count, planes);
   assert_int_not_equal(bbc_session_load(s, "/no/such/model.obj", &lo, &err), BBC_OK);
-  assert_non_null(bbc_session_result(s));
+  assert_non_null(bbc_session_get_cloud(s));
   bbc_session_free(s);
 }
 
@@ -163,25 +163,25 @@ static void test_steps(void **state) {
   bbc_session *s = bbc_session_new();
   assert_non_null(s);
   assert_int_equal(bbc_session_load(s, path, &lo, &err), BBC_OK);
-  assert_int_equal(bbc_session_grid_stale(s, &o, NULL), -1);
-  assert_int_equal(bbc_session_planes(s, &o, &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(bbc_session_grid_stale_step(s, &o, NULL), -1);
+  assert_int_equal(bbc_session_select_planes(s, &o, &err), BBC_ERROR_INVALID_ARGUMENT);
   assert_non_null(strstr(err.message, "step 1"));
-  assert_int_equal(bbc_session_grid(s, &o, &err), BBC_OK);
-  assert_non_null(bbc_session_grid_get(s));
+  assert_int_equal(bbc_session_build_grid(s, &o, &err), BBC_OK);
+  assert_non_null(bbc_session_get_grid(s));
   o.params.punish_value = 0.7;
-  assert_int_equal(bbc_session_grid_stale(s, &o, NULL), 0);
-  assert_int_equal(bbc_session_planes(s, &o, &err), BBC_OK);
+  assert_int_equal(bbc_session_grid_stale_step(s, &o, NULL), 0);
+  assert_int_equal(bbc_session_select_planes(s, &o, &err), BBC_OK);
   bbc_planeset fresh;
   assert_int_equal(bbc_planes_find(&m, &o, &fresh, &err), BBC_OK);
-  assert_true(same_planes(bbc_session_planeset(s), &fresh));
+  assert_true(same_planes(bbc_session_get_planes(s), &fresh));
   bbc_planeset_free(&fresh);
   o.params.epsilon_pct = 8;
   const char *which = NULL;
-  assert_int_equal(bbc_session_grid_stale(s, &o, &which), 1);
+  assert_int_equal(bbc_session_grid_stale_step(s, &o, &which), 1);
   assert_string_equal(which, "epsilon");
-  assert_int_equal(bbc_session_planes(s, &o, &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(bbc_session_select_planes(s, &o, &err), BBC_ERROR_INVALID_ARGUMENT);
   assert_non_null(strstr(err.message, "epsilon"));
-  assert_non_null(bbc_session_planeset(s)); /* refused: kept as it was */
+  assert_non_null(bbc_session_get_planes(s)); /* refused: kept as it was */
   bbc_session_free(s);
   bbc_mesh_free(&m);
 }
@@ -205,28 +205,28 @@ static void test_views(void **state) {
   /* With `limbs` the trunk part is a mesh: no faces in the grid, and its
    * views are refused, not drawn from nothing. */
   assert_int_equal(bbc_grid_build(&m, &o, &g, &err), BBC_OK);
-  assert_int_equal(bbc_grid_part_count(g), 2);
+  assert_int_equal(bbc_grid_get_part_count(g), 2);
   for (size_t part = 0; part < 2; part++)
-    if (bbc_grid_part_faces(g, part) == 0) {
+    if (bbc_grid_get_part_faces(g, part) == 0) {
       bbc_grid_view_options vo = {BBC_GRID_VIEW_DOMAIN, part, 0, -1, 0};
       bbc_geometry dom;
-      assert_int_not_equal(bbc_grid_view(g, &vo, &dom, &err), BBC_OK);
+      assert_int_not_equal(bbc_grid_view_build(g, &vo, &dom, &err), BBC_OK);
     }
   bbc_grid_free(g);
   o.params.limbs = 0; /* both parts on planes */
   assert_int_equal(bbc_grid_build(&m, &o, &g, &err), BBC_OK);
-  assert_int_equal(bbc_grid_part_count(g), 2);
+  assert_int_equal(bbc_grid_get_part_count(g), 2);
   size_t checked = 0;
   for (size_t part = 0; part < 2; part++) {
-    size_t n = bbc_grid_part_faces(g, part);
-    const size_t faces[3] = {0, n / 2, bbc_grid_largest_face(g, part)};
+    size_t n = bbc_grid_get_part_faces(g, part);
+    const size_t faces[3] = {0, n / 2, bbc_grid_get_largest_face(g, part)};
     for (int f = 0; f < 3; f++) {
       bbc_grid_view_options vo = {BBC_GRID_VIEW_DOMAIN, part, faces[f], -1, 0};
       bbc_geometry dom, cont;
-      assert_int_equal(bbc_grid_view(g, &vo, &dom, &err), BBC_OK);
+      assert_int_equal(bbc_grid_view_build(g, &vo, &dom, &err), BBC_OK);
       assert_true(dom.tri_count > 0 && dom.tri_count % 12 == 0);
       vo.kind = BBC_GRID_VIEW_CONTINUOUS;
-      assert_int_equal(bbc_grid_view(g, &vo, &cont, &err), BBC_OK);
+      assert_int_equal(bbc_grid_view_build(g, &vo, &cont, &err), BBC_OK);
       assert_true(cont.tri_count > 0);
       size_t cubes = dom.tri_count / 12;
       for (size_t v = 0; v < 3 * cont.tri_count; v += 7) {
@@ -256,21 +256,21 @@ static void test_views(void **state) {
   assert_true(checked > 100);
   bbc_grid_view_options vo = {BBC_GRID_VIEW_DENSITY, 1, 0, -1, 0};
   bbc_geometry geo;
-  assert_int_equal(bbc_grid_view(g, &vo, &geo, &err), BBC_OK);
+  assert_int_equal(bbc_grid_view_build(g, &vo, &geo, &err), BBC_OK);
   assert_true(geo.tri_count > 12 * 10);
   bbc_geometry_free(&geo);
   vo.face = 1u << 30;
-  assert_int_equal(bbc_grid_view(g, &vo, &geo, &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(bbc_grid_view_build(g, &vo, &geo, &err), BBC_ERROR_INVALID_ARGUMENT);
   /* faces: the selected face's plane solid, the rest as wireframe */
   bbc_planeset set;
   assert_int_equal(bbc_planes_select(g, &o, &set, &err), BBC_OK);
   uint8_t *st = malloc(m.triangle_count);
   assert_non_null(st);
-  size_t sel = (size_t)bbc_grid_face_triangle(g, 1, bbc_grid_largest_face(g, 1)), valid = 0;
-  bbc_faces_state(&set, sel, st, m.triangle_count);
+  size_t sel = (size_t)bbc_grid_get_face_triangle(g, 1, bbc_grid_get_largest_face(g, 1)), valid = 0;
+  bbc_faces_get_state(&set, sel, st, m.triangle_count);
   for (size_t t = 0; t < m.triangle_count; t++) valid += st[t] == BBC_FACE_VALID;
   assert_int_equal(valid, set.planes[set.face_plane[sel]].face_count);
-  assert_int_equal(bbc_faces_view(&m, st, sel, &geo, &err), BBC_OK);
+  assert_int_equal(bbc_faces_view_build(&m, st, sel, &geo, &err), BBC_OK);
   assert_int_equal(geo.tri_count, valid); /* the selected one yellow instead of blue */
   assert_int_equal(geo.line_count, 3 * (m.triangle_count - valid) + 3);
   bbc_geometry_free(&geo);
@@ -303,7 +303,7 @@ static void test_outputs(void **state) {
   bbc_params_lod_chain(&o.params, 0);
   const double eps[3] = {4, 8, 16};
   assert_int_equal(bbc_session_run_levels(s, &o, eps, 3, &err), BBC_OK);
-  assert_int_equal(bbc_session_level_count(s), 3);
+  assert_int_equal(bbc_session_get_level_count(s), 3);
   assert_int_equal(bbc_session_write(s, a, NULL, &err), BBC_OK);
   snprintf(b, sizeof b, "%s/lib.png", tu_dir);
   assert_int_equal(bbc_session_write(s, b, NULL, &err), BBC_ERROR_INVALID_ARGUMENT);
@@ -314,8 +314,8 @@ static void test_outputs(void **state) {
   assert_true(tu_same_file(a, b)); /* byte for byte */
   /* step 3 again (level 0 was made at epsilon 4): one level; save into Appendix A's folder */
   o.params.epsilon_pct = 4;
-  assert_int_equal(bbc_session_cloud(s, &o, &err), BBC_OK);
-  assert_int_equal(bbc_session_level_count(s), 1);
+  assert_int_equal(bbc_session_build_cloud(s, &o, &err), BBC_OK);
+  assert_int_equal(bbc_session_get_level_count(s), 1);
   char saved[4600], cwd[4096];
   assert_non_null(getcwd(cwd, sizeof cwd));
   assert_int_equal(chdir(tu_dir), 0);

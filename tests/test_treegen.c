@@ -21,6 +21,7 @@
 static void generate(bbc_tree_species species, size_t leaves, uint64_t seed, bbc_mesh *mesh) {
   bbc_tree_options opt;
   bbc_tree_options_default(&opt);
+  opt.seed = 1; /* the tree these checks were written for */
   opt.species = species;
   opt.leaves = leaves;
   opt.seed = seed;
@@ -113,6 +114,7 @@ static void test_leaf_texture_alpha(void **state) {
     for (size_t k = 0; k < sizeof sizes / sizeof sizes[0]; k++) {
       bbc_tree_options opt;
       bbc_tree_options_default(&opt);
+      opt.seed = 1; /* the tree these checks were written for */
       opt.species = (bbc_tree_species)s;
       opt.leaves = 300;
       opt.texture_size = sizes[k];
@@ -159,7 +161,7 @@ static void test_groups_and_materials(void **state) {
       assert_non_null(leaf_image(&m)->rgba);
       size_t per_group[8] = {0};
       assert_true(m.group_count <= 8);
-      bbc_mesh_group_triangle_counts(&m, per_group);
+      bbc_mesh_count_group_triangles(&m, per_group);
       assert_int_equal(per_group[leaves], 2 * counts[k]);
       assert_true(per_group[trunk] > 0);
       assert_int_equal(m.dropped_degenerate, 0);
@@ -225,14 +227,14 @@ static void test_large_and_default(void **state) {
   assert_true(m.triangle_count > 100000);
   size_t per_group[2];
   assert_int_equal(m.group_count, 2);
-  bbc_mesh_group_triangle_counts(&m, per_group);
+  bbc_mesh_count_group_triangles(&m, per_group);
   size_t trunk = per_group[group_index(&m, "trunk")];
   assert_true(trunk * 2 < m.triangle_count);
   bbc_mesh_free(&m);
 
   for (int s = 0; s < BBC_TREE_SPECIES_COUNT; s++) {
     generate((bbc_tree_species)s, 0, 1, &m);
-    bbc_mesh_group_triangle_counts(&m, per_group);
+    bbc_mesh_count_group_triangles(&m, per_group);
     size_t leaves = per_group[group_index(&m, "leaves")] / 2;
     printf("  %s default: %zu leaves, %zu triangles\n", bbc_tree_species_name((bbc_tree_species)s),
            leaves, m.triangle_count);
@@ -265,24 +267,28 @@ static void expect_invalid(const bbc_tree_options *opt, const char *why) {
 
 static void test_invalid_options(void **state) {
   (void)state;
-  static const int bad_sizes[] = {0, -64, 4, 100, 8192, 3};
+  static const int bad_sizes[] = {-64, 4, 100, 8192, 3}; /* 0: the default */
   for (size_t i = 0; i < sizeof bad_sizes / sizeof bad_sizes[0]; i++) {
     bbc_tree_options opt;
     bbc_tree_options_default(&opt);
+    opt.seed = 1; /* the tree these checks were written for */
     opt.texture_size = bad_sizes[i];
     expect_invalid(&opt, "texture size");
   }
   bbc_tree_options opt;
   bbc_tree_options_default(&opt);
+  opt.seed = 1; /* the tree these checks were written for */
   opt.species = BBC_TREE_SPECIES_COUNT;
   expect_invalid(&opt, "species");
   opt.species = (bbc_tree_species)-1;
   expect_invalid(&opt, "species");
   bbc_tree_options_default(&opt);
+  opt.seed = 1; /* the tree these checks were written for */
   opt.leaves = 5000001;
   expect_invalid(&opt, "leaves");
   /* The limits themselves are accepted. */
   bbc_tree_options_default(&opt);
+  opt.seed = 1; /* the tree these checks were written for */
   opt.texture_size = 8;
   opt.leaves = 1;
   bbc_mesh m;
@@ -309,9 +315,29 @@ static void test_species_names(void **state) {
   assert_null(bbc_tree_species_name((bbc_tree_species)-1));
   bbc_tree_options opt;
   bbc_tree_options_default(&opt);
-  assert_int_equal(opt.species, BBC_TREE_OAK);
-  assert_int_equal(opt.leaves, 0);
-  assert_int_equal(opt.texture_size, 128);
+  /* The defaults are a zeroed struct: an oak, seed 0, the species' leaves,
+   * texture size 0 standing for 128; NULL options are the same. */
+  bbc_tree_options zero;
+  memset(&zero, 0, sizeof zero);
+  bbc_tree_options_default(&opt);
+  assert_memory_equal(&opt, &zero, sizeof opt);
+  bbc_tree_options explicit_size = zero;
+  explicit_size.texture_size = 128;
+  explicit_size.leaves = 300;
+  zero.leaves = 300;
+  bbc_mesh a, b, c;
+  bbc_error err;
+  assert_int_equal(bbc_tree_generate(&zero, &a, &err), BBC_OK);
+  assert_int_equal(bbc_tree_generate(&explicit_size, &b, &err), BBC_OK);
+  assert_int_equal(bbc_tree_generate(NULL, &c, &err), BBC_OK);
+  assert_int_equal(a.vertex_count, b.vertex_count);
+  assert_memory_equal(a.positions, b.positions, 3 * a.vertex_count * sizeof *a.positions);
+  assert_int_equal(a.textures[0].image.width, 128);
+  assert_int_equal(b.textures[0].image.width, 128);
+  assert_true(c.triangle_count > a.triangle_count); /* the species' own leaf count */
+  bbc_mesh_free(&a);
+  bbc_mesh_free(&b);
+  bbc_mesh_free(&c);
 }
 
 typedef struct progress_log {
@@ -332,6 +358,7 @@ static void test_progress(void **state) {
   (void)state;
   bbc_tree_options opt;
   bbc_tree_options_default(&opt);
+  opt.seed = 1; /* the tree these checks were written for */
   opt.leaves = 30000;
   progress_log log = {0, 0, 0, 0, 0.0};
   opt.callbacks.progress = on_progress;

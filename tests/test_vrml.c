@@ -268,7 +268,10 @@ static void test_formats_with_back_images_and_normal_maps(void **state) {
     snprintf(stem, sizeof stem, "cloud%d", format);
     snprintf(name, sizeof name, "%s.wrl", stem);
     char *wrl = path_in(dir, name);
-    if (bbc_cloud_write_vrml(wrl, &cl, format, "made by test_vrml\nsecond line", &err) != BBC_OK)
+    if (bbc_cloud_write_vrml(wrl, &cl,
+                             &(bbc_vrml_options){.format = (bbc_vrml_format)format,
+                                                 .comment = "made by test_vrml\nsecond line"},
+                             &err) != BBC_OK)
       fail_msg("%s", err.message);
     char *text = read_text(wrl);
     assert_true(!strncmp(text, "#VRML V2.0 utf8\n", 16));
@@ -312,7 +315,8 @@ static void test_double_sided_without_back_images(void **state) {
   char *dir = sub_dir("single");
   char *wrl = path_in(dir, "one.wrl");
   bbc_error err;
-  if (bbc_cloud_write_vrml(wrl, &cl, 0, "a\r\n\nb\n", &err) != BBC_OK) fail_msg("%s", err.message);
+  if (bbc_cloud_write_vrml(wrl, &cl, &(bbc_vrml_options){.comment = "a\r\n\nb\n"}, &err) != BBC_OK)
+    fail_msg("%s", err.message);
   char *text = read_text(wrl);
   assert_non_null(strstr(text, BBC_VERSION_STRING "\n# a\n#\n# b\n# format 0"));
   assert_int_equal(count(text, "Shape {"), cl.billboard_count);
@@ -325,7 +329,8 @@ static void test_double_sided_without_back_images(void **state) {
   /* A name outside the URL-safe characters: the file keeps it, the url
    * percent-encodes it. */
   char *spaced = path_in(dir, "my cloud#1.wrl");
-  if (bbc_cloud_write_vrml(spaced, &cl, 1, NULL, &err) != BBC_OK) fail_msg("%s", err.message);
+  if (bbc_cloud_write_vrml(spaced, &cl, &(bbc_vrml_options){.format = BBC_VRML_97}, &err) != BBC_OK)
+    fail_msg("%s", err.message);
   text = read_text(spaced);
   check_shapes(text, &cl, "my%20cloud%231", 0);
   char *spaced_png = path_in(dir, "my cloud#1_billboards.png");
@@ -348,19 +353,22 @@ static void test_refused_paths_write_nothing(void **state) {
   const char *bad[] = {"cloud.obj", "cloud.vrml", "cloud", ".wrl", "cloud.wrl.png"};
   for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
     char *p = path_in(dir, bad[i]);
-    assert_int_equal(bbc_cloud_write_vrml(p, &cl, 1, NULL, &err), BBC_ERROR_INVALID_ARGUMENT);
+    assert_int_equal(bbc_cloud_write_vrml(p, &cl, &(bbc_vrml_options){.format = BBC_VRML_97}, &err),
+                     BBC_ERROR_INVALID_ARGUMENT);
     assert_true(strlen(err.message) > 0);
     free(p);
   }
   char *wrl = path_in(dir, "cloud.wrl");
-  assert_int_equal(bbc_cloud_write_vrml(wrl, &cl, 2, NULL, &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(
+      bbc_cloud_write_vrml(wrl, &cl, &(bbc_vrml_options){.format = (bbc_vrml_format)2}, &err),
+      BBC_ERROR_INVALID_ARGUMENT);
   bbc_cloud empty;
   memset(&empty, 0, sizeof empty);
-  assert_int_equal(bbc_cloud_write_vrml(wrl, &empty, 0, NULL, &err), BBC_ERROR_EMPTY);
+  assert_int_equal(bbc_cloud_write_vrml(wrl, &empty, NULL, &err), BBC_ERROR_EMPTY);
   assert_int_equal(entries(dir), 0);
   /* A missing folder: an error, and nothing anywhere. */
   char *missing = path_in(dir, "missing/cloud.wrl");
-  assert_int_not_equal(bbc_cloud_write_vrml(missing, &cl, 0, NULL, &err), BBC_OK);
+  assert_int_not_equal(bbc_cloud_write_vrml(missing, &cl, NULL, &err), BBC_OK);
   assert_int_equal(err.code, BBC_ERROR_IO);
   assert_int_equal(entries(dir), 0);
   assert_false(file_exists(missing));
@@ -393,7 +401,8 @@ static void test_dds_mip_levels(void **state) {
   char *dir = sub_dir("dds");
   char *wrl = path_in(dir, "d.wrl"), *dds = path_in(dir, "d_billboards.dds");
   bbc_error err;
-  if (bbc_cloud_write_vrml(wrl, &cl, 1 | BBC_VRML_DDS, NULL, &err) != BBC_OK)
+  if (bbc_cloud_write_vrml(wrl, &cl, &(bbc_vrml_options){.format = BBC_VRML_97, .dds = 1}, &err) !=
+      BBC_OK)
     fail_msg("%s", err.message);
   char *text = read_text(wrl);
   assert_int_equal(count(text, "url [ \"d_billboards.dds\" \"d_billboards.png\" ]"), 4);
@@ -476,7 +485,9 @@ static void test_read_back(void **state) {
     char name[32];
     snprintf(name, sizeof name, "r %d.wrl", format); /* a space: its url is escaped */
     char *wrl = path_in(dir, name);
-    if (bbc_cloud_write_vrml(wrl, &cl, format, NULL, &err) != BBC_OK) fail_msg("%s", err.message);
+    if (bbc_cloud_write_vrml(wrl, &cl, &(bbc_vrml_options){.format = (bbc_vrml_format)format},
+                             &err) != BBC_OK)
+      fail_msg("%s", err.message);
     bbc_mesh m;
     if (bbc_mesh_load(wrl, NULL, &m, &err) != BBC_OK) fail_msg("%s", err.message);
     assert_int_equal(m.triangle_count, cl.mesh.triangle_count);
@@ -576,7 +587,8 @@ static void test_deterministic(void **state) {
   bbc_error err;
   for (int run = 0; run < 3; run++) { /* a, b, and a again over the first files */
     char *wrl = path_in(dirs[run == 1], "c.wrl");
-    if (bbc_cloud_write_vrml(wrl, &cl, 0, "same", &err) != BBC_OK) fail_msg("%s", err.message);
+    if (bbc_cloud_write_vrml(wrl, &cl, &(bbc_vrml_options){.comment = "same"}, &err) != BBC_OK)
+      fail_msg("%s", err.message);
     free(wrl);
     for (int f = 0; f < 3; f++) {
       char *p = path_in(dirs[run == 1], names[f]);
@@ -632,7 +644,7 @@ static void test_point_cloud_degenerate_outline(void **state) {
   assert_true(cl[0].mesh.dropped_degenerate > 0); /* what this test is about */
   char *dir = sub_dir("scan");
   char *wrl = path_in(dir, "scan.wrl");
-  if (bbc_cloud_write_vrml(wrl, &cl[0], 0, NULL, &err) != BBC_OK) fail_msg("%s", err.message);
+  if (bbc_cloud_write_vrml(wrl, &cl[0], NULL, &err) != BBC_OK) fail_msg("%s", err.message);
   char *text = read_text(wrl);
   int sides = cl[0].mesh.materials[0].single_sided ? 2 : 1;
   assert_int_equal(count(text, "IndexedFaceSet"), cl[0].billboard_count * (size_t)sides);

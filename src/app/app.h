@@ -37,7 +37,7 @@ void bbc_params_thesis_merge(bbc_params *params, bbc_hand hand);
 void bbc_params_lod_chain(bbc_params *params, bbc_hand hand);
 
 /* ---- the algorithm's internals as pictures (Appendix A `show bbc`) ----- */
-/* Coloured geometry for a viewer to draw as it is (src/gl/viewer.c):
+/* Coloured geometry for a viewer to draw as it is (bbcgen's viewer):
  * triangles and line segments, 6 floats a vertex (x y z r g b). */
 typedef struct bbc_geometry {
   float *tris; /* 3 vertices a triangle */
@@ -65,7 +65,7 @@ typedef enum bbc_grid_view_kind {
 
 typedef struct bbc_grid_view_options {
   bbc_grid_view_kind kind;
-  size_t part; /* index of the part (bbc_grid_part_count) */
+  size_t part; /* index of the part (bbc_grid_get_part_count) */
   size_t face; /* the selected face: an index within the part */
   int vertex;  /* continuous views: -1 the face's domain, 0-2 (0-3 for a face of four
                 * vertices) one vertex's (F6) */
@@ -73,20 +73,20 @@ typedef struct bbc_grid_view_options {
 } bbc_grid_view_options;
 /* The grid at the epsilon of the planes step 2 returned last (else as
  * asked). */
-bbc_result bbc_grid_view(const bbc_grid *grid, const bbc_grid_view_options *options,
-                         bbc_geometry *out, bbc_error *err);
-size_t bbc_grid_part_count(const bbc_grid *grid);
-const char *bbc_grid_part_name(const bbc_grid *grid, size_t part); /* NULL: no such part */
-size_t bbc_grid_part_faces(const bbc_grid *grid, size_t part);
+bbc_result bbc_grid_view_build(const bbc_grid *grid, const bbc_grid_view_options *options,
+                               bbc_geometry *out, bbc_error *err);
+size_t bbc_grid_get_part_count(const bbc_grid *grid);
+const char *bbc_grid_get_part_name(const bbc_grid *grid, size_t part); /* NULL: no such part */
+size_t bbc_grid_get_part_faces(const bbc_grid *grid, size_t part);
 /* The mesh triangle of a part's face, -1 when there is none (a face of
  * four vertices, two coplanar triangles sharing an edge: the first). */
-int64_t bbc_grid_face_triangle(const bbc_grid *grid, size_t part, size_t face);
+int64_t bbc_grid_get_face_triangle(const bbc_grid *grid, size_t part, size_t face);
 /* Its vertices: 3, or 4 for two triangles taken as one face; 0 when none. */
-int bbc_grid_face_vertex_count(const bbc_grid *grid, size_t part, size_t face);
+int bbc_grid_get_face_vertex_count(const bbc_grid *grid, size_t part, size_t face);
 /* The part's face of the largest area (the views' first selection). */
-size_t bbc_grid_largest_face(const bbc_grid *grid, size_t part);
+size_t bbc_grid_get_largest_face(const bbc_grid *grid, size_t part);
 /* The part's epsilon in model units in the views' grid. */
-double bbc_grid_epsilon(const bbc_grid *grid, size_t part);
+double bbc_grid_get_epsilon(const bbc_grid *grid, size_t part);
 
 /* The faces view: per triangle of the mesh one state, */
 enum {
@@ -95,25 +95,25 @@ enum {
   BBC_FACE_VALID = 2      /* valid for the current plane: solid blue */
 };
 /* and the selected triangle solid yellow (state NULL: all remaining). */
-bbc_result bbc_faces_view(const bbc_mesh *mesh, const uint8_t *state, size_t selected,
-                          bbc_geometry *out, bbc_error *err);
+bbc_result bbc_faces_view_build(const bbc_mesh *mesh, const uint8_t *state, size_t selected,
+                                bbc_geometry *out, bbc_error *err);
 /* show model's overlays: every vertex's validity domain in model space (an
  * octahedron of radius eps: the planes valid for the vertex meet its
  * eps-ball; at most 200,000 vertices, every k-th of larger models), and
  * the shadow voxels of 2.3.11 (the occupied voxels, grey by their light). */
-bbc_result bbc_vertex_domains_view(const bbc_mesh *mesh, double eps, bbc_geometry *out,
-                                   bbc_error *err);
-bbc_result bbc_shade_view(const bbc_mesh *mesh, int voxels, double ambient, int up_axis,
-                          bbc_geometry *out, bbc_error *err);
+bbc_result bbc_vertex_domains_view_build(const bbc_mesh *mesh, double eps, bbc_geometry *out,
+                                         bbc_error *err);
+bbc_result bbc_shade_view_build(const bbc_mesh *mesh, int voxels, double ambient, bbc_axis up_axis,
+                                bbc_geometry *out, bbc_error *err);
 /* States after step 2: the faces of the selected triangle's plane valid,
  * the others remaining (set NULL: all remaining). */
-void bbc_faces_state(const bbc_planeset *set, size_t selected, uint8_t *state, size_t count);
+void bbc_faces_get_state(const bbc_planeset *set, size_t selected, uint8_t *state, size_t count);
 
 /* ---- session: BBCgen's workflow (thesis Appendix A), GL-free ----------- */
 /* A model, its planes (steps 1 and 2) and its cloud (step 3) kept between
  * steps, as BBCgen's prompt keeps them: after a change of texturing
  * parameters only ('*' in Appendix A) step 3 runs again on the kept planes;
- * any other change needs the planes again (bbc_session_stale says which
+ * any other change needs the planes again (bbc_session_stale_step says which
  * parameter and step). Every step builds into new state and replaces the
  * old only when it is whole: a failed or cancelled step (bbc_callbacks
  * cancel) leaves the session as it was. Options are the caller's and are
@@ -126,27 +126,27 @@ void bbc_session_free(bbc_session *session);
 bbc_result bbc_session_load(bbc_session *session, const char *path, const bbc_load_options *options,
                             bbc_error *err);
 /* Step 1 (bbc1): the grid; planes and cloud are dropped. */
-bbc_result bbc_session_grid(bbc_session *session, const bbc_planes_options *options,
-                            bbc_error *err);
+bbc_result bbc_session_build_grid(bbc_session *session, const bbc_planes_options *options,
+                                  bbc_error *err);
 /* Step 2 (bbc2) on the kept grid (the cloud is dropped); refused
  * (BBC_ERROR_INVALID_ARGUMENT, naming the parameter) without a grid or when
  * `options` changed something step 1 uses. */
-bbc_result bbc_session_planes(bbc_session *session, const bbc_planes_options *options,
-                              bbc_error *err);
+bbc_result bbc_session_select_planes(bbc_session *session, const bbc_planes_options *options,
+                                     bbc_error *err);
 /* Step 3 on the kept planes; refused (BBC_ERROR_INVALID_ARGUMENT, naming
  * the parameter) when `options` changed something steps 1 or 2 use. */
-bbc_result bbc_session_cloud(bbc_session *session, const bbc_planes_options *options,
-                             bbc_error *err);
+bbc_result bbc_session_build_cloud(bbc_session *session, const bbc_planes_options *options,
+                                   bbc_error *err);
 /* Steps 1 to 3, all of them again. */
 bbc_result bbc_session_run(bbc_session *session, const bbc_planes_options *options, bbc_error *err);
-/* The first step `options` would need again (bbc_planes_options_first_step
+/* The first step `options` would need again (bbc_planes_options_stale_step
  * against the planes' options; 0: none), -1 without planes. */
-int bbc_session_stale(const bbc_session *session, const bbc_planes_options *options,
-                      const char **which);
+int bbc_session_stale_step(const bbc_session *session, const bbc_planes_options *options,
+                           const char **which);
 /* The same against the grid's options: 1 when step 1 is needed again, 0
  * when the grid serves `options`, -1 without a grid. */
-int bbc_session_grid_stale(const bbc_session *session, const bbc_planes_options *options,
-                           const char **which);
+int bbc_session_grid_stale_step(const bbc_session *session, const bbc_planes_options *options,
+                                const char **which);
 /* Levels of detail (bbcgen --lod): steps 1 to 3 for each epsilon (percent,
  * increasing), maxplanes/minplanes as in `options` (bbc_params_lod_chain
  * turns them off); level 0 becomes the session's grid, planes and cloud,
@@ -156,18 +156,18 @@ bbc_result bbc_session_run_levels(bbc_session *session, const bbc_planes_options
                                   const double *epsilons, size_t count, bbc_error *err);
 /* Levels held: 0 without a cloud, 1 after a run or step 3, more after
  * bbc_session_run_levels. */
-size_t bbc_session_level_count(const bbc_session *session);
+size_t bbc_session_get_level_count(const bbc_session *session);
 /* Level k's cloud (NULL past the last), its planes, the parameters it was
  * made with and the epsilon asked (each may be NULL). */
-const bbc_cloud *bbc_session_level(const bbc_session *session, size_t k,
-                                   const bbc_planeset **planes, const bbc_params **params,
-                                   double *epsilon_pct);
+const bbc_cloud *bbc_session_get_level(const bbc_session *session, size_t k,
+                                       const bbc_planeset **planes, const bbc_params **params,
+                                       double *epsilon_pct);
 /* " (raised from 6 % by maxplanes 32)" when maxplanes/minplanes moved level
  * k's epsilon, else "". */
-void bbc_session_epsilon_note(const bbc_session *session, size_t k, char *buf, size_t size);
-const char *bbc_session_model_path(const bbc_session *session);
+void bbc_session_get_epsilon_note(const bbc_session *session, size_t k, char *buf, size_t size);
+const char *bbc_session_get_model_path(const bbc_session *session);
 /* Seconds the last load and the last write took. */
-void bbc_session_times(const bbc_session *session, double *load_s, double *write_s);
+void bbc_session_get_times(const bbc_session *session, double *load_s, double *write_s);
 
 /* What bbcgen writes, from the session's levels (byte for byte the same):
  * by the extension .glb/.gltf (one file; a chain as MSFT_lod with nodes
@@ -181,7 +181,7 @@ bbc_result bbc_session_write(bbc_session *session, const char *path, const bbc_c
  * them after the steps acts on the next bbc_session_write/_save. */
 void bbc_session_set_output(bbc_session *session, const bbc_params *params);
 /* The file of level k that bbc_session_write makes for `path`. */
-void bbc_session_output_path(const char *path, size_t k, char *buf, size_t size);
+void bbc_session_get_output_path(const char *path, size_t k, char *buf, size_t size);
 /* Appendix A's save: the cloud as VRML in
  * vrml97models/[DIR/]<model>/<model>_eX.XX_texN[_nm][_pl]/<model>.wrl under
  * the current folder (DIR may be NULL; no leading '/', no '..'); `written`
@@ -191,19 +191,19 @@ bbc_result bbc_session_save(bbc_session *session, const char *dir, const bbc_cal
 /* The JSON report of bbcgen --report: the model, the parameters, times,
  * every level's planes, billboards and atlas. `output` (may be NULL): the
  * cloud file it describes. */
-bbc_result bbc_session_report(const bbc_session *session, const char *path, const char *output,
-                              bbc_error *err);
+bbc_result bbc_session_write_report(const bbc_session *session, const char *path,
+                                    const char *output, bbc_error *err);
 /* The preview sheet of bbcgen --preview: four views (front, side, above,
  * oblique) of the original, the cloud and the billboards' outlines coloured
  * by kind; `cell` pixels a view (16 to 4096). */
-bbc_result bbc_session_preview(const bbc_session *session, const char *path, int cell,
-                               bbc_error *err);
+bbc_result bbc_session_write_preview(const bbc_session *session, const char *path, int cell,
+                                     bbc_error *err);
 
 /* What the session holds now, or NULL. */
-const bbc_mesh *bbc_session_model(const bbc_session *session);
-const bbc_grid *bbc_session_grid_get(const bbc_session *session);
-const bbc_planeset *bbc_session_planeset(const bbc_session *session);
-const bbc_cloud *bbc_session_result(const bbc_session *session);
+const bbc_mesh *bbc_session_get_model(const bbc_session *session);
+const bbc_grid *bbc_session_get_grid(const bbc_session *session);
+const bbc_planeset *bbc_session_get_planes(const bbc_session *session);
+const bbc_cloud *bbc_session_get_cloud(const bbc_session *session);
 
 /* ---- the command language (Appendix A's batch files and prompt) -------- */
 /* One command per line, words separated by blanks, '#' starting a comment

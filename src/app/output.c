@@ -45,12 +45,12 @@ static void model_name(const char *path, char *out, size_t n) {
 }
 
 /* OUT and, for OBJ and VRML chains, OUT_lod<k>.EXT: the files a write makes. */
-void bbc_session_output_path(const char *out, size_t level, char *buf, size_t n) {
+void bbc_session_get_output_path(const char *out, size_t level, char *buf, size_t n) {
   lod_path(out, level, buf, n);
 }
 
 void bbc_session_set_output(bbc_session *s, const bbc_params *p) {
-  for (size_t k = 0; k < bbc_session_level_count(s); k++) {
+  for (size_t k = 0; k < bbc_session_get_level_count(s); k++) {
     bbc__level *l = bbc__session_level(s, k);
     l->params.format = p->format;
     l->params.dds = p->dds;
@@ -153,7 +153,7 @@ static bbc_result write_gltf_chain(const bbc_session *s, job_lod *const *lods, s
     snprintf(extras, n, "{\"bbcgen_parameters\":%s}", params);
   bbc_gltf_options go;
   memset(&go, 0, sizeof go);
-  go.binary = binary;
+  go.format = binary ? BBC_GLTF_BINARY : BBC_GLTF_SEPARATE;
   go.extras_json = extras;
   go.lod_chain = 1;
   go.lod_group_name = model;
@@ -175,7 +175,7 @@ static bbc_result write_level_files(const bbc_session *s, job_lod *const *lods, 
     char path[4200];
     lod_path(out, k, path, sizeof path);
     char comment[4600], why[160];
-    bbc_session_epsilon_note(s, k, why, sizeof why);
+    bbc_session_get_epsilon_note(s, k, why, sizeof why);
     const double *og = s->model.origin;
     char origin[160] = "";
     if (og[0] != 0 || og[1] != 0 || og[2] != 0)
@@ -184,20 +184,23 @@ static bbc_result write_level_files(const bbc_session *s, job_lod *const *lods, 
     snprintf(comment, sizeof comment, "model: %s\nepsilon: %.4g %% (%.6g model units)%s%s",
              s->model_path, lods[k]->epsilon_pct * lods[k]->planes.epsilon_scale,
              lods[k]->planes.epsilon_abs, why, origin);
-    if (obj)
-      r = bbc_mesh_write_obj_ex(path, &lods[k]->cloud.mesh, comment, unlit, err);
-    else
-      r = bbc_cloud_write_vrml(path, &lods[k]->cloud,
-                               lods[k]->params.format | (unlit ? BBC_VRML_UNLIT : 0) |
-                                   (lods[k]->params.dds ? BBC_VRML_DDS : 0),
-                               comment, err);
+    if (obj) {
+      bbc_obj_options oo = {.comment = comment, .unlit = unlit};
+      r = bbc_mesh_write_obj(path, &lods[k]->cloud.mesh, &oo, err);
+    } else {
+      bbc_vrml_options vo = {.format = lods[k]->params.format,
+                             .unlit = unlit,
+                             .dds = lods[k]->params.dds,
+                             .comment = comment};
+      r = bbc_cloud_write_vrml(path, &lods[k]->cloud, &vo, err);
+    }
   }
   return r;
 }
 
 bbc_result bbc_session_write(bbc_session *s, const char *out, const bbc_callbacks *cb,
                              bbc_error *err) {
-  size_t count = bbc_session_level_count(s);
+  size_t count = bbc_session_get_level_count(s);
   if (!count)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "no Billboard Cloud to write: run step 3");
   job_lod *lods[BBC_SESSION_MAX_LEVELS];
@@ -210,7 +213,7 @@ bbc_result bbc_session_write(bbc_session *s, const char *out, const bbc_callback
                      "the output must end in .glb, .gltf, .obj or .wrl, not '%s'", out);
   if (obj && lods[0]->params.normal_maps)
     bbc__log(cb, BBC_LOG_WARNING, "OBJ output carries no normal map (use .glb, .gltf or .wrl)");
-  if (wrl && lods[0]->params.normal_maps && lods[0]->params.format == 1)
+  if (wrl && lods[0]->params.normal_maps && lods[0]->params.format == BBC_VRML_97)
     bbc__log(cb, BBC_LOG_WARNING,
              "VRML97 (format 1) carries no normal map: none written (format 0 has them)");
   double t0 = bbc__now_s();
@@ -218,7 +221,7 @@ bbc_result bbc_session_write(bbc_session *s, const char *out, const bbc_callback
   char model[128];
   model_name(s->model_path, model, sizeof model);
   name_chain_materials(lods, count);
-  int unlit = bbc_params_unlit(&lods[0]->params);
+  int unlit = bbc_params_is_unlit(&lods[0]->params);
   if ((glb || gltf) && count > 1 && !s->atlas_shared) {
     r = share_chain_atlas(s, lods, count, cb, err);
     if (r != BBC_OK) return r;

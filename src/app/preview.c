@@ -40,7 +40,8 @@ static const uint8_t k_kind_rgb[BBC_PLANE_KIND_COUNT][3] = {
     {255, 230, 40},  /* stem: yellow */
 };
 
-bbc_result bbc_session_preview(const bbc_session *s, const char *out, int cell, bbc_error *err) {
+bbc_result bbc_session_write_preview(const bbc_session *s, const char *out, int cell,
+                                     bbc_error *err) {
   if (!s->have_cloud)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "no Billboard Cloud to preview: run step 3");
   if (cell < 16 || cell > 4096)
@@ -80,9 +81,9 @@ bbc_result bbc_session_preview(const bbc_session *s, const char *out, int cell, 
     }
   }
   double light[3], gain = 1.0;
-  bbc_params_light_direction(&L->params, light);
+  bbc_params_get_light_direction(&L->params, light);
   bbc_result rc = BBC_OK;
-  if (L->params.prelight) rc = bbc_light_gain(m, light, L->params.up_axis, &gain, err);
+  if (L->params.prelight) rc = bbc_light_gain_measure(m, light, L->params.up_axis, &gain, err);
   for (int v = 0; v < 4 && rc == BBC_OK; v++) {
     for (int row = 0; row < 3 && rc == BBC_OK; row++) {
       bbc_view view;

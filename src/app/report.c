@@ -17,7 +17,7 @@ static const char *epsilon_adjusted_by(const job_lod *L) {
   return f > 1 ? "maxplanes" : f < 1 ? "minplanes" : NULL;
 }
 
-void bbc_session_epsilon_note(const bbc_session *s, size_t level, char *buf, size_t n) {
+void bbc_session_get_epsilon_note(const bbc_session *s, size_t level, char *buf, size_t n) {
   const job_lod *L = bbc__session_level((bbc_session *)s, level);
   const char *by = L ? epsilon_adjusted_by(L) : NULL;
   if (!by) {
@@ -124,9 +124,9 @@ char *bbc__level_json_text(const bbc__level *L) {
   return text;
 }
 
-bbc_result bbc_session_report(const bbc_session *s, const char *out, const char *cloud_path,
-                              bbc_error *err) {
-  size_t count = bbc_session_level_count(s);
+bbc_result bbc_session_write_report(const bbc_session *s, const char *out, const char *cloud_path,
+                                    bbc_error *err) {
+  size_t count = bbc_session_get_level_count(s);
   if (!count)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "no Billboard Cloud to report: run step 3");
   const job_lod *lods[BBC_SESSION_MAX_LEVELS];

@@ -80,20 +80,22 @@ bbc_result bbc_session_load(bbc_session *s, const char *path, const bbc_load_opt
   return BBC_OK;
 }
 
-int bbc_session_stale(const bbc_session *s, const bbc_planes_options *options, const char **which) {
-  if (which) *which = NULL;
-  if (!s->have_planes) return -1;
-  return bbc_planes_options_first_step(&s->planned, options, which);
-}
-
-int bbc_session_grid_stale(const bbc_session *s, const bbc_planes_options *options,
+int bbc_session_stale_step(const bbc_session *s, const bbc_planes_options *options,
                            const char **which) {
   if (which) *which = NULL;
-  if (!s->grid) return -1;
-  return bbc_planes_options_first_step(bbc__grid_options(s->grid), options, which) == 1;
+  if (!s->have_planes) return -1;
+  return bbc_planes_options_stale_step(&s->planned, options, which);
 }
 
-bbc_result bbc_session_grid(bbc_session *s, const bbc_planes_options *options, bbc_error *err) {
+int bbc_session_grid_stale_step(const bbc_session *s, const bbc_planes_options *options,
+                                const char **which) {
+  if (which) *which = NULL;
+  if (!s->grid) return -1;
+  return bbc_planes_options_stale_step(bbc__grid_options(s->grid), options, which) == 1;
+}
+
+bbc_result bbc_session_build_grid(bbc_session *s, const bbc_planes_options *options,
+                                  bbc_error *err) {
   if (!s->have_model)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "step 1 needs a model: load one");
   bbc_grid *g;
@@ -104,11 +106,12 @@ bbc_result bbc_session_grid(bbc_session *s, const bbc_planes_options *options, b
   return BBC_OK;
 }
 
-bbc_result bbc_session_planes(bbc_session *s, const bbc_planes_options *options, bbc_error *err) {
+bbc_result bbc_session_select_planes(bbc_session *s, const bbc_planes_options *options,
+                                     bbc_error *err) {
   if (!s->have_model)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "step 2 needs a model: load one");
   const char *which = NULL;
-  int stale = bbc_session_grid_stale(s, options, &which);
+  int stale = bbc_session_grid_stale_step(s, options, &which);
   if (stale < 0)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "step 2 needs the grid of step 1 first");
   if (stale)
@@ -124,12 +127,13 @@ bbc_result bbc_session_planes(bbc_session *s, const bbc_planes_options *options,
   return BBC_OK;
 }
 
-bbc_result bbc_session_cloud(bbc_session *s, const bbc_planes_options *options, bbc_error *err) {
+bbc_result bbc_session_build_cloud(bbc_session *s, const bbc_planes_options *options,
+                                   bbc_error *err) {
   if (!s->have_planes)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "step 3 needs the planes of steps 1 and 2 first");
   const char *which = NULL;
-  int step = bbc_session_stale(s, options, &which);
+  int step = bbc_session_stale_step(s, options, &which);
   if (step == 1 || step == 2)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "%s changed since the planes were found, and it needs step %d again", which,
@@ -237,12 +241,12 @@ bbc_result bbc_session_run_levels(bbc_session *s, const bbc_planes_options *opti
   return BBC_OK;
 }
 
-size_t bbc_session_level_count(const bbc_session *s) {
+size_t bbc_session_get_level_count(const bbc_session *s) {
   return s->have_cloud ? 1 + s->extra_count : 0;
 }
 
-const bbc_cloud *bbc_session_level(const bbc_session *s, size_t k, const bbc_planeset **planes,
-                                   const bbc_params **params, double *epsilon_pct) {
+const bbc_cloud *bbc_session_get_level(const bbc_session *s, size_t k, const bbc_planeset **planes,
+                                       const bbc_params **params, double *epsilon_pct) {
   const bbc__level *L = bbc__session_level((bbc_session *)s, k);
   if (planes) *planes = L ? &L->planes : NULL;
   if (params) *params = L ? &L->params : NULL;
@@ -250,27 +254,27 @@ const bbc_cloud *bbc_session_level(const bbc_session *s, size_t k, const bbc_pla
   return L ? &L->cloud : NULL;
 }
 
-const char *bbc_session_model_path(const bbc_session *s) {
+const char *bbc_session_get_model_path(const bbc_session *s) {
   return s->have_model ? s->model_path : NULL;
 }
 
-void bbc_session_times(const bbc_session *s, double *load_s, double *write_s) {
+void bbc_session_get_times(const bbc_session *s, double *load_s, double *write_s) {
   if (load_s) *load_s = s->load_s;
   if (write_s) *write_s = s->write_s;
 }
 
-const bbc_mesh *bbc_session_model(const bbc_session *s) {
+const bbc_mesh *bbc_session_get_model(const bbc_session *s) {
   return s->have_model ? &s->model : NULL;
 }
 
-const bbc_grid *bbc_session_grid_get(const bbc_session *s) {
+const bbc_grid *bbc_session_get_grid(const bbc_session *s) {
   return s->grid;
 }
 
-const bbc_planeset *bbc_session_planeset(const bbc_session *s) {
+const bbc_planeset *bbc_session_get_planes(const bbc_session *s) {
   return s->have_planes ? &s->level0.planes : NULL;
 }
 
-const bbc_cloud *bbc_session_result(const bbc_session *s) {
+const bbc_cloud *bbc_session_get_cloud(const bbc_session *s) {
   return s->have_cloud ? &s->level0.cloud : NULL;
 }

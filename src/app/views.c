@@ -261,29 +261,29 @@ static void density(builder *b, const grid_frame *f) {
 
 /* ---- the grid's parts and faces ------------------------------------------------ */
 
-size_t bbc_grid_part_count(const bbc_grid *g) {
+size_t bbc_grid_get_part_count(const bbc_grid *g) {
   return g->part_count;
 }
 
-const char *bbc_grid_part_name(const bbc_grid *g, size_t part) {
+const char *bbc_grid_get_part_name(const bbc_grid *g, size_t part) {
   return part < g->part_count ? g->part[part].name : NULL;
 }
 
-size_t bbc_grid_part_faces(const bbc_grid *g, size_t part) {
+size_t bbc_grid_get_part_faces(const bbc_grid *g, size_t part) {
   return part < g->part_count ? g->part[part].nf : 0;
 }
 
-int64_t bbc_grid_face_triangle(const bbc_grid *g, size_t part, size_t face) {
+int64_t bbc_grid_get_face_triangle(const bbc_grid *g, size_t part, size_t face) {
   if (part >= g->part_count || face >= g->part[part].nf) return -1;
   return g->part[part].faces[face].mesh_index;
 }
 
-int bbc_grid_face_vertex_count(const bbc_grid *g, size_t part, size_t face) {
+int bbc_grid_get_face_vertex_count(const bbc_grid *g, size_t part, size_t face) {
   if (part >= g->part_count || face >= g->part[part].nf) return 0;
   return g->part[part].faces[face].nv;
 }
 
-size_t bbc_grid_largest_face(const bbc_grid *g, size_t part) {
+size_t bbc_grid_get_largest_face(const bbc_grid *g, size_t part) {
   size_t best = 0;
   if (part >= g->part_count) return 0;
   for (size_t i = 1; i < g->part[part].nf; i++)
@@ -291,13 +291,13 @@ size_t bbc_grid_largest_face(const bbc_grid *g, size_t part) {
   return best;
 }
 
-double bbc_grid_epsilon(const bbc_grid *g, size_t part) {
+double bbc_grid_get_epsilon(const bbc_grid *g, size_t part) {
   if (part >= g->part_count || !g->level_count) return 0;
   return g->levels[g->current].eps_abs[part];
 }
 
-bbc_result bbc_grid_view(const bbc_grid *grid, const bbc_grid_view_options *o, bbc_geometry *out,
-                         bbc_error *err) {
+bbc_result bbc_grid_view_build(const bbc_grid *grid, const bbc_grid_view_options *o,
+                               bbc_geometry *out, bbc_error *err) {
   memset(out, 0, sizeof *out);
   if (o->part >= grid->part_count || !grid->part[o->part].n)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "the grid has no part %zu with faces",
@@ -345,8 +345,8 @@ bbc_result bbc_grid_view(const bbc_grid *grid, const bbc_grid_view_options *o, b
 
 /* ---- the model's faces ----------------------------------------------------------- */
 
-bbc_result bbc_faces_view(const bbc_mesh *mesh, const uint8_t *state, size_t selected,
-                          bbc_geometry *out, bbc_error *err) {
+bbc_result bbc_faces_view_build(const bbc_mesh *mesh, const uint8_t *state, size_t selected,
+                                bbc_geometry *out, bbc_error *err) {
   static const float grey[3] = {0.5f, 0.5f, 0.5f}, blue[3] = {0.15f, 0.35f, 0.95f},
                      yellow[3] = {1.0f, 0.9f, 0.0f}, cross[3] = {0.9f, 0.1f, 0.1f};
   memset(out, 0, sizeof *out);
@@ -391,7 +391,7 @@ bbc_result bbc_faces_view(const bbc_mesh *mesh, const uint8_t *state, size_t sel
   return BBC_OK;
 }
 
-void bbc_faces_state(const bbc_planeset *set, size_t selected, uint8_t *state, size_t count) {
+void bbc_faces_get_state(const bbc_planeset *set, size_t selected, uint8_t *state, size_t count) {
   uint32_t plane = set && selected < set->face_count ? set->face_plane[selected] : UINT32_MAX;
   for (size_t t = 0; t < count; t++)
     state[t] = set && t < set->face_count && set->face_plane[t] == plane ? BBC_FACE_VALID
@@ -400,8 +400,8 @@ void bbc_faces_state(const bbc_planeset *set, size_t selected, uint8_t *state, s
 
 /* ---- show model's overlays ------------------------------------------------------- */
 
-bbc_result bbc_vertex_domains_view(const bbc_mesh *mesh, double eps, bbc_geometry *out,
-                                   bbc_error *err) {
+bbc_result bbc_vertex_domains_view_build(const bbc_mesh *mesh, double eps, bbc_geometry *out,
+                                         bbc_error *err) {
   static const float blue[3] = {0.45f, 0.75f, 1.0f};
   memset(out, 0, sizeof *out);
   if (!(eps > 0))
@@ -435,14 +435,14 @@ bbc_result bbc_vertex_domains_view(const bbc_mesh *mesh, double eps, bbc_geometr
   return BBC_OK;
 }
 
-bbc_result bbc_shade_view(const bbc_mesh *mesh, int voxels, double ambient, int up_axis,
-                          bbc_geometry *out, bbc_error *err) {
+bbc_result bbc_shade_view_build(const bbc_mesh *mesh, int voxels, double ambient, bbc_axis up_axis,
+                                bbc_geometry *out, bbc_error *err) {
   memset(out, 0, sizeof *out);
   float *vox;
   size_t n;
   bbc_result r = bbc_shade_voxels(mesh, voxels, ambient, up_axis, &vox, &n, err);
   if (r != BBC_OK) return r;
-  double half = 0.45 * bbc_shade_voxel_size(mesh, voxels);
+  double half = 0.45 * bbc_shade_get_voxel_size(mesh, voxels);
   builder b = {out, 0, 0, 0};
   for (size_t i = 0; i < n; i++) {
     double lo[3], hi[3];

@@ -3,11 +3,13 @@
  * 2010). Decoding and writing files are io/image_io.c's. */
 #include "base.h"
 
+#include <assert.h>
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
 bbc_result bbc_image_alloc(bbc_image *image, int width, int height) {
+  assert(image);
   memset(image, 0, sizeof *image);
   if (width <= 0 || height <= 0 || (size_t)width > (SIZE_MAX / 4) / (size_t)height)
     return BBC_ERROR_INVALID_ARGUMENT;
@@ -25,6 +27,7 @@ void bbc_image_free(bbc_image *image) {
 }
 
 int bbc_image_has_transparency(const bbc_image *image) {
+  assert(image);
   if (!image || !image->rgba) return 0;
   size_t n = (size_t)image->width * (size_t)image->height;
   for (size_t i = 0; i < n; i++)
@@ -93,6 +96,7 @@ static double bayer4(int x, int y) {
 
 bbc_result bbc_image_mipmaps(const bbc_image *base, bbc_image **levels, int *count,
                              bbc_error *err) {
+  assert(base && levels && count);
   *levels = NULL;
   *count = 0;
   if (!base->rgba || base->width < 1 || base->height < 1)

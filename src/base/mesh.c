@@ -3,6 +3,7 @@
 #include "base.h"
 #include "vec3.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -36,7 +37,8 @@ void bbc_mesh_free(bbc_mesh *mesh) {
   memset(mesh, 0, sizeof *mesh);
 }
 
-void bbc_mesh_group_triangle_counts(const bbc_mesh *mesh, size_t *counts) {
+void bbc_mesh_count_group_triangles(const bbc_mesh *mesh, size_t *counts) {
+  assert(mesh && (counts || mesh->group_count == 0));
   memset(counts, 0, mesh->group_count * sizeof *counts);
   for (size_t t = 0; t < mesh->triangle_count; t++) counts[mesh->face_group[t]]++;
 }
@@ -312,6 +314,7 @@ static void centre_and_radius(bbc_mesh *m) {
 
 bbc_result bbc_mesh_finalize(bbc_mesh *m, int compute_normals_flag, const char *source,
                              bbc_error *err) {
+  assert(m);
   if (!source) source = "mesh";
   if (m->kind == BBC_MESH_POINTS) return finalize_points(m, source, err);
   bbc_result r = check_triangles(m, source, err);
@@ -335,6 +338,7 @@ bbc_result bbc_mesh_finalize(bbc_mesh *m, int compute_normals_flag, const char *
 }
 
 int bbc_material_is_limbs(const bbc_material *mat) {
+  assert(mat);
   const char *n = mat && mat->name ? mat->name : "";
   if (strncmp(n, "limbs", 5)) return 0;
   if (!n[5]) return 1;

@@ -2,12 +2,20 @@
  * names, ranges, defaults, and parsing with range checks. */
 #include "base.h"
 
+#include <assert.h>
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+
+/* The table stores every field as an int or a double: the mode enums
+ * (bbc_clustering, bbc_pure, ...) have an int's size. */
+_Static_assert(sizeof(bbc_clustering) == sizeof(int) && sizeof(bbc_pure) == sizeof(int) &&
+                   sizeof(bbc_quality) == sizeof(int) && sizeof(bbc_unlit_mode) == sizeof(int) &&
+                   sizeof(bbc_vrml_format) == sizeof(int) && sizeof(bbc_axis) == sizeof(int),
+               "a parameter's enum is stored as an int");
 
 /* One table row: the public info plus where the value lives in bbc_params. */
 typedef struct param_row {
@@ -174,6 +182,7 @@ static const param_row k_rows[] = {
 #define ROW_COUNT (sizeof k_rows / sizeof k_rows[0])
 
 void bbc_params_thesis(bbc_params *p) {
+  assert(p);
   bbc_params_default(p);
   p->clustering = 2;
   p->epsilon_pct = 5;
@@ -188,7 +197,8 @@ void bbc_params_thesis(bbc_params *p) {
   p->point_normals = 0;
 }
 
-int bbc_params_first_step(const bbc_params *a, const bbc_params *b, const char **which) {
+int bbc_params_stale_step(const bbc_params *a, const bbc_params *b, const char **which) {
+  assert(a && b);
   int first = 0;
   if (which) *which = NULL;
   for (size_t i = 0; i < ROW_COUNT; i++) {
@@ -217,6 +227,7 @@ size_t bbc_param_count(void) {
 }
 
 const bbc_param_info *bbc_param_at(size_t i) {
+  assert(i < bbc_param_count());
   return i < ROW_COUNT ? &k_rows[i].info : NULL;
 }
 
@@ -246,6 +257,7 @@ static void store(bbc_params *p, const param_row *row, double v) {
 }
 
 double bbc_params_get(const bbc_params *p, const bbc_param_info *info) {
+  assert(p && info);
   const param_row *row = row_of(info);
   const char *base = (const char *)p + row->offset;
   if (row->is_double) {
@@ -259,6 +271,7 @@ double bbc_params_get(const bbc_params *p, const bbc_param_info *info) {
 }
 
 void bbc_params_default(bbc_params *p) {
+  assert(p);
   memset(p, 0, sizeof *p);
   for (size_t i = 0; i < ROW_COUNT; i++) store(p, &k_rows[i], k_rows[i].info.default_value);
 }
@@ -287,6 +300,7 @@ static void describe_range(const bbc_param_info *in, char *buf, size_t n) {
 }
 
 bbc_result bbc_params_set(bbc_params *p, const char *name, const char *text, bbc_error *err) {
+  assert(p && name && text);
   const param_row *row = name ? find_row(name) : NULL;
   if (!row)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
@@ -340,6 +354,7 @@ bbc_result bbc_params_set(bbc_params *p, const char *name, const char *text, bbc
 }
 
 bbc_result bbc_params_set_assignment(bbc_params *p, const char *assignment, bbc_error *err) {
+  assert(p && assignment);
   const char *eq = assignment ? strchr(assignment, '=') : NULL;
   if (!eq || eq == assignment)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "expected name=value, got '%s'",
@@ -354,17 +369,20 @@ bbc_result bbc_params_set_assignment(bbc_params *p, const char *assignment, bbc_
   return bbc_params_set(p, name, eq + 1, err);
 }
 
-int bbc_params_unlit(const bbc_params *p) {
-  return p->unlit == 2 ? p->prelight != 0 : p->unlit;
+int bbc_params_is_unlit(const bbc_params *p) {
+  assert(p);
+  return p->unlit == BBC_UNLIT_WHEN_PRELIT ? p->prelight != 0 : p->unlit == BBC_UNLIT_YES;
 }
 
 void bbc_params_copy(bbc_params *dst, const bbc_params *src, const bbc_param_info *info) {
+  assert(dst && src && info);
   const param_row *r = row_of(info);
   memcpy((char *)dst + r->offset, (const char *)src + r->offset,
          r->is_double ? sizeof(double) : sizeof(int));
 }
 
-void bbc_params_light_direction(const bbc_params *prm, double light[3]) {
+void bbc_params_get_light_direction(const bbc_params *prm, double light[3]) {
+  assert(prm && light);
   int up = prm->up_axis >= 0 && prm->up_axis <= 2 ? prm->up_axis : 1;
   int a = (up + 1) % 3, b = (up + 2) % 3; /* (a, b, up) is right-handed */
   double el = prm->light_elev_deg * M_PI / 180, az = prm->light_azim_deg * M_PI / 180;

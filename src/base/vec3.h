@@ -68,6 +68,12 @@ static inline vec3 vnorm_or(vec3 a, vec3 fallback) {
   double l = vlen(a);
   return l > 1e-12 ? vscale(a, 1.0 / l) : fallback;
 }
+/* a divided by its length (the rounding of a division); a zero vector
+ * stays zero. */
+static inline vec3 vnormalize(vec3 a) {
+  double l = vlen(a);
+  return l > 0 ? vdiv(a, l) : a;
+}
 /* Unit vector along a; +y when a is (nearly) zero. */
 static inline vec3 vnorm(vec3 a) {
   return vnorm_or(a, v3(0, 1, 0));

@@ -31,6 +31,7 @@
  * dilation of a texel depends only on the previous ring. No global state. */
 #include "cloud.h"
 
+#include <assert.h>
 #include <stdlib.h>
 #include <string.h>
 

@@ -2,6 +2,7 @@
  * in one atlas, when they fit, so an engine binds one texture for them all. */
 #include "cloud.h"
 
+#include <assert.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -116,6 +117,7 @@ static bbc_result copy_atlases(bbc_cloud *clouds, size_t count, int nm, const bb
 
 bbc_result bbc_clouds_share_atlas(bbc_cloud *clouds, size_t count, int max_size, int *shared,
                                   bbc_error *err) {
+  assert((clouds || count == 0) && shared);
   *shared = 0;
   if (count < 2) return BBC_OK;
   int nm = clouds[0].mesh.texture_count > 1;

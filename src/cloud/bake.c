@@ -208,8 +208,8 @@ static int crosses_slab(const bbc_mesh *m, size_t t, const bbc_plane *p, double 
  * its plane's own), or with `mask` those it marks (a stem billboard), and
  * their bounds. Returns the count. */
 static size_t slab_faces(const bbc_mesh *m, const bbc_planeset *set, const bbc_plane *p,
-                         uint32_t owner, double eps, int pure, const uint8_t *mask, uint32_t *faces,
-                         double lo[3], double hi[3]) {
+                         uint32_t owner, double eps, bbc_pure pure, const uint8_t *mask,
+                         uint32_t *faces, double lo[3], double hi[3]) {
   size_t n = 0;
   for (int k = 0; k < 3; k++) {
     lo[k] = INFINITY;
@@ -221,7 +221,7 @@ static size_t slab_faces(const bbc_mesh *m, const bbc_planeset *set, const bbc_p
       if (!mask[t]) continue;
     } else {
       if (set->face_plane[t] == BBC_NO_PLANE) continue; /* in the limbs' mesh */
-      if (pure == 1 && set->face_plane[t] != owner) continue;
+      if (pure == BBC_PURE_OWN && set->face_plane[t] != owner) continue;
       if (!crosses_slab(m, t, p, eps)) continue;
     }
     faces[n++] = (uint32_t)t;
@@ -238,7 +238,7 @@ static size_t slab_faces(const bbc_mesh *m, const bbc_planeset *set, const bbc_p
 /* A point cloud's points within the plane's +-eps slab (pure: those of
  * plane `owner`), and their bounds. */
 static size_t slab_points(const bbc_mesh *m, const bbc_planeset *set, const bbc_plane *p,
-                          uint32_t owner, double eps, int pure, uint32_t *out, double lo[3],
+                          uint32_t owner, double eps, bbc_pure pure, uint32_t *out, double lo[3],
                           double hi[3]) {
   size_t n = 0;
   for (int k = 0; k < 3; k++) {
@@ -246,7 +246,7 @@ static size_t slab_points(const bbc_mesh *m, const bbc_planeset *set, const bbc_
     hi[k] = -INFINITY;
   }
   for (size_t v = 0; v < m->vertex_count; v++) {
-    if (pure == 1 && set->face_plane[v] != owner) continue;
+    if (pure == BBC_PURE_OWN && set->face_plane[v] != owner) continue;
     const double *x = m->positions + 3 * v;
     double d = p->normal[0] * x[0] + p->normal[1] * x[1] + p->normal[2] * x[2] - p->d;
     if (d > eps || d < -eps) continue;
@@ -418,7 +418,7 @@ static void bake_one(const bbc__bake_inputs *in, const bake_job *job, bbc_cloud_
   const bbc_billboard *b = &cb->rect;
   int points = m->kind == BBC_MESH_POINTS;
   bake_faces(in, job, cb, faces);
-  int ss = prm->quality >= 2 ? 4 : 1;
+  int ss = prm->quality >= BBC_QUALITY_SQUASHED ? 4 : 1;
   int w = cb->tex_width * ss, h = cb->tex_height * ss;
   bbc_result r = bake_images(prm, points, w, h, out);
   if (r != BBC_OK) {
@@ -440,7 +440,7 @@ static void bake_one(const bbc__bake_inputs *in, const bake_job *job, bbc_cloud_
   } else {
     r = bbc__render_bake(m, faces, cb->face_count, &v, &bk, &out->err);
   }
-  if (r == BBC_OK && prm->quality == 2) r = coverage_alpha(prm, cb, ss, out);
+  if (r == BBC_OK && prm->quality == BBC_QUALITY_SQUASHED) r = coverage_alpha(prm, cb, ss, out);
   out->r = r;
 }
 
@@ -485,19 +485,19 @@ bbc_result bbc__bake_lighting(bbc__bake_inputs *in, const size_t *order, size_t 
   const bbc_params *prm = in->params;
   int points = m->kind == BBC_MESH_POINTS;
   bbc_result r = BBC_OK;
-  bbc_params_light_direction(prm, in->light);
+  bbc_params_get_light_direction(prm, in->light);
   /* Prelight gives the brightness a lit viewer shows the original with
    * (the sun adds relief, not darkness): shown unlit, the cloud looks as
    * the original does in a viewer. */
   in->light_gain = 1.0;
   if (prm->prelight && !points)
-    r = bbc_light_gain(m, in->light, prm->up_axis, &in->light_gain, err);
+    r = bbc_light_gain_measure(m, in->light, prm->up_axis, &in->light_gain, err);
   /* Colours as a GPU shows the textures from the billboards' distance. */
   if (r == BBC_OK && !m->no_mipmaps && !points) r = bbc__mips_build(m, &in->mips, err);
   /* pure 2: each face's coverage split between the slabs it crosses (only
    * dithering sums shares; otherwise it acts as pure 0). */
-  if (r == BBC_OK && prm->pure == 2 && prm->quality == 2 && prm->dither && !points &&
-      !(in->share = face_shares(m, in->set, order, kept_planes)))
+  if (r == BBC_OK && prm->pure == BBC_PURE_SHARED && prm->quality == BBC_QUALITY_SQUASHED &&
+      prm->dither && !points && !(in->share = face_shares(m, in->set, order, kept_planes)))
     r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
   return r;
 }

@@ -5,12 +5,14 @@
 #include "cloud.h"
 #include "dual.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 bbc_result bbc_billboards_compute(const bbc_mesh *mesh, const bbc_planeset *set, bbc_billboard *out,
                                   bbc_error *err) {
+  assert(mesh && set && out);
   size_t nf = set->face_count, np = set->plane_count;
   int points = mesh->kind == BBC_MESH_POINTS;
   size_t have = points ? mesh->vertex_count : mesh->triangle_count;

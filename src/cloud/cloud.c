@@ -10,6 +10,7 @@
  * chosen first, so that the images fit one atlas (texsize.c). */
 #include "cloud.h"
 
+#include <assert.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -22,6 +23,7 @@ void bbc_cloud_free(bbc_cloud *cloud) {
 
 bbc_result bbc_cloud_build(const bbc_mesh *m, const bbc_planeset *set, const bbc_params *prm,
                            const bbc_callbacks *cbk, bbc_cloud *cl, bbc_error *err) {
+  assert(m && set && prm && cl);
   return bbc__cloud_build_rects(m, set, NULL, prm, cbk, cl, err);
 }
 
@@ -82,7 +84,8 @@ static bbc_result cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
   for (size_t i = 0; r == BBC_OK && i < np; i++)
     if (bbc__plane_kept(m, set, i, prm)) kept[nk++] = bb[i];
   for (size_t i = 0; r == BBC_OK && i < stem.count; i++) kept[nk++] = stem.rects[i];
-  int texres = 4, sides = prm->back_images ? 2 : 1, scale = prm->quality == 3 ? 4 : 1;
+  int texres = 4, sides = prm->back_images ? 2 : 1,
+      scale = prm->quality == BBC_QUALITY_SUPERSAMPLED ? 4 : 1;
   if (r == BBC_OK) texres = bbc__texres_fitting(kept, nk, sides, scale, limit);
   bbc_params p2 = *prm;
   while (r == BBC_OK) {
@@ -155,7 +158,8 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
     r = bbc__limbs_stage(&in, cl, limbs_target, &limbs, swatch, err);
   /* quality 2: alpha refined against renders of the original, then the
    * colour of texels left transparent cleared. */
-  if (r == BBC_OK && prm->quality == 2) r = bbc__refine_baked(m, prm, cl, bk, &limbs, cbk, err);
+  if (r == BBC_OK && prm->quality == BBC_QUALITY_SQUASHED)
+    r = bbc__refine_baked(m, prm, cl, bk, &limbs, cbk, err);
   double t1 = bbc__now_s();
   cl->bake_s = t1 - t0;
   if (r == BBC_OK)

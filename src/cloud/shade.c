@@ -4,6 +4,7 @@
  * 40 % of the bounding radius, weighted down linearly with the distance. */
 #include "cloud.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -106,8 +107,9 @@ static int shade_args_ok(int voxels, double ambient, int up_axis) {
            ambient > 1);
 }
 
-bbc_result bbc_shade_vertices(const bbc_mesh *m, int voxels, double ambient, int up_axis,
+bbc_result bbc_shade_vertices(const bbc_mesh *m, int voxels, double ambient, bbc_axis up_axis,
                               float *shade, bbc_error *err) {
+  assert(m && shade);
   if (!shade_args_ok(voxels, ambient, up_axis))
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "shade: voxels must be 1..512, ambient 0..1, up axis 0..2");
@@ -120,8 +122,9 @@ bbc_result bbc_shade_vertices(const bbc_mesh *m, int voxels, double ambient, int
   return BBC_OK;
 }
 
-bbc_result bbc_shade_voxels(const bbc_mesh *m, int voxels, double ambient, int up_axis,
+bbc_result bbc_shade_voxels(const bbc_mesh *m, int voxels, double ambient, bbc_axis up_axis,
                             float **boxes, size_t *count, bbc_error *err) {
+  assert(m && boxes && count);
   *boxes = NULL;
   *count = 0;
   if (!shade_args_ok(voxels, ambient, up_axis))
@@ -157,7 +160,8 @@ bbc_result bbc_shade_voxels(const bbc_mesh *m, int voxels, double ambient, int u
   return BBC_OK;
 }
 
-double bbc_shade_voxel_size(const bbc_mesh *m, int voxels) {
+double bbc_shade_get_voxel_size(const bbc_mesh *m, int voxels) {
+  assert(m);
   double ext = 0;
   for (int k = 0; k < 3; k++) ext = fmax(ext, m->bbox_max[k] - m->bbox_min[k]);
   return voxels > 0 ? ext / voxels : 0;

@@ -4,6 +4,7 @@
  * by our baker, and meshoptimizer's simplification keeping UVs and textures. */
 #include "cloud.h"
 
+#include <assert.h>
 #include <math.h>
 #include <meshoptimizer.h>
 #include <stdlib.h>
@@ -94,6 +95,7 @@ static int crossed_texres(const bbc_billboard *rects, size_t n, int sides, size_
 bbc_result bbc_baseline_crossed(const bbc_mesh *m, int planes, int horizontal,
                                 const bbc_params *params, size_t texel_budget,
                                 const bbc_callbacks *callbacks, bbc_cloud *cloud, bbc_error *err) {
+  assert(m && params && cloud);
   memset(cloud, 0, sizeof *cloud);
   if (m->kind != BBC_MESH_TRIANGLES || m->triangle_count == 0)
     return bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,
@@ -169,6 +171,7 @@ static bbc_result copy_materials(const bbc_mesh *m, bbc_mesh *o, bbc_error *err)
 
 bbc_result bbc_baseline_simplify(const bbc_mesh *m, size_t target_triangles, int sloppy,
                                  bbc_mesh *out, bbc_error *err) {
+  assert(m && out);
   memset(out, 0, sizeof *out);
   if (m->kind != BBC_MESH_TRIANGLES || m->triangle_count == 0)
     return bbc__fail(err, BBC_ERROR_UNSUPPORTED_FORMAT,

@@ -4,6 +4,7 @@
  * metrics per view and summarised. */
 #include "raster.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -16,15 +17,20 @@
 #define PSNR_CAP 99.0 /* identical images */
 
 void bbc_eval_options_default(bbc_eval_options *o) {
+  assert(o);
   memset(o, 0, sizeof *o);
-  o->views = 64;
-  o->size = 256;
-  o->up_axis = 1;
-  o->side_elevation_deg = 30;
-  o->light[1] = 1;
-  o->ambient = 1;
-  o->point_size = 3.5;
-  o->point_smooth = 1;
+}
+
+/* The options with their zeros made the defaults they stand for. */
+static void resolve_defaults(bbc_eval_options *o) {
+  if (o->views == 0) o->views = 64;
+  if (o->size == 0) o->size = 256;
+  if (o->side_elevation_deg == 0)
+    o->side_elevation_deg = 30;
+  else if (o->side_elevation_deg < 0)
+    o->side_elevation_deg = 0; /* the horizon only */
+  if (o->light[0] == 0 && o->light[1] == 0 && o->light[2] == 0) o->light[1] = 1;
+  if (o->point_size == 0) o->point_size = 3.5;
 }
 
 void bbc_eval_result_free(bbc_eval_result *r) {
@@ -35,8 +41,9 @@ void bbc_eval_result_free(bbc_eval_result *r) {
 
 /* Direction k of n, camera towards the model: a Fibonacci lattice over the
  * sphere (area-uniform), in the frame (a, b, up). */
-void bbc_eval_direction(int k, int n, int up_axis, double dir[3]) {
-  int up = up_axis >= 0 && up_axis <= 2 ? up_axis : 1, a = (up + 1) % 3, b = (up + 2) % 3;
+void bbc_eval_get_direction(int k, int n, bbc_axis up_axis, double dir[3]) {
+  assert(n > 0 && k >= 0 && k < n && dir);
+  int up = (int)up_axis >= 0 && up_axis <= 2 ? (int)up_axis : 1, a = (up + 1) % 3, b = (up + 2) % 3;
   double z = 1.0 - (2.0 * k + 1.0) / n, r = sqrt(fmax(0.0, 1.0 - z * z));
   double phi = k * 2.399963229728653; /* the golden angle */
   dir[up] = -z;
@@ -54,8 +61,8 @@ static void frame_view(const double *dir, int up_axis, const double *lo, const d
   v->lighting = o->lighting;
   if (o->lighting) memcpy(v->light, o->light, sizeof v->light);
   v->light_gain = gain;
-  v->ambient = o->lighting && o->ambient;
-  v->point_round = o->point_smooth;
+  v->ambient = o->lighting && !o->no_ambient;
+  v->point_round = !o->point_square;
   /* background (0, 0, 0, 0): alpha tells coverage */
 }
 
@@ -188,7 +195,7 @@ static int eval_view(const eval_ctx *c, int k, bbc_image *a, bbc_image *b, bbc_e
     double l = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
     for (int i = 0; i < 3; i++) dir[i] = l > 0 ? dir[i] / l : (i == up ? -1 : 0);
   } else {
-    bbc_eval_direction(k, n, up, dir);
+    bbc_eval_get_direction(k, n, up, dir);
   }
   memcpy(ev->direction, dir, sizeof dir);
   ev->elevation_deg = asin(fmax(-1.0, fmin(1.0, -dir[up]))) * 180.0 / 3.14159265358979323846;
@@ -309,12 +316,14 @@ static void summarise(bbc_eval_result *res, int n) {
 
 bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_options *opt,
                     bbc_eval_result *res, bbc_error *err) {
+  assert(orig && other && res);
   memset(res, 0, sizeof *res);
   bbc_eval_options o;
   if (opt)
     o = *opt;
   else
     bbc_eval_options_default(&o);
+  resolve_defaults(&o);
   int n = o.direction_count ? (int)o.direction_count : o.views;
   if (n < 1 || n > 100000 || o.size < 8 || o.size > 8192)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
@@ -331,7 +340,7 @@ bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_
   /* Lit as prelight bakes: as bright as a lit viewer shows the original. */
   c.gain = 1.0;
   if (o.lighting) {
-    bbc_result r = bbc_light_gain(orig, o.light, o.up_axis, &c.gain, err);
+    bbc_result r = bbc_light_gain_measure(orig, o.light, bbc_up_axis(o.up), &c.gain, err);
     if (r != BBC_OK) return r;
   }
   for (int k = 0; k < 3; k++) {
@@ -349,7 +358,7 @@ bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_
       return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "eval: out of memory for the sheet");
     }
   }
-  c.up = o.up_axis >= 0 && o.up_axis <= 2 ? o.up_axis : 1;
+  c.up = (int)bbc_up_axis(o.up);
   bbc_error first_err;
   memset(&first_err, 0, sizeof first_err);
   if (eval_views(&c, &first_err)) {

@@ -5,6 +5,7 @@
 #include "io.h"
 #include "vec3.h"
 
+#include <assert.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -13,15 +14,17 @@
 
 #define DEG (3.14159265358979323846 / 180.0)
 
-void bbc_forest_camera_forward(const bbc_forest_camera *c, double f[3]) {
+void bbc_forest_camera_get_forward(const bbc_forest_camera *c, double f[3]) {
+  assert(c && f);
   double cp = cos(c->pitch * DEG);
   f[0] = sin(c->yaw * DEG) * cp;
   f[1] = sin(c->pitch * DEG);
   f[2] = -cos(c->yaw * DEG) * cp;
 }
 
-void bbc_forest_camera_matrix(const bbc_forest_camera *c, double aspect, double n, double far,
-                              float out[16]) {
+void bbc_forest_camera_get_viewproj(const bbc_forest_camera *c, double aspect, double n, double far,
+                                    float out[16]) {
+  assert(c && out);
   double zoom = c->zoom > 0 ? c->zoom : 1;
   double fovy = 60.0 * DEG, t = tan(fovy / 2) / zoom;
   double P[16] = {0};
@@ -31,7 +34,7 @@ void bbc_forest_camera_matrix(const bbc_forest_camera *c, double aspect, double 
   P[11] = -1;
   P[14] = -2 * far * n / (far - n);
   double fa[3];
-  bbc_forest_camera_forward(c, fa);
+  bbc_forest_camera_get_forward(c, fa);
   /* Side (normalised by division) and up vectors of a look-at view. */
   vec3 f = vload(fa), pos = vload(c->pos);
   vec3 s = vcross(f, v3(0, 1, 0));
@@ -51,6 +54,7 @@ void bbc_forest_camera_matrix(const bbc_forest_camera *c, double aspect, double 
 
 bbc_result bbc_forest_positions_append(const char *path, const bbc_forest_camera *c,
                                        bbc_error *err) {
+  assert(path && c);
   FILE *f = fopen(path, "a");
   if (!f) return bbc__fail(err, BBC_ERROR_IO, "%s: %s", path, strerror(errno));
   fprintf(f, "%.4f %.4f %.4f %.3f %.3f\n", c->pos[0], c->pos[1], c->pos[2], c->yaw, c->pitch);
@@ -60,6 +64,7 @@ bbc_result bbc_forest_positions_append(const char *path, const bbc_forest_camera
 
 bbc_result bbc_forest_positions_read(const char *path, bbc_forest_camera **cams, size_t *count,
                                      bbc_error *err) {
+  assert(path && cams && count);
   *cams = NULL;
   *count = 0;
   FILE *probe = fopen(path, "r");

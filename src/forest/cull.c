@@ -12,11 +12,13 @@
 #include "bbc_forest.h"
 #include "io.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-void bbc_forest_frustum(const float m[16], double p[6][4]) {
+void bbc_forest_frustum_from_matrix(const float m[16], double p[6][4]) {
+  assert(m && p);
   /* Gribb and Hartmann: rows of the matrix (column-major m[col * 4 + row]). */
   double r[4][4];
   for (int i = 0; i < 4; i++)
@@ -33,7 +35,8 @@ void bbc_forest_frustum(const float m[16], double p[6][4]) {
   }
 }
 
-int bbc_forest_box_in_frustum(const double p[6][4], const double lo[3], const double hi[3]) {
+int bbc_forest_frustum_test_box(const double p[6][4], const double lo[3], const double hi[3]) {
+  assert(p && lo && hi);
   int inside = 2;
   for (int i = 0; i < 6; i++) {
     /* the box corner farthest along the plane's normal, and the nearest */
@@ -48,7 +51,8 @@ int bbc_forest_box_in_frustum(const double p[6][4], const double lo[3], const do
   return inside;
 }
 
-double bbc_forest_lod_weight(const bbc_forest_lod_model *m, size_t lod, double d) {
+double bbc_forest_lod_get_weight(const bbc_forest_lod_model *m, size_t lod, double d) {
+  assert(m);
   if (lod >= m->lod_count) return 0;
   double lo = m->ranges[2 * lod], hi = m->ranges[2 * lod + 1], f = m->fade;
   if (f <= 0) return (d >= lo && d < hi) ? 1.0 : 0.0;
@@ -60,7 +64,7 @@ double bbc_forest_lod_weight(const bbc_forest_lod_model *m, size_t lod, double d
 
 void bbc_forest_cull_free(bbc_forest_cull *c) {
   if (!c) return;
-  for (size_t i = 0; i < c->model_count; i++) free((void *)c->models[i].ranges);
+  for (size_t i = 0; c->models && i < c->model_count; i++) free((void *)c->models[i].ranges);
   free(c->models);
   free(c->bucket_base);
   free(c->placement_models);
@@ -342,7 +346,7 @@ static void emit_records(bbc_forest_cull *c, size_t m, uint32_t s, uint32_t e,
     double d = sqrt(dx * dx + dy * dy + dz * dz) / zoom;
     int drawn = 0;
     for (size_t l = 0; l < mod->lod_count; l++) {
-      double wgt = bbc_forest_lod_weight(mod, l, d);
+      double wgt = bbc_forest_lod_get_weight(mod, l, d);
       if (wgt <= 0 || *n >= c->capacity) continue;
       bbc_forest_draw *dr = &c->scratch[*n];
       *dr = *in;
@@ -419,8 +423,9 @@ static void frame_begin(bbc_forest_cull *c) {
 
 void bbc_forest_cull_run(bbc_forest_cull *c, const float viewproj[16], const double eye[3],
                          double zoom) {
+  assert(c && viewproj && eye);
   double planes[6][4];
-  bbc_forest_frustum(viewproj, planes);
+  bbc_forest_frustum_from_matrix(viewproj, planes);
   if (zoom <= 0) zoom = 1;
   frame_begin(c);
   size_t n = 0, nr = 0, ncell = c->cell_count, nblock = (size_t)c->blocks_x * c->blocks_z;
@@ -468,8 +473,9 @@ void bbc_forest_cull_run(bbc_forest_cull *c, const float viewproj[16], const dou
 
 void bbc_forest_cull_run_flat(bbc_forest_cull *c, const float viewproj[16], const double eye[3],
                               double zoom) {
+  assert(c && viewproj && eye);
   double planes[6][4];
-  bbc_forest_frustum(viewproj, planes);
+  bbc_forest_frustum_from_matrix(viewproj, planes);
   if (zoom <= 0) zoom = 1;
   frame_begin(c);
   size_t n = 0, ncell = c->cell_count;
@@ -480,14 +486,16 @@ void bbc_forest_cull_run_flat(bbc_forest_cull *c, const float viewproj[16], cons
   sort_by_bucket(c, n, 0);
 }
 
-size_t bbc_forest_cull_bucket_size(const bbc_forest_cull *c, size_t b) {
+size_t bbc_forest_cull_get_bucket_size(const bbc_forest_cull *c, size_t b) {
+  assert(c);
   if (b >= c->bucket_count) return 0;
   size_t n = c->bucket_start[b + 1] - c->bucket_start[b];
   for (size_t r = c->range_start[b]; r < c->range_start[b + 1]; r++) n += c->ranges[r][1];
   return n;
 }
 
-void bbc_forest_cull_bucket_records(const bbc_forest_cull *c, size_t b, bbc_forest_draw *out) {
+void bbc_forest_cull_copy_bucket(const bbc_forest_cull *c, size_t b, bbc_forest_draw *out) {
+  assert(c && out);
   if (b >= c->bucket_count) return;
   for (size_t r = c->range_start[b]; r < c->range_start[b + 1]; r++) {
     memcpy(out, c->statics + c->ranges[r][0], c->ranges[r][1] * sizeof *out);

@@ -4,6 +4,7 @@
 #include "bbc_forest.h"
 #include "io.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -70,6 +71,7 @@ static double terrain_height(double u, double v, uint32_t seed, bbc_forest_demo_
 bbc_result bbc_forest_demo_terrain(int size, uint32_t seed, bbc_forest_demo_kind kind,
                                    bbc_image *height, bbc_image *colour, double *water_level,
                                    bbc_error *err) {
+  assert(height && colour && water_level);
   memset(height, 0, sizeof *height);
   memset(colour, 0, sizeof *colour);
   if (size < 16 || size > 4096 || (size & (size - 1)))

@@ -13,6 +13,7 @@
 #include "bbc_forest.h"
 #include "io.h"
 
+#include <assert.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -242,6 +243,7 @@ static int parse_placement(lexer *lx, bbc_forest_map *map, size_t *cap, bbc_fore
 }
 
 void bbc_forest_map_default(bbc_forest_map *map) {
+  assert(map);
   memset(map, 0, sizeof *map);
   map->heightscale = 1.0;
   map->stretch = 1.0;
@@ -253,6 +255,7 @@ void bbc_forest_map_default(bbc_forest_map *map) {
 
 bbc_result bbc_forest_map_parse(const char *text, size_t size, const char *name,
                                 bbc_forest_map *map, bbc_error *err) {
+  assert((text || size == 0) && map);
   bbc_forest_map_default(map);
   lexer lx = {text, text + size, name ? name : "map", 1, {0}, 1, 0, {0}};
   size_t cap = 0;
@@ -423,6 +426,7 @@ static int parse_lod(lexer *lx, bbc_forest_model *m, size_t *cap, bbc_error *err
 
 bbc_result bbc_forest_model_parse(const char *text, size_t size, const char *name,
                                   bbc_forest_model *model, bbc_error *err) {
+  assert((text || size == 0) && model);
   memset(model, 0, sizeof *model);
   lexer lx = {text, text + size, name ? name : "model", 1, {0}, 1, 0, {0}};
   size_t cap = 0;
@@ -481,6 +485,7 @@ bbc_result bbc_forest_model_parse(const char *text, size_t size, const char *nam
 /* ---- from files ----------------------------------------------------------- */
 
 bbc_result bbc_forest_map_load(const char *path, bbc_forest_map *map, bbc_error *err) {
+  assert(path && map);
   char *text = NULL;
   size_t n = 0;
   bbc_forest_map_default(map);
@@ -493,6 +498,7 @@ bbc_result bbc_forest_map_load(const char *path, bbc_forest_map *map, bbc_error 
 }
 
 bbc_result bbc_forest_model_load(const char *path, bbc_forest_model *model, bbc_error *err) {
+  assert(path && model);
   char *text = NULL;
   size_t n = 0;
   memset(model, 0, sizeof *model);

@@ -13,6 +13,7 @@
 #include "bbc_forest.h"
 #include "io.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -31,6 +32,7 @@ static int nodes_along(const bbc_forest_terrain *t, int level) {
 
 bbc_result bbc_forest_terrain_init(bbc_forest_terrain *t, const bbc_forest_world *w,
                                    bbc_error *err) {
+  assert(t && w);
   memset(t, 0, sizeof *t);
   t->squares = w->width - 1;
   if (t->squares < 1 || w->depth != w->width || (t->squares & (t->squares - 1)))
@@ -119,7 +121,7 @@ static void add(sel *s, int x, int z, int size, int level, int quarter) {
 static void select_node(sel *s, int level, int nx, int nz) {
   double lo[3], hi[3];
   node_box(s, level, nx, nz, lo, hi);
-  if (!bbc_forest_box_in_frustum(s->planes, lo, hi)) return;
+  if (!bbc_forest_frustum_test_box(s->planes, lo, hi)) return;
   int size = s->t->leaf << level;
   if (level == 0 || !sphere_meets_box(s->eye, s->t->range[level - 1], lo, hi)) {
     add(s, nx * size, nz * size, size, level, -1);
@@ -131,13 +133,14 @@ static void select_node(sel *s, int level, int nx, int nz) {
     node_box(s, level - 1, cx, cz, clo, chi);
     if (sphere_meets_box(s->eye, s->t->range[level - 1], clo, chi))
       select_node(s, level - 1, cx, cz);
-    else if (bbc_forest_box_in_frustum(s->planes, clo, chi))
+    else if (bbc_forest_frustum_test_box(s->planes, clo, chi))
       add(s, cx * (size / 2), cz * (size / 2), size / 2, level, q);
   }
 }
 
 void bbc_forest_terrain_select(bbc_forest_terrain *t, const bbc_forest_world *w,
                                const float viewproj[16], const double eye[3], double detail) {
+  assert(t && w && viewproj && eye);
   double leaf_world = t->leaf * w->spacing;
   /* 3.5 leaves at least, so neighbours differ by one level at most; every
    * change of `detail` shows (keys 1 and 2) */
@@ -148,15 +151,16 @@ void bbc_forest_terrain_select(bbc_forest_terrain *t, const bbc_forest_world *w,
     t->morph_start[l] = prev + (t->range[l] - prev) * 0.7;
   }
   sel s = {t, w, {{0}}, eye};
-  bbc_forest_frustum(viewproj, s.planes);
+  bbc_forest_frustum_from_matrix(viewproj, s.planes);
   t->node_count = 0;
   int root = t->levels - 1, n = nodes_along(t, root);
   for (int z = 0; z < n; z++)
     for (int x = 0; x < n; x++) select_node(&s, root, x, z);
 }
 
-bbc_result bbc_forest_terrain_colour(const bbc_forest_world *w, const double light[3],
-                                     const double (*shadow)[2], bbc_image *out, bbc_error *err) {
+bbc_result bbc_forest_terrain_bake_colour(const bbc_forest_world *w, const double light[3],
+                                          const double (*shadow)[2], bbc_image *out,
+                                          bbc_error *err) {
   int cw = w->width - 1, ch = w->depth - 1;
   bbc_result r = bbc_image_alloc(out, cw, ch);
   if (r != BBC_OK) return bbc__fail(err, r, "terrain colour: out of memory");

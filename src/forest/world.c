@@ -8,6 +8,7 @@
 #include "bbc_forest.h"
 #include "io.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -127,12 +128,14 @@ static bbc_result box_filter(float *g, int w, int h, int r, int passes) {
   return BBC_OK;
 }
 
-double bbc_forest_world_height(const bbc_forest_world *w, double x, double z) {
+double bbc_forest_world_get_height(const bbc_forest_world *w, double x, double z) {
+  assert(w);
   if (!w->height) return 0;
   return grid_at(w->height, w->width, w->depth, x / w->spacing, z / w->spacing);
 }
 
-int bbc_forest_world_green(const bbc_forest_world *w, double x, double z) {
+int bbc_forest_world_is_green(const bbc_forest_world *w, double x, double z) {
+  assert(w);
   if (!w->colour.rgba) return 1; /* no colour map: everywhere */
   int cx = (int)floor(x / w->spacing * w->colour.width / (w->width - 1));
   int cz = (int)floor(z / w->spacing * w->colour.height / (w->depth - 1));
@@ -277,7 +280,7 @@ static bbc_result place_instances(const bbc_forest_map *map, bbc_forest_world *w
       in->placement = (uint32_t)i;
       in->x = (float)p->x;
       in->z = (float)p->y;
-      in->y = (float)(bbc_forest_world_height(w, p->x, p->y) + p->altitude);
+      in->y = (float)(bbc_forest_world_get_height(w, p->x, p->y) + p->altitude);
       in->yaw_deg = (float)p->rotation_deg[1];
       in->scale = (float)p->scale;
       continue;
@@ -288,12 +291,12 @@ static bbc_result place_instances(const bbc_forest_map *map, bbc_forest_world *w
       tries++;
       double x = bbc__rng_uniform(&rng) * extent, z = bbc__rng_uniform(&rng) * extent;
       double yaw = bbc__rng_uniform(&rng) * 360.0;
-      if (!bbc_forest_world_green(w, x, z)) continue;
+      if (!bbc_forest_world_is_green(w, x, z)) continue;
       bbc_forest_instance *in = &w->instances[w->instance_count++];
       in->placement = (uint32_t)i;
       in->x = (float)x;
       in->z = (float)z;
-      in->y = (float)(bbc_forest_world_height(w, x, z) + p->altitude);
+      in->y = (float)(bbc_forest_world_get_height(w, x, z) + p->altitude);
       in->yaw_deg = (float)(p->random ? yaw : p->rotation_deg[1]);
       in->scale = (float)p->scale;
       placed++;
@@ -326,6 +329,7 @@ static bbc_result world_build(const bbc_forest_map *map, const char *folder, bbc
 
 bbc_result bbc_forest_world_build(const bbc_forest_map *map, const char *folder,
                                   bbc_forest_world *w, bbc_error *err) {
+  assert(map && w);
   int line = 0;
   bbc_result r = world_build(map, folder, w, err, &line);
   return r == BBC_OK ? r : at_line(map, line, r, err);

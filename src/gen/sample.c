@@ -4,6 +4,7 @@
  * georeferenced coordinates keep their precision) is io/write_ply.c. */
 #include "base.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -41,6 +42,7 @@ static void surface_colour(const bbc_mesh *m, size_t t, double u, double v, uint
 
 bbc_result bbc_mesh_sample_points(const bbc_mesh *m, size_t count, uint64_t seed, bbc_mesh *out,
                                   bbc_error *err) {
+  assert(m && out);
   memset(out, 0, sizeof *out);
   if (m->kind != BBC_MESH_TRIANGLES || !m->triangle_count)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "sampling needs a triangle mesh");

@@ -174,10 +174,6 @@ int bbc_tree_species_from_name(const char *name) {
 void bbc_tree_options_default(bbc_tree_options *options) {
   assert(options);
   memset(options, 0, sizeof *options);
-  options->seed = 1;
-  options->leaves = 0;
-  options->species = BBC_TREE_OAK;
-  options->texture_size = 128;
 }
 
 static size_t tg_round(double v) {
@@ -308,6 +304,7 @@ static void *tg_array(size_t count, size_t size) {
 /* The options' ranges: a species of the table, a power-of-two texture edge,
  * a leaf count the generator allows. */
 static bbc_result check_options(const bbc_tree_options *options, bbc_error *err) {
+  assert(options->texture_size != 0); /* made the default by the caller */
   if ((int)options->species < 0 || (int)options->species >= BBC_TREE_SPECIES_COUNT)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "tree generator: species %d is not one of oak (0), pine (1), birch (2), "
@@ -411,7 +408,15 @@ static int make_textures(tg_ctx *c, bbc_mesh *mesh, int ts) {
   return 1;
 }
 
-bbc_result bbc_tree_generate(const bbc_tree_options *options, bbc_mesh *mesh, bbc_error *err) {
+bbc_result bbc_tree_generate(const bbc_tree_options *options_in, bbc_mesh *mesh, bbc_error *err) {
+  assert(mesh);
+  bbc_tree_options resolved; /* zeros made the defaults they stand for */
+  if (options_in)
+    resolved = *options_in;
+  else
+    memset(&resolved, 0, sizeof resolved);
+  if (resolved.texture_size == 0) resolved.texture_size = 128;
+  const bbc_tree_options *options = &resolved;
   assert(options && mesh);
   memset(mesh, 0, sizeof *mesh);
   bbc_result r = check_options(options, err);

@@ -58,7 +58,7 @@ void bbcgl_forest_free(bbcgl_forest *f);
  * (mipmaps that keep alpha binary when `mipmap`). When `lit` and a material
  * is not unlit, it is shaded as bbcgen bakes its clouds: scene.light (the
  * direction towards the light), 0.35 + 0.65 |n . l|, times `light_gain`
- * (bbc_light_gain of the mesh), plus X3D viewers' ambient. `billboards` is
+ * (bbc_light_gain_measure of the mesh), plus X3D viewers' ambient. `billboards` is
  * what the statistics count for it per tree (0 for polygon models). */
 int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *mesh, int lit,
                           float light_gain, int mipmap, size_t billboards, char *err);
@@ -110,7 +110,7 @@ typedef struct bbcgl_viewer bbcgl_viewer;
  * post-tweaked, green cardboard, cyan parachute, yellow stem. Then `show
  * bbc`'s five: the selected face's discretised validity domain on the
  * grid, its continuous domain, both, the grid's density, the model's faces
- * (geometry built by the library: bbc_grid_view, bbc_faces_view). */
+ * (geometry built by the library: bbc_grid_view_build, bbc_faces_view_build). */
 typedef enum bbcgl_view_mode {
   BBCGL_VIEW_INPUT = 0,
   BBCGL_VIEW_RECTS,

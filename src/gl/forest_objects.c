@@ -184,7 +184,7 @@ static int gpu_cull(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_cul
   GLuint p = f->p_cull;
   glUseProgram(p);
   double pl[6][4];
-  bbc_forest_frustum(fr->viewproj, pl);
+  bbc_forest_frustum_from_matrix(fr->viewproj, pl);
   float plf[24];
   for (int i = 0; i < 24; i++) plf[i] = (float)pl[i / 4][i % 4];
   glUniform4fv(glGetUniformLocation(p, "u_planes"), 6, plf);
@@ -326,7 +326,7 @@ static void draw_objects_indirect(bbcgl_forest *f, const bbc_forest_cull *c, bbc
   for (size_t i = 0; i < f->part_count; i++) {
     const part *pt = &f->parts[i];
     if (pt->bucket >= c->bucket_count) continue;
-    size_t b = pt->bucket, count = bbc_forest_cull_bucket_size(c, b);
+    size_t b = pt->bucket, count = bbc_forest_cull_get_bucket_size(c, b);
     size_t per =
         c->range_start[b + 1] - c->range_start[b] + (c->bucket_start[b + 1] > c->bucket_start[b]);
     if (!per) continue;

@@ -2,6 +2,7 @@
  * so that a failed or interrupted run never leaves a half-written file. */
 #include "io.h"
 
+#include <assert.h>
 #include <ctype.h>
 
 #include <errno.h>
@@ -82,6 +83,7 @@ void bbc__atomic_abort(bbc__atomic_file *af) {
 }
 
 bbc_result bbc_write_file_atomic(const char *path, const void *data, size_t size, bbc_error *err) {
+  assert(path && (data || size == 0));
   bbc__atomic_file af;
   bbc_result r = bbc__atomic_open(&af, path, err);
   if (r != BBC_OK) return r;

@@ -2,6 +2,7 @@
  * names and the texture-file rule every writer shares. */
 #include "io.h"
 
+#include <assert.h>
 #include <ctype.h>
 #include <stdio.h>
 #include <string.h>
@@ -17,6 +18,7 @@ void bbc__safe_name(const char *in, char *out, size_t n) {
 }
 
 void bbc_texture_file_name(const bbc_mesh *m, size_t t, char *out, size_t n) {
+  assert(m && out);
   /* The first material that uses it as colour, else as normal map. */
   for (int pass = 0; pass < 2; pass++)
     for (size_t i = 0; i < m->material_count; i++) {

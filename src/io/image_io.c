@@ -3,6 +3,7 @@
  * DDS output with mip levels, every file atomic. */
 #include "io.h"
 
+#include <assert.h>
 #include <errno.h>
 #include <limits.h>
 #include <stdlib.h>
@@ -34,6 +35,7 @@ static bbc_result check_size(int ok, int w, int h, const char *what, bbc_error *
 }
 
 bbc_result bbc_image_load(const char *path, bbc_image *image, bbc_error *err) {
+  assert(path && image);
   memset(image, 0, sizeof *image);
   bbc_result r = bbc__check_input_file(path, err);
   if (r != BBC_OK) return r;
@@ -60,6 +62,7 @@ bbc_result bbc_image_load(const char *path, bbc_image *image, bbc_error *err) {
 }
 
 bbc_result bbc_image_load_memory(const void *data, size_t size, bbc_image *image, bbc_error *err) {
+  assert((data || size == 0) && image);
   memset(image, 0, sizeof *image);
   if (!data || size == 0 || size > INT_MAX)
     return bbc__fail(err, BBC_ERROR_CORRUPT, "embedded image is empty or too large");
@@ -242,6 +245,7 @@ bbc_result bbc__png_encode(const bbc_image *im, uint8_t **out, size_t *out_size)
 }
 
 bbc_result bbc_image_write_png(const char *path, const bbc_image *image, bbc_error *err) {
+  assert(path && image);
   if (!image || !image->rgba || image->width <= 0 || image->height <= 0)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: no image to write", path);
   uint8_t *png = NULL;
@@ -269,6 +273,7 @@ static void dds_word(uint8_t *h, int i, uint32_t v) {
 }
 
 bbc_result bbc_image_write_dds(const char *path, const bbc_image *image, bbc_error *err) {
+  assert(path && image);
   if (!image || !image->rgba || image->width <= 0 || image->height <= 0)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: no image to write", path);
   bbc_image *levels = NULL;

@@ -1,6 +1,7 @@
 /* load.c — bbc_mesh_load: picks the reader for a file and finishes the mesh. */
 #include "io.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -119,7 +120,7 @@ static bbc_result load_any(const char *name, const void *data, size_t size, int 
 bbc_result bbc__load_finish(const char *name, bbc_result r, int finalize,
                             const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err) {
   if (finalize) {
-    if (r == BBC_OK) r = bbc_mesh_finalize(mesh, options->compute_normals, name, err);
+    if (r == BBC_OK) r = bbc_mesh_finalize(mesh, !options->flat_normals, name, err);
     if (r == BBC_OK && mesh->dropped_degenerate)
       bbc__log(&options->callbacks, BBC_LOG_WARNING, "%s: dropped %zu zero-area triangles", name,
                mesh->dropped_degenerate);
@@ -136,16 +137,17 @@ bbc_result bbc__load_finish(const char *name, bbc_result r, int finalize,
 
 bbc_result bbc_mesh_load(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
                          bbc_error *err) {
+  assert(path && mesh);
   return load_any(path, NULL, 0, 0, options, mesh, err);
 }
 
 bbc_result bbc_mesh_load_memory(const char *name, const void *data, size_t size,
                                 const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err) {
+  assert((data || size == 0) && mesh);
   return load_any(name ? name : "(memory)", data, size, 1, options, mesh, err);
 }
 
 void bbc_load_options_default(bbc_load_options *options) {
+  assert(options);
   memset(options, 0, sizeof *options);
-  options->compute_normals = 1;
-  options->load_textures = 1;
 }

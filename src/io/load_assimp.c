@@ -369,7 +369,7 @@ static bbc_result load_material_texture(loader *L, bbc_material *mat, const char
       mat->texture = found;
       return BBC_OK;
     }
-    if (!L->opt->load_textures) return BBC_OK;
+    if (L->opt->skip_textures) return BBC_OK;
     bbc_image img;
     if (decode_embedded(emb, &img) != BBC_OK) {
       bbc__log(&L->opt->callbacks, BBC_LOG_WARNING,
@@ -395,7 +395,7 @@ static bbc_result load_material_texture(loader *L, bbc_material *mat, const char
   }
   bbc_image img;
   memset(&img, 0, sizeof img);
-  if (L->opt->load_textures) {
+  if (!L->opt->skip_textures) {
     bbc_error ierr;
     if (bbc_image_load(resolved, &img, &ierr) != BBC_OK) {
       bbc__log(&L->opt->callbacks, BBC_LOG_WARNING, "%s: material '%s': %s; using the base colour",

@@ -695,7 +695,7 @@ bbc_result bbc__parse_vrml(const char *path, char *text, size_t n, const bbc_loa
   memset(&b, 0, sizeof b);
   b.p = &p;
   b.m = mesh;
-  b.load_textures = options->load_textures;
+  b.load_textures = !options->skip_textures;
   b.cb = &options->callbacks;
   mesh->kind = BBC_MESH_TRIANGLES;
   const double id[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};

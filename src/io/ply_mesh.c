@@ -143,7 +143,7 @@ static bbc_result ply_load_texture(ply_reader *pp, const char *ref, const bbc_lo
   }
   bbc_image img;
   memset(&img, 0, sizeof img);
-  if (opt->load_textures) {
+  if (!opt->skip_textures) {
     bbc_error ierr;
     memset(&ierr, 0, sizeof ierr);
     if (bbc_image_load(resolved, &img, &ierr) != BBC_OK) {

@@ -70,7 +70,7 @@ const char *bbc__quote_token(char *out, size_t out_size, const char *s, const ch
 bbc_result bbc__finish_loaded(bbc_mesh *mesh, const bbc_load_options *options, const char *path,
                               bbc_error *err) {
   const bbc_callbacks *cb = options ? &options->callbacks : NULL;
-  bbc_result r = bbc_mesh_finalize(mesh, options ? options->compute_normals : 1, path, err);
+  bbc_result r = bbc_mesh_finalize(mesh, options ? !options->flat_normals : 1, path, err);
   if (r != BBC_OK) {
     bbc_mesh_free(mesh);
     return r;

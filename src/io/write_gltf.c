@@ -9,6 +9,7 @@
  * The same mesh and options give byte-identical files. */
 #include "io.h"
 
+#include <assert.h>
 #include <ctype.h>
 #include <math.h>
 #include <stdlib.h>
@@ -882,6 +883,7 @@ static void free_writer(gltf_writer *w) {
 
 bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, size_t node_count,
                                 const bbc_gltf_options *options, bbc_error *err) {
+  assert(path && (nodes || node_count == 0));
   gltf_writer w;
   memset(&w, 0, sizeof w);
   w.path = path;
@@ -891,7 +893,8 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
   w.err = err;
   char ext[16];
   bbc__path_extension(path, ext, sizeof ext);
-  w.binary = options ? options->binary : !strcmp(ext, "glb");
+  bbc_gltf_format format = options ? options->format : BBC_GLTF_BY_EXTENSION;
+  w.binary = format == BBC_GLTF_BY_EXTENSION ? !strcmp(ext, "glb") : format == BBC_GLTF_BINARY;
   w.extras = options ? options->extras_json : NULL;
   w.lod = options && options->lod_chain && node_count > 1;
   w.unlit = options && options->unlit;
@@ -930,6 +933,7 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
 
 bbc_result bbc_mesh_write_gltf(const char *path, const bbc_mesh *m, const bbc_gltf_options *options,
                                bbc_error *err) {
+  assert(path && m);
   bbc_gltf_node node = {m, NULL, NULL};
   return bbc_scene_write_gltf(path, &node, 1, options, err);
 }

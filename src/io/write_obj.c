@@ -1,6 +1,7 @@
 /* write_obj.c — Wavefront OBJ + MTL + PNG textures, every file atomic. */
 #include "io.h"
 
+#include <assert.h>
 #include <ctype.h>
 #include <stdlib.h>
 #include <string.h>
@@ -23,10 +24,6 @@ static void put_comment(FILE *f, const char *text) {
     p += n;
     while (*p == '\r' || *p == '\n') p++;
   }
-}
-
-bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m, bbc_error *err) {
-  return bbc_mesh_write_obj_ex(obj_path, m, NULL, 0, err);
 }
 
 /* The decoded textures the materials use, as <stem>_<name>.png beside the
@@ -137,8 +134,11 @@ static bbc_result write_obj_file(const char *obj_path, const bbc_mesh *m, const 
   return bbc__atomic_commit(&af, err);
 }
 
-bbc_result bbc_mesh_write_obj_ex(const char *obj_path, const bbc_mesh *m, const char *comment,
-                                 int unlit, bbc_error *err) {
+bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m,
+                              const bbc_obj_options *options, bbc_error *err) {
+  assert(obj_path && m);
+  const char *comment = options ? options->comment : NULL;
+  int unlit = options ? options->unlit : 0;
   size_t len = strlen(obj_path);
   if (len < 5 || strcasecmp(obj_path + len - 4, ".obj"))
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: OBJ output must end in .obj", obj_path);

@@ -2,10 +2,12 @@
  * georeferenced coordinates keep their precision), atomically. */
 #include "io.h"
 
+#include <assert.h>
 #include <stdio.h>
 #include <string.h>
 
 bbc_result bbc_points_write_ply(const char *path, const bbc_mesh *m, bbc_error *err) {
+  assert(path && m);
   if (m->kind != BBC_MESH_POINTS)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: only point clouds are written as PLY",
                      path);

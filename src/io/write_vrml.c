@@ -224,11 +224,9 @@ static void put_side(text *t, const vrml_ctx *x, size_t k, int back, size_t base
   }
 }
 
-/* The request: a NAME.wrl path, a cloud, and format 0 or 1 with the
- * BBC_VRML_UNLIT and BBC_VRML_DDS flags (taken off *format into *unlit and
- * *dds). */
-static bbc_result check_request(const char *wrl_path, const bbc_cloud *cloud, int *format,
-                                int *unlit, int *dds, bbc_error *err) {
+/* The request: a NAME.wrl path, a cloud, and format 0 or 1. */
+static bbc_result check_request(const char *wrl_path, const bbc_cloud *cloud, int format,
+                                bbc_error *err) {
   if (!wrl_path || !cloud)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "VRML output: no path or no cloud");
   char ext[8];
@@ -236,13 +234,10 @@ static bbc_result check_request(const char *wrl_path, const bbc_cloud *cloud, in
   const char *base_name = strrchr(wrl_path, '/') ? strrchr(wrl_path, '/') + 1 : wrl_path;
   if (strcmp(ext, "wrl") || strlen(base_name) <= 4)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: VRML output must be NAME.wrl", wrl_path);
-  *unlit = (*format & BBC_VRML_UNLIT) != 0;
-  *dds = (*format & BBC_VRML_DDS) != 0;
-  *format &= ~(BBC_VRML_UNLIT | BBC_VRML_DDS);
-  if (*format != 0 && *format != 1)
+  if (format != BBC_VRML_EXTENDED && format != BBC_VRML_97)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "%s: VRML format must be 0 (VRML 2.0 with extensions) or 1 (VRML97), not %d",
-                     wrl_path, *format);
+                     wrl_path, format);
   return BBC_OK;
 }
 
@@ -266,7 +261,7 @@ static bbc_result check_atlases(const char *wrl_path, const bbc_cloud *cloud, in
                        wrl_path);
     *nm = &m->textures[1].image;
   }
-  if ((format & ~(BBC_VRML_UNLIT | BBC_VRML_DDS)) == 1) *nm = NULL; /* VRML97: no normal maps */
+  if (format == BBC_VRML_97) *nm = NULL; /* VRML97: no normal maps */
   return BBC_OK;
 }
 
@@ -347,7 +342,7 @@ static void init_ctx(vrml_ctx *x, const bbc_mesh *m, const char *stem, int forma
   x->m = m;
   x->stem = stem;
   x->unlit = unlit;
-  x->nm_nodes = format == 0 && nm;
+  x->nm_nodes = format == BBC_VRML_EXTENDED && nm;
   x->solid = sides == 2;
   char name[160];
   bbc_texture_file_name(m, 0, name, sizeof name);
@@ -424,10 +419,12 @@ static bbc_result write_files(const char *wrl_path, const char *dir, char *png, 
   return r;
 }
 
-bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud, int format,
-                                const char *comment, bbc_error *err) {
-  int unlit = 0, dds = 0;
-  bbc_result r = check_request(wrl_path, cloud, &format, &unlit, &dds, err);
+bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud,
+                                const bbc_vrml_options *options, bbc_error *err) {
+  int format = options ? (int)options->format : 0;
+  int unlit = options ? options->unlit != 0 : 0, dds = options ? options->dds != 0 : 0;
+  const char *comment = options ? options->comment : NULL;
+  bbc_result r = check_request(wrl_path, cloud, format, err);
   if (r != BBC_OK) return r;
   const bbc_mesh *m = &cloud->mesh;
   const bbc_image *nm = NULL;

@@ -533,8 +533,9 @@ static bbc_result trunk_rules(const bbc_mesh *mesh, const bbc_split_options *opt
                moved);
     }
   }
-  if (r == BBC_OK && options->stem_only && part_count == 2 && trunk_pieces <= 1) {
-    size_t moved = bbc__stem_keep(mesh, face_part, PART_TRUNK, PART_FOLIAGE, options->up_axis);
+  if (r == BBC_OK && !options->branches_with_trunk && part_count == 2 && trunk_pieces <= 1) {
+    size_t moved =
+        bbc__stem_keep(mesh, face_part, PART_TRUNK, PART_FOLIAGE, bbc_up_axis(options->up));
     if (moved == SIZE_MAX)
       r = BBC_ERROR_OUT_OF_MEMORY;
     else if (moved && why && why_size) {

@@ -16,6 +16,7 @@
 #include "planes.h"
 #include "select.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -29,10 +30,10 @@
 #define FLAT_TOL 1e-3
 
 void bbc_planes_options_default(bbc_planes_options *o) {
+  assert(o);
   memset(o, 0, sizeof *o);
   bbc_params_default(&o->params);
   o->split.mode = BBC_SPLIT_AUTO;
-  o->split.stem_only = 1;
 }
 
 static int same_text(const char *a, const char *b) {
@@ -42,19 +43,20 @@ static int same_text(const char *a, const char *b) {
 /* The parameters part `name` is found with. */
 static const bbc_params *part_params(const bbc_planes_options *o, const char *name);
 
-int bbc_planes_options_first_step(const bbc_planes_options *a, const bbc_planes_options *b,
+int bbc_planes_options_stale_step(const bbc_planes_options *a, const bbc_planes_options *b,
                                   const char **which) {
+  assert(a && b);
   static _Thread_local char name[64];
   const bbc_split_options *sa = &a->split, *sb = &b->split;
   if (which) *which = NULL;
-  if (sa->mode != sb->mode || sa->stem_only != sb->stem_only || sa->up_axis != sb->up_axis ||
-      !same_text(sa->trunk_patterns, sb->trunk_patterns) ||
+  if (sa->mode != sb->mode || sa->branches_with_trunk != sb->branches_with_trunk ||
+      sa->up != sb->up || !same_text(sa->trunk_patterns, sb->trunk_patterns) ||
       !same_text(sa->foliage_patterns, sb->foliage_patterns) || !same_text(sa->rest, sb->rest)) {
     if (which) *which = "split";
     return 1;
   }
   const char *w = NULL;
-  int first = bbc_params_first_step(&a->params, &b->params, &w);
+  int first = bbc_params_stale_step(&a->params, &b->params, &w);
   if (which) *which = w;
   /* each part as it will be found: its override, else the common parameters */
   static const char *const parts[3] = {"trunk", "foliage", "all"};
@@ -62,7 +64,7 @@ int bbc_planes_options_first_step(const bbc_planes_options *a, const bbc_planes_
     const bbc_params *pa = part_params(a, parts[k]), *pb = part_params(b, parts[k]);
     if (pa == &a->params && pb == &b->params) continue; /* no override: compared above */
     const char *pw = NULL;
-    int step = bbc_params_first_step(pa, pb, &pw);
+    int step = bbc_params_stale_step(pa, pb, &pw);
     /* a part's own setting is named before what it changed in common */
     if (step && (!first || step <= first)) {
       first = step;
@@ -228,6 +230,7 @@ static bbc_result grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, 
 
 bbc_result bbc_grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_grid **out,
                           bbc_error *err) {
+  assert(mesh && out);
   int saved = bbc__threads_use(o->params.threads);
   bbc_result r = grid_build(mesh, o, out, err);
   bbc__threads_restore(saved);
@@ -242,7 +245,7 @@ static bbc_result grid_split(const bbc_mesh *mesh, const bbc_planes_options *o, 
   int points = mesh->kind == BBC_MESH_POINTS;
   size_t nf = g->face_count;
   bbc_split_options split = o->split;
-  split.up_axis = o->params.up_axis;
+  split.up = bbc_up_from_axis(o->params.up_axis);
   split.all_trunk_by_geometry = o->params.limbs > 0; /* a leafless tree: limbs and twigs */
   split.limbs = o->params.limbs;
   bbc_result r = BBC_OK;
@@ -302,7 +305,7 @@ static bbc_result grid_part_faces(const bbc_mesh *mesh, bbc_grid *g, size_t pi, 
       normals = malloc(mesh->vertex_count * 3 * sizeof *normals);
       if (!normals)
         return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
-      bbc_result r = bbc_point_normals(mesh, gp->params->threads, normals, err);
+      bbc_result r = bbc_points_estimate_normals(mesh, gp->params->threads, normals, err);
       if (r != BBC_OK) {
         free(normals);
         return r;
@@ -584,9 +587,10 @@ static double next_factor(scale_search *s, bbc_planeset *set, size_t n, int atte
 
 bbc_result bbc_planes_select(bbc_grid *grid, const bbc_planes_options *o, bbc_planeset *set,
                              bbc_error *err) {
+  assert(grid && set);
   memset(set, 0, sizeof *set);
   const char *which = NULL;
-  if (bbc_planes_options_first_step(&grid->options, o, &which) == 1)
+  if (bbc_planes_options_stale_step(&grid->options, o, &which) == 1)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "%s changed since step 1: the grid must be built again (step 1)", which);
   scale_search s;
@@ -645,6 +649,7 @@ bbc_result bbc_planes_select(bbc_grid *grid, const bbc_planes_options *o, bbc_pl
 
 bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_planeset *set,
                            bbc_error *err) {
+  assert(mesh && set);
   memset(set, 0, sizeof *set);
   bbc_grid *grid;
   bbc_result r = bbc_grid_build(mesh, o, &grid, err);

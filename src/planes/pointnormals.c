@@ -11,6 +11,7 @@
  */
 #include "base.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -48,7 +49,9 @@ static size_t find_key(const cell_key *keys, size_t n, uint64_t key) {
   return lo < n && keys[lo].key == key ? lo : n;
 }
 
-bbc_result bbc_point_normals(const bbc_mesh *m, int threads, float *normals, bbc_error *err) {
+bbc_result bbc_points_estimate_normals(const bbc_mesh *m, int threads, float *normals,
+                                       bbc_error *err) {
+  assert(m && normals);
   size_t n = m->vertex_count;
   if (!n) return BBC_OK;
   double ext[3], diag2 = 0;

@@ -516,7 +516,7 @@ static int densest_cells(ctx *c, size_t *cells, int want) {
   size_t top[LIST];
   double topd[LIST];
   int ntop = 0;
-  int list = c->p->clustering == 2 ? TOP + want : want;
+  int list = c->p->clustering == BBC_CLUSTERING_PRE ? TOP + want : want;
   if (list > LIST) list = LIST;
   for (size_t cell = 0; cell < ncell; cell++) {
     double d = read_density(c, g->contrib[cell], g->penalty[cell], g->penalty_factor,
@@ -535,7 +535,7 @@ static int densest_cells(ctx *c, size_t *cells, int want) {
     topd[pos] = d;
     if (ntop < list) ntop++;
   }
-  if (c->p->clustering == 2) {
+  if (c->p->clustering == BBC_CLUSTERING_PRE) {
     /* Pre-clustering (Eq. 2-9): the top cells' densities weighted by their
      * largest cluster's share of their faces' coverage; the cells after
      * them keep their plain density. Then re-sort (stable). */
@@ -734,7 +734,7 @@ static size_t best_candidate(ctx *c, int want, found_plane *fp) {
     bbc__dual_grid_cell_box(g, cells[k] / g->n_rho, (int)(cells[k] % g->n_rho), &box);
     size_t m0 = simply_valid(c, &box, NULL, 0, cand0);
     if (m0 == 0) continue;
-    if (c->p->clustering > 0) {
+    if (c->p->clustering != BBC_CLUSTERING_OFF) {
       m0 = largest_cluster(c, cand0, m0, g->dirs[cells[k] / g->n_rho].n, NULL);
       debug_event(c, 3, 0, cand0, m0);
     }

@@ -36,6 +36,7 @@
  * exactly as it is. What they share is the rule for the up axis.
  */
 #include "planes.h"
+#include "vec3.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -209,14 +210,11 @@ void bbc__stem_free(bbc__stem *s) {
   memset(s, 0, sizeof *s);
 }
 
-static double dot3(const double *a, const double *b) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 /* Squared distance of x from the line through c along unit d. */
 static double line_dist2(const double *x, const double *c, const double *d) {
-  double v[3] = {x[0] - c[0], x[1] - c[1], x[2] - c[2]}, t = dot3(v, d);
-  return dot3(v, v) - t * t;
+  vec3 v = vsub(vload(x), vload(c));
+  double t = vdot(v, vload(d));
+  return vdot(v, v) - t * t;
 }
 
 static void centroid(const bbc_mesh *m, size_t t, double *c) {
@@ -237,7 +235,7 @@ static double low(const bbc_mesh *m, size_t t, int up) {
 static double tri_area(const bbc_mesh *m, size_t t) {
   double c[3];
   bbc__triangle_cross(m, t, c);
-  return 0.5 * sqrt(dot3(c, c));
+  return 0.5 * sqrt(vdot(vload(c), vload(c)));
 }
 
 /* The trunk part's faces as the axis sees them, and the axis. */
@@ -380,7 +378,7 @@ static void axis_plane(const stem_axis *x, const double e1[3], const double e2[3
   const double *dir = x->dir;
   double a = M_PI * p / planes, n[3];
   for (int k = 0; k < 3; k++) n[k] = cos(a) * e1[k] + sin(a) * e2[k];
-  double d = dot3(n, x->base);
+  double d = vdot(vload(n), vload(x->base));
   /* u along the axis, w = n x u (so that u x w = n). */
   double u[3] = {dir[0], dir[1], dir[2]};
   double w[3] = {n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
@@ -389,12 +387,12 @@ static void axis_plane(const stem_axis *x, const double e1[3], const double e2[3
     if (!x->mask[t]) continue;
     for (int j = 0; j < 3; j++) {
       const double *q = m->positions + 3 * m->indices[3 * t + j];
-      double s = dot3(q, u), r = dot3(q, w);
+      double s = vdot(vload(q), vload(u)), r = vdot(vload(q), vload(w));
       mn[0] = fmin(mn[0], s);
       mx[0] = fmax(mx[0], s);
       mn[1] = fmin(mn[1], r);
       mx[1] = fmax(mx[1], r);
-      slab = fmax(slab, fabs(dot3(q, n) - d));
+      slab = fmax(slab, fabs(vdot(vload(q), vload(n)) - d));
     }
   }
   bbc_plane *pl = &out->planes[p];
@@ -422,9 +420,9 @@ static void axis_planes(const stem_axis *x, int planes, bbc__stem *out) {
   int up = x->up;
   double e1[3] = {0, 0, 0}, e2[3];
   e1[(up + 1) % 3] = 1;
-  double t1 = dot3(e1, dir);
+  double t1 = vdot(vload(e1), vload(dir));
   for (int k = 0; k < 3; k++) e1[k] -= t1 * dir[k];
-  double l1 = sqrt(dot3(e1, e1));
+  double l1 = sqrt(vdot(vload(e1), vload(e1)));
   for (int k = 0; k < 3; k++) e1[k] /= l1;
   e2[0] = dir[1] * e1[2] - dir[2] * e1[1];
   e2[1] = dir[2] * e1[0] - dir[0] * e1[2];

@@ -5,34 +5,31 @@
  * calipers; used for cardboard planes, 2.3.7, and for the billboards).
  */
 #include "dual.h"
+#include "vec3.h"
 
 #include <stdlib.h>
 #include <string.h>
-
-static double dot3(const double *a, const double *b) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 
 int bbc__dual_coplanar(const dual_face *faces, const uint32_t *which, size_t count, double tol,
                        double n[3], double *rho) {
   if (count == 0) return 0;
   const dual_face *f0 = &faces[which[0]];
   double n0[3] = {f0->n[0], f0->n[1], f0->n[2]};
-  double r0 = dot3(n0, f0->c);
+  double r0 = vdot(vload(n0), vload(f0->c));
   /* Compare normals and points, not (theta, phi, rho): at the poles of the
    * parameterisation any theta describes the same plane (2.3.2). */
   for (size_t i = 1; i < count; i++) {
     const dual_face *f = &faces[which[i]];
     double cr[3] = {f->n[1] * n0[2] - f->n[2] * n0[1], f->n[2] * n0[0] - f->n[0] * n0[2],
                     f->n[0] * n0[1] - f->n[1] * n0[0]};
-    if (dot3(cr, cr) > 1e-12) return 0;
+    if (vdot(vload(cr), vload(cr)) > 1e-12) return 0;
     for (int j = 0; j < f->nv; j++) {
       double v[3] = {f->c[0] + f->d[j][0], f->c[1] + f->d[j][1], f->c[2] + f->d[j][2]};
-      if (fabs(dot3(n0, v) - r0) > tol) return 0;
+      if (fabs(vdot(vload(n0), vload(v)) - r0) > tol) return 0;
     }
   }
   /* Keep the orientation of the plane it replaces. */
-  if (dot3(n0, n) < 0) {
+  if (vdot(vload(n0), vload(n)) < 0) {
     for (int k = 0; k < 3; k++) n0[k] = -n0[k];
     r0 = -r0;
   }
@@ -55,20 +52,20 @@ static int refined_plane(const dual_face *faces, const uint32_t *which, size_t c
   for (size_t i = 0; i < count; i++) {
     const dual_face *f = &faces[which[i]];
     double qc[3] = {q[0] - f->c[0], q[1] - f->c[1], q[2] - f->c[2]};
-    double sg = dot3(qc, f->n) > 0 ? -1.0 : 1.0; /* q in front: invert */
+    double sg = vdot(vload(qc), vload(f->n)) > 0 ? -1.0 : 1.0; /* q in front: invert */
     for (int k = 0; k < 3; k++) {
       s[k] += sg * f->area * f->n[k];
       p[k] += f->area * f->c[k];
     }
     area += f->area;
   }
-  double l = sqrt(dot3(s, s));
+  double l = sqrt(vdot(vload(s), vload(s)));
   if (!(l > 0) || !(area > 0)) return 0;
   for (int k = 0; k < 3; k++) {
     n[k] = s[k] / l;
     p[k] /= area;
   }
-  *rho = dot3(n, p);
+  *rho = vdot(vload(n), vload(p));
   return 1;
 }
 
@@ -92,7 +89,7 @@ int bbc__dual_posttweak(const dual_face *faces, const uint32_t *which, size_t co
   for (int r = 0; r < 2; r++) {
     double m[3], rr;
     if (!refined_plane(faces, which, count, refs[r], m, &rr)) continue;
-    if (dot3(m, n) < 0) { /* keep the orientation */
+    if (vdot(vload(m), vload(n)) < 0) { /* keep the orientation */
       for (int k = 0; k < 3; k++) m[k] = -m[k];
       rr = -rr;
     }
@@ -139,12 +136,12 @@ int bbc__dual_fit_plane(const dual_face *faces, const uint32_t *which, size_t co
   }
   double e[3];
   bbc__smallest_eigenvector(cov, e);
-  double l = sqrt(dot3(e, e));
+  double l = sqrt(vdot(vload(e), vload(e)));
   if (!(l > 0)) return 0;
   for (int k = 0; k < 3; k++) e[k] /= l;
-  if (dot3(e, n) < 0)
+  if (vdot(vload(e), vload(n)) < 0)
     for (int k = 0; k < 3; k++) e[k] = -e[k];
-  double r = dot3(e, m);
+  double r = vdot(vload(e), vload(m));
   for (size_t i = 0; i < count; i++)
     if (!bbc__dual_face_valid(&faces[which[i]], e, r, eps)) return 0;
   memcpy(n, e, sizeof e);
@@ -240,7 +237,7 @@ void bbc__dual_min_rect(const dual_face *faces, const uint32_t *which, size_t co
                                    : (fabs(n[1]) < fabs(n[2]) ? 1 : 2);
   t[kk] = 1;
   double a[3] = {n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2], n[0] * t[1] - n[1] * t[0]};
-  double la = sqrt(dot3(a, a));
+  double la = sqrt(vdot(vload(a), vload(a)));
   for (int k = 0; k < 3; k++) a[k] /= la;
   double b[3] = {n[1] * a[2] - n[2] * a[1], n[2] * a[0] - n[0] * a[2], n[0] * a[1] - n[1] * a[0]};
   size_t np = 4 * count;
@@ -259,8 +256,8 @@ void bbc__dual_min_rect(const dual_face *faces, const uint32_t *which, size_t co
     const dual_face *f = &faces[which[i]];
     for (int j = 0; j < f->nv; j++) {
       double v[3] = {f->c[0] + f->d[j][0], f->c[1] + f->d[j][1], f->c[2] + f->d[j][2]};
-      p[np].x = dot3(v, a);
-      p[np++].y = dot3(v, b);
+      p[np].x = vdot(vload(v), vload(a));
+      p[np++].y = vdot(vload(v), vload(b));
     }
   }
   size_t hn = convex_hull(p, np, h);

@@ -8,7 +8,9 @@
  * triangle; on an edge shared by two triangles the top-left rule gives it to
  * exactly one of them. */
 #include "raster.h"
+#include "vec3.h"
 
+#include <assert.h>
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -16,26 +18,14 @@
 
 typedef bbc__camera camera;
 
-static void normalize3(double *v) {
-  double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  if (l > 0)
-    for (int k = 0; k < 3; k++) v[k] /= l;
-}
-
-static void cross3(const double *a, const double *b, double *o) {
-  o[0] = a[1] * b[2] - a[2] * b[1];
-  o[1] = a[2] * b[0] - a[0] * b[2];
-  o[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 int bbc__camera_setup(bbc__camera *cam, const bbc_view *v, int w, int h) {
   memcpy(cam->f, v->direction, sizeof cam->f);
-  normalize3(cam->f);
-  cross3(cam->f, v->up, cam->r);
-  double l = sqrt(cam->r[0] * cam->r[0] + cam->r[1] * cam->r[1] + cam->r[2] * cam->r[2]);
+  vstore(cam->f, vnormalize(vload(cam->f)));
+  vstore(cam->r, vcross(vload(cam->f), vload(v->up)));
+  double l = vlen(vload(cam->r));
   if (!(l > 1e-9)) return 0;
-  normalize3(cam->r);
-  cross3(cam->r, cam->f, cam->u);
+  vstore(cam->r, vnormalize(vload(cam->r)));
+  vstore(cam->u, vcross(vload(cam->r), vload(cam->f)));
   memcpy(cam->c, v->center, sizeof cam->c);
   int side = w < h ? w : h;
   cam->scale = 0.5 * side / v->half_extent;
@@ -94,7 +84,7 @@ typedef struct target {
   /* Baking only: */
   const bbc__bake *bake;
   float *depth_back; /* farthest depth so far (nearest from behind) */
-  /* bbc_light_gain only: the luminance each visible pixel would have lit by
+  /* bbc_light_gain_measure only: the luminance each visible pixel would have lit by
    * the directional light `sun` instead (same pass, same visibility). */
   float *sun_lum;
   double sun[3];
@@ -492,7 +482,7 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
       double n[3] = {0, 0, 1};
       if (need_normal) {
         for (int k = 0; k < 3; k++) n[k] = l0 * nv[0][k] + l1 * nv[1][k] + l2 * nv[2][k];
-        normalize3(n);
+        vstore(n, vnormalize(vload(n)));
       }
       double shade = 1.0, occl = 1.0;
       if (view->lighting && !mat->unlit) { /* unlit materials carry their light */
@@ -563,7 +553,7 @@ static void setup_light(const camera *cam, const bbc_view *view, double *light) 
   } else { /* from over the viewer's left shoulder */
     for (int k = 0; k < 3; k++) light[k] = -0.6 * cam->f[k] + 0.6 * cam->u[k] - 0.45 * cam->r[k];
   }
-  normalize3(light);
+  vstore(light, vnormalize(vload(light)));
 }
 
 static bbc_result check_view(const bbc_view *view, int w, int h, camera *cam, bbc_error *err) {
@@ -620,6 +610,7 @@ static bbc_result render(const bbc_mesh *m, const bbc_view *view, bbc_image *img
 
 bbc_result bbc_render_ortho(const bbc_mesh *m, const bbc_view *view, bbc_image *img,
                             bbc_error *err) {
+  assert(m && view && img);
   return render(m, view, img, NULL, NULL, err);
 }
 
@@ -783,6 +774,7 @@ bbc_result bbc__render_splats(const bbc_mesh *m, const uint32_t *points, size_t 
 
 int bbc_view_project(const bbc_view *view, int width, int height, const double p[3],
                      double out[2]) {
+  assert(view && p && out);
   camera cam;
   if (width <= 0 || height <= 0 || !(view->half_extent > 0) ||
       !bbc__camera_setup(&cam, view, width, height))
@@ -803,10 +795,10 @@ void bbc__view_frame_box(const double lo[3], const double hi[3], const double di
    * corners on the image axes, times the margin. */
   for (int k = 0; k < 3; k++) v->center[k] = 0.5 * (lo[k] + hi[k]);
   double f[3] = {direction[0], direction[1], direction[2]}, r[3], u[3];
-  normalize3(f);
-  cross3(f, up, r);
-  normalize3(r);
-  cross3(r, f, u);
+  vstore(f, vnormalize(vload(f)));
+  vstore(r, vcross(vload(f), vload(up)));
+  vstore(r, vnormalize(vload(r)));
+  vstore(u, vcross(vload(r), vload(f)));
   double half = 0;
   for (int c = 0; c < 8; c++) {
     double d[3];
@@ -820,6 +812,7 @@ void bbc__view_frame_box(const double lo[3], const double hi[3], const double di
 
 void bbc_view_frame_mesh(const bbc_mesh *m, const double direction[3], const double up[3],
                          bbc_view *v) {
+  assert(m && direction && up && v);
   bbc__view_frame_box(m->bbox_min, m->bbox_max, direction, up, 1.04, v);
   v->lighting = 1;
   v->point_size_px = 2.0f;
@@ -853,8 +846,9 @@ static void side_views(int up, double views[SIDE_VIEWS][3]) {
   }
 }
 
-bbc_result bbc_light_gain(const bbc_mesh *m, const double light[3], int up_axis, double *gain,
-                          bbc_error *err) {
+bbc_result bbc_light_gain_measure(const bbc_mesh *m, const double light[3], bbc_axis up_axis,
+                                  double *gain, bbc_error *err) {
+  assert(m && light && gain);
   *gain = 1.0;
   if (m->kind != BBC_MESH_TRIANGLES || !m->indices || !m->triangle_count) return BBC_OK;
   /* Views: side_views (a viewer near the ground, 10 degrees on average);

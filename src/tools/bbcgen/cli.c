@@ -293,7 +293,7 @@ int cli_planes_options(const cli *c, bbc_planes_options *o) {
   bbc_planes_options_default(o);
   o->params = c->params;
   o->split = c->split;
-  o->split.stem_only = !c->branches_with_trunk;
+  o->split.branches_with_trunk = c->branches_with_trunk;
   o->callbacks = c->callbacks;
   for (size_t i = 0; i < c->part_setting_count; i++) {
     const cli_part_setting *ps = &c->part_settings[i];
@@ -348,6 +348,6 @@ int cli_fail_in(const char *path, const bbc_error *err, int output) {
 
 void cli_load_options(const cli *c, bbc_load_options *o) {
   bbc_load_options_default(o);
-  o->compute_normals = c->params.vertex_normals;
+  o->flat_normals = !c->params.vertex_normals;
   o->callbacks = c->callbacks;
 }

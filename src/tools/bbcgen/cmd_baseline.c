@@ -123,7 +123,7 @@ int cmd_baseline(cli *c, int argc, char **argv) {
     rc = cli_fail_in(path, &err, 0);
   } else {
     double t1 = cli_now();
-    r = !strcasecmp(ba.ext, ".obj") ? bbc_mesh_write_obj(out, what, &err)
+    r = !strcasecmp(ba.ext, ".obj") ? bbc_mesh_write_obj(out, what, NULL, &err)
                                     : bbc_mesh_write_gltf(out, what, NULL, &err);
     if (r != BBC_OK)
       rc = cli_fail(&err, 1);

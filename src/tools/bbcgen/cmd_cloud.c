@@ -103,13 +103,13 @@ int cmd_cloud(cli *c, int argc, char **argv) {
   if (rc == EXIT_OK) rc = session_write(c, sess, out);
   bbc_error err;
   if (rc == EXIT_OK && preview) {
-    if (bbc_session_preview(sess, preview, (int)cell, &err) != BBC_OK)
+    if (bbc_session_write_preview(sess, preview, (int)cell, &err) != BBC_OK)
       rc = cli_fail(&err, 1);
     else
       cli_info(c, "wrote %s", preview);
   }
   if (rc == EXIT_OK && report) {
-    if (bbc_session_report(sess, report, out, &err) != BBC_OK)
+    if (bbc_session_write_report(sess, report, out, &err) != BBC_OK)
       rc = cli_fail(&err, 1);
     else
       cli_info(c, "wrote %s", report);

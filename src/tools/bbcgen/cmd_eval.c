@@ -128,7 +128,7 @@ static void eval_options(const cli *c, const eval_args *ea, const bbc_mesh *othe
   bbc_eval_options_default(o);
   o->views = (int)ea->views;
   o->size = (int)ea->size;
-  o->up_axis = c->params.up_axis;
+  o->up = bbc_up_from_axis(c->params.up_axis);
   o->threads = c->params.threads;
   int lit = ea->lit;
   if (lit < 0) { /* a prelit cloud is meant to look like the lit original */
@@ -137,11 +137,11 @@ static void eval_options(const cli *c, const eval_args *ea, const bbc_mesh *othe
     lit = all_unlit;
   }
   o->lighting = lit;
-  o->ambient = c->params.viewer_ambient;
+  o->no_ambient = !c->params.viewer_ambient;
   o->point_size = c->params.point_size;
-  o->point_smooth = c->params.point_smooth;
-  o->side_elevation_deg = ea->side;
-  bbc_params_light_direction(&c->params, o->light);
+  o->point_square = !c->params.point_smooth;
+  o->side_elevation_deg = ea->side > 0 ? ea->side : -1; /* -1: the horizon only */
+  bbc_params_get_light_direction(&c->params, o->light);
 }
 
 /* The two summary lines; the side-view figures "n/a" when no view is one. */

@@ -161,7 +161,7 @@ static int do_bbc1(cli *c, batch *b) {
   if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
   bbc_error e;
   double t0 = cli_now();
-  if (bbc_session_grid(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
+  if (bbc_session_build_grid(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
   cli_info(c, "step 1: the grid in %.2f s (bbc2 finds the planes on it)", cli_now() - t0);
   return EXIT_OK;
 }
@@ -171,7 +171,7 @@ static int do_bbc2(cli *c, batch *b) {
   bbc_planes_options po;
   if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
   const char *which = NULL;
-  int stale = bbc_session_grid_stale(b->sess, &po, &which);
+  int stale = bbc_session_grid_stale_step(b->sess, &po, &which);
   if (stale < 0) {
     cli_error("bbc2 needs the grid of bbc1 first (or run bbc)");
     return EXIT_USAGE;
@@ -181,8 +181,8 @@ static int do_bbc2(cli *c, batch *b) {
     return EXIT_USAGE;
   }
   bbc_error e;
-  debug_views_begin(c, bbc_session_model(b->sess), &po);
-  bbc_result r = bbc_session_planes(b->sess, &po, &e);
+  debug_views_begin(c, bbc_session_get_model(b->sess), &po);
+  bbc_result r = bbc_session_select_planes(b->sess, &po, &e);
   debug_views_end();
   if (r != BBC_OK) return cli_fail_in(b->model, &e, 0);
   session_info(c, b->sess, 0, 1);
@@ -194,7 +194,7 @@ static int do_bbc3(cli *c, batch *b) {
   bbc_planes_options po;
   if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
   const char *which = NULL;
-  int step = bbc_session_stale(b->sess, &po, &which);
+  int step = bbc_session_stale_step(b->sess, &po, &which);
   if (step < 0) {
     cli_error("bbc3 needs the planes of bbc2 (after bbc1) or bbc first");
     return EXIT_USAGE;
@@ -206,7 +206,7 @@ static int do_bbc3(cli *c, batch *b) {
     return EXIT_USAGE;
   }
   bbc_error e;
-  if (bbc_session_cloud(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
+  if (bbc_session_build_cloud(b->sess, &po, &e) != BBC_OK) return cli_fail_in(b->model, &e, 0);
   made_cloud(c, b, 1);
   return EXIT_OK;
 }
@@ -216,7 +216,7 @@ static int do_bbc(cli *c, batch *b) {
   bbc_planes_options po;
   if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
   bbc_error e;
-  debug_views_begin(c, bbc_session_model(b->sess), &po);
+  debug_views_begin(c, bbc_session_get_model(b->sess), &po);
   bbc_result r = bbc_session_run(b->sess, &po, &e);
   debug_views_end();
   if (r != BBC_OK) return cli_fail_in(b->model, &e, 0);
@@ -225,7 +225,7 @@ static int do_bbc(cli *c, batch *b) {
 }
 
 static int do_save(cli *c, batch *b, const char *a1) {
-  if (!bbc_session_result(b->sess)) {
+  if (!bbc_session_get_cloud(b->sess)) {
     cli_error("save needs a Billboard Cloud: run bbc or bbc3 first");
     return EXIT_USAGE;
   }
@@ -237,7 +237,7 @@ static int do_show(cli *c, batch *b, const bbc_command *k, const char *a2) {
   bbc_cloud wrap; /* a loaded cloud: its mesh, no rectangles */
   memset(&wrap, 0, sizeof wrap);
   wrap.mesh = b->loaded;
-  const bbc_cloud *cl = b->show_loaded ? &wrap : bbc_session_result(b->sess);
+  const bbc_cloud *cl = b->show_loaded ? &wrap : bbc_session_get_cloud(b->sess);
   return show_window(c, b->sess, cl, k->show_bbc, a2);
 }
 

@@ -123,7 +123,7 @@ int cmd_info(cli *c, int argc, char **argv) {
   }
   bbc_load_options opt;
   cli_load_options(c, &opt);
-  opt.load_textures = textures;
+  opt.skip_textures = !textures;
   bbc_mesh m;
   bbc_error err;
   if (bbc_mesh_load(path, &opt, &m, &err) != BBC_OK) return cli_fail(&err, 0);
@@ -133,7 +133,7 @@ int cmd_info(cli *c, int argc, char **argv) {
     cli_error("out of memory");
     return EXIT_RESOURCES;
   }
-  bbc_mesh_group_triangle_counts(&m, counts);
+  bbc_mesh_count_group_triangles(&m, counts);
   int rc = EXIT_OK;
   if (json) {
     char *s = info_json(path, &m, counts);

@@ -85,7 +85,7 @@ int run_planes(const cli *c, const char *path, const char *json_path) {
   if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
   bbc_load_options lo;
   cli_load_options(c, &lo);
-  lo.load_textures = 0; /* steps 1 and 2 need geometry only */
+  lo.skip_textures = 1; /* steps 1 and 2 need geometry only */
   bbc_mesh m;
   bbc_error err;
   if (bbc_mesh_load(path, &lo, &m, &err) != BBC_OK) return cli_fail(&err, 0);

@@ -9,6 +9,8 @@
 int cmd_tree(cli *c, int argc, char **argv) {
   bbc_tree_options opt;
   bbc_tree_options_default(&opt);
+  opt.seed = 1;           /* bbcgen's default tree */
+  opt.texture_size = 128; /* (0 from --texture-size is refused below) */
   opt.callbacks = c->callbacks;
   const char *out = NULL, *preview = NULL;
   for (int i = 1; i < argc; i++) {
@@ -65,16 +67,22 @@ int cmd_tree(cli *c, int argc, char **argv) {
   bbc_mesh m;
   bbc_error err;
   double t0 = cli_now();
+  if (opt.texture_size == 0) { /* the library would take 0 for its default */
+    err.code = BBC_ERROR_INVALID_ARGUMENT;
+    snprintf(err.message, sizeof err.message,
+             "tree generator: texture size 0 must be a power of two from 8 to 4096");
+    return cli_fail(&err, 0);
+  }
   if (bbc_tree_generate(&opt, &m, &err) != BBC_OK) return cli_fail(&err, 0);
   double t1 = cli_now();
-  if (bbc_mesh_write_obj(out, &m, &err) != BBC_OK) {
+  if (bbc_mesh_write_obj(out, &m, NULL, &err) != BBC_OK) {
     bbc_mesh_free(&m);
     return cli_fail(&err, 1);
   }
   double t2 = cli_now();
   size_t *counts = calloc(m.group_count ? m.group_count : 1, sizeof *counts);
   if (counts) {
-    bbc_mesh_group_triangle_counts(&m, counts);
+    bbc_mesh_count_group_triangles(&m, counts);
     cli_info(c,
              "wrote %s: %s tree, seed %llu, %zu triangles (%s %zu, %s %zu), height %.2f m; "
              "generated in %.3f s, written in %.3f s",

@@ -1,7 +1,7 @@
 /* cmd_view.c — the viewer (thesis Appendix A `show model`, `show bbc`):
  * `bbcgen view` renders its nine views headless; `show model` and `show
  * bbc` at the prompt open a window. The geometry of show bbc's views comes
- * from the application layer (bbc_grid_view, bbc_faces_view: src/app/views.c),
+ * from the application layer (bbc_grid_view_build, bbc_faces_view_build: src/app/views.c),
  * the drawing is src/gl/viewer.c; the model, grid, planes and cloud from the
  * session. */
 #include "pipeline.h"
@@ -52,17 +52,17 @@ typedef struct bbc_pick {
 static void pick_default(const bbc_grid *g, bbc_pick *p) {
   memset(p, 0, sizeof *p);
   p->vertex = -1;
-  for (size_t i = 1; i < bbc_grid_part_count(g); i++)
-    if (bbc_grid_part_faces(g, i) > bbc_grid_part_faces(g, p->part)) p->part = i;
-  p->face = bbc_grid_largest_face(g, p->part);
+  for (size_t i = 1; i < bbc_grid_get_part_count(g); i++)
+    if (bbc_grid_get_part_faces(g, i) > bbc_grid_get_part_faces(g, p->part)) p->part = i;
+  p->face = bbc_grid_get_largest_face(g, p->part);
 }
 
 /* Uploads the geometry of a show bbc view for the selection, and the
  * mini-model (the wireframe model, the selected face yellow). */
 static int bbc_geometry_for(bbcgl_viewer *v, const bbc_session *s, int mode, const bbc_pick *p) {
-  const bbc_grid *g = bbc_session_grid_get(s);
-  const bbc_mesh *m = bbc_session_model(s);
-  int64_t tri = bbc_grid_face_triangle(g, p->part, p->face);
+  const bbc_grid *g = bbc_session_get_grid(s);
+  const bbc_mesh *m = bbc_session_get_model(s);
+  int64_t tri = bbc_grid_get_face_triangle(g, p->part, p->face);
   bbc_geometry geo, mini;
   bbc_error e;
   char err[BBCGL_ERR];
@@ -74,19 +74,19 @@ static int bbc_geometry_for(bbcgl_viewer *v, const bbc_session *s, int mode, con
       cli_error("out of memory");
       return EXIT_RESOURCES;
     }
-    bbc_faces_state(bbc_session_planeset(s), (size_t)tri, state, m->triangle_count);
-    r = bbc_faces_view(m, state, (size_t)tri, &geo, &e);
+    bbc_faces_get_state(bbc_session_get_planes(s), (size_t)tri, state, m->triangle_count);
+    r = bbc_faces_view_build(m, state, (size_t)tri, &geo, &e);
     free(state);
   } else {
     bbc_grid_view_options o = {(bbc_grid_view_kind)(mode - BBCGL_VIEW_DOMAIN), p->part, p->face,
                                p->vertex, p->volume};
-    r = bbc_grid_view(g, &o, &geo, &e);
+    r = bbc_grid_view_build(g, &o, &geo, &e);
   }
   if (r != BBC_OK) return cli_fail(&e, 0);
   int ok = bbcgl_viewer_set_geometry(v, 0, &geo, err);
   bbc_geometry_free(&geo);
   if (ok && mode != BBCGL_VIEW_FACES) {
-    if (bbc_faces_view(m, NULL, (size_t)tri, &mini, &e) != BBC_OK) return cli_fail(&e, 0);
+    if (bbc_faces_view_build(m, NULL, (size_t)tri, &mini, &e) != BBC_OK) return cli_fail(&e, 0);
     ok = bbcgl_viewer_set_geometry(v, 1, &mini, err);
     bbc_geometry_free(&mini);
   }
@@ -198,30 +198,30 @@ static int pick_from_args(const view_args *va, const bbc_grid *g, bbc_pick *pick
   pick->volume = va->volume;
   const char *part = va->part;
   if (part) {
-    size_t n = bbc_grid_part_count(g), k;
+    size_t n = bbc_grid_get_part_count(g), k;
     for (k = 0; k < n; k++)
-      if (!strcasecmp(part, bbc_grid_part_name(g, k)) ||
+      if (!strcasecmp(part, bbc_grid_get_part_name(g, k)) ||
           (part[0] >= '0' && part[0] <= '9' && !part[1] && (size_t)(part[0] - '0') == k))
         break;
     if (k == n) {
-      cli_error("view: --part %s: the model's parts are %s%s%s", part, bbc_grid_part_name(g, 0),
-                n > 1 ? " and " : "", n > 1 ? bbc_grid_part_name(g, 1) : "");
+      cli_error("view: --part %s: the model's parts are %s%s%s", part, bbc_grid_get_part_name(g, 0),
+                n > 1 ? " and " : "", n > 1 ? bbc_grid_get_part_name(g, 1) : "");
       return EXIT_USAGE;
-    } else if (!bbc_grid_part_faces(g, k)) {
+    } else if (!bbc_grid_get_part_faces(g, k)) {
       cli_error("view: --part %s: it is kept as a mesh (limbs), not on planes; --limbs 0 puts "
                 "it on planes",
                 part);
       return EXIT_USAGE;
     } else {
       pick->part = k;
-      pick->face = bbc_grid_largest_face(g, k);
+      pick->face = bbc_grid_get_largest_face(g, k);
     }
   }
   if (va->face >= 0) {
-    if ((size_t)va->face >= bbc_grid_part_faces(g, pick->part)) {
+    if ((size_t)va->face >= bbc_grid_get_part_faces(g, pick->part)) {
       cli_error("view: --face %lld: part %s has %zu faces (0 to %zu)", va->face,
-                bbc_grid_part_name(g, pick->part), bbc_grid_part_faces(g, pick->part),
-                bbc_grid_part_faces(g, pick->part) - 1);
+                bbc_grid_get_part_name(g, pick->part), bbc_grid_get_part_faces(g, pick->part),
+                bbc_grid_get_part_faces(g, pick->part) - 1);
       return EXIT_USAGE;
     } else {
       pick->face = (size_t)va->face;
@@ -242,7 +242,7 @@ static int draw_views(const cli *c, const view_args *va, const bbc_session *sess
     cli_error("view: %s", err);
     return EXIT_RESOURCES;
   }
-  bbcgl_viewer *v = viewer_for(bbc_session_model(sess), bbc_session_result(sess));
+  bbcgl_viewer *v = viewer_for(bbc_session_get_model(sess), bbc_session_get_cloud(sess));
   if (!v) {
     bbcgl_context_free(ctx);
     return EXIT_RESOURCES;
@@ -272,11 +272,11 @@ static int draw_views(const cli *c, const view_args *va, const bbc_session *sess
   if (rc == EXIT_OK) rc = write_png(ctx, va->shot);
   if (rc == EXIT_OK) {
     if (need_grid)
-      cli_info(
-          c, "wrote %s: %s; part %s, face %zu (triangle %lld of the model)", va->shot,
-          all ? "the nine views" : va->mode_name,
-          bbc_grid_part_name(bbc_session_grid_get(sess), pick->part), pick->face,
-          (long long)bbc_grid_face_triangle(bbc_session_grid_get(sess), pick->part, pick->face));
+      cli_info(c, "wrote %s: %s; part %s, face %zu (triangle %lld of the model)", va->shot,
+               all ? "the nine views" : va->mode_name,
+               bbc_grid_get_part_name(bbc_session_get_grid(sess), pick->part), pick->face,
+               (long long)bbc_grid_get_face_triangle(bbc_session_get_grid(sess), pick->part,
+                                                     pick->face));
     else
       cli_info(c, "wrote %s: %s", va->shot, va->mode_name);
   }
@@ -311,11 +311,12 @@ int cmd_view(cli *c, int argc, char **argv) {
   if (rc == EXIT_OK && need_cloud && bbc_session_run(sess, &po, &e) != BBC_OK)
     rc = cli_fail_in(va.model, &e, 0);
   if (rc == EXIT_OK && need_grid && !need_cloud &&
-      (bbc_session_grid(sess, &po, &e) != BBC_OK || bbc_session_planes(sess, &po, &e) != BBC_OK))
+      (bbc_session_build_grid(sess, &po, &e) != BBC_OK ||
+       bbc_session_select_planes(sess, &po, &e) != BBC_OK))
     rc = cli_fail_in(va.model, &e, 0);
   bbc_pick pick;
   memset(&pick, 0, sizeof pick);
-  if (rc == EXIT_OK && need_grid) rc = pick_from_args(&va, bbc_session_grid_get(sess), &pick);
+  if (rc == EXIT_OK && need_grid) rc = pick_from_args(&va, bbc_session_get_grid(sess), &pick);
   if (rc == EXIT_OK) rc = draw_views(c, &va, sess, &pick, need_grid);
   bbc_session_free(sess);
   return rc;
@@ -356,20 +357,20 @@ static void reset_view(bbcgl_view *view) {
  * the other part's largest face, the face's domain then each of its
  * vertices' (F6). */
 static void next_face(show_state *s, int dir) {
-  size_t n = bbc_grid_part_faces(s->grid, s->pick.part);
+  size_t n = bbc_grid_get_part_faces(s->grid, s->pick.part);
   s->pick.face = (s->pick.face + (dir > 0 ? 1 : n - 1)) % n;
   s->changed = 1;
 }
 
 static void other_part(show_state *s) {
-  size_t parts = bbc_grid_part_count(s->grid);
+  size_t parts = bbc_grid_get_part_count(s->grid);
   s->pick.part = (s->pick.part + 1) % parts;
-  s->pick.face = bbc_grid_largest_face(s->grid, s->pick.part);
+  s->pick.face = bbc_grid_get_largest_face(s->grid, s->pick.part);
   s->changed = 1;
 }
 
 static void next_vertex(show_state *s) {
-  int nv = bbc_grid_face_vertex_count(s->grid, s->pick.part, s->pick.face);
+  int nv = bbc_grid_get_face_vertex_count(s->grid, s->pick.part, s->pick.face);
   s->pick.vertex = s->pick.vertex >= nv - 1 ? -1 : s->pick.vertex + 1;
   s->changed = 1;
 }
@@ -538,12 +539,12 @@ static int model_overlay(bbcgl_viewer *v, const show_state *s) {
   if (s->domains) {
     double eps =
         s->planes ? s->planes->epsilon_abs : s->c->params.epsilon_pct / 100.0 * s->model->radius;
-    if (bbc_vertex_domains_view(s->model, eps, &a, &e) != BBC_OK) return cli_fail(&e, 0);
+    if (bbc_vertex_domains_view_build(s->model, eps, &a, &e) != BBC_OK) return cli_fail(&e, 0);
   }
   if (s->voxels) {
     int n = s->c->params.shade_voxels > 0 ? s->c->params.shade_voxels : 60;
     double amb = s->c->params.shade_voxels > 0 ? s->c->params.shade_ambient : 0.4;
-    if (bbc_shade_view(s->model, n, amb, s->c->params.up_axis, &b, &e) != BBC_OK) {
+    if (bbc_shade_view_build(s->model, n, amb, s->c->params.up_axis, &b, &e) != BBC_OK) {
       bbc_geometry_free(&a);
       return cli_fail(&e, 0);
     }
@@ -598,8 +599,8 @@ static int run_window(const cli *c, bbcgl_context *ctx, bbcgl_viewer *v, const b
       int sheets = sp->pick.vertex >= 0 &&
                    (sp->mode == BBCGL_VIEW_CONTINUOUS || sp->mode == BBCGL_VIEW_BOTH);
       cli_info(c, "show bbc: %s, part %s, face %zu of %zu%s%s%s", bbcgl_view_mode_name(sp->mode),
-               bbc_grid_part_name(sp->grid, sp->pick.part), sp->pick.face,
-               bbc_grid_part_faces(sp->grid, sp->pick.part), sheets ? ", its " : "",
+               bbc_grid_get_part_name(sp->grid, sp->pick.part), sp->pick.face,
+               bbc_grid_get_part_faces(sp->grid, sp->pick.part), sheets ? ", its " : "",
                sheets ? vn[sp->pick.vertex] : "", sheets ? " vertex's domain" : "");
     }
     sp->changed = 0;
@@ -655,9 +656,9 @@ static int run_window(const cli *c, bbcgl_context *ctx, bbcgl_viewer *v, const b
 int show_window(const cli *c, const bbc_session *sess, const bbc_cloud *cloud, int bbc,
                 const char *keys) {
   char err[BBCGL_ERR];
-  const bbc_mesh *model = bbc_session_model(sess);
+  const bbc_mesh *model = bbc_session_get_model(sess);
   int have_cloud = cloud != NULL;
-  if (bbc && !bbc_session_grid_get(sess)) {
+  if (bbc && !bbc_session_get_grid(sess)) {
     cli_error("show bbc needs the grid of step 1: run bbc1 (or bbc) first");
     return EXIT_USAGE;
   }
@@ -687,8 +688,8 @@ int show_window(const cli *c, const bbc_session *sess, const bbc_cloud *cloud, i
   s.help = 1;
   s.c = c;
   s.model = model;
-  s.planes = bbc_session_planeset(sess);
-  s.grid = bbc_session_grid_get(sess);
+  s.planes = bbc_session_get_planes(sess);
+  s.grid = bbc_session_get_grid(sess);
   if (bbc) pick_default(s.grid, &s.pick);
   s.mode = bbc ? BBCGL_VIEW_DOMAIN : have_cloud ? BBCGL_VIEW_RECTS : BBCGL_VIEW_INPUT;
   s.changed = 1;
@@ -761,8 +762,8 @@ static void on_debug(void *user, const bbc_debug_event *ev) {
   for (size_t i = 0; i < ev->face_count; i++) g_dbg.state[ev->faces[i]] = BBC_FACE_VALID;
   bbc_geometry geo;
   bbc_error e;
-  if (bbc_faces_view(g_dbg.model, g_dbg.state, ev->face_count ? ev->faces[0] : nt, &geo, &e) !=
-      BBC_OK) {
+  if (bbc_faces_view_build(g_dbg.model, g_dbg.state, ev->face_count ? ev->faces[0] : nt, &geo,
+                           &e) != BBC_OK) {
     cli_error("debug: %s", e.message);
     g_dbg.off = 1;
     return;

@@ -13,9 +13,9 @@ void session_info(const cli *c, const bbc_session *s, size_t k, int kept) {
   const bbc_planeset *set = NULL;
   const bbc_params *params = NULL;
   double eps = 0;
-  const bbc_cloud *cloud = bbc_session_level(s, k, &set, &params, &eps);
+  const bbc_cloud *cloud = bbc_session_get_level(s, k, &set, &params, &eps);
   if (!cloud) {
-    set = bbc_session_planeset(s);
+    set = bbc_session_get_planes(s);
     if (!set) return;
     eps = c->params.epsilon_pct;
   }
@@ -26,7 +26,7 @@ void session_info(const cli *c, const bbc_session *s, size_t k, int kept) {
   }
   char why[160] = "";
   if (cloud)
-    bbc_session_epsilon_note(s, k, why, sizeof why);
+    bbc_session_get_epsilon_note(s, k, why, sizeof why);
   else if (set->epsilon_scale != 1)
     snprintf(why, sizeof why, " (%s from %.3g %% by %s %d)",
              set->epsilon_scale > 1 ? "raised" : "lowered", eps,
@@ -62,7 +62,7 @@ int session_run(const cli *c, bbc_session *s, const char *model, const double *e
   if (bbc_session_load(s, model, &lo, &err) != BBC_OK) return cli_fail(&err, 0);
   if (bbc_session_run_levels(s, &po, epsilons, epsilons ? count : 0, &err) != BBC_OK)
     return cli_fail_in(model, &err, 0); /* the message names the model */
-  for (size_t k = 0; k < bbc_session_level_count(s); k++) session_info(c, s, k, 0);
+  for (size_t k = 0; k < bbc_session_get_level_count(s); k++) session_info(c, s, k, 0);
   return EXIT_OK;
 }
 
@@ -70,12 +70,12 @@ int session_run(const cli *c, bbc_session *s, const char *model, const double *e
 static void wrote(const cli *c, const bbc_session *s, const char *out) {
   const char *ext = strrchr(out, '.');
   int one_file = ext && (!strcasecmp(ext, ".glb") || !strcasecmp(ext, ".gltf"));
-  for (size_t k = 0; k < bbc_session_level_count(s); k++) {
+  for (size_t k = 0; k < bbc_session_get_level_count(s); k++) {
     const bbc_planeset *set;
     double eps;
-    const bbc_cloud *cl = bbc_session_level(s, k, &set, NULL, &eps);
+    const bbc_cloud *cl = bbc_session_get_level(s, k, &set, NULL, &eps);
     char path[4200];
-    bbc_session_output_path(out, one_file ? 0 : k, path, sizeof path);
+    bbc_session_get_output_path(out, one_file ? 0 : k, path, sizeof path);
     cli_info(c, "wrote %s: %zu billboards, %zu triangles (epsilon %.3g %%)", path,
              cl->billboard_count, cl->mesh.triangle_count, eps * set->epsilon_scale);
   }
@@ -84,9 +84,9 @@ static void wrote(const cli *c, const bbc_session *s, const char *out) {
 int session_write(const cli *c, bbc_session *s, const char *out) {
   const char *ext = strrchr(out, '.');
   int one_file = ext && (!strcasecmp(ext, ".glb") || !strcasecmp(ext, ".gltf"));
-  for (size_t k = 1; k < bbc_session_level_count(s) && !one_file; k++) {
+  for (size_t k = 1; k < bbc_session_get_level_count(s) && !one_file; k++) {
     char path[4200];
-    bbc_session_output_path(out, k, path, sizeof path);
+    bbc_session_get_output_path(out, k, path, sizeof path);
     if (!cli_output_ok("-o", path)) return EXIT_OUTPUT;
   }
   bbc_error err;

@@ -224,12 +224,12 @@ static void on_mouse(GLFWwindow *w, double x, double y) {
 /* Moves the camera by its speeds over dt seconds; never below the ground. */
 static void move(state *st, double dt) {
   double f[3];
-  bbc_forest_camera_forward(&st->cam, f);
+  bbc_forest_camera_get_forward(&st->cam, f);
   double yaw = st->cam.yaw * 3.14159265358979323846 / 180;
   double right[3] = {cos(yaw), 0, sin(yaw)};
   for (int k = 0; k < 3; k++) st->cam.pos[k] += (f[k] * st->speed + right[k] * st->strafe) * dt;
   st->cam.pos[1] += st->lift * dt;
-  double ground = bbc_forest_world_height(&st->s->world, st->cam.pos[0], st->cam.pos[2]);
+  double ground = bbc_forest_world_get_height(&st->s->world, st->cam.pos[0], st->cam.pos[2]);
   /* eye height 1.7 units (a person, if a unit is a metre) */
   double floor_y = ground + 1.7;
   if (st->s->map.has_water && st->s->map.water_height + 0.5 > floor_y)
@@ -256,7 +256,7 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
   bbcgl_frame fr;
   memset(&fr, 0, sizeof fr);
   double near_clip = st->s->world.spacing * 0.05 > 0.05 ? st->s->world.spacing * 0.05 : 0.05;
-  bbc_forest_camera_matrix(&st->cam, (double)w / h, near_clip, st->s->far_clip, fr.viewproj);
+  bbc_forest_camera_get_viewproj(&st->cam, (double)w / h, near_clip, st->s->far_clip, fr.viewproj);
   memcpy(fr.eye, st->cam.pos, sizeof fr.eye);
   fr.width = w;
   fr.height = h;
@@ -292,7 +292,7 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
   for (size_t m = 0; m < st->s->model_count && !st->no_objects; m++)
     for (size_t l = 0; l < st->s->models[m].lod_count; l++) {
       size_t b = st->s->cull.bucket_base[m] + l;
-      res->per_level[l < 7 ? l : 7] += bbc_forest_cull_bucket_size(&st->s->cull, b);
+      res->per_level[l < 7 ? l : 7] += bbc_forest_cull_get_bucket_size(&st->s->cull, b);
     }
   const char *lines[24];
   char buf[8][160];
@@ -437,7 +437,7 @@ static void init_state(state *st, scene *s, const run_options *o, FILE *log) {
   st->cam.pos[0] = s->extent * 0.02;
   st->cam.pos[2] = s->extent * 0.02;
   st->cam.pos[1] =
-      bbc_forest_world_height(&s->world, st->cam.pos[0], st->cam.pos[2]) + s->extent * 0.04;
+      bbc_forest_world_get_height(&s->world, st->cam.pos[0], st->cam.pos[2]) + s->extent * 0.04;
   st->cam.yaw = 135;
   st->cam.pitch = -8;
   if (o->has_camera) {

@@ -137,7 +137,7 @@ static long find_mesh(scene *s, const char *path, int lod_node, FILE *log, int p
   int lit_material = 0;
   for (size_t i = 0; i < m->mesh.material_count; i++) lit_material |= !m->mesh.materials[i].unlit;
   double gain = 1;
-  if (lit_material && bbc_light_gain(&m->mesh, s->model_light, 1, &gain, &err) == BBC_OK)
+  if (lit_material && bbc_light_gain_measure(&m->mesh, s->model_light, 1, &gain, &err) == BBC_OK)
     m->light_gain = (float)gain;
   if (log)
     fprintf(log, "model %s%s: %zu triangles, %zu materials, %zu billboards, light gain %.3f\n",
@@ -310,7 +310,7 @@ int scene_load(scene *s, const char *map_path, FILE *log, int progress) {
   bbc_error err;
   bbc_params prm;
   bbc_params_default(&prm);
-  bbc_params_light_direction(&prm, s->model_light);
+  bbc_params_get_light_direction(&prm, s->model_light);
   if (bbc_forest_map_load(map_path, &s->map, &err) != BBC_OK) {
     fprintf(stderr, "forest: %s\n", err.message);
     return 0;
@@ -345,8 +345,8 @@ int scene_load(scene *s, const char *map_path, FILE *log, int progress) {
     shadow[p][0] = m->shadow_radius;
     shadow[p][1] = m->shadow_cutoff;
   }
-  bbc_result r = bbc_forest_terrain_colour(&s->world, s->map.light, (const double(*)[2])shadow,
-                                           &s->terrain_colour, &err);
+  bbc_result r = bbc_forest_terrain_bake_colour(&s->world, s->map.light, (const double(*)[2])shadow,
+                                                &s->terrain_colour, &err);
   free(shadow);
   if (r != BBC_OK) {
     fprintf(stderr, "forest: %s\n", err.message);

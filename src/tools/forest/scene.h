@@ -15,7 +15,7 @@ typedef struct scene_mesh {
   bbc_mesh mesh;
   size_t billboards; /* planes of the mesh when it is a Billboard Cloud, else 0 */
   double radius;     /* farthest vertex from the model's origin */
-  float light_gain;  /* bbc_light_gain for the model light (lit meshes), else 1 */
+  float light_gain;  /* bbc_light_gain_measure for the model light (lit meshes), else 1 */
 } scene_mesh;
 
 typedef struct scene_part {

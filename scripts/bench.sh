@@ -69,7 +69,7 @@ for t in trees/scopia/pine/pine.obj trees/scopia/bush/bush.obj trees/eztree/oak_
     texres=256 atlasmax=0 maxplanes=0 minplanes=0 upaxis=$up | tee -a "$json"
 done
 rm -rf "$glb"
-# Fidelity (issue 5): on every tree, the default cloud (no parameters, as
+# Fidelity: on every tree, the default cloud (no parameters, as
 # `bbcgen tree.obj -o tree.glb` makes it) against crossed billboards with the
 # same texels, meshoptimizer at the cloud's triangle count and 10x it, and
 # the external peer gltfpack at 10x; all unlit, judged by bbc_eval (64 views,

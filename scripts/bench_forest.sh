@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# bench_forest.sh — the forest engine at scale (issue 13): the thesis's four
+# bench_forest.sh — the forest engine at scale: the thesis's four
 # maps and a million trees (built by scripts/demo_forest.sh, `make demo`),
 # each flown along the same camera path across the map by `forest --bench`
 # in the default renderer, with --gpu-cull (culling in a compute shader) and

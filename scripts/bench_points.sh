@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# bench_points.sh — point clouds to Billboard Clouds (issue 15, thesis 2.4):
+# bench_points.sh — point clouds to Billboard Clouds (thesis 2.4):
 # the data scans, and points sampled on the Scopia pine's surface (1M, and
 # 10M when POINTS_10M=1: minutes and some GB), each through steps 1 to 3 to
 # a .glb by `bbcgen` with the defaults (upaxis z for the z-up scans), RUNS

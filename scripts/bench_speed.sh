@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # bench_speed.sh [BUILD] — the generator's speed per stage against an older
-# release, measured in the same run (issue 17): `bbcgen MODEL -o OUT.glb`
+# release, measured in the same run: `bbcgen MODEL -o OUT.glb`
 # with the defaults on the Scopia pine, the Scopia copperBeech and a
 # generated oak of 1.13M triangles (`bbcgen tree --leaves 450000`), RUNS
 # runs each (default 5; old and new alternate), medians per stage (from
 # --report: load, step 1, step 2, step 3 bake and atlas, write; wall clock
 # and peak memory from GNU time). The older binary is built from BENCH_BASE
-# (default 6dc383e, the last commit before issue 17's work) into a scratch
+# (default 6dc383e, the last commit before the speed work of CHANGELOG.md's
+# issue 17) into a scratch
 # folder. Writes bench/results/speed.md and speed.json.
 set -euo pipefail
 build=${1:-build}

@@ -17,7 +17,7 @@
 #
 # A model bbcgen fails on stops make (make exits 2) after the line
 #     convert: FAILED models/x.obj (bbcgen exit 4)
-# on stderr, with bbcgen's status (1 usage ... 6 memory, see README); its
+# on stderr, with bbcgen's status (1 usage ... 7 interrupted, see docs/cli.md); its
 # output and report are removed, so no output is left older than or other
 # than its model. Jobs already running finish; -k converts all the others.
 #

@@ -30,7 +30,7 @@
 #
 # At the first failure no more jobs start, running ones finish (parallel
 # --halt soon,fail=1), the failed model's output and report are removed, and
-# the script exits with bbcgen's exit status (1..6, see README) after the lines
+# the script exits with bbcgen's exit status (1..7, see docs/cli.md) after the lines
 #     convert: FAILED models/x.obj (bbcgen exit 4)         (from the job)
 #     convert_parallel: FAILED models/x.obj (exit 4)       (the summary)
 # Exit status 1 also for a bad command line or a missing tool, 2 when IN is

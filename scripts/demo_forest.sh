@@ -68,7 +68,7 @@ rndtree birch.txt 0.9 $per 1 1 0 0 0 0
 EOT
 "$bin/forest" --check "$out/map.txt" > "$out/check.txt"
 # The thesis's maps (3.3) on 1024 x 1024 landscapes (2048 x 2048 units),
-# and a million trees (issue 13).
+# and a million trees.
 mkdir -p "$out/big" "$out/flat"
 bigwater=$("$bin/forest" --demo-terrain "$out/big" --terrain-size 1024 --seed 2 | sed -n 's/^water_level=//p')
 flatwater=$("$bin/forest" --demo-terrain "$out/flat" --terrain-size 1024 --seed 4 | sed -n 's/^water_level=//p')

@@ -1,4 +1,4 @@
-/* test_acceptance.c — issue 4's acceptance on real models, through the tool:
+/* test_acceptance.c — step 3's acceptance on real models, through the tool:
  * `bbcgen MODEL -o OUT.glb --report R.json --preview P.png` for the Scopia
  * pine and bush, the ez-tree oak_medium and ash_large_hi, and the cat; each
  * .glb passes the Khronos validator, loads back through Assimp with the

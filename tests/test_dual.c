@@ -1,4 +1,4 @@
-/* test_dual.c — the dual grid's building blocks (src/core/dualgrid.c):
+/* test_dual.c — the dual grid's building blocks (src/planes/dualgrid.c):
  * the simple-validity bound never misses a valid plane, density removal is
  * exact, and the grid does not depend on the thread count. */
 #include <setjmp.h>

@@ -1,5 +1,5 @@
 /* test_fuzz_replay.c — every regression input the fuzzers found (tests/fuzz/
- * HARNESS/, issue 16) replayed through the function its harness calls, so
+ * HARNESS/) replayed through the function its harness calls, so
  * `make test` runs them under ASan and UBSan; and for each format we parse,
  * a truncated, a huge-count and a binary-garbage input refused with a
  * one-line message naming the input. */

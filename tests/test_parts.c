@@ -1,5 +1,5 @@
 /*
- * test_parts.c — bbc_split_parts (src/core/parts.c): trunk / foliage split by
+ * test_parts.c — bbc_split_parts (src/planes/parts.c): trunk / foliage split by
  * names, by geometry and by the user's patterns, on hand-built meshes with
  * known answers and on the real trees of ../shared/data (exact counts), the
  * built-in tree, non-trees that must stay one part, and invalid options.

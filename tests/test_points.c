@@ -1,6 +1,6 @@
 /*
  * test_points.c — the PLY reader (point clouds and meshes) and the XYZ
- * reader (src/io/load_points.c): the real scans in ../shared/data/points and
+ * reader (src/io/load_ply.c, load_xyz.c): the real scans in ../shared/data/points and
  * hand-made hostile files.
  *
  * Every case goes through the public bbc_mesh_load, which routes .xyz files

@@ -1,5 +1,5 @@
 /*
- * test_treegen.c — the built-in tree generator (src/core/treegen.c):
+ * test_treegen.c — the built-in tree generator (src/gen/treegen*.c):
  * determinism, the leaf texture's binary alpha, exact leaf counts, every
  * species at small and large sizes, option checking and progress reports.
  */

@@ -8,7 +8,7 @@
 
 #include <stdio.h>
 
-/* Exit codes (documented in --help and README). */
+/* Exit codes (documented in --help and docs/cli.md). */
 enum {
   EXIT_OK = 0,
   EXIT_USAGE = 1,      /* bad command line, unknown or out-of-range parameter */

@@ -74,7 +74,7 @@ static void usage(FILE *f) {
           "                       tree, level and billboard its own draw call and texture bind\n"
           "  --gpu-cull           culling and levels of detail in a compute shader over every\n"
           "                       tree, drawn by indirect draws it fills in (off by default:\n"
-          "                       on llvmpipe the CPU's cell culling is faster; see the README)\n"
+          "                       on llvmpipe the CPU's cell culling is faster; docs/forest.md)\n"
           "  --coverage           per frame, print how many pixels the objects cover\n"
           "                       (drawn again white on black: LOD transition checks)\n"
           "  --log FILE           the log (default: log.txt beside the map)\n"

@@ -8,6 +8,11 @@
 #   scripts/layers.sh table [SRC_DIR]     markdown: each folder and the folders
 #                                         its files include (from the includes)
 #   scripts/layers.sh dot [SRC_DIR]       the same as a Graphviz graph
+#   scripts/layers.sh graph BUILD_DIR [SRC_DIR]
+#                                         Graphviz: the folders, an arrow where
+#                                         one includes another's header (solid)
+#                                         or only calls its functions (dashed),
+#                                         labelled with the functions called
 #   scripts/layers.sh calls BUILD_DIR     markdown: the calls between folders
 #                                         (symbols an object file needs from
 #                                         another folder's, counted), from the
@@ -63,7 +68,7 @@ include_edges() {
   (cd "$src/.." && find src -name '*.[ch]' | sort) | while read -r f; do
     local from
     from=$(layer_of "$f")
-    grep -o '^#include "[^"]*"' "$src/../$f" | sed 's/#include "\(.*\)"/\1/' | while read -r h; do
+    { grep -o '^#include "[^"]*"' "$src/../$f" || true; } | sed 's/#include "\(.*\)"/\1/' | while read -r h; do
       local to="?"
       if [ -f "$src/../include/$h" ]; then
         to=include
@@ -146,10 +151,57 @@ case "$mode" in
         awk '{ e[$2] = e[$2] (e[$2] ? ", " : "") $3 " (" $1 ")" }
              END { for (k in e) print "| " k " | " e[k] " |" }' | sort
       else
-        awk 'BEGIN { print "digraph layers {"; print "  rankdir=BT; node [shape=box, fontname=\"Helvetica\"];" }
-             { printf "  \"%s\" -> \"%s\" [label=\"%d\"];\n", $2, $3, $1 }
+        # every folder also includes include/ (the public headers): left out
+        awk 'BEGIN { print "digraph layers {"
+                     print "  rankdir=BT; nodesep=0.3; ranksep=0.45;"
+                     print "  node [shape=box, style=rounded, fontname=\"Helvetica\", fontsize=11];"
+                     print "  edge [fontname=\"Helvetica\", fontsize=9, color=\"#555555\"];" }
+             $3 != "include" { printf "  \"%s\" -> \"%s\" [label=\"%d\"];\n", $2, $3, $1 }
              END { print "}" }'
       fi
+    ;;
+  graph)
+    build=${2:?usage: scripts/layers.sh graph BUILD_DIR [SRC_DIR]}
+    src=${3:-$root/src}
+    tmpg=$(mktemp)
+    inc=$(include_edges "$src" | awk '$1 != $2 && $2 != "include" { print $1, $2 }' | sort -u)
+    "$0" calls "$build" | awk -F'|' 'NR > 2 { gsub(/ /, "", $2); n = split($3, e, ",")
+        for (i = 1; i <= n; i++) { split(e[i], p, "("); gsub(/ /, "", p[1]); sub(/\)/, "", p[2])
+                                   print $2, p[1], p[2] + 0 } }' | sort > "$tmpg"
+    # the library's folders (when it is cut into layers): a box around them
+    lib=""
+    for l in $libbbc; do [ -d "$src/$l" ] && lib="$lib $l"; done
+    [ -d "$src/core" ] && lib="core io forest" # the tree before the layers: one library
+    anchor=$(awk '{ print $1 }' <<< "$lib")
+    echo "digraph layers {"
+    echo "  rankdir=BT; nodesep=0.35; ranksep=0.5; compound=true;"
+    echo "  node [shape=box, style=rounded, fontname=\"Helvetica\", fontsize=11];"
+    echo "  edge [fontname=\"Helvetica\", fontsize=9, color=\"#444444\"];"
+    if [ -n "$lib" ]; then
+      echo "  subgraph cluster_lib { label=\"libbbc\"; fontname=\"Helvetica\";"
+      echo "    fontsize=10; style=dashed; color=\"#888888\";"
+      for l in $lib; do echo "    \"$l\";"; done
+      echo "  }"
+    fi
+    # solid: a folder includes another's header (labelled with the calls)
+    while read -r from to; do
+      [ -n "$from" ] || continue
+      n=$(awk -v f="$from" -v t="$to" '$1 == f && $2 == t { print $3 }' "$tmpg")
+      echo "  \"$from\" -> \"$to\" [label=\"${n:-0}\"];"
+    done <<< "$inc"
+    # dashed: calls through a public header only; from outside the library
+    # into it, one arrow to its box with the sum
+    while read -r from to n; do
+      grep -qx "$from $to" <<< "$inc" && continue
+      if [ -n "$lib" ] && ! grep -qw -- "$from" <<< "$lib" && grep -qw -- "$to" <<< "$lib"; then
+        echo "$from $n"
+      else
+        echo "  \"$from\" -> \"$to\" [label=\"$n\", style=dashed];" >&3
+      fi
+    done < "$tmpg" 3>&1 | awk -v a="$anchor" '/^  / { print; next } { s[$1] += $2 } END {
+        for (f in s) printf "  \"%s\" -> \"%s\" [lhead=cluster_lib, label=\"%d\", style=dashed];\n", f, a, s[f] }'
+    echo "}"
+    rm -f "$tmpg"
     ;;
   calls)
     build=${2:?usage: scripts/layers.sh calls BUILD_DIR}
@@ -172,7 +224,8 @@ case "$mode" in
            END { for (k in e) print "| " k " | " e[k] " |" }' | sort
     ;;
   *)
-    echo "usage: scripts/layers.sh check [BUILD_DIR] | table [SRC_DIR] | dot [SRC_DIR] | calls BUILD_DIR" >&2
+    echo "usage: scripts/layers.sh check [BUILD_DIR] | table [SRC_DIR] | dot [SRC_DIR] |" \
+      "graph BUILD_DIR [SRC_DIR] | calls BUILD_DIR" >&2
     exit 2
     ;;
 esac

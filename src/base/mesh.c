@@ -312,7 +312,7 @@ static void centre_and_radius(bbc_mesh *m) {
   m->radius = sqrt(r2);
 }
 
-bbc_result bbc_mesh_finalize(bbc_mesh *m, int compute_normals_flag, const char *source,
+bbc_result bbc_mesh_finalize(bbc_mesh *m, int smooth_normals, const char *source,
                              bbc_error *err) {
   assert(m);
   if (!source) source = "mesh";
@@ -330,7 +330,7 @@ bbc_result bbc_mesh_finalize(bbc_mesh *m, int compute_normals_flag, const char *
 
   /* Normals: keep the file's, fill missing or unusable ones. */
   int had_normals = m->normals != NULL;
-  if (compute_normals(m, compute_normals_flag, had_normals) != BBC_OK)
+  if (compute_normals(m, smooth_normals, had_normals) != BBC_OK)
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory computing normals", source);
   if (!had_normals) m->normals_generated = 1;
   centre_and_radius(m);

@@ -1,6 +1,6 @@
 /* write_vrml.c — a Billboard Cloud as VRML (thesis Appendix A, "save"): the
  * .wrl and beside it the colour atlas <stem>.png (and the normal atlas
- * <stem>_nm.png in format 0; with BBC_VRML_DDS the colour atlas also as <stem>.dds with
+ * <stem>_nm.png in format 0; with the dds option the colour atlas also as <stem>.dds with
  * its mip levels), every file atomic. The whole text is built in memory
  * first, then the PNGs are written, then the .wrl, so a failure writes
  * nothing and the .wrl never names a missing file. */

@@ -14,7 +14,7 @@
  *     its foliage many small ones (leaves, cards, twig clusters);
  *   - the user's glob patterns (BBC_SPLIT_PATTERNS).
  * Then, within the trunk, the rules of trunk_rules: with `limbs` its thin
- * pieces join the foliage (parts_geometry.c), with stem_only the faces off
+ * pieces join the foliage (parts_geometry.c), without branches_with_trunk the faces off
  * the stem's path (stem.c).
  * Names and patterns are evaluated once per material and group, then looked
  * up per face: linear in the triangles. The geometry adds a radix sort of
@@ -515,7 +515,7 @@ static const char *mode_name(bbc_split_mode mode) {
 }
 
 /* Within the trunk of a split in two: with `limbs`, its thin pieces join
- * the foliage (parts_geometry.c); with stem_only, unless the limbs found
+ * the foliage (parts_geometry.c); without branches_with_trunk, unless the limbs found
  * the trunk in several pieces, the faces off its stem's path do (stem.c,
  * thesis 2.2.4). Each says what it moved in `why`. */
 static bbc_result trunk_rules(const bbc_mesh *mesh, const bbc_split_options *options,

@@ -312,8 +312,7 @@ static void centre_and_radius(bbc_mesh *m) {
   m->radius = sqrt(r2);
 }
 
-bbc_result bbc_mesh_finalize(bbc_mesh *m, int smooth_normals, const char *source,
-                             bbc_error *err) {
+bbc_result bbc_mesh_finalize(bbc_mesh *m, int smooth_normals, const char *source, bbc_error *err) {
   assert(m);
   if (!source) source = "mesh";
   if (m->kind == BBC_MESH_POINTS) return finalize_points(m, source, err);

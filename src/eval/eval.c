@@ -238,7 +238,7 @@ static int eval_views(const eval_ctx *c, bbc_error *first_err) {
   int failed = 0;
 #pragma omp parallel num_threads(nt)
   {
-    bbc_image a, b;
+    bbc_image a = {0}, b = {0}; /* both freed below, whichever allocation failed */
     int ok = bbc_image_alloc(&a, o->size, o->size) == BBC_OK &&
              bbc_image_alloc(&b, o->size, o->size) == BBC_OK;
 #pragma omp for schedule(dynamic, 1)

@@ -464,6 +464,8 @@ static int read_path(const run_options *o, bbc_forest_camera **path, size_t *pat
   }
   if (pr != BBC_OK || !*path_count) {
     fprintf(stderr, "forest: %s\n", e.message);
+    free(*path); /* a file without positions still gave an array */
+    *path = NULL;
     return 0;
   }
   return 1;

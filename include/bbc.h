@@ -163,8 +163,9 @@ typedef struct bbc_image {
   uint8_t *rgba; /* width * height * 4 bytes, rows top first; NULL when empty */
 } bbc_image;
 
-/* Allocates a width x height image, every texel (0, 0, 0, 0).
- * width, height: > 0. BBC_ERROR_OUT_OF_MEMORY leaves `image` zeroed. */
+/* Allocates a width x height image, every texel (0, 0, 0, 0). width and
+ * height > 0, else BBC_ERROR_INVALID_ARGUMENT; on failure (that or
+ * BBC_ERROR_OUT_OF_MEMORY) `image` is left zeroed. No message: no `err`. */
 bbc_result bbc_image_alloc(bbc_image *image, int width, int height);
 /* Releases the texels and zeroes `image` (NULL: nothing). */
 void bbc_image_free(bbc_image *image);
@@ -566,7 +567,7 @@ typedef enum bbc_plane_kind {
 } bbc_plane_kind;
 
 /* Returns the kind's name: "standard", "coplanar", "posttweaked",
- * "cardboard", "parachute", "stem"; NULL for an invalid kind. */
+ * "cardboard", "parachute", "stem"; "unknown" for an invalid kind. */
 const char *bbc_plane_kind_name(bbc_plane_kind kind);
 
 typedef struct bbc_plane {
@@ -962,8 +963,9 @@ bbc_result bbc_render_ortho(const bbc_mesh *mesh, const bbc_view *view, bbc_imag
  * `view` into out (x right, y down, pixels). Returns 0 when the view is
  * invalid (up parallel to direction, half_extent <= 0), else 1. */
 int bbc_view_project(const bbc_view *view, int width, int height, const double p[3], double out[2]);
-/* Fills `view` to look at the whole mesh along `direction` with `up`,
- * framing its bounding sphere with a small margin; other fields zeroed. */
+/* Fills `view` to look at the whole mesh along `direction` with `up`:
+ * its bounding box framed with a 4 % margin, lighting on, 2-pixel splats,
+ * an opaque white background, the other fields zero. */
 void bbc_view_frame_mesh(const bbc_mesh *mesh, const double direction[3], const double up[3],
                          bbc_view *view);
 

@@ -663,8 +663,8 @@ bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *optio
 typedef struct bbc_grid bbc_grid;
 /* Step 1: the model split into parts, each part's faces in dual form and
  * its dual grid of plane space with the faces' density (2.1.4-2.1.7). The
- * grid keeps a copy of `options`; *grid is freed with bbc_grid_free. The
- * mesh must outlive the grid. */
+ * grid keeps a copy of `options` and what it needs of the mesh; *grid is
+ * freed with bbc_grid_free. */
 bbc_result bbc_grid_build(const bbc_mesh *mesh, const bbc_planes_options *options, bbc_grid **grid,
                           bbc_error *err);
 /* Releases a grid (NULL: nothing). */

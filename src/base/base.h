@@ -66,6 +66,8 @@ void bbc__label_callbacks(const bbc_callbacks *in, bbc__label *l, bbc_callbacks 
 
 /* Twice triangle t's area vector (its unnormalised normal) into c[3]. */
 void bbc__triangle_cross(const bbc_mesh *m, size_t t, double *c);
+/* Triangle t's area: half the length of that vector. */
+double bbc__triangle_area(const bbc_mesh *m, size_t t);
 
 /* strdup that returns NULL for a NULL input. */
 char *bbc__strdup(const char *s);
@@ -99,6 +101,17 @@ static inline double bbc__rng_uniform(bbc__rng *r) {
 /* Uniform in [lo, hi). */
 static inline double bbc__rng_range(bbc__rng *r, double lo, double hi) {
   return lo + (hi - lo) * bbc__rng_uniform(r);
+}
+
+/* The team size of a parallel region for the `threads` parameter: itself
+ * when > 0, else every core OpenMP offers (1 without OpenMP). */
+static inline int bbc__thread_count(int threads) {
+#ifdef _OPENMP
+  return threads > 0 ? threads : omp_get_max_threads();
+#else
+  (void)threads;
+  return 1;
+#endif
 }
 
 /* The `threads` parameter for the parallel loops that name no thread count

@@ -52,6 +52,12 @@ void bbc__triangle_cross(const bbc_mesh *m, size_t t, double *c) {
   vstore(c, vcross(e1, e2));
 }
 
+double bbc__triangle_area(const bbc_mesh *m, size_t t) {
+  double c[3];
+  bbc__triangle_cross(m, t, c);
+  return 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+}
+
 static int coord_ok(double v) {
   return isfinite(v) && fabs(v) <= BBC_MAX_COORD;
 }

@@ -538,12 +538,7 @@ bbc_result bbc__bake_all(const bbc__bake_inputs *in, const size_t *order, size_t
   size_t nf = m->kind == BBC_MESH_POINTS ? m->vertex_count : m->triangle_count;
   size_t nk = cl->billboard_count;
   bbc_result r = BBC_OK;
-  int nt = in->params->threads;
-#ifdef _OPENMP
-  if (nt <= 0) nt = omp_get_max_threads();
-#else
-  nt = 1;
-#endif
+  int nt = bbc__thread_count(in->params->threads);
   size_t done = 0;
   int stop = 0; /* the cancel callback asked: the remaining billboards are skipped */
   const bbc_callbacks *cbp = cbk;

@@ -244,12 +244,7 @@ static bbc_result refine_alloc(refine *rf, bbc_error *err) {
    * than counting them as covered, or leaving them out of both counts). */
   rf->solid = opt->solid ? malloc((size_t)nv * np) : NULL;
   rf->cams = malloc((size_t)nv * sizeof *rf->cams);
-  int nt = opt->threads;
-#ifdef _OPENMP
-  if (nt <= 0) nt = omp_get_max_threads();
-#else
-  nt = 1;
-#endif
+  int nt = bbc__thread_count(opt->threads);
   rf->nt = nt;
   rf->counts = calloc((size_t)nt * COUNTS * (total ? total : 1), sizeof *rf->counts);
   rf->seen = calloc(total ? total : 1, 1);

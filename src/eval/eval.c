@@ -229,12 +229,7 @@ static int eval_view(const eval_ctx *c, int k, bbc_image *a, bbc_image *b, bbc_e
 static int eval_views(const eval_ctx *c, bbc_error *first_err) {
   const bbc_eval_options *o = c->o;
   int n = c->n;
-  int nt = o->threads;
-#ifdef _OPENMP
-  if (nt <= 0) nt = omp_get_max_threads();
-#else
-  nt = 1;
-#endif
+  int nt = bbc__thread_count(o->threads);
   int failed = 0;
 #pragma omp parallel num_threads(nt)
   {

@@ -416,18 +416,21 @@ static void sort_by_bucket(bbc_forest_cull *c, size_t n, size_t nr) {
   c->range_start[0] = 0;
 }
 
-static void frame_begin(bbc_forest_cull *c) {
+/* A frame's start: the statistics cleared, no ranges, the frustum's
+ * planes; returns the zoom (1 when not positive). */
+static double frame_begin(bbc_forest_cull *c, const float viewproj[16], double zoom,
+                          double planes[6][4]) {
   c->cells_visible = c->cells_tested_per_tree = c->trees_visible = 0;
   for (size_t b = 0; b < c->bucket_count; b++) c->range_last[b] = SIZE_MAX;
+  bbc_forest_frustum_from_matrix(viewproj, planes);
+  return zoom <= 0 ? 1 : zoom;
 }
 
 void bbc_forest_cull_run(bbc_forest_cull *c, const float viewproj[16], const double eye[3],
                          double zoom) {
   assert(c && viewproj && eye);
   double planes[6][4];
-  bbc_forest_frustum_from_matrix(viewproj, planes);
-  if (zoom <= 0) zoom = 1;
-  frame_begin(c);
+  zoom = frame_begin(c, viewproj, zoom, planes);
   size_t n = 0, nr = 0, ncell = c->cell_count, nblock = (size_t)c->blocks_x * c->blocks_z;
   for (size_t blk = 0; blk < nblock; blk++) {
     const float *bb = c->block_box[blk];
@@ -475,9 +478,7 @@ void bbc_forest_cull_run_flat(bbc_forest_cull *c, const float viewproj[16], cons
                               double zoom) {
   assert(c && viewproj && eye);
   double planes[6][4];
-  bbc_forest_frustum_from_matrix(viewproj, planes);
-  if (zoom <= 0) zoom = 1;
-  frame_begin(c);
+  zoom = frame_begin(c, viewproj, zoom, planes);
   size_t n = 0, ncell = c->cell_count;
   for (size_t m = 0; m < c->model_count; m++) {
     const uint32_t *st = c->model_cell_start + m * (ncell + 1);

@@ -58,9 +58,7 @@ bbc_result bbc_mesh_sample_points(const bbc_mesh *m, size_t count, uint64_t seed
   }
   double total = 0;
   for (size_t t = 0; t < nt; t++) {
-    double cr[3];
-    bbc__triangle_cross(m, t, cr);
-    total += 0.5 * sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+    total += bbc__triangle_area(m, t);
     cum[t] = total;
   }
   bbc__rng rng = {seed};

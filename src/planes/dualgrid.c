@@ -462,15 +462,10 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
    * [-hi, -lo]). Pairs are numbered by their first member. */
   int nth = g->n_theta, nph = g->n_phi;
   size_t npairs = (size_t)nth * nph / 2;
-  int nt = g->threads;
-#ifdef _OPENMP
-  if (nt <= 0) nt = omp_get_max_threads();
-#else
-  nt = 1;
-#endif
-    /* Each thread owns a fixed block of pairs and adds every face to them: no
-     * two threads write the same cell, and integer sums make the result
-     * independent of the partition. */
+  int nt = bbc__thread_count(g->threads);
+  /* Each thread owns a fixed block of pairs and adds every face to them: no
+   * two threads write the same cell, and integer sums make the result
+   * independent of the partition. */
 #ifdef _OPENMP
 #pragma omp parallel num_threads(nt)
 #endif

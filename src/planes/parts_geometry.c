@@ -398,10 +398,8 @@ size_t bbc__split_keep_thick_pieces(const bbc_mesh *m, uint32_t *face_part, size
   for (size_t t = 0; t < nt; t++) {
     if (face_part[t] != PART_TRUNK) continue;
     comp_sums *c = &cs[comp[t]];
-    double cr[3];
-    bbc__triangle_cross(m, t, cr);
     c->tris++;
-    c->area += 0.5 * sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+    c->area += bbc__triangle_area(m, t);
     for (int j = 0; j < 3; j++) {
       const double *x = m->positions + 3 * m->indices[3 * t + j];
       double q[9] = {x[0],        x[1],        x[2],        x[0] * x[0], x[1] * x[1],

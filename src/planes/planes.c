@@ -92,11 +92,7 @@ static void part_frame(const bbc_mesh *m, const uint32_t *tris, size_t n, double
     const uint32_t *ix = m->indices + 3 * tris[i];
     const double *a = m->positions + 3 * ix[0], *b = m->positions + 3 * ix[1],
                  *c = m->positions + 3 * ix[2];
-    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                    e1[0] * e2[1] - e1[1] * e2[0]};
-    double ar = 0.5 * sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+    double ar = bbc__triangle_area(m, tris[i]);
     for (int k = 0; k < 3; k++) s[k] += (long double)ar * (a[k] + b[k] + c[k]) / 3.0;
     area += ar;
   }

@@ -88,12 +88,7 @@ bbc_result bbc_points_estimate_normals(const bbc_mesh *m, int threads, float *no
     keys[v].point = (uint32_t)v;
   }
   qsort(keys, n, sizeof *keys, key_cmp);
-  int nt = threads;
-#ifdef _OPENMP
-  if (nt <= 0) nt = omp_get_max_threads();
-#else
-  nt = 1;
-#endif
+  int nt = bbc__thread_count(threads);
   (void)nt;
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 4096) num_threads(nt)

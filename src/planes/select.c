@@ -69,12 +69,7 @@ static void debug_event(ctx *c, int level, int step, const uint32_t *set, size_t
 }
 
 static int thread_count(const ctx *c) {
-#ifdef _OPENMP
-  return c->threads > 0 ? c->threads : omp_get_max_threads();
-#else
-  (void)c;
-  return 1;
-#endif
+  return bbc__thread_count(c->threads);
 }
 
 /* View-dependent penalty (2.3.8): density factor for a normal elevation phi,

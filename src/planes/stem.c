@@ -232,12 +232,6 @@ static double low(const bbc_mesh *m, size_t t, int up) {
               fmin(m->positions[3 * ix[1] + up], m->positions[3 * ix[2] + up]));
 }
 
-static double tri_area(const bbc_mesh *m, size_t t) {
-  double c[3];
-  bbc__triangle_cross(m, t, c);
-  return 0.5 * sqrt(vdot(vload(c), vload(c)));
-}
-
 /* The trunk part's faces as the axis sees them, and the axis. */
 typedef struct stem_axis {
   const bbc_mesh *m;
@@ -290,7 +284,7 @@ static int axis_base(stem_axis *x) {
   for (size_t t = 0; t < nf; t++) {
     if (!in_trunk(x, t)) continue;
     if (low(m, t, up) > cut) continue;
-    double c[3], a = tri_area(m, t);
+    double c[3], a = bbc__triangle_area(m, t);
     centroid(m, t, c);
     for (int k = 0; k < 3; k++) c0[k] += a * c[k];
     wsum += a;
@@ -326,7 +320,7 @@ static int axis_faces(stem_axis *x, double reach, double mean[3]) {
     centroid(m, t, c);
     if (line_dist2(c, x->base, x->dir) > reach * reach) continue;
     x->mask[t] = 1;
-    double a = tri_area(m, t);
+    double a = bbc__triangle_area(m, t);
     for (int k = 0; k < 3; k++) mean[k] += a * c[k];
     w += a;
   }
@@ -342,7 +336,7 @@ static void axis_principal(const stem_axis *x, const double mean[3], double v[3]
   double cov[3][3] = {{0}};
   for (size_t t = 0; t < m->triangle_count; t++) {
     if (!x->mask[t]) continue;
-    double c[3], a = tri_area(m, t);
+    double c[3], a = bbc__triangle_area(m, t);
     centroid(m, t, c);
     for (int i = 0; i < 3; i++)
       for (int j = 0; j < 3; j++) cov[i][j] += a * (c[i] - mean[i]) * (c[j] - mean[j]);

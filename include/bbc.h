@@ -217,6 +217,10 @@ typedef struct bbc_material {
                         * MTL illum 0): its colours carry the light already */
   float ambient[3];    /* ambient reflectance (MTL Ka; 0 when the file gives
                         * none), in [0, 1] */
+  int occlusion_map;   /* ambient occlusion in the red channel (glTF
+                        * occlusionTexture): 1 + index into mesh->textures, 0 = none */
+  float roughness;     /* glTF roughness in (0, 1] (MTL Pr, or from Ns); 0 = not
+                        * given (written as 1) */
 } bbc_material;
 
 /* Returns 1 when `material` is the one a cloud's limbs get (the trunk part
@@ -433,6 +437,12 @@ typedef struct bbc_params {
   double light_elev_deg; /* lightelev: prelight direction above the horizon */
   double light_azim_deg; /* lightazim: ... around the up axis */
   int shade_voxels;      /* shade: voxel shadowing grid, voxels per axis, 0 off (2.3.11) */
+  int occlusion;         /* occlusion: > 0: an occlusion map (glTF occlusionTexture) from
+                          * voxel shadowing with this many voxels, the colour left
+                          * unshadowed (in place of `shade`); 0 = none */
+  double occlusion_min;  /* occlusionmin: the occlusion map's darkest value */
+  double nm_bend;        /* nmbend: normal maps: each texel's normal plus this times the
+                          * unit direction from the crown's centre, renormalised */
   double shade_ambient;  /* shadeambient: ambient share of voxel shadowing, 0..1 */
   int dither;            /* dither: quality 2: texel opacity by coverage-preserving
                           * error diffusion (1) or by growing (0) */
@@ -744,8 +754,10 @@ typedef struct bbc_cloud {
    * (back images) a second copy facing the back with the back image;
    * material 0 "billboards" (single-sided with back images, else
    * double-sided), whose texture 0 is the colour atlas; with normal maps
-   * its normal_map is texture 1, the normal atlas (same layout), and the
-   * mesh has tangents. Groups are the parts. */
+   * its normal_map is the next texture, the normal atlas (same layout), and
+   * the mesh has tangents; with `occlusion` its occlusion_map the next, the
+   * occlusion atlas (same layout, grey). Transparent texels carry the
+   * colour of their nearest opaque ones (alpha 0). Groups are the parts. */
   bbc_mesh mesh;
   size_t billboard_count;
   bbc_cloud_billboard *billboards;
@@ -772,7 +784,8 @@ typedef struct bbc_cloud {
  * the front and the back image from behind (`backimages`), with `backface`
  * culling; `quality` chooses the sampling (2.3.9), `prelight` bakes the
  * light `lightelev`/`lightazim`, `shade` voxel shadowing (2.3.11), `nm`
- * normal maps in the billboard's tangent space (2.3.1), `stem` stem
+ * normal maps in the billboard's tangent space (2.3.1, bent by `nmbend`),
+ * `occlusion` an occlusion map from voxel shadowing, `stem` stem
  * billboards, `limbs` the trunk part's mesh, `refine` the alpha refined
  * against views of the original. The images are packed into one atlas.
  * `set` must have been made for `mesh`; callbacks may be NULL. The result
@@ -784,10 +797,10 @@ void bbc_cloud_free(bbc_cloud *cloud);
 
 /* Puts the levels of detail of one model (clouds[count], finest first)
  * into one atlas when all their images fit into max_size x max_size:
- * every cloud's colour (and normal) atlas becomes that atlas and its
- * texture coordinates and image rectangles move with it, *shared = 1.
- * Otherwise nothing changes and *shared = 0 (not an error). The clouds
- * must all have normal maps or none. */
+ * every cloud's colour (and normal and occlusion) atlas becomes that atlas
+ * and its texture coordinates and image rectangles move with it,
+ * *shared = 1. Otherwise (or when the clouds differ in which maps they
+ * carry) nothing changes and *shared = 0 (not an error). */
 bbc_result bbc_clouds_share_atlas(bbc_cloud *clouds, size_t count, int max_size, int *shared,
                                   bbc_error *err);
 
@@ -908,8 +921,9 @@ bbc_result bbc_points_write_ply(const char *path, const bbc_mesh *points, bbc_er
 bbc_result bbc_write_file_atomic(const char *path, const void *data, size_t size, bbc_error *err);
 
 /* Writes the name of texture `t` of `mesh`'s files into out[out_size]:
- * "<material>" for a colour texture and "<material>_nm" for a normal map,
- * the material being the first that uses it, with characters outside
+ * "<material>" for a colour texture, "<material>_nm" for a normal map and
+ * "<material>_ao" for an occlusion map, the material being the first that
+ * uses it, with characters outside
  * [A-Za-z0-9_.-] replaced by '_' ("unnamed" when empty). The writers name
  * the file <stem>_<that>.png. */
 void bbc_texture_file_name(const bbc_mesh *mesh, size_t t, char *out, size_t out_size);
@@ -950,6 +964,12 @@ typedef struct bbc_view {
   int ambient;               /* with `lighting`: adds X3D viewers' ambient light,
                               * 0.2 x mean over channels of (Ka / Kd) x Kd,
                               * untextured (Ka 0.2 when none) */
+  int sun;                   /* with `lighting`: 1 = as an engine lights a lit glTF
+                              * material instead: colour x (sun_ambient x occlusion
+                              * + max(0, n . light)) / (sun_ambient + 1), n bent by
+                              * normal maps and turned to the side seen, occlusion
+                              * from occlusion maps (and vertex_shade) */
+  double sun_ambient;        /* with `sun`: the ambient light, the sun's being 1 */
 } bbc_view;
 
 /* Renders `mesh` into `image`, whose size (allocated by the caller) is the
@@ -994,6 +1014,10 @@ typedef struct bbc_eval_options {
                               * prelight bakes */
   double light[3];           /* towards the light, model frame; zero = +y */
   int no_ambient;            /* with lighting: 1 = without bbc_view.ambient */
+  int sun;                   /* with lighting: 1 = as an engine lights a lit material
+                              * (bbc_view.sun: normal and occlusion maps, ambient
+                              * sun_ambient + the sun `light`), both models alike */
+  double sun_ambient;        /* with sun: the ambient light, the sun's being 1; 0 = 0.4 */
   const double *directions;  /* not NULL: direction_count explicit directions (camera
                               * towards the model, 3 per view) instead of `views` */
   size_t direction_count;
@@ -1032,6 +1056,10 @@ typedef struct bbc_eval_view {
                                          * blocks, each block's covered fraction per model,
                                          * sum of min / sum of max (1 when neither covers
                                          * anything) */
+  double block_luminance_error;         /* brightness seen 8x farther: per 32 x 32 block the
+                                         * summed luminance of the covered pixels over the
+                                         * block's area; sum |other - original| / sum original
+                                         * (0 = alike) */
 } bbc_eval_view;
 
 /* All views' comparisons and their summaries (means over all views, and
@@ -1049,6 +1077,8 @@ typedef struct bbc_eval_result {
   double block_iou_mean, block_iou_side_mean;
   double brightness_ratio[3]; /* per channel: the other's mean colour over its covered
                                * pixels / the original's, over all views (1 = as bright) */
+  double luminance_ratio;     /* the same for the luminance (Rec. 709 weights) */
+  double block_luminance_error_mean;
 } bbc_eval_result;
 
 /* Compares how `other` (a cloud, a baseline) looks against `original`:

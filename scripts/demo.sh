@@ -17,11 +17,11 @@ echo "== 3. Steps 1 and 2 of the Billboard Cloud algorithm: its planes (epsilon 
 echo "== 4. Its Billboard Cloud (steps 1 to 3) as glTF, with a preview and a report"
 "$bin" "$out/oak.obj" -o "$out/oak_cloud.glb" --epsilon 6 --clustering 0 --quality 2 \
   --report "$out/oak_cloud_report.json" --preview "$out/oak_cloud_preview.png"
-echo "== 5. The same cloud as VRML (the thesis's format 0, normal maps), and three LODs"
+echo "== 5. The same cloud as VRML (the thesis's format 0, a baked light, normal maps), and three LODs"
 "$bin" "$out/oak.obj" -o "$out/oak_cloud.wrl" --epsilon 6 --clustering 0 --quality 2 --nm 1 -q
 "$bin" "$out/oak.obj" -o "$out/oak_lods.glb" --lod 6,10,15 --clustering 0 --quality 2 -q
-echo "== 6. How close the cloud looks to the oak (64 views; both lit by the baking light)"
-"$bin" eval "$out/oak.obj" "$out/oak_cloud.glb" --lit --json "$out/oak_cloud_eval.json" \
+echo "== 6. How close the cloud looks to the oak (64 views; both lit by a sun as an engine lights them)"
+"$bin" eval "$out/oak.obj" "$out/oak_cloud.glb" --sun 30,60 --json "$out/oak_cloud_eval.json" \
   --png "$out/oak_cloud_eval.png"
 echo "== 7. A pine, a birch and a bush too"
 for s in pine birch bush; do

@@ -37,12 +37,14 @@ model_file() {
 # file (thesis Appendix B) with the LOD ranges.
 make_species() {
   local s=$1
+  # Clouds with a baked light (--lighting baked): forest draws a model's
+  # colours as they are; it does not light material clouds yet (docs/lighting.md).
   if [ ! -f "$out/$s.obj" ] || [ ! -f "$out/${s}_6.glb" ]; then
     echo "== forest: $s and its Billboard Clouds (22, 8 and 6 billboards)"
     "$bin/bbcgen" tree --species "$s" --seed 1 -o "$out/$s.obj" > /dev/null
-    "$bin/bbcgen" "$out/$s.obj" -o "$out/${s}_22.glb" --maxplanes 22 --texres 256 -q
-    "$bin/bbcgen" "$out/$s.obj" -o "$out/${s}_8.glb" --maxplanes 8 --minplanes 0 --texres 64 -q
-    "$bin/bbcgen" "$out/$s.obj" -o "$out/${s}_6.glb" --maxplanes 6 --minplanes 0 --texres 64 -q
+    "$bin/bbcgen" "$out/$s.obj" -o "$out/${s}_22.glb" --lighting baked --maxplanes 22 --texres 256 -q
+    "$bin/bbcgen" "$out/$s.obj" -o "$out/${s}_8.glb" --lighting baked --maxplanes 8 --minplanes 0 --texres 64 -q
+    "$bin/bbcgen" "$out/$s.obj" -o "$out/${s}_6.glb" --lighting baked --maxplanes 6 --minplanes 0 --texres 64 -q
   fi
   model_file "$s" "$s: the polygon tree near, Billboard Clouds farther (thesis Appendix B)" 6 6.5 2.5 \
     "$s.obj:45" "${s}_22.glb:160" "${s}_8.glb:420" "${s}_6.glb:1600"
@@ -119,9 +121,9 @@ if [ ! -f "$out/spruces.obj" ] || [ ! -f "$out/spruces_11s.glb" ]; then
   echo "== forest: a group of 8 spruces and its Billboard Clouds (25, 11 and 11 billboards)"
   awk -f "$(dirname "$0")/obj_group.awk" "$out/pine.obj" > "$out/spruces.obj.tmp"
   mv "$out/spruces.obj.tmp" "$out/spruces.obj"
-  "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_25.glb" --maxplanes 25 --texres 256 -q
-  "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_11.glb" --maxplanes 11 --minplanes 0 --texres 128 -q
-  "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_11s.glb" --maxplanes 11 --minplanes 0 --texres 32 -q
+  "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_25.glb" --lighting baked --maxplanes 25 --texres 256 -q
+  "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_11.glb" --lighting baked --maxplanes 11 --minplanes 0 --texres 128 -q
+  "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_11s.glb" --lighting baked --maxplanes 11 --minplanes 0 --texres 32 -q
 fi
 model_file spruces \
   "8 spruces as one model (thesis 3.3, Finland): the polygon group near, clouds farther" 8 14 6 \
@@ -137,9 +139,9 @@ islandwater=$("$bin/forest" --demo-terrain "$out/islands" --terrain-size 1024 --
 if [ ! -f "$out/palm.obj" ] || [ ! -f "$out/palm_5.glb" ]; then
   echo "== forest: palm and its Billboard Clouds (8, 8 and 5 billboards)"
   "$bin/bbcgen" tree --species palm --seed 1 -o "$out/palm.obj" > /dev/null
-  "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_8.glb" --maxplanes 8 --minplanes 0 --texres 512 -q
-  "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_8s.glb" --maxplanes 8 --minplanes 0 --texres 128 -q
-  "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_5.glb" --maxplanes 5 --minplanes 0 --texres 32 -q
+  "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_8.glb" --lighting baked --maxplanes 8 --minplanes 0 --texres 512 -q
+  "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_8s.glb" --lighting baked --maxplanes 8 --minplanes 0 --texres 128 -q
+  "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_5.glb" --lighting baked --maxplanes 5 --minplanes 0 --texres 32 -q
 fi
 model_file palm "palm: the polygon tree near, Billboard Clouds farther (thesis 3.3, Tropic Islands)" \
   6 5 2 palm.obj:45 palm_8.glb:160 palm_8s.glb:420 palm_5.glb:1600

@@ -9,7 +9,7 @@ set -euo pipefail
 what=${1:-all}
 # (each list on one line: scripts/fresh_machine.sh reads them)
 build_pkgs=(build-essential cmake pkg-config libassimp-dev libstb-dev zlib1g-dev libcjson-dev libmeshoptimizer-dev libepoxy-dev libglfw3-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libedit-dev)
-test_pkgs=(libcmocka-dev clang-format nodejs gltfpack assimp-utils parallel xvfb xauth time universal-ctags)
+test_pkgs=(libcmocka-dev clang-format nodejs chromium gltfpack assimp-utils parallel xvfb xauth time universal-ctags)
 fuzz_pkgs=(clang libclang-rt-14-dev libomp-14-dev)
 
 case "$what" in

@@ -1288,10 +1288,16 @@ static void test_materials_and_texture_names(void **state) {
   tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
   if (!tu_have_file(path)) skip();
   char *dir = tu_make_temp_dir();
-  const char *runs[][2] = {{"u.glb", ""},          {"l.glb", "--prelight 0 --nm 1"},
-                           {"f.glb", "--unlit 0"}, {"u.gltf", "--nm 1"},
-                           {"u.wrl", "--nm 1"},    {"l.wrl", "--prelight 0"},
-                           {"u.obj", ""},          {"l.obj", "--prelight 0"}};
+  /* glTF: lit materials by default, VRML and OBJ baked. */
+  const char *runs[][2] = {{"u.glb", "--lighting baked"},
+                           {"l.glb", ""},
+                           {"f.glb", "--lighting baked --unlit 0"},
+                           {"u.gltf", "--lighting baked --nm 1"},
+                           {"u.wrl", "--nm 1"},
+                           {"l.wrl", "--prelight 0"},
+                           {"u.obj", ""},
+                           {"l.obj", "--prelight 0"},
+                           {"m.gltf", "--lighting material"}};
   for (size_t i = 0; i < sizeof runs / sizeof runs[0]; i++) {
     snprintf(args, sizeof args, "'%s' -o '%s/%s' --texres 32 -q %s", path, dir, runs[i][0],
              runs[i][1]);
@@ -1308,7 +1314,12 @@ static void test_materials_and_texture_names(void **state) {
     const cJSON *ext = cJSON_GetObjectItemCaseSensitive(mat, "extensions");
     int unlit = ext && cJSON_GetObjectItemCaseSensitive(ext, "KHR_materials_unlit");
     assert_int_equal(unlit, k == 0);
-    if (k == 1) assert_non_null(cJSON_GetObjectItemCaseSensitive(mat, "normalTexture"));
+    if (k == 1) {
+      assert_non_null(cJSON_GetObjectItemCaseSensitive(mat, "normalTexture"));
+      assert_non_null(cJSON_GetObjectItemCaseSensitive(mat, "occlusionTexture"));
+    } else {
+      assert_null(cJSON_GetObjectItemCaseSensitive(mat, "occlusionTexture"));
+    }
     cJSON_Delete(g);
     int v = tu_gltf_validate(p);
     if (v != 3) assert_int_equal(v, 0);
@@ -1322,6 +1333,7 @@ static void test_materials_and_texture_names(void **state) {
   assert_non_null(strstr(t, "\"uri\":\"u_billboards.png\""));
   assert_non_null(strstr(t, "\"uri\":\"u_billboards_nm.png\""));
   free(t);
+  assert_true(file_exists(dir, "m_billboards_nm.png") && file_exists(dir, "m_billboards_ao.png"));
   snprintf(p, sizeof p, "%s/u.wrl", dir);
   t = (char *)tu_read_file(p, NULL);
   assert_null(strstr(t, "Material {"));
@@ -1358,7 +1370,7 @@ static void test_materials_and_texture_names(void **state) {
   free(dir);
 }
 
-/* Lit once: the default (prelit, unlit material) cloud and a relightable one
+/* Lit once: a baked (prelit, unlit material) cloud and a relightable one
  * look as bright
  * as the original, per channel within 10 %, lit (the original lit by the
  * same light; the prelit cloud shown as baked, its material being unlit)
@@ -1370,8 +1382,8 @@ static void test_brightness(void **state) {
   if (!tu_have_file(path)) skip();
   const char *runs[][3] = {
       /* cloud options, eval options, 1 = must match */
-      {"", "--lit", "1"},
-      {"", "", "1"},
+      {"--lighting baked", "--lit", "1"},
+      {"--lighting baked", "", "1"},
       /* A relightable cloud's one material has no Ka of its own: compared
        * lit, without the fixed-function ambient (Tree_3's MTL says Ka 1). */
       {"--prelight 0", "--lit --ambient 0", "1"},
@@ -1413,6 +1425,71 @@ static void test_brightness(void **state) {
   }
 }
 
+/* eval --sun: original and cloud lit alike by an engine's sun and ambient
+ * light. The default (material) cloud follows the sun as the original
+ * does; a baked cloud, drawn unlit, is far too bright under the same
+ * lights (what three.js shows, docs/lighting.md). Bad values are said. */
+static void test_sun(void **state) {
+  (void)state;
+  char path[1024], args[4096], *out, *err;
+  tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_3.obj");
+  if (!tu_have_file(path)) skip();
+  const char *clouds[2] = {"", "--lighting baked"};
+  double lum[2][2];
+  for (int c = 0; c < 2; c++) {
+    snprintf(args, sizeof args, "'%s' -o '%s/sun%d.glb' --texres 64 %s", path, tu_dir, c,
+             clouds[c]);
+    assert_int_equal(run(args, &out, &err), 0);
+    assert_non_null(strstr(err, c ? "lighting: baked" : "lighting: material"));
+    free(out);
+    free(err);
+    for (int s = 0; s < 2; s++) {
+      snprintf(args, sizeof args,
+               "eval '%s' '%s/sun%d.glb' --views 8 --size 96 --sun %s --json '%s/sun.json'", path,
+               tu_dir, c, s ? "180,15" : "0,50", tu_dir);
+      assert_int_equal(run(args, &out, &err), 0);
+      assert_non_null(strstr(out, "luminance ratio over 1 sun:"));
+      free(out);
+      free(err);
+      char jp[1200];
+      snprintf(jp, sizeof jp, "%s/sun.json", tu_dir);
+      char *text = (char *)tu_read_file(jp, NULL);
+      cJSON *j = cJSON_Parse(text);
+      const cJSON *s0 = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(j, "suns"), 0);
+      lum[c][s] = cJSON_GetObjectItemCaseSensitive(s0, "luminance_ratio")->valuedouble;
+      cJSON_Delete(j);
+      free(text);
+    }
+  }
+  for (int s = 0; s < 2; s++) {
+    if (!(lum[0][s] > 0.85 && lum[0][s] < 1.15)) fail_msg("material cloud: %.3f", lum[0][s]);
+    if (!(lum[1][s] > 1.3)) fail_msg("baked cloud, drawn unlit: %.3f", lum[1][s]);
+  }
+  /* The sweep: 16 suns, a line each and the range. */
+  snprintf(args, sizeof args, "eval '%s' '%s/sun0.glb' --views 4 --size 64 --sun sweep", path,
+           tu_dir);
+  assert_int_equal(run(args, &out, &err), 0);
+  int rows = 0;
+  for (const char *p = out; (p = strstr(p, "\n")) != NULL; p++) rows += p[1] == ' ';
+  assert_int_equal(rows, 16);
+  assert_non_null(strstr(out, "luminance ratio over 16 suns:"));
+  free(out);
+  free(err);
+  const char *bad[] = {"--sun 400,0", "--sun 30", "--sun north", "--sun-ambient 0 --sun 0,0"};
+  for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+    snprintf(args, sizeof args, "eval '%s' '%s/sun0.glb' %s", path, tu_dir, bad[i]);
+    assert_int_equal(run(args, &out, &err), 1);
+    assert_non_null(strstr(err, "--sun"));
+    free(out);
+    free(err);
+  }
+  snprintf(args, sizeof args, "'%s' -o '%s/x.glb' --lighting sunny", path, tu_dir);
+  assert_int_equal(run(args, &out, &err), 1);
+  assert_non_null(strstr(err, "--lighting: 'material'"));
+  free(out);
+  free(err);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_info_pine),
@@ -1438,6 +1515,7 @@ int main(void) {
       cmocka_unit_test(test_atlas_budget),
       cmocka_unit_test(test_unknown_part),
       cmocka_unit_test(test_brightness),
+      cmocka_unit_test(test_sun),
   };
   return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

@@ -107,6 +107,9 @@ static void params_for(bbc_params *p, int texres, int quality) {
   p->atlas_max = 0; /* texres as set */
   p->quality = quality;
   p->prelight = 0;
+  p->occlusion = 0; /* the tests below turn maps on one at a time */
+  p->nm_bend = 0;
+  p->normal_maps = 0;
   p->threads = 1;
 }
 
@@ -332,6 +335,58 @@ static void test_front_and_back(void **state) {
   bb = &cl.billboards[0];
   assert_int_equal(texel_at(&cl, bb, 0, both)[0], 255);
   assert_int_equal(texel_at(&cl, bb, 1, both)[3], 0);
+  bbc_cloud_free(&cl);
+  scene_free(&sc);
+}
+
+/* The default maps (issue 31): the occlusion atlas beside the normal atlas
+ * in the same layout, grey within [occlusionmin, 1]; normals bent away from
+ * the crown's centre by nmbend; transparent texels carrying the colour of
+ * their opaque neighbours (alpha 0). */
+static void test_material_maps(void **state) {
+  (void)state;
+  scene sc;
+  scene_begin(&sc, 8);
+  scene_frame(&sc);
+  const double r0[3] = {0.05, 0.05, 0.004}, r1[3] = {0.45, 0.05, 0.004},
+               r2[3] = {0.05, 0.95, 0.004};
+  scene_tri(&sc, r0, r1, r2, 1);
+  scene_end(&sc, 0.01);
+  bbc_params p;
+  params_for(&p, 64, 0);
+  p.normal_maps = 1;
+  p.occlusion = 16;
+  p.occlusion_min = 0.5;
+  p.nm_bend = 1;
+  bbc_cloud cl;
+  bbc_error err;
+  if (bbc_cloud_build(&sc.m, &sc.s, &p, NULL, &cl, &err) != BBC_OK) fail_msg("%s", err.message);
+  const bbc_cloud_billboard *bb = &cl.billboards[0];
+  assert_int_equal(cl.mesh.texture_count, 3);
+  assert_int_equal(cl.mesh.materials[0].normal_map, 2);
+  assert_int_equal(cl.mesh.materials[0].occlusion_map, 3);
+  const bbc_image *col = &cl.mesh.textures[0].image, *nm = &cl.mesh.textures[1].image,
+                  *ao = &cl.mesh.textures[2].image;
+  assert_true(ao->width == col->width && ao->height == col->height);
+  const double q[3] = {0.1, 0.1, 0}, none[3] = {0.9, 0.9, 0};
+  const uint8_t *c = texel_at(&cl, bb, 0, q);
+  assert_true(c[3] == 255 && c[0] == 255);
+  size_t off = (size_t)(c - col->rgba);
+  const uint8_t *a = ao->rgba + off, *n = nm->rgba + off;
+  assert_true(a[0] == a[1] && a[1] == a[2] && a[0] >= 127 && a[3] == 255);
+  /* Bent: the centre of the faces' bounds is (0.5, 0.5, 0), so this texel's
+   * normal leans to -x and -y, half way (nmbend 1 adds a unit vector). */
+  double tn[3], w[3];
+  for (int k = 0; k < 3; k++) tn[k] = n[k] / 127.5 - 1.0;
+  for (int k = 0; k < 3; k++)
+    w[k] = tn[0] * bb->rect.u[k] + tn[1] * bb->rect.w[k] + tn[2] * bb->normal[k];
+  const double want[3] = {-0.5, -0.5, 0.7071};
+  for (int k = 0; k < 3; k++)
+    if (fabs(w[k] - want[k]) > 0.03) fail_msg("bent normal %.3f %.3f %.3f", w[0], w[1], w[2]);
+  /* Far from the red face: transparent, coloured red all the same. */
+  const uint8_t *e = texel_at(&cl, bb, 0, none);
+  assert_int_equal(e[3], 0);
+  assert_int_equal(e[0], 255);
   bbc_cloud_free(&cl);
   scene_free(&sc);
 }
@@ -956,6 +1011,7 @@ static void test_prelight_for_a_lit_viewer(void **state) {
   bbc_mesh m;
   bbc_error err;
   if (bbc_tree_generate(&to, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  m.no_mipmaps = 1; /* both read the texels themselves: only the light differs */
   double mean[2];
   for (int lit = 0; lit < 2; lit++) {
     bbc_planes_options o;
@@ -963,6 +1019,8 @@ static void test_prelight_for_a_lit_viewer(void **state) {
     o.params.texres = 64;
     o.params.atlas_max = 0;
     o.params.prelight = lit;
+    o.params.occlusion = 0;
+    o.params.normal_maps = 0;
     bbc_planeset s;
     bbc_cloud c;
     if (bbc_planes_find(&m, &o, &s, &err) != BBC_OK) fail_msg("%s", err.message);
@@ -1055,6 +1113,7 @@ int main(void) {
       cmocka_unit_test(test_limbs_mesh),
       cmocka_unit_test(test_front_and_back),
       cmocka_unit_test(test_tilted_normal_map),
+      cmocka_unit_test(test_material_maps),
       cmocka_unit_test(test_voxel_shading),
       cmocka_unit_test(test_cloud_of_a_tree),
       cmocka_unit_test(test_shared_atlas),

@@ -256,11 +256,72 @@ static void test_baselines(void **state) {
   bbc_mesh_free(&m);
 }
 
+/* The engine's lighting (bbc_view.sun) on a red quad facing +z, seen
+ * from +z: without maps the sun from the front lights it fully and a sun
+ * from the side leaves the ambient light; a normal map turning every
+ * texel's normal to +x (through a +x tangent) swaps the two; an occlusion
+ * map at half darkens the ambient light by half. */
+static void test_sun_lighting(void **state) {
+  (void)state;
+  bbc_mesh m;
+  quad(&m, 0);
+  m.uvs = calloc(2 * m.vertex_count, sizeof(float));
+  m.tangents = calloc(4 * m.vertex_count, sizeof(float));
+  for (size_t v = 0; v < m.vertex_count; v++) {
+    m.uvs[2 * v] = (float)m.positions[3 * v];
+    m.uvs[2 * v + 1] = (float)m.positions[3 * v + 1];
+    m.tangents[4 * v] = 1;
+    m.tangents[4 * v + 3] = 1;
+  }
+  m.textures = calloc(2, sizeof(bbc_texture));
+  m.texture_count = 2;
+  const uint8_t texel[2][4] = {{255, 128, 128, 255}, {128, 128, 128, 255}};
+  for (int t = 0; t < 2; t++) {
+    assert_int_equal(bbc_image_alloc(&m.textures[t].image, 1, 1), BBC_OK);
+    memcpy(m.textures[t].image.rgba, texel[t], 4);
+  }
+  bbc_view v;
+  const double dir[3] = {0, 0, -1}, up[3] = {0, 1, 0};
+  bbc_view_frame_mesh(&m, dir, up, &v);
+  v.sun = 1;
+  v.sun_ambient = 0.4;
+  v.background[3] = 0;
+  bbc_image img;
+  assert_int_equal(bbc_image_alloc(&img, 16, 16), BBC_OK);
+  const double front[3] = {0, 0, 1}, side[3] = {1, 0, 0};
+  const double lit = 255.0, amb = 255.0 * 0.4 / 1.4;
+  /* normal map, occlusion map, light, expected red */
+  const struct {
+    int nm, ao;
+    const double *light;
+    double red;
+  } cases[] = {{0, 0, front, lit},
+               {0, 0, side, amb},
+               {1, 0, front, amb},
+               {1, 0, side, lit},
+               {0, 1, side, amb * 128 / 255},
+               {1, 1, side, lit - amb + amb * 128 / 255}};
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+    m.materials[0].normal_map = cases[i].nm ? 1 : 0;
+    m.materials[0].occlusion_map = cases[i].ao ? 2 : 0;
+    memcpy(v.light, cases[i].light, sizeof v.light);
+    bbc_error err;
+    assert_int_equal(bbc_render_ortho(&m, &v, &img, &err), BBC_OK);
+    const uint8_t *px = img.rgba + 4 * (8 * 16 + 8);
+    assert_int_equal(px[3], 255);
+    if (fabs(px[0] - cases[i].red) > 1.5 || px[1] != 0)
+      fail_msg("case %zu: red %d, want %.1f", i, px[0], cases[i].red);
+  }
+  bbc_image_free(&img);
+  bbc_mesh_free(&m);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_self_and_moved),
       cmocka_unit_test(test_two_quads),
       cmocka_unit_test(test_baselines),
+      cmocka_unit_test(test_sun_lighting),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -26,12 +26,16 @@ static void test_defaults_match_appendix_a(void **state) {
   assert_true(p.sub_penalty == 5.0);
   assert_int_equal(p.texres, 256);
   assert_int_equal(p.prelight, 1);
+  assert_int_equal(p.normal_maps, 0);
+  assert_int_equal(p.occlusion, 0);
+  assert_true(p.nm_bend == 0);
   assert_true(p.point_size == 3.5);
   assert_int_equal(p.quality, 0);
   assert_int_equal(p.format, 0);
   assert_int_equal(p.max_planes, 0);
   assert_int_equal(p.atlas_max, 0);
-  /* The toolkit's defaults differ from the thesis in ten places only. */
+  /* The toolkit's defaults differ from the thesis in thirteen places only:
+   * ten for fidelity, three for lighting (a material engines light). */
   bbc_params d;
   bbc_params_default(&d);
   assert_int_equal(d.clustering, 0);
@@ -45,6 +49,13 @@ static void test_defaults_match_appendix_a(void **state) {
   assert_int_equal(d.stem, 3);
   assert_int_equal(d.limbs, 512);
   assert_int_equal(d.point_normals, 1);
+  assert_int_equal(d.prelight, 0);
+  assert_int_equal(d.normal_maps, 1);
+  assert_int_equal(d.occlusion, 64);
+  assert_true(d.nm_bend == 0);
+  d.prelight = 1;
+  d.normal_maps = 0;
+  d.occlusion = 0;
   d.point_normals = 0;
   d.dither = 0;
   d.refine = 0;
@@ -147,9 +158,10 @@ static void test_first_step(void **state) {
   struct {
     const char *name, *value;
     int step;
-  } cases[] = {{"texres", "64", 3},     {"quality", "0", 3},       {"nm", "1", 3},
-               {"prelight", "0", 3},    {"pure", "1", 3},          {"polyskip", "5", 3},
+  } cases[] = {{"texres", "64", 3},     {"quality", "0", 3},       {"nm", "0", 3},
+               {"prelight", "1", 3},    {"pure", "1", 3},          {"polyskip", "5", 3},
                {"cbcoverage", "30", 3}, {"shade", "40", 3},        {"posttweak", "0", 2},
+               {"occlusion", "32", 3},  {"nmbend", "0.5", 3},      {"occlusionmin", "0.3", 3},
                {"punishval", "0.7", 2}, {"punishcutoff", "55", 2}, {"supergreedy", "1", 2},
                {"epsilon", "8", 1},     {"res", "10", 1},          {"clustering", "2", 1},
                {"upaxis", "z", 1},      {"maxplanes", "0", 2},     {"threads", "1", 0},

@@ -36,6 +36,21 @@ void bbc_params_thesis_merge(bbc_params *params, bbc_hand hand);
  * minplanes off unless set by hand. */
 void bbc_params_lod_chain(bbc_params *params, bbc_hand hand);
 
+/* How a cloud is lit (bbcgen --lighting): MATERIAL bakes the albedo, a
+ * normal map and an occlusion map for engines to light (prelight 0, nm 1,
+ * occlusion 64, lit materials); BAKED bakes a fixed light into the colours
+ * and marks the materials unlit (prelight 1, nm 0, occlusion 0), as the
+ * thesis does. Parameters set by hand are kept. */
+typedef enum bbc_lighting { BBC_LIGHTING_MATERIAL = 0, BBC_LIGHTING_BAKED = 1 } bbc_lighting;
+void bbc_params_lighting(bbc_params *params, bbc_hand hand, bbc_lighting mode);
+/* The lighting an output gets unless asked: MATERIAL for glTF (.glb,
+ * .gltf), BAKED for VRML and OBJ (viewers that light with a headlight or
+ * not at all). */
+bbc_lighting bbc_lighting_for_output(const char *path);
+/* What a cloud baked with `params` carries, for people: "material",
+ * "baked", ... */
+const char *bbc_params_lighting_name(const bbc_params *params);
+
 /* ---- the algorithm's internals as pictures (Appendix A `show bbc`) ----- */
 /* Coloured geometry for a viewer to draw as it is (bbcgen's viewer):
  * triangles and line segments, 6 floats a vertex (x y z r g b). */

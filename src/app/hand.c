@@ -5,6 +5,7 @@
 #include "app.h"
 
 #include <assert.h>
+#include <string.h>
 #include <strings.h>
 
 /* A parameter's bit in bbc_hand: its index in the table. */
@@ -50,4 +51,26 @@ void bbc_params_thesis_merge(bbc_params *p, bbc_hand hand) {
 void bbc_params_lod_chain(bbc_params *p, bbc_hand hand) {
   if (!bbc_params_by_hand(hand, "maxplanes")) p->max_planes = 0;
   if (!bbc_params_by_hand(hand, "minplanes")) p->min_planes = 0;
+}
+
+void bbc_params_lighting(bbc_params *p, bbc_hand hand, bbc_lighting mode) {
+  int baked = mode == BBC_LIGHTING_BAKED;
+  if (!bbc_params_by_hand(hand, "prelight")) p->prelight = baked;
+  if (!bbc_params_by_hand(hand, "nm")) p->normal_maps = !baked;
+  if (!bbc_params_by_hand(hand, "occlusion")) p->occlusion = baked ? 0 : 64;
+  if (!bbc_params_by_hand(hand, "unlit")) p->unlit = BBC_UNLIT_WHEN_PRELIT;
+}
+
+bbc_lighting bbc_lighting_for_output(const char *path) {
+  size_t n = path ? strlen(path) : 0;
+  int gltf = (n >= 4 && !strcasecmp(path + n - 4, ".glb")) ||
+             (n >= 5 && !strcasecmp(path + n - 5, ".gltf"));
+  return gltf ? BBC_LIGHTING_MATERIAL : BBC_LIGHTING_BAKED;
+}
+
+const char *bbc_params_lighting_name(const bbc_params *p) {
+  if (p->prelight) return bbc_params_is_unlit(p) ? "baked" : "baked, lit again";
+  if (bbc_params_is_unlit(p)) return "albedo, unlit";
+  return p->normal_maps ? (p->occlusion > 0 ? "material" : "material without occlusion")
+                        : "material without normal maps";
 }

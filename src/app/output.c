@@ -147,10 +147,13 @@ static bbc_result write_gltf_chain(const bbc_session *s, job_lod *const *lods, s
   }
   const double *og = s->model.origin;
   if (og[0] != 0 || og[1] != 0 || og[2] != 0) /* where the coordinates were */
-    snprintf(extras, n + 128, "{\"bbcgen_parameters\":%s,\"bbcgen_origin\":[%.17g,%.17g,%.17g]}",
-             params, og[0], og[1], og[2]);
+    snprintf(extras, n + 128,
+             "{\"bbcgen_lighting\":\"%s\",\"bbcgen_parameters\":%s,"
+             "\"bbcgen_origin\":[%.17g,%.17g,%.17g]}",
+             bbc_params_lighting_name(&lods[0]->params), params, og[0], og[1], og[2]);
   else
-    snprintf(extras, n, "{\"bbcgen_parameters\":%s}", params);
+    snprintf(extras, n + 128, "{\"bbcgen_lighting\":\"%s\",\"bbcgen_parameters\":%s}",
+             bbc_params_lighting_name(&lods[0]->params), params);
   bbc_gltf_options go;
   memset(&go, 0, sizeof go);
   go.format = binary ? BBC_GLTF_BINARY : BBC_GLTF_SEPARATE;

@@ -89,8 +89,12 @@ bbc_result bbc_session_write_preview(const bbc_session *s, const char *out, int 
       bbc_view view;
       bbc_view_frame_mesh(m, dirs[v], ups[v], &view);
       /* The original lit as the textures were baked; the cloud unlit (its
-       * textures carry the light). */
-      view.lighting = row == 1 ? 0 : L->params.prelight;
+       * textures carry the light). A material (no baked light): both lit
+       * alike by the lightelev/lightazim sun, as an engine lights them. */
+      int material = !L->params.prelight && !bbc_params_is_unlit(&L->params);
+      view.lighting = material || (row != 1 && L->params.prelight);
+      view.sun = material;
+      view.sun_ambient = 0.4;
       view.light_gain = gain;
       view.ambient = L->params.viewer_ambient;
       memcpy(view.light, light, sizeof light);

@@ -139,6 +139,8 @@ bbc_result bbc_session_write_report(const bbc_session *s, const char *out, const
   if (s->model.kind == BBC_MESH_POINTS)
     cJSON_AddNumberToObject(o, "model_points", (double)s->model.vertex_count);
   cJSON_AddNumberToObject(o, "model_radius", s->model.radius);
+  /* What the cloud's colours carry (docs/lighting.md). */
+  cJSON_AddStringToObject(o, "lighting", bbc_params_lighting_name(&lods[0]->params));
   char *params = bbc__params_json_text(&lods[0]->params);
   cJSON_AddItemToObject(o, "parameters", cJSON_Parse(params));
   cJSON_free(params);

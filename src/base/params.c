@@ -72,7 +72,9 @@ static const param_row k_rows[] = {
      INT_FIELD(super_greedy)},
     {{"backface", BBC_PARAM_BOOL, 0, 1, 0, F3, "billboard", "", "backface culling when texturing"},
      INT_FIELD(backface)},
-    {{"nm", BBC_PARAM_BOOL, 0, 1, 0, F3, "billboard", "", "normal maps (2.3.1)"},
+    {{"nm", BBC_PARAM_BOOL, 0, 1, 1, F3, "billboard", "",
+      "normal maps (2.3.1): the surface's normal per texel, so engines light the cloud "
+      "(thesis default 0)"},
      INT_FIELD(normal_maps)},
     {{"pointsize", BBC_PARAM_REAL, 0, 1e6, 3.5, F3, "billboard", "px",
       "point size for rendering point clouds"},
@@ -90,8 +92,9 @@ static const param_row k_rows[] = {
     {{"polyskip", BBC_PARAM_REAL, 0, 99, 0, F3, "billboard", "%",
       "skip planes whose coverage is below n% of the largest plane's (2.3.5)"},
      DBL_FIELD(poly_skip_pct)},
-    {{"prelight", BBC_PARAM_BOOL, 0, 1, 1, F3, "billboard", "",
-      "lighting while generating textures"},
+    {{"prelight", BBC_PARAM_BOOL, 0, 1, 0, F3, "billboard", "",
+      "lighting while generating textures: a fixed light baked into the colours (thesis "
+      "default 1; 0 = the albedo, for engines that light the cloud)"},
      INT_FIELD(prelight)},
     {{"pure", BBC_PARAM_INT, 0, 2, 0, F3, "billboard", "",
       "1 = render only the faces a plane simplifies into its texture (2.2.5); 2 = every face "
@@ -139,8 +142,21 @@ static const param_row k_rows[] = {
     {{"shade", BBC_PARAM_INT, 0, 512, 0, F3, "extension", "voxels",
       "voxel shadowing (2.3.11): voxels per axis, 0 = off (40-150 suit trees)"},
      INT_FIELD(shade_voxels)},
+    {{"occlusion", BBC_PARAM_INT, 0, 512, 64, F3, "extension", "voxels",
+      "an occlusion map (glTF occlusionTexture) from voxel shadowing (2.3.11) with n voxels "
+      "per axis: how much ambient light each texel gets inside the crown; the colour stays "
+      "unshadowed and `shade` is not used (0 = none)"},
+     INT_FIELD(occlusion)},
+    {{"occlusionmin", BBC_PARAM_REAL, 0, 1, 0.75, F3, "extension", "",
+      "the occlusion map's value for the most shadowed voxel (1 = no occlusion)"},
+     DBL_FIELD(occlusion_min)},
+    {{"nmbend", BBC_PARAM_REAL, 0, 10, 0, F3, "extension", "",
+      "normal maps: each texel's normal plus n times the unit vector from the crown's centre "
+      "(0 = the surface's own): the crown lights like a ball, brighter towards the sun "
+      "(docs/lighting.md)"},
+     DBL_FIELD(nm_bend)},
     {{"shadeambient", BBC_PARAM_REAL, 0, 1, 0.4, F3, "extension", "",
-      "voxel shadowing: brightness of the darkest voxel (ambient light)"},
+      "voxel shadowing (shade, occlusion): brightness of the darkest voxel (ambient light)"},
      DBL_FIELD(shade_ambient)},
     {{"dither", BBC_PARAM_BOOL, 0, 1, 1, F3, "extension", "",
       "quality 2: texel opacity by error diffusion of its 16 samples' coverage, keeping the "
@@ -195,6 +211,9 @@ void bbc_params_thesis(bbc_params *p) {
   p->stem = 0;
   p->limbs = 0;
   p->point_normals = 0;
+  p->prelight = 1; /* the thesis bakes its light (2.1.9) */
+  p->normal_maps = 0;
+  p->occlusion = 0;
 }
 
 int bbc_params_stale_step(const bbc_params *a, const bbc_params *b, const char **which) {

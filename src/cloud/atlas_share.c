@@ -34,10 +34,11 @@ static size_t rect_count(const bbc_cloud *c) {
   return n + (c->limb_triangles > 0); /* the limbs' swatch last */
 }
 
-/* Copies of every cloud's images (and normal images, nm), in the order of
- * rect_count, and their old places. */
-static bbc_result crop_all(const bbc_cloud *clouds, size_t count, int nm, bbc_image *imgs,
-                           bbc_image *nimgs, bbc_atlas_rect *old) {
+/* Copies of every cloud's images, of each of its ntex atlases (colour,
+ * normal, occlusion: layer l in imgs[l]), in the order of rect_count, and
+ * their old places. */
+static bbc_result crop_all(const bbc_cloud *clouds, size_t count, size_t ntex, bbc_image **imgs,
+                           bbc_atlas_rect *old) {
   bbc_result r = BBC_OK;
   size_t i = 0;
   for (size_t k = 0; k < count && r == BBC_OK; k++) {
@@ -47,14 +48,14 @@ static bbc_result crop_all(const bbc_cloud *clouds, size_t count, int nm, bbc_im
         const bbc_atlas_rect *q = side ? &c->billboards[b].back : &c->billboards[b].front;
         if (side && q->width == 0) continue;
         old[i] = *q;
-        r = crop(&c->mesh.textures[0].image, q, &imgs[i]);
-        if (r == BBC_OK && nm) r = crop(&c->mesh.textures[1].image, q, &nimgs[i]);
+        for (size_t l = 0; l < ntex && r == BBC_OK; l++)
+          r = crop(&c->mesh.textures[l].image, q, &imgs[l][i]);
         i++;
       }
     if (r == BBC_OK && c->limb_triangles) {
       old[i] = c->limb_swatch;
-      r = crop(&c->mesh.textures[0].image, &c->limb_swatch, &imgs[i]);
-      if (r == BBC_OK && nm) r = crop(&c->mesh.textures[1].image, &c->limb_swatch, &nimgs[i]);
+      for (size_t l = 0; l < ntex && r == BBC_OK; l++)
+        r = crop(&c->mesh.textures[l].image, &c->limb_swatch, &imgs[l][i]);
       i++;
     }
   }
@@ -92,13 +93,13 @@ static void move_all_uvs(bbc_cloud *clouds, size_t count, const bbc_atlas_rect *
 
 /* Each level gets its own copy of the shared atlas (writers keep one
  * image when several meshes carry the same texels). */
-static bbc_result copy_atlases(bbc_cloud *clouds, size_t count, int nm, const bbc_image *atlas,
-                               const bbc_image *nm_atlas, bbc_error *err) {
+static bbc_result copy_atlases(bbc_cloud *clouds, size_t count, size_t ntex, const bbc_image *atlas,
+                               bbc_error *err) {
   bbc_result r = BBC_OK;
   for (size_t k = 0; k < count && r == BBC_OK; k++) {
     bbc_mesh *m = &clouds[k].mesh;
-    for (int t = 0; t < 1 + nm && r == BBC_OK; t++) {
-      const bbc_image *src = t ? nm_atlas : atlas;
+    for (size_t t = 0; t < ntex && r == BBC_OK; t++) {
+      const bbc_image *src = &atlas[t];
       bbc_image copy;
       r = bbc_image_alloc(&copy, src->width, src->height);
       if (r != BBC_OK) {
@@ -110,7 +111,7 @@ static bbc_result copy_atlases(bbc_cloud *clouds, size_t count, int nm, const bb
       m->textures[t].image = copy;
     }
     bbc_cloud *c = &clouds[k];
-    c->atlas_fill = (double)c->texels / ((double)atlas->width * atlas->height);
+    c->atlas_fill = (double)c->texels / ((double)atlas[0].width * atlas[0].height);
   }
   return r;
 }
@@ -120,49 +121,53 @@ bbc_result bbc_clouds_share_atlas(bbc_cloud *clouds, size_t count, int max_size,
   assert((clouds || count == 0) && shared);
   *shared = 0;
   if (count < 2) return BBC_OK;
-  int nm = clouds[0].mesh.texture_count > 1;
-  size_t total = 0;
+  size_t ntex = clouds[0].mesh.texture_count, total = 0;
   for (size_t k = 0; k < count; k++) {
     const bbc_mesh *m = &clouds[k].mesh;
-    if (m->texture_count < 1 || (m->texture_count > 1) != nm || !m->uvs)
-      return BBC_OK; /* mixed normal maps: not shared */
+    if (m->texture_count < 1 || m->texture_count > 3 || m->texture_count != ntex || !m->uvs)
+      return BBC_OK; /* mixed normal or occlusion maps: not shared */
+    for (size_t i = 0; i < m->material_count; i++)
+      if (m->materials[i].normal_map != clouds[0].mesh.materials[0].normal_map ||
+          m->materials[i].occlusion_map != clouds[0].mesh.materials[0].occlusion_map)
+        return BBC_OK;
     total += rect_count(&clouds[k]);
   }
-  bbc_image *imgs = calloc(total, sizeof *imgs), *nimgs = calloc(total, sizeof *nimgs);
+  bbc_image *imgs[3] = {NULL, NULL, NULL};
+  bbc_image atlas[3] = {{0, 0, NULL}, {0, 0, NULL}, {0, 0, NULL}};
   bbc_atlas_rect *old = calloc(total, sizeof *old), *rects = calloc(total, sizeof *rects),
                  *rects2 = calloc(total, sizeof *rects2);
-  bbc_image atlas = {0, 0, NULL}, nm_atlas = {0, 0, NULL};
   bbc_result r = BBC_OK;
-  if (!imgs || !nimgs || !old || !rects || !rects2) {
+  int oom = !old || !rects || !rects2;
+  for (size_t l = 0; l < ntex; l++) oom |= !(imgs[l] = calloc(total, sizeof *imgs[l]));
+  if (oom) {
     r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "shared atlas: out of memory");
     goto done;
   }
-  r = crop_all(clouds, count, nm, imgs, nimgs, old);
+  r = crop_all(clouds, count, ntex, imgs, old);
   if (r != BBC_OK) {
     r = bbc__fail(err, r, "shared atlas: out of memory");
     goto done;
   }
   /* Does it fit? Not fitting is no error: the levels keep their atlases. */
   bbc_error quiet;
-  if (bbc_atlas_pack(imgs, total, 2, max_size, &atlas, rects, &quiet) != BBC_OK) goto done;
-  if (nm) {
-    r = bbc_atlas_pack(nimgs, total, 2, max_size, &nm_atlas, rects2, err);
+  if (bbc_atlas_pack(imgs[0], total, 2, max_size, &atlas[0], rects, &quiet) != BBC_OK) goto done;
+  for (size_t l = 1; l < ntex; l++) {
+    r = bbc_atlas_pack(imgs[l], total, 2, max_size, &atlas[l], rects2, err);
     if (r == BBC_OK && memcmp(rects, rects2, total * sizeof *rects))
-      r = bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "shared atlas: normal layout differs");
+      r = bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "shared atlas: layouts differ");
     if (r != BBC_OK) goto done;
   }
-  move_all_uvs(clouds, count, old, rects, &atlas);
-  r = copy_atlases(clouds, count, nm, &atlas, &nm_atlas, err);
+  move_all_uvs(clouds, count, old, rects, &atlas[0]);
+  r = copy_atlases(clouds, count, ntex, atlas, err);
   *shared = r == BBC_OK;
 done:
-  for (size_t q = 0; q < total && imgs; q++) bbc_image_free(&imgs[q]);
-  for (size_t q = 0; q < total && nimgs; q++) bbc_image_free(&nimgs[q]);
-  free(imgs);
-  free(nimgs);
+  for (size_t l = 0; l < 3; l++) {
+    for (size_t q = 0; q < total && imgs[l]; q++) bbc_image_free(&imgs[l][q]);
+    free(imgs[l]);
+    bbc_image_free(&atlas[l]);
+  }
   free(old);
   free(rects);
   free(rects2);
-  bbc_image_free(&atlas);
-  bbc_image_free(&nm_atlas);
   return r;
 }

@@ -325,13 +325,17 @@ static void bake_faces(const bbc__bake_inputs *in, const bake_job *job, bbc_clou
 }
 
 /* The w x h images a billboard's bake fills: front, back with back images,
- * their normal maps with normal maps (2.3.1). */
+ * their normal maps with normal maps (2.3.1), their occlusion images with
+ * `occlusion`. */
 static bbc_result bake_images(const bbc_params *prm, int points, int w, int h, baked *out) {
   bbc_result r = bbc_image_alloc(&out->front, w, h);
   if (r == BBC_OK && prm->back_images) r = bbc_image_alloc(&out->back, w, h);
   int want_nm = prm->normal_maps && !points; /* 2.4.4: no normal maps for points */
   if (r == BBC_OK && want_nm) r = bbc_image_alloc(&out->front_nm, w, h);
   if (r == BBC_OK && want_nm && prm->back_images) r = bbc_image_alloc(&out->back_nm, w, h);
+  int want_ao = prm->occlusion > 0 && !points;
+  if (r == BBC_OK && want_ao) r = bbc_image_alloc(&out->front_ao, w, h);
+  if (r == BBC_OK && want_ao && prm->back_images) r = bbc_image_alloc(&out->back_ao, w, h);
   return r;
 }
 
@@ -380,6 +384,10 @@ static void bake_target(const bbc__bake_inputs *in, const bake_job *job, int w, 
   bk->back = out->back.rgba;
   bk->front_nm = out->front_nm.rgba;
   bk->back_nm = out->back_nm.rgba;
+  bk->front_ao = out->front_ao.rgba;
+  bk->outward = job->mask ? 0 : in->params->nm_bend; /* the stem's: its own normals */
+  memcpy(bk->center, in->crown_center, sizeof bk->center);
+  bk->back_ao = out->back_ao.rgba;
   bk->backface = in->params->backface;
   bk->mips = in->mips;
   bk->mip_bias = ss == 4 ? 2 : 0;
@@ -395,6 +403,7 @@ static bbc_result coverage_alpha(const bbc_params *prm, const bbc_cloud_billboar
   bbc_result r = BBC_OK;
   size_t nx = (size_t)cb->tex_width * cb->tex_height;
   bbc_image *col[2] = {&out->front, &out->back}, *nm[2] = {&out->front_nm, &out->back_nm};
+  bbc_image *ao[2] = {&out->front_ao, &out->back_ao};
   unsigned grow = (unsigned)(prm->grow_min > 0 ? prm->grow_min : 1);
   for (int i = 0; i < 2 && r == BBC_OK; i++) {
     if (!col[i]->rgba) continue;
@@ -403,6 +412,7 @@ static bbc_result coverage_alpha(const bbc_params *prm, const bbc_cloud_billboar
     if (!out->mask[i] || !out->cand[i]) r = BBC_ERROR_OUT_OF_MEMORY;
     if (r == BBC_OK) r = alpha_mask(col[i], ss, prm->dither, grow, out->mask[i], out->cand[i]);
     if (r == BBC_OK && nm[i]->rgba) r = downsample_masked(nm[i], ss, 1, out->mask[i]);
+    if (r == BBC_OK && ao[i]->rgba) r = downsample_masked(ao[i], ss, 0, out->mask[i]);
     if (r == BBC_OK) r = downsample_masked(col[i], ss, 0, out->mask[i]);
   }
   if (r != BBC_OK) r = bbc__fail(&out->err, r, "step 3: out of memory");
@@ -447,10 +457,70 @@ static void bake_one(const bbc__bake_inputs *in, const bake_job *job, bbc_cloud_
 void bbc__baked_clear_transparent(baked *b) {
   clear_masked(&b->front, b->mask[0]);
   clear_masked(&b->front_nm, b->mask[0]);
+  clear_masked(&b->front_ao, b->mask[0]);
   if (b->mask[1]) {
     clear_masked(&b->back, b->mask[1]);
     clear_masked(&b->back_nm, b->mask[1]);
+    clear_masked(&b->back_ao, b->mask[1]);
   }
+}
+
+/* The colour of every transparent texel (alpha 0) becomes that of its
+ * nearest opaque ones (breadth first, the mean of the neighbours filled
+ * before it), alpha kept: a GPU's filtering and mipmaps then mix no black
+ * (or, in a normal map, no bogus normal) into the edges of leaves. */
+static void fill_transparent(bbc_image *img) {
+  int w = img->width, h = img->height;
+  size_t n = (size_t)w * h;
+  if (!img->rgba || !n) return;
+  uint8_t *done = malloc(n);
+  uint32_t *queue = malloc(n * sizeof *queue);
+  if (!done || !queue) { /* out of memory: the texels stay as they are */
+    free(done);
+    free(queue);
+    return;
+  }
+  size_t head = 0, tail = 0;
+  for (size_t i = 0; i < n; i++) done[i] = img->rgba[4 * i + 3] != 0;
+  static const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+  for (size_t i = 0; i < n; i++) {
+    if (done[i]) continue;
+    int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
+    for (int k = 0; k < 4; k++) {
+      int X = x + dx[k], Y = y + dy[k];
+      if (X >= 0 && Y >= 0 && X < w && Y < h && done[(size_t)Y * w + X]) {
+        queue[tail++] = (uint32_t)i;
+        done[i] = 2; /* queued */
+        break;
+      }
+    }
+  }
+  while (head < tail) {
+    size_t i = queue[head++];
+    int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
+    unsigned sum[3] = {0, 0, 0}, cnt = 0;
+    for (int k = 0; k < 4; k++) {
+      int X = x + dx[k], Y = y + dy[k];
+      if (X < 0 || Y < 0 || X >= w || Y >= h) continue;
+      size_t j = (size_t)Y * w + X;
+      if (done[j] == 1) {
+        for (int c = 0; c < 3; c++) sum[c] += img->rgba[4 * j + c];
+        cnt++;
+      } else if (!done[j]) {
+        done[j] = 2;
+        queue[tail++] = (uint32_t)j;
+      }
+    }
+    for (int c = 0; c < 3 && cnt; c++) img->rgba[4 * i + c] = (uint8_t)((sum[c] + cnt / 2) / cnt);
+    done[i] = 1;
+  }
+  free(done);
+  free(queue);
+}
+
+void bbc__baked_fill_transparent(baked *b) {
+  bbc_image *all[6] = {&b->front, &b->back, &b->front_nm, &b->back_nm, &b->front_ao, &b->back_ao};
+  for (int i = 0; i < 6; i++) fill_transparent(all[i]);
 }
 
 void bbc__baked_free(baked *b) {
@@ -462,20 +532,49 @@ void bbc__baked_free(baked *b) {
   bbc_image_free(&b->back);
   bbc_image_free(&b->front_nm);
   bbc_image_free(&b->back_nm);
+  bbc_image_free(&b->front_ao);
+  bbc_image_free(&b->back_ao);
+}
+
+/* The crown's centre (nmbend): the middle of the bounds of the faces not
+ * in a part named "trunk" (all faces when every one is). */
+static void crown_center(bbc__bake_inputs *in) {
+  const bbc_mesh *m = in->mesh;
+  const bbc_planeset *set = in->set;
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (int pass = 0; pass < 2 && !(lo[0] <= hi[0]); pass++)
+    for (size_t t = 0; t < m->triangle_count && m->kind == BBC_MESH_TRIANGLES; t++) {
+      uint32_t part = set->face_part ? set->face_part[t] : 0;
+      if (!pass && part < set->part_count && !strcmp(set->parts[part].name, "trunk")) continue;
+      for (int c = 0; c < 3; c++)
+        for (int k = 0; k < 3; k++) {
+          double x = m->positions[3 * (size_t)m->indices[3 * t + c] + k];
+          lo[k] = x < lo[k] ? x : lo[k];
+          hi[k] = x > hi[k] ? x : hi[k];
+        }
+    }
+  for (int k = 0; k < 3; k++)
+    in->crown_center[k] =
+        lo[0] <= hi[0] ? 0.5 * (lo[k] + hi[k]) : 0.5 * (m->bbox_min[k] + m->bbox_max[k]);
 }
 
 bbc_result bbc__bake_shading(bbc__bake_inputs *in, bbc_error *err) {
   const bbc_mesh *m = in->mesh;
   const bbc_params *prm = in->params;
   bbc_result r = BBC_OK;
-  if (prm->shade_voxels > 0 && m->kind != BBC_MESH_POINTS) {
+  /* `occlusion` takes the voxel shadowing to the occlusion images (the
+   * colour stays the albedo), in place of `shade`. */
+  int voxels = prm->occlusion > 0 ? prm->occlusion : prm->shade_voxels;
+  if (voxels > 0 && m->kind != BBC_MESH_POINTS) {
     in->vshade = malloc((m->vertex_count ? m->vertex_count : 1) * sizeof *in->vshade);
     if (!in->vshade)
       r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
     else
-      r = bbc_shade_vertices(m, prm->shade_voxels, prm->shade_ambient, prm->up_axis, in->vshade,
-                             err);
+      r = bbc_shade_vertices(m, voxels,
+                             prm->occlusion > 0 ? prm->occlusion_min : prm->shade_ambient,
+                             prm->up_axis, in->vshade, err);
   }
+  crown_center(in);
   return r;
 }
 
@@ -492,8 +591,12 @@ bbc_result bbc__bake_lighting(bbc__bake_inputs *in, const size_t *order, size_t 
   in->light_gain = 1.0;
   if (prm->prelight && !points)
     r = bbc_light_gain_measure(m, in->light, prm->up_axis, &in->light_gain, err);
-  /* Colours as a GPU shows the textures from the billboards' distance. */
-  if (r == BBC_OK && !m->no_mipmaps && !points) r = bbc__mips_build(m, &in->mips, err);
+  /* A baked light: colours as a GPU shows the textures from the
+   * billboards' distance (mipmaps). A material: the albedo, the texels
+   * themselves (the samples average them), so that no mip level mixes in
+   * the colours of other parts of a texture atlas. */
+  if (r == BBC_OK && prm->prelight && !m->no_mipmaps && !points)
+    r = bbc__mips_build(m, &in->mips, err);
   /* pure 2: each face's coverage split between the slabs it crosses (only
    * dithering sums shares; otherwise it acts as pure 0). */
   if (r == BBC_OK && prm->pure == BBC_PURE_SHARED && prm->quality == BBC_QUALITY_SQUASHED &&

@@ -45,6 +45,26 @@ bbc_result bbc__cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
   return r;
 }
 
+/* The cloud's materials' roughness: the mean of the source's over the
+ * faces they show (the billboards': faces on a plane; the limbs': the
+ * others), area-weighted, of the materials that give one (0 = none did). */
+static void set_roughness(const bbc_mesh *m, const bbc_planeset *set, bbc_mesh *cloud) {
+  double sum[2] = {0, 0}, weight[2] = {0, 0};
+  for (size_t t = 0; t < m->triangle_count && m->kind == BBC_MESH_TRIANGLES; t++) {
+    float r = m->materials[m->face_material[t]].roughness;
+    if (!(r > 0)) continue;
+    double a = bbc__triangle_area(m, t);
+    int limb = set->face_plane[t] == BBC_NO_PLANE;
+    sum[limb] += a * r;
+    weight[limb] += a;
+  }
+  for (size_t i = 0; i < cloud->material_count; i++) {
+    int limb = bbc_material_is_limbs(&cloud->materials[i]);
+    if (!(weight[limb] > 0)) limb = !limb;
+    cloud->materials[i].roughness = weight[limb] > 0 ? (float)(sum[limb] / weight[limb]) : 0.0f;
+  }
+}
+
 static bbc_result cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
                                     const bbc_billboard *given, const bbc_params *prm,
                                     const bbc_callbacks *cbk, bbc_cloud *cl, bbc_error *err) {
@@ -53,6 +73,7 @@ static bbc_result cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
   if (m->kind == BBC_MESH_POINTS) { /* 2.4.4: no normal maps, no stem for points */
     pts = *prm;
     pts.normal_maps = 0;
+    pts.occlusion = 0;
     pts.stem = 0;
     prm = &pts;
   }
@@ -123,7 +144,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
   in.params = prm;
   bbc_mesh limbs; /* `limbs`: the trunk part as a mesh, and its colour's swatch */
   memset(&limbs, 0, sizeof limbs);
-  bbc_image swatch[2] = {{0, 0, NULL}, {0, 0, NULL}};
+  bbc_image swatch[3] = {{0, 0, NULL}, {0, 0, NULL}, {0, 0, NULL}};
   uint32_t limbs_group = 0;
   int limbs_target = points ? 0 : bbc__limbs_part(set, &limbs_group);
   bbc_result r = BBC_OK;
@@ -162,8 +183,10 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
     r = bbc__refine_baked(m, prm, cl, bk, &limbs, cbk, err);
   double t1 = bbc__now_s();
   cl->bake_s = t1 - t0;
+  for (size_t k = 0; r == BBC_OK && k < nk; k++) bbc__baked_fill_transparent(&bk[k]);
   if (r == BBC_OK)
     r = bbc__cloud_atlas_mesh(set, prm, cl, bk, swatch, &limbs, limbs_group, atlas_limit, err);
+  if (r == BBC_OK) set_roughness(m, set, &cl->mesh);
   cl->atlas_s = bbc__now_s() - t1;
   for (size_t k = 0; bk && k < nk; k++) bbc__baked_free(&bk[k]);
   free(bk);
@@ -173,6 +196,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
   bbc_mesh_free(&limbs);
   bbc_image_free(&swatch[0]);
   bbc_image_free(&swatch[1]);
+  bbc_image_free(&swatch[2]);
   if (r != BBC_OK) bbc_cloud_free(cl);
   return r;
 }

@@ -86,22 +86,26 @@ typedef struct bbc__bake_inputs {
   const bbc_mesh *mesh;
   const bbc_planeset *set;
   const bbc_params *params;
-  float *vshade;          /* per vertex: voxel shadowing's light (2.3.11), or NULL */
+  float *vshade;          /* per vertex: voxel shadowing's light (2.3.11), or NULL;
+                           * with `occlusion` it goes to the occlusion images */
   struct bbc__mips *mips; /* the mesh's textures' mipmaps, or NULL */
   uint8_t *share;         /* pure 2: per triangle, its alpha share, or NULL */
   double light[3];        /* the prelight's direction */
   double light_gain;      /* prelight: its brightness as a lit viewer's */
+  double crown_center[3]; /* nmbend: what normals bend away from */
 } bbc__bake_inputs;
 
 /* The images of one billboard before packing. */
 typedef struct bbc__baked {
   bbc_image front, back, front_nm, back_nm;
-  uint8_t *mask[2], *cand[2]; /* quality 2: per texel opaque / has covered samples */
+  bbc_image front_ao, back_ao; /* `occlusion`: the occlusion images (grey) */
+  uint8_t *mask[2], *cand[2];  /* quality 2: per texel opaque / has covered samples */
   bbc_error err;
   bbc_result r;
 } bbc__baked;
 
-/* Voxel shadowing (2.3.11): in->vshade when the parameters ask for it. */
+/* Voxel shadowing (2.3.11): in->vshade when the parameters ask for it;
+ * the crown's centre. */
 bbc_result bbc__bake_shading(bbc__bake_inputs *in, bbc_error *err);
 /* The light, its gain, the mipmaps and (pure 2) the faces' alpha shares
  * among the kept planes order[0..kept_planes-1]. */
@@ -115,6 +119,9 @@ bbc_result bbc__bake_all(const bbc__bake_inputs *in, const size_t *order, size_t
 /* quality 2: texels left transparent by the masks become (0, 0, 0, 0),
  * opaque ones alpha 255. */
 void bbc__baked_clear_transparent(bbc__baked *b);
+/* Every image's transparent texels take the colour of their nearest
+ * opaque ones (alpha stays 0), so that filtering mixes in no black. */
+void bbc__baked_fill_transparent(bbc__baked *b);
 void bbc__baked_free(bbc__baked *b);
 void bbc__bake_inputs_free(bbc__bake_inputs *in);
 
@@ -123,10 +130,11 @@ void bbc__bake_inputs_free(bbc__bake_inputs *in);
  * none) and, when part is not NULL, its index. */
 int bbc__limbs_part(const bbc_planeset *set, uint32_t *part);
 /* The limbs' mesh (at most `target` triangles, fewer for a cloud of few
- * billboards) and the 4 x 4 swatches of their colour and flat normal
- * (swatch[1] only with normal maps). */
+ * billboards) and the 4 x 4 swatches of their colour, flat normal
+ * (swatch[1] only with normal maps) and occlusion (swatch[2] only with
+ * `occlusion`). */
 bbc_result bbc__limbs_stage(const bbc__bake_inputs *in, const bbc_cloud *cloud, int target,
-                            bbc_mesh *limbs, bbc_image swatch[2], bbc_error *err);
+                            bbc_mesh *limbs, bbc_image swatch[3], bbc_error *err);
 
 /* -- refinement (src/cloud/refine.c) -- */
 /* quality 2: the baked masks refined against renders of the original (the
@@ -136,11 +144,12 @@ bbc_result bbc__refine_baked(const bbc_mesh *mesh, const bbc_params *params, bbc
                              bbc_error *err);
 
 /* -- the atlas and the mesh (src/cloud/cloud_mesh.c) -- */
-/* The baked images packed into the atlas (and the normal atlas, 2.3.1), the
- * swatch last, and the cloud's mesh: each billboard's outline, then the
- * limbs' mesh (part limbs_group) on the swatch. */
+/* The baked images packed into the atlas (and the normal atlas, 2.3.1, and
+ * the occlusion atlas, in the same layout), the swatches last, and the
+ * cloud's mesh: each billboard's outline, then the limbs' mesh (part
+ * limbs_group) on the swatch. */
 bbc_result bbc__cloud_atlas_mesh(const bbc_planeset *set, const bbc_params *params,
-                                 bbc_cloud *cloud, const bbc__baked *bk, const bbc_image swatch[2],
+                                 bbc_cloud *cloud, const bbc__baked *bk, const bbc_image swatch[3],
                                  const bbc_mesh *limbs, uint32_t limbs_group, int atlas_limit,
                                  bbc_error *err);
 

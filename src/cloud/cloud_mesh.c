@@ -28,7 +28,7 @@ static bbc_result mesh_alloc(const bbc_planeset *set, const bbc_cloud *cl, int s
   me->face_material = calloc(nt, sizeof *me->face_material);
   me->face_group = malloc(nt * sizeof *me->face_group);
   me->materials = calloc(2, sizeof *me->materials);
-  me->textures = calloc(2, sizeof *me->textures);
+  me->textures = calloc(3, sizeof *me->textures);
   me->group_names = calloc(set->part_count, sizeof *me->group_names);
   if (!me->positions || !me->normals || !me->uvs || (tangents && !me->tangents) || !me->indices ||
       !me->face_material || !me->face_group || !me->materials || !me->textures || !me->group_names)
@@ -39,22 +39,27 @@ static bbc_result mesh_alloc(const bbc_planeset *set, const bbc_cloud *cl, int s
 /* The materials ("billboards", and "limbs" when there are limbs), the
  * atlases as the textures (moved into the mesh) and a group per part. */
 static bbc_result mesh_materials(const bbc_planeset *set, const bbc_params *prm, bbc_mesh *me,
-                                 bbc_image *atlas, bbc_image *nm_atlas, const bbc_mesh *limbs,
-                                 bbc_error *err) {
+                                 bbc_image *atlas, bbc_image *nm_atlas, bbc_image *ao_atlas,
+                                 const bbc_mesh *limbs, bbc_error *err) {
   me->material_count = 1;
   bbc_material *mat = &me->materials[0];
   mat->name = bbc__strdup("billboards");
   mat->texture = 0;
   mat->single_sided = prm->back_images;
   for (int c = 0; c < 4; c++) mat->base_color[c] = 1.0f;
-  me->texture_count = nm_atlas ? 2 : 1;
+  me->texture_count = 1;
   me->textures[0].image = *atlas;
   me->textures[0].has_alpha = bbc_image_has_transparency(atlas);
   memset(atlas, 0, sizeof *atlas);
   if (nm_atlas) {
-    me->textures[1].image = *nm_atlas;
+    me->textures[me->texture_count++].image = *nm_atlas;
     memset(nm_atlas, 0, sizeof *nm_atlas);
-    mat->normal_map = 2;
+    mat->normal_map = (int)me->texture_count;
+  }
+  if (ao_atlas) {
+    me->textures[me->texture_count++].image = *ao_atlas;
+    memset(ao_atlas, 0, sizeof *ao_atlas);
+    mat->occlusion_map = (int)me->texture_count;
   }
   me->group_count = set->part_count;
   for (size_t g = 0; g < set->part_count; g++) {
@@ -152,12 +157,13 @@ static void limbs_mesh(const bbc_mesh *limbs, const bbc_atlas_rect *swatch, uint
 /* The cloud's mesh: each billboard's outline (twice with back images), then
  * the limbs' mesh (`limbs`, may be empty) textured by the swatch. */
 static bbc_result build_mesh(const bbc_planeset *set, const bbc_params *prm, bbc_cloud *cl,
-                             bbc_image *atlas, bbc_image *nm_atlas, const bbc_mesh *limbs,
-                             const bbc_atlas_rect *swatch, uint32_t limbs_group, bbc_error *err) {
+                             bbc_image *atlas, bbc_image *nm_atlas, bbc_image *ao_atlas,
+                             const bbc_mesh *limbs, const bbc_atlas_rect *swatch,
+                             uint32_t limbs_group, bbc_error *err) {
   bbc_mesh *me = &cl->mesh;
   int sides = prm->back_images ? 2 : 1;
   bbc_result r = mesh_alloc(set, cl, sides, nm_atlas != NULL, limbs, me, err);
-  if (r == BBC_OK) r = mesh_materials(set, prm, me, atlas, nm_atlas, limbs, err);
+  if (r == BBC_OK) r = mesh_materials(set, prm, me, atlas, nm_atlas, ao_atlas, limbs, err);
   if (r != BBC_OK) return r;
   double aw = me->textures[0].image.width, ah = me->textures[0].image.height;
   size_t v = 0, t = 0;
@@ -172,7 +178,7 @@ static bbc_result build_mesh(const bbc_planeset *set, const bbc_params *prm, bbc
  * rects: room for ni). Each billboard's places, the cloud's texels and how
  * full the atlas is. */
 static bbc_result pack_atlas(const bbc_params *prm, bbc_cloud *cl, const bbc__baked *bk,
-                             const bbc_image swatch[2], int atlas_limit, bbc_image *imgs, size_t ni,
+                             const bbc_image swatch[3], int atlas_limit, bbc_image *imgs, size_t ni,
                              bbc_image *atlas, bbc_atlas_rect *rects, bbc_error *err) {
   int sides = prm->back_images ? 2 : 1;
   size_t nk = cl->billboard_count;
@@ -194,53 +200,58 @@ static bbc_result pack_atlas(const bbc_params *prm, bbc_cloud *cl, const bbc__ba
   return r;
 }
 
-/* The normal atlas: the normal maps packed as pack_atlas packed the colour
- * images, which have the same sizes in the same order, so it has the same
- * layout (checked). */
-static bbc_result pack_normal_atlas(const bbc_params *prm, const bbc_cloud *cl,
-                                    const bbc__baked *bk, const bbc_image swatch[2],
-                                    int atlas_limit, bbc_image *imgs, size_t ni,
-                                    const bbc_image *atlas, const bbc_atlas_rect *rects,
-                                    bbc_image *nm_atlas, bbc_error *err) {
+/* A second atlas of the same layout: the normal maps (layer 1) or the
+ * occlusion images (layer 2) packed as pack_atlas packed the colour
+ * images, which have the same sizes in the same order (checked). */
+static bbc_result pack_layer_atlas(const bbc_params *prm, const bbc_cloud *cl, const bbc__baked *bk,
+                                   int layer, const bbc_image swatch[3], int atlas_limit,
+                                   bbc_image *imgs, size_t ni, const bbc_image *atlas,
+                                   const bbc_atlas_rect *rects, bbc_image *out, bbc_error *err) {
   int sides = prm->back_images ? 2 : 1;
   size_t nk = cl->billboard_count;
   bbc_result r = BBC_OK;
   for (size_t k = 0; k < nk; k++) {
-    imgs[k] = bk[k].front_nm;
-    if (sides == 2) imgs[nk + k] = bk[k].back_nm;
+    imgs[k] = layer == 1 ? bk[k].front_nm : bk[k].front_ao;
+    if (sides == 2) imgs[nk + k] = layer == 1 ? bk[k].back_nm : bk[k].back_ao;
   }
-  if (swatch[0].rgba) imgs[ni - 1] = swatch[1];
+  if (swatch[0].rgba) imgs[ni - 1] = swatch[layer];
   bbc_atlas_rect *r2 = calloc(ni, sizeof *r2);
   if (!r2) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
-  if (r == BBC_OK) r = bbc_atlas_pack(imgs, ni, 2, atlas_limit, nm_atlas, r2, err);
-  if (r == BBC_OK && (nm_atlas->width != atlas->width || nm_atlas->height != atlas->height ||
+  if (r == BBC_OK) r = bbc_atlas_pack(imgs, ni, 2, atlas_limit, out, r2, err);
+  if (r == BBC_OK && (out->width != atlas->width || out->height != atlas->height ||
                       memcmp(r2, rects, ni * sizeof *r2)))
-    r = bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "step 3: the normal atlas's layout differs");
+    r = bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "step 3: the %s atlas's layout differs",
+                  layer == 1 ? "normal" : "occlusion");
   free(r2);
   return r;
 }
 
 bbc_result bbc__cloud_atlas_mesh(const bbc_planeset *set, const bbc_params *prm, bbc_cloud *cl,
-                                 const bbc__baked *bk, const bbc_image swatch[2],
+                                 const bbc__baked *bk, const bbc_image swatch[3],
                                  const bbc_mesh *limbs, uint32_t limbs_group, int atlas_limit,
                                  bbc_error *err) {
   int sides = prm->back_images ? 2 : 1;
   size_t ni = (size_t)sides * cl->billboard_count + (swatch[0].rgba ? 1 : 0); /* the swatch last */
-  bbc_image atlas = {0, 0, NULL}, nm_atlas = {0, 0, NULL};
+  bbc_image atlas = {0, 0, NULL}, nm_atlas = {0, 0, NULL}, ao_atlas = {0, 0, NULL};
+  int ao = bk && cl->billboard_count && bk[0].front_ao.rgba;
   bbc_result r = BBC_OK;
   bbc_image *imgs = calloc(ni, sizeof *imgs);
   bbc_atlas_rect *rects = calloc(ni, sizeof *rects);
   if (!imgs || !rects) r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
   if (r == BBC_OK) r = pack_atlas(prm, cl, bk, swatch, atlas_limit, imgs, ni, &atlas, rects, err);
   if (r == BBC_OK && prm->normal_maps)
-    r = pack_normal_atlas(prm, cl, bk, swatch, atlas_limit, imgs, ni, &atlas, rects, &nm_atlas,
-                          err);
+    r = pack_layer_atlas(prm, cl, bk, 1, swatch, atlas_limit, imgs, ni, &atlas, rects, &nm_atlas,
+                         err);
+  if (r == BBC_OK && ao)
+    r = pack_layer_atlas(prm, cl, bk, 2, swatch, atlas_limit, imgs, ni, &atlas, rects, &ao_atlas,
+                         err);
   if (r == BBC_OK)
-    r = build_mesh(set, prm, cl, &atlas, prm->normal_maps ? &nm_atlas : NULL, limbs,
-                   swatch[0].rgba ? &rects[ni - 1] : NULL, limbs_group, err);
+    r = build_mesh(set, prm, cl, &atlas, prm->normal_maps ? &nm_atlas : NULL, ao ? &ao_atlas : NULL,
+                   limbs, swatch[0].rgba ? &rects[ni - 1] : NULL, limbs_group, err);
   if (r == BBC_OK) r = bbc_mesh_finalize(&cl->mesh, 0, "billboard cloud", err);
   bbc_image_free(&atlas);
   bbc_image_free(&nm_atlas);
+  bbc_image_free(&ao_atlas);
   free(imgs);
   free(rects);
   return r;

@@ -170,8 +170,22 @@ static void limb_colour(const bbc__bake_inputs *in, uint8_t rgba[4]) {
   free(img);
 }
 
+/* The mean voxel shadowing of the faces the limbs' mesh replaces. */
+static uint8_t limb_occlusion(const bbc__bake_inputs *in) {
+  const bbc_mesh *m = in->mesh;
+  double sum = 0;
+  size_t n = 0;
+  for (size_t t = 0; in->vshade && t < m->triangle_count; t++) {
+    if (in->set->face_plane[t] != BBC_NO_PLANE) continue;
+    for (int c = 0; c < 3; c++) sum += in->vshade[m->indices[3 * t + c]];
+    n += 3;
+  }
+  double a = n ? sum / (double)n : 1.0;
+  return (uint8_t)(a >= 1 ? 255 : a <= 0 ? 0 : a * 255.0 + 0.5);
+}
+
 bbc_result bbc__limbs_stage(const bbc__bake_inputs *in, const bbc_cloud *cl, int limbs_target,
-                            bbc_mesh *limbs, bbc_image swatch[2], bbc_error *err) {
+                            bbc_mesh *limbs, bbc_image swatch[3], bbc_error *err) {
   const bbc_params *prm = in->params;
   size_t nk = cl->billboard_count;
   /* At most `limbs` triangles, and at most 4 times the billboards' (at
@@ -182,15 +196,15 @@ bbc_result bbc__limbs_stage(const bbc__bake_inputs *in, const bbc_cloud *cl, int
   if ((size_t)limbs_target > 4 * bt) limbs_target = (int)(4 * bt < 16 ? 16 : 4 * bt);
   bbc_result r = bbc__limbs_build(in->mesh, in->set, limbs_target, limbs, err);
   if (r == BBC_OK && limbs->triangle_count) {
-    uint8_t rgba[4];
-    limb_colour(in, rgba);
-    for (int i = 0; r == BBC_OK && i < (prm->normal_maps ? 2 : 1); i++)
-      r = bbc_image_alloc(&swatch[i], 4, 4);
+    uint8_t texel[3][4] = {{0, 0, 0, 255}, {128, 128, 255, 255}, {255, 255, 255, 255}};
+    limb_colour(in, texel[0]);
+    texel[2][0] = texel[2][1] = texel[2][2] = limb_occlusion(in);
+    int want[3] = {1, prm->normal_maps, prm->occlusion > 0};
+    for (int i = 0; r == BBC_OK && i < 3; i++)
+      if (want[i]) r = bbc_image_alloc(&swatch[i], 4, 4);
     if (r != BBC_OK) r = bbc__fail(err, r, "step 3: out of memory");
-    static const uint8_t flat[4] = {128, 128, 255, 255};
-    for (int i = 0; r == BBC_OK && i < 2; i++)
-      for (size_t x = 0; swatch[i].rgba && x < 16; x++)
-        memcpy(swatch[i].rgba + 4 * x, i ? flat : rgba, 4);
+    for (int i = 0; r == BBC_OK && i < 3; i++)
+      for (size_t x = 0; swatch[i].rgba && x < 16; x++) memcpy(swatch[i].rgba + 4 * x, texel[i], 4);
   }
   return r;
 }

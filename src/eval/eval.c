@@ -31,6 +31,7 @@ static void resolve_defaults(bbc_eval_options *o) {
     o->side_elevation_deg = 0; /* the horizon only */
   if (o->light[0] == 0 && o->light[1] == 0 && o->light[2] == 0) o->light[1] = 1;
   if (o->point_size == 0) o->point_size = 3.5;
+  if (o->sun_ambient == 0) o->sun_ambient = 0.4;
 }
 
 void bbc_eval_result_free(bbc_eval_result *r) {
@@ -61,9 +62,15 @@ static void frame_view(const double *dir, int up_axis, const double *lo, const d
   v->lighting = o->lighting;
   if (o->lighting) memcpy(v->light, o->light, sizeof v->light);
   v->light_gain = gain;
-  v->ambient = o->lighting && !o->no_ambient;
+  v->ambient = o->lighting && !o->no_ambient && !o->sun;
+  v->sun = o->lighting && o->sun;
+  v->sun_ambient = o->sun_ambient;
   v->point_round = !o->point_square;
   /* background (0, 0, 0, 0): alpha tells coverage */
+}
+
+static double luminance(const uint8_t *p) {
+  return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
 }
 
 static void compare(const bbc_image *a, const bbc_image *b, bbc_eval_view *ev) {
@@ -99,26 +106,36 @@ static void compare(const bbc_image *a, const bbc_image *b, bbc_eval_view *ev) {
     ev->other_rgb[c] = nb ? sb[c] / (double)nb : 0.0;
   }
   ev->coverage_ratio = na ? (double)nb / (double)na : 0.0;
-  /* Block IoU: 32 x 32 blocks (8 x 8 pixels at 256), covered fractions. */
+  /* Seen 8x farther: 32 x 32 blocks (8 x 8 pixels at 256). Block IoU: per
+   * block the covered fractions; block luminance error: per block the
+   * covered pixels' summed luminance over the block's area, sum |other -
+   * original| / sum original. */
   enum { NB = 32 };
   int w = a->width, h = a->height;
-  double smin = 0, smax = 0;
+  double smin = 0, smax = 0, ldiff = 0, ltotal = 0;
   for (int by = 0; by < NB; by++)
     for (int bx = 0; bx < NB; bx++) {
       int x0 = bx * w / NB, x1 = (bx + 1) * w / NB, y0 = by * h / NB, y1 = (by + 1) * h / NB;
       if (x1 <= x0 || y1 <= y0) continue;
       size_t fa = 0, fb = 0;
+      double la = 0, lb = 0;
       for (int y = y0; y < y1; y++)
         for (int x = x0; x < x1; x++) {
-          size_t i = (size_t)y * w + x;
-          fa += a->rgba[4 * i + 3] >= 128;
-          fb += b->rgba[4 * i + 3] >= 128;
+          const uint8_t *p = a->rgba + 4 * ((size_t)y * w + x),
+                        *q = b->rgba + 4 * ((size_t)y * w + x);
+          fa += p[3] >= 128;
+          fb += q[3] >= 128;
+          if (p[3] >= 128) la += luminance(p);
+          if (q[3] >= 128) lb += luminance(q);
         }
       double area = (double)(x1 - x0) * (y1 - y0);
       smin += fmin((double)fa, (double)fb) / area;
       smax += fmax((double)fa, (double)fb) / area;
+      ldiff += fabs(la - lb) / area;
+      ltotal += la / area;
     }
   ev->block_iou = smax > 0 ? smin / smax : 1.0;
+  ev->block_luminance_error = ltotal > 0 ? ldiff / ltotal : 0.0;
 }
 
 /* Digits 0-9 and '.' in a 3 x 5 pixel font, one row per byte (bit 2 =
@@ -273,6 +290,7 @@ static void summarise(bbc_eval_result *res, int n) {
     res->mae_mean += ev->mae;
     res->coverage_ratio_mean += ev->coverage_ratio;
     res->block_iou_mean += ev->block_iou;
+    res->block_luminance_error_mean += ev->block_luminance_error;
     for (int c = 0; c < 3; c++) {
       ob[c] += ev->original_rgb[c];
       tb[c] += ev->other_rgb[c];
@@ -296,7 +314,11 @@ static void summarise(bbc_eval_result *res, int n) {
   res->mae_mean /= n;
   res->coverage_ratio_mean /= n;
   res->block_iou_mean /= n;
+  res->block_luminance_error_mean /= n;
   for (int c = 0; c < 3; c++) res->brightness_ratio[c] = ob[c] > 0 ? tb[c] / ob[c] : 0.0;
+  double ol = 0.2126 * ob[0] + 0.7152 * ob[1] + 0.0722 * ob[2];
+  double tl = 0.2126 * tb[0] + 0.7152 * tb[1] + 0.0722 * tb[2];
+  res->luminance_ratio = ol > 0 ? tl / ol : 0.0;
   res->side_count = ns;
   if (ns) {
     res->iou_side_mean /= (double)ns;
@@ -334,7 +356,7 @@ bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_
   c.res = res;
   /* Lit as prelight bakes: as bright as a lit viewer shows the original. */
   c.gain = 1.0;
-  if (o.lighting) {
+  if (o.lighting && !o.sun) {
     bbc_result r = bbc_light_gain_measure(orig, o.light, bbc_up_axis(o.up), &c.gain, err);
     if (r != BBC_OK) return r;
   }

@@ -19,14 +19,19 @@ void bbc__safe_name(const char *in, char *out, size_t n) {
 
 void bbc_texture_file_name(const bbc_mesh *m, size_t t, char *out, size_t n) {
   assert(m && out);
-  /* The first material that uses it as colour, else as normal map. */
-  for (int pass = 0; pass < 2; pass++)
+  /* The first material that uses it as colour, else as normal map, else
+   * as occlusion map. */
+  static const char *const suffix[3] = {"", "_nm", "_ao"};
+  for (int pass = 0; pass < 3; pass++)
     for (size_t i = 0; i < m->material_count; i++) {
       const bbc_material *mat = &m->materials[i];
-      if (pass == 0 ? mat->texture != (int)t : mat->normal_map != (int)t + 1) continue;
+      int use = pass == 0   ? mat->texture == (int)t
+                : pass == 1 ? mat->normal_map == (int)t + 1
+                            : mat->occlusion_map == (int)t + 1;
+      if (!use) continue;
       char safe[128];
       bbc__safe_name(mat->name, safe, sizeof safe);
-      snprintf(out, n, "%s%s", safe, pass ? "_nm" : "");
+      snprintf(out, n, "%s%s", safe, suffix[pass]);
       return;
     }
   snprintf(out, n, "texture%zu", t);

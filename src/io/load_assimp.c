@@ -23,7 +23,7 @@ typedef struct loader {
   const bbc_load_options *opt;
   bbc_mesh *mesh;
   size_t vertex_cap, triangle_cap, group_cap;
-  int has_normals, has_uvs;
+  int has_normals, has_uvs, has_tangents;
   size_t skipped_primitives; /* points and lines: not surfaces */
   int lod_found;             /* lod_node: a node of that level was met */
   bbc_error *err;
@@ -59,10 +59,11 @@ static int grow(void **p, size_t *cap, size_t need, size_t elem) {
 
 static int reserve_vertices(loader *L, size_t need) {
   bbc_mesh *m = L->mesh;
-  size_t c1 = L->vertex_cap, c2 = L->vertex_cap, c3 = L->vertex_cap;
+  size_t c1 = L->vertex_cap, c2 = L->vertex_cap, c3 = L->vertex_cap, c4 = L->vertex_cap;
   if (!grow((void **)&m->positions, &c1, need, 3 * sizeof(double))) return 0;
   if (!grow((void **)&m->normals, &c2, need, 3 * sizeof(float))) return 0;
   if (!grow((void **)&m->uvs, &c3, need, 2 * sizeof(float))) return 0;
+  if (!grow((void **)&m->tangents, &c4, need, 4 * sizeof(float))) return 0;
   L->vertex_cap = c1;
   return 1;
 }
@@ -165,6 +166,30 @@ static unsigned weld(const struct aiMesh *am, uint32_t *remap, uint32_t *first) 
   return unique;
 }
 
+/* Vertex v's tangent (glTF TANGENT, as Assimp reads it: the tangent and
+ * the bitangent) moved by the linear part a[9] of the node's transform,
+ * unit, its handedness from the bitangent against normal x tangent (n: the
+ * moved normal); zero when the mesh has none. */
+static void put_tangent(const struct aiMesh *am, unsigned v, const double a[9], int mirrored,
+                        const float n[3], float out[4]) {
+  memset(out, 0, 4 * sizeof *out);
+  if (!am->mTangents || !am->mBitangents || !am->mNormals) return;
+  const struct aiVector3D *t = &am->mTangents[v], *b = &am->mBitangents[v], *sn = &am->mNormals[v];
+  double tt[3], l = 0;
+  for (int k = 0; k < 3; k++) {
+    tt[k] = a[3 * k] * t->x + a[3 * k + 1] * t->y + a[3 * k + 2] * t->z;
+    l += tt[k] * tt[k];
+  }
+  if (!(l > 0) || !isfinite(l)) return;
+  l = sqrt(l);
+  for (int k = 0; k < 3; k++) out[k] = (float)(tt[k] / l);
+  double c[3] = {sn->y * t->z - sn->z * t->y, sn->z * t->x - sn->x * t->z,
+                 sn->x * t->y - sn->y * t->x};
+  double hand = c[0] * b->x + c[1] * b->y + c[2] * b->z < 0 ? -1.0 : 1.0;
+  out[3] = (float)(mirrored ? -hand : hand);
+  (void)n;
+}
+
 static bbc_result add_mesh(loader *L, const struct aiMesh *am, const struct aiMatrix4x4 *M,
                            uint32_t group) {
   bbc_mesh *m = L->mesh;
@@ -215,6 +240,7 @@ static bbc_result add_mesh(loader *L, const struct aiMesh *am, const struct aiMa
     } else {
       n[0] = n[1] = n[2] = 0.0f; /* filled by bbc_mesh_finalize */
     }
+    put_tangent(am, v, a, mirrored, n, m->tangents + 4 * (base + u));
     float *uv = m->uvs + 2 * (base + u);
     if (am->mTextureCoords[0]) {
       uv[0] = am->mTextureCoords[0][v].x;
@@ -225,6 +251,7 @@ static bbc_result add_mesh(loader *L, const struct aiMesh *am, const struct aiMa
   }
   if (am->mNormals) L->has_normals = 1;
   if (am->mTextureCoords[0]) L->has_uvs = 1;
+  if (am->mTangents && am->mBitangents && am->mNormals) L->has_tangents = 1;
   m->vertex_count = base + nu;
 
   if (!reserve_triangles(L, m->triangle_count + am->mNumFaces)) {
@@ -408,6 +435,29 @@ static bbc_result load_material_texture(loader *L, bbc_material *mat, const char
   return r;
 }
 
+/* A material's normal map (glTF normalTexture) and occlusion map (glTF
+ * occlusionTexture, which Assimp files as a light map), when the file
+ * gives them: what a relightable cloud carries. */
+static bbc_result load_lighting_maps(loader *L, const struct aiMaterial *am, bbc_material *mat) {
+  static const enum aiTextureType kinds[2] = {aiTextureType_NORMALS, aiTextureType_LIGHTMAP};
+  for (int i = 0; i < 2; i++) {
+    struct aiString tex;
+    if (aiGetMaterialTexture(am, kinds[i], 0, &tex, NULL, NULL, NULL, NULL, NULL, NULL) !=
+            AI_SUCCESS ||
+        !tex.length)
+      continue;
+    bbc_material tmp = *mat;
+    bbc_result r = load_material_texture(L, &tmp, tex.data);
+    if (r != BBC_OK) return r;
+    if (tmp.texture < 0) continue;
+    if (i == 0)
+      mat->normal_map = tmp.texture + 1;
+    else
+      mat->occlusion_map = tmp.texture + 1;
+  }
+  return BBC_OK;
+}
+
 static bbc_result load_materials(loader *L) {
   const struct aiScene *sc = L->scene;
   bbc_mesh *m = L->mesh;
@@ -459,6 +509,18 @@ static bbc_result load_materials(loader *L) {
     if ((!strcmp(ext, "glb") || !strcmp(ext, "gltf")) &&
         aiGetMaterialIntegerArray(am, AI_MATKEY_TWOSIDED, &two, &one_int) == AI_SUCCESS)
       mat->single_sided = !two;
+    /* Roughness: glTF's own, else from a Phong shininess (MTL Ns) by the
+     * usual Blinn-Phong match, sqrt(2 / (Ns + 2)). */
+    ai_real rough, shin;
+    one = 1;
+    if (aiGetMaterialFloatArray(am, AI_MATKEY_ROUGHNESS_FACTOR, &rough, &one) == AI_SUCCESS &&
+        rough >= 0 && rough <= 1) {
+      mat->roughness = rough > 0.001f ? (float)rough : 0.001f;
+    } else if ((one = 1, aiGetMaterialFloatArray(am, AI_MATKEY_SHININESS, &shin, &one)) ==
+                   AI_SUCCESS &&
+               shin > 0 && shin < 1e6) {
+      mat->roughness = (float)sqrt(2.0 / (shin + 2.0));
+    }
     int shading = 0;
     one_int = 1;
     if (aiGetMaterialIntegerArray(am, AI_MATKEY_SHADING_MODEL, &shading, &one_int) == AI_SUCCESS &&
@@ -477,6 +539,8 @@ static bbc_result load_materials(loader *L) {
         if (r != BBC_OK) return bbc__fail(L->err, r, "%s: out of memory loading textures", L->path);
       }
     }
+    bbc_result r = load_lighting_maps(L, am, mat);
+    if (r != BBC_OK) return bbc__fail(L->err, r, "%s: out of memory loading textures", L->path);
   }
   return BBC_OK;
 }
@@ -701,6 +765,10 @@ static bbc_result convert(const char *path, const struct aiScene *sc, const bbc_
   if (!L.has_uvs) {
     free(mesh->uvs);
     mesh->uvs = NULL;
+  }
+  if (!L.has_tangents || !mesh->normals) {
+    free(mesh->tangents);
+    mesh->tangents = NULL;
   }
   if (L.skipped_primitives)
     bbc__log(&opt->callbacks, BBC_LOG_INFO, "%s: ignored %zu points and lines", path,

@@ -344,17 +344,24 @@ static bbc_result check_mesh(const char *path, const bbc_mesh *m, bbc_error *err
         return bbc__fail(err, BBC_ERROR_INVALID_GEOMETRY, "%s: triangle %zu: index out of range",
                          path, t);
   }
-  for (size_t i = 0; i < m->material_count; i++)
+  for (size_t i = 0; i < m->material_count; i++) {
     if (m->materials[i].normal_map < 0 || (size_t)m->materials[i].normal_map > m->texture_count)
       return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: material %zu: bad normal map", path,
                        i);
+    if (m->materials[i].occlusion_map < 0 ||
+        (size_t)m->materials[i].occlusion_map > m->texture_count)
+      return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: material %zu: bad occlusion map", path,
+                       i);
+  }
   return BBC_OK;
 }
 
 static int texture_used(const bbc_mesh *m, size_t t) {
   if (!m->textures[t].image.rgba) return 0;
   for (size_t i = 0; i < m->material_count; i++)
-    if (m->materials[i].texture == (int)t || m->materials[i].normal_map == (int)t + 1) return 1;
+    if (m->materials[i].texture == (int)t || m->materials[i].normal_map == (int)t + 1 ||
+        m->materials[i].occlusion_map == (int)t + 1)
+      return 1;
   return 0;
 }
 
@@ -731,10 +738,15 @@ static void put_json_materials(gltf_writer *w) {
       int t = mat->texture;
       if (t >= 0 && (size_t)t < m->texture_count && mo->tex_gltf[t] >= 0)
         gbuf_printf(j, ",\"baseColorTexture\":{\"index\":%d}", mo->tex_gltf[t]);
-      gbuf_puts(j, ",\"metallicFactor\":0,\"roughnessFactor\":1}");
-      int nmt = mat->normal_map - 1;
+      float rough = mat->roughness > 0 && mat->roughness <= 1 ? mat->roughness : 1.0f;
+      gbuf_puts(j, ",\"metallicFactor\":0,\"roughnessFactor\":");
+      gbuf_number(j, rough);
+      gbuf_puts(j, "}");
+      int nmt = mat->normal_map - 1, aot = mat->occlusion_map - 1;
       if (nmt >= 0 && mo->tex_gltf[nmt] >= 0 && mo->has_tangent)
         gbuf_printf(j, ",\"normalTexture\":{\"index\":%d}", mo->tex_gltf[nmt]);
+      if (aot >= 0 && mo->tex_gltf[aot] >= 0)
+        gbuf_printf(j, ",\"occlusionTexture\":{\"index\":%d}", mo->tex_gltf[aot]);
       if (w->unlit) gbuf_puts(j, ",\"extensions\":{\"KHR_materials_unlit\":{}}");
       gbuf_printf(j, ",\"alphaMode\":\"MASK\",\"alphaCutoff\":0.5,\"doubleSided\":%s}",
                   mat->single_sided ? "false" : "true");

@@ -96,14 +96,31 @@ typedef struct target {
   const double *proj;
 } target;
 
-static void put_normal(uint8_t *o, const double *n, const camera *cam, double toward) {
+static void put_normal(uint8_t *o, const double *n, const camera *cam, double toward,
+                       const double *out) {
   double x = n[0] * cam->r[0] + n[1] * cam->r[1] + n[2] * cam->r[2];
   double y = n[0] * cam->u[0] + n[1] * cam->u[1] + n[2] * cam->u[2];
   double z = -toward * (n[0] * cam->f[0] + n[1] * cam->f[1] + n[2] * cam->f[2]);
-  if (z < 0) { /* two-sided surfaces: the normal faces this image's viewer */
+  /* Two-sided surfaces: the normal faces this image's viewer; with `out`
+   * (in the image's frame) it is then bent by it. */
+  if (z < 0) {
     x = -x;
     y = -y;
     z = -z;
+  }
+  if (out) {
+    x += out[0];
+    y += out[1];
+    z += out[2];
+    double l = sqrt(x * x + y * y + z * z);
+    if (l > 1e-12) {
+      x /= l;
+      y /= l;
+      z /= l;
+    } else {
+      x = y = 0;
+      z = 1;
+    }
   }
   o[0] = to_byte(0.5 * x + 0.5);
   o[1] = to_byte(0.5 * y + 0.5);
@@ -230,6 +247,7 @@ typedef struct tri {
   int x0, x1, y0, y1;        /* the pixels it may cover */
   int want_front, want_back; /* the images it may draw into */
   int slab, need_normal;     /* the view has a slab; the pixels need the normal */
+  int faces_camera;          /* its front (counter-clockwise side) faces the camera */
   const bbc_material *mat;
 } tri;
 
@@ -303,6 +321,7 @@ static ALWAYS_INLINE int triangle_setup(const bbc_mesh *m, size_t t, const targe
   tr->want_back = want_back;
   tr->slab = view->depth_max > view->depth_min;
   tr->need_normal = view->lighting || (tg->bake && (tg->bake->front_nm || tg->bake->back_nm));
+  tr->faces_camera = faces_camera;
   tr->mat = mat;
   return 1;
 }
@@ -418,6 +437,68 @@ static ALWAYS_INLINE int row_span(const edges *ed, double py, int x0, int x1, in
  * covers (the top-left rule on its edges) within the view's slab, with the
  * depth tests, the alpha test, the colour, the shading and the normal, into
  * the front and back images (or only the coverage). */
+/* An engine's lighting (bbc_view.sun), as glTF viewers light a lit
+ * material: the normal n (interpolated, unit) bent by the material's normal
+ * map through the corners' tangents (weights w, at texture coordinate (u, v);
+ * u < 0: none), turned to the side seen (a double-sided face seen from behind
+ * shows its back), lit by the ambient light times the occlusion map's red
+ * channel and by the sun (Lambert), over ambient + sun so that a surface
+ * facing the sun keeps its colour. */
+static double engine_light(const bbc_mesh *m, size_t t, const target *tg, const tri *tr,
+                           const double w[3], float u, float v, const double n[3]) {
+  const bbc_material *mat = tr->mat;
+  const uint32_t *ix = m->indices + 3 * t;
+  vec3 nn = vload(n);
+  const bbc_image *nmap = mat->normal_map > 0 && (size_t)mat->normal_map <= m->texture_count
+                              ? &m->textures[mat->normal_map - 1].image
+                              : NULL;
+  if (nmap && nmap->rgba && m->tangents && u >= 0) {
+    double tg3[3] = {0, 0, 0}, hand = 0;
+    for (int k = 0; k < 3; k++) {
+      const float *tk = m->tangents + 4 * (size_t)ix[tr->order[k]];
+      for (int c = 0; c < 3; c++) tg3[c] += w[k] * tk[c];
+      hand += w[k] * tk[3];
+    }
+    vec3 T = vload(tg3);
+    T = vnormalize(vsub(T, vscale(nn, vdot(nn, T))));
+    vec3 B = vscale(vcross(nn, T), hand < 0 ? -1.0 : 1.0);
+    const uint8_t *c = sample(nmap, u, v);
+    double x = c[0] / 127.5 - 1, y = c[1] / 127.5 - 1, z = c[2] / 127.5 - 1;
+    vec3 bent = vadd(vadd(vscale(T, x), vscale(B, y)), vscale(nn, z));
+    if (vdot(bent, bent) > 1e-12) nn = vnormalize(bent);
+  }
+  if (!tr->faces_camera) nn = vscale(nn, -1.0);
+  double ao = 1.0;
+  const bbc_image *omap = mat->occlusion_map > 0 && (size_t)mat->occlusion_map <= m->texture_count
+                              ? &m->textures[mat->occlusion_map - 1].image
+                              : NULL;
+  if (omap && omap->rgba && u >= 0) ao = k_unit[sample(omap, u, v)[0]];
+  double ndl = vdot(nn, vload(tg->light));
+  double amb = tg->view->sun_ambient;
+  return (amb * ao + (ndl > 0 ? ndl : 0)) / (amb + 1.0);
+}
+
+/* Baking with `outward`: the direction a two-sided surface's normal is
+ * turned to, in the image's frame (x right, y up, z towards the image's
+ * viewer): the viewer's z plus `outward` times the unit direction from the
+ * bake's centre to the surface point (l: its barycentric weights). */
+static const double *outward_dir(const bbc_mesh *m, size_t t, const tri *tr, double l0, double l1,
+                                 double l2, const target *tg, double toward, double *d) {
+  const uint32_t *ix = m->indices + 3 * t;
+  const double *p0 = m->positions + 3 * (size_t)ix[tr->order[0]];
+  const double *p1 = m->positions + 3 * (size_t)ix[tr->order[1]];
+  const double *p2 = m->positions + 3 * (size_t)ix[tr->order[2]];
+  double r[3];
+  for (int k = 0; k < 3; k++) r[k] = l0 * p0[k] + l1 * p1[k] + l2 * p2[k] - tg->bake->center[k];
+  vec3 u = vnorm_or(vload(r), v3(0, 0, 0));
+  const camera *cam = tg->cam;
+  double w = tg->bake->outward;
+  d[0] = w * vdot(u, vload(cam->r));
+  d[1] = w * vdot(u, vload(cam->u));
+  d[2] = -toward * w * vdot(u, vload(cam->f));
+  return d;
+}
+
 static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
   const camera *cam = tg->cam;
   const bbc_view *view = tg->view;
@@ -435,6 +516,7 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
   const bbc_material *mat = tr.mat;
   int want_front = tr.want_front, want_back = tr.want_back, slab = tr.slab;
   int tl0 = ed.tl[0], tl1 = ed.tl[1], tl2 = ed.tl[2], need_normal = tr.need_normal;
+  double odir[3];
   for (int y = tr.y0; y <= tr.y1; y++) {
     double py = y + 0.5;
     int xs, xe;
@@ -470,9 +552,12 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
         continue; /* outside the slab: the triangle is clipped there */
       double col[4] = {mat->base_color[0], mat->base_color[1], mat->base_color[2],
                        mat->base_color[3]};
+      float u = 0, v = 0;
+      if (uv[0]) {
+        u = (float)(l0 * uv[0][0] + l1 * uv[1][0] + l2 * uv[2][0]);
+        v = (float)(l0 * uv[0][1] + l1 * uv[1][1] + l2 * uv[2][1]);
+      }
       if (tex) { /* the alpha test first (the base level), then the colour */
-        float u = (float)(l0 * uv[0][0] + l1 * uv[1][0] + l2 * uv[2][0]);
-        float v = (float)(l0 * uv[0][1] + l1 * uv[1][1] + l2 * uv[2][1]);
         col[3] *= k_unit[sample(tex, u, v)[3]];
         if (col[3] < 0.5) continue;
         const uint8_t *tx = sample(tex_rgb, u, v);
@@ -485,16 +570,24 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
         vstore(n, vnormalize(vload(n)));
       }
       double shade = 1.0, occl = 1.0;
-      if (view->lighting && !mat->unlit) { /* unlit materials carry their light */
-        shade = gain * (view->headlight
-                            ? fabs(n[0] * tg->light[0] + n[1] * tg->light[1] + n[2] * tg->light[2])
-                            : sun_shade(n, tg->light));
-      }
       if (view->vertex_shade) occl = l0 * sh[0] + l1 * sh[1] + l2 * sh[2];
-      shade *= occl;
-      uint8_t px4[4] = {to_byte(col[0] * shade + amb[0] * occl),
-                        to_byte(col[1] * shade + amb[1] * occl),
-                        to_byte(col[2] * shade + amb[2] * occl),
+      /* Baking an occlusion map: the shadowing goes there, not into the colour. */
+      int ao_image = tg->bake && tg->bake->front_ao;
+      double occl_col = ao_image ? 1.0 : occl;
+      if (view->lighting && !mat->unlit) { /* unlit materials carry their light */
+        double lw[3] = {l0, l1, l2};
+        if (view->sun)
+          shade = engine_light(m, t, tg, &tr, lw, uv[0] ? u : -1, v, n) * occl_col;
+        else
+          shade =
+              gain * (view->headlight
+                          ? fabs(n[0] * tg->light[0] + n[1] * tg->light[1] + n[2] * tg->light[2])
+                          : sun_shade(n, tg->light));
+      }
+      if (!view->sun) shade *= occl_col;
+      uint8_t px4[4] = {to_byte(col[0] * shade + amb[0] * occl_col),
+                        to_byte(col[1] * shade + amb[1] * occl_col),
+                        to_byte(col[2] * shade + amb[2] * occl_col),
                         tg->bake && tg->bake->face_alpha ? tg->bake->face_alpha[t] : 255};
       if (tg->sun_lum && front) {
         double s2 = 1.0;
@@ -504,15 +597,26 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
                                   0.7152 * to_byte(col[1] * s2 + amb[1] * occl) +
                                   0.0722 * to_byte(col[2] * s2 + amb[2] * occl));
       }
+      if (ao_image) {
+        uint8_t g = to_byte(occl), grey[4] = {g, g, g, 255};
+        if (front) memcpy(tg->bake->front_ao + 4 * pi, grey, 4);
+        if (back && tg->bake->back_ao) memcpy(tg->bake->back_ao + 4 * pi, grey, 4);
+      }
       if (front) {
         tg->depth[pi] = z;
         memcpy(tg->rgba + 4 * pi, px4, 4);
-        if (tg->bake && tg->bake->front_nm) put_normal(tg->bake->front_nm + 4 * pi, n, cam, 1);
+        if (tg->bake && tg->bake->front_nm)
+          put_normal(tg->bake->front_nm + 4 * pi, n, cam, 1,
+                     tg->bake->outward > 0 ? outward_dir(m, t, &tr, l0, l1, l2, tg, 1, odir)
+                                           : NULL);
       }
       if (back) {
         tg->depth_back[pi] = z;
         memcpy(tg->bake->back + 4 * pi, px4, 4);
-        if (tg->bake->back_nm) put_normal(tg->bake->back_nm + 4 * pi, n, cam, -1);
+        if (tg->bake->back_nm)
+          put_normal(tg->bake->back_nm + 4 * pi, n, cam, -1,
+                     tg->bake->outward > 0 ? outward_dir(m, t, &tr, l0, l1, l2, tg, -1, odir)
+                                           : NULL);
       }
     }
   }
@@ -643,60 +747,6 @@ bbc_result bbc__render_coverage(const bbc_mesh *m, const bbc_view *view, int siz
     if (!view->face_mask || view->face_mask[t]) draw_triangle(m, t, &tg);
   free(proj);
   return BBC_OK;
-}
-
-bbc_result bbc__mips_build(const bbc_mesh *m, bbc__mips **out, bbc_error *err) {
-  *out = NULL;
-  if (!m->texture_count) return BBC_OK;
-  bbc__mips *mips = calloc(m->texture_count, sizeof *mips);
-  if (!mips) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "mipmaps: out of memory");
-  for (size_t t = 0; t < m->texture_count; t++) {
-    const bbc_image *base = &m->textures[t].image;
-    if (!base->rgba || base->width < 1 || base->height < 1) continue;
-    int n = 0;
-    for (int w = base->width, h = base->height; w > 1 || h > 1;
-         w = w > 1 ? w / 2 : 1, h = h > 1 ? h / 2 : 1)
-      n++;
-    mips[t].level = calloc(n ? (size_t)n : 1, sizeof *mips[t].level);
-    if (!mips[t].level) {
-      bbc__mips_free(mips, m->texture_count);
-      return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "mipmaps: out of memory");
-    }
-    const bbc_image *prev = base;
-    for (int k = 0; k < n; k++) {
-      bbc_image *img = &mips[t].level[k];
-      int w = prev->width > 1 ? prev->width / 2 : 1, h = prev->height > 1 ? prev->height / 2 : 1;
-      if (bbc_image_alloc(img, w, h) != BBC_OK) {
-        bbc__mips_free(mips, m->texture_count);
-        return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "mipmaps: out of memory");
-      }
-      mips[t].levels = k + 1;
-      for (int y = 0; y < h; y++)
-        for (int x = 0; x < w; x++) {
-          int x0 = 2 * x < prev->width ? 2 * x : prev->width - 1;
-          int y0 = 2 * y < prev->height ? 2 * y : prev->height - 1;
-          int x1 = x0 + 1 < prev->width ? x0 + 1 : x0, y1 = y0 + 1 < prev->height ? y0 + 1 : y0;
-          const uint8_t *p00 = prev->rgba + 4 * ((size_t)y0 * prev->width + x0);
-          const uint8_t *p01 = prev->rgba + 4 * ((size_t)y0 * prev->width + x1);
-          const uint8_t *p10 = prev->rgba + 4 * ((size_t)y1 * prev->width + x0);
-          const uint8_t *p11 = prev->rgba + 4 * ((size_t)y1 * prev->width + x1);
-          uint8_t *o = img->rgba + 4 * ((size_t)y * w + x);
-          for (int c = 0; c < 4; c++) o[c] = (uint8_t)((p00[c] + p01[c] + p10[c] + p11[c] + 2) / 4);
-        }
-      prev = img;
-    }
-  }
-  *out = mips;
-  return BBC_OK;
-}
-
-void bbc__mips_free(bbc__mips *mips, size_t count) {
-  if (!mips) return;
-  for (size_t t = 0; t < count; t++) {
-    for (int k = 0; k < mips[t].levels; k++) bbc_image_free(&mips[t].level[k]);
-    free(mips[t].level);
-  }
-  free(mips);
 }
 
 bbc_result bbc__render_bake(const bbc_mesh *m, const uint32_t *faces, size_t face_count,

@@ -1,6 +1,6 @@
 /*
  * raster.h — the software rasterizer's internal interface (src/raster):
- * baking, coverage, point splats, texture mipmaps as a GPU makes them and
+ * baking, coverage, point splats, texture mipmaps and
  * the orthographic camera. Not installed.
  */
 #ifndef BBC_RASTER_H
@@ -9,9 +9,9 @@
 #include "base.h"
 
 /* ---- baking, coverage, splats (src/raster/raster.c) ----------------------- */
-/* A texture's mipmaps as a GPU makes them (glGenerateMipmap: each level
- * the 2x2 box average of the one before, every channel on its own, so the
- * colour of transparent texels bleeds into their opaque neighbours). */
+/* A texture's mipmaps (src/raster/mips.c): each level the 2x2 box average of the one before,
+ * alpha on its own and the colour weighted by alpha (the albedo of what is
+ * covered, as engines that premultiply or pad their textures show it). */
 typedef struct bbc__mips {
   int levels;       /* levels after the base image */
   bbc_image *level; /* level[k - 1]: level k, half of level k - 1 (at least 1) */
@@ -26,6 +26,12 @@ typedef struct bbc__bake {
   int width, height;
   uint8_t *front, *back;       /* RGBA */
   uint8_t *front_nm, *back_nm; /* RGBA, may be NULL */
+  double outward;              /* > 0: normal maps turn two-sided surfaces to the side
+                                * facing their viewer plus `outward` times away from
+                                * `center` (0: their viewer's) */
+  double center[3];
+  uint8_t *front_ao, *back_ao; /* RGBA, may be NULL: the view's vertex_shade goes
+                                * here (grey) instead of into the colour */
   int backface;
   /* Optional, per texture of the mesh: colours are read from the mip level
    * matching each triangle's texel footprint on the image (as a GPU shows

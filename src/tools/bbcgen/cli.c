@@ -122,6 +122,7 @@ int cli_common_option(cli *c, int argc, char **argv, int *i) {
   if (!strcmp(a, "--thesis")) {
     /* Appendix A's defaults; parameters set by hand are kept. */
     bbc_params_thesis_merge(&c->params, c->hand);
+    c->thesis = 1;
     return 1;
   }
   bbc_error err;

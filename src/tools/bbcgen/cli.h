@@ -38,6 +38,7 @@ typedef struct cli_part_setting {
 typedef struct cli {
   int quiet;         /* --quiet: no progress bar, no info lines */
   bbc_params params; /* thesis parameters after --set/--NAME options */
+  int thesis;        /* --thesis given: Appendix A's defaults (a baked light) */
   bbc_callbacks callbacks;
   size_t part_setting_count;
   cli_part_setting part_settings[32];

@@ -43,6 +43,7 @@ int cmd_cloud(cli *c, int argc, char **argv) {
   double eps[BBC_SESSION_MAX_LEVELS];
   size_t lods = 0;
   long long cell = 256;
+  int lighting = -1; /* --lighting: -1 = by the output's format */
   for (int i = 1; i < argc; i++) {
     int k = cli_common_option(c, argc, argv, &i);
     if (k < 0) return EXIT_USAGE;
@@ -63,9 +64,21 @@ int cmd_cloud(cli *c, int argc, char **argv) {
     } else if (!strcmp(argv[i], "--lod")) {
       if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
       if (parse_lods(v, eps, BBC_SESSION_MAX_LEVELS, &lods) < 0) return EXIT_USAGE;
+    } else if (!strcmp(argv[i], "--lighting")) {
+      if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+      if (!strcmp(v, "material"))
+        lighting = BBC_LIGHTING_MATERIAL;
+      else if (!strcmp(v, "baked"))
+        lighting = BBC_LIGHTING_BAKED;
+      else {
+        cli_error("--lighting: 'material' (albedo, normal and occlusion maps for engines to "
+                  "light) or 'baked' (a fixed light in the colours, unlit), not '%s'",
+                  v);
+        return EXIT_USAGE;
+      }
     } else {
       static const char *const own[] = {
-          "-o", "--output", "--report", "--preview", "--preview-size", "--lod", NULL};
+          "-o", "--output", "--report", "--preview", "--preview-size", "--lod", "--lighting", NULL};
       return cli_unknown_option(NULL, argv[i], own);
     }
   }
@@ -94,6 +107,11 @@ int cmd_cloud(cli *c, int argc, char **argv) {
   /* A LOD chain asks for these epsilons: neither minplanes nor maxplanes
    * moves them (unless set by hand), so the levels stay in order. */
   if (lods) bbc_params_lod_chain(&c->params, c->hand);
+  /* glTF gets materials for engines to light; VRML and OBJ the thesis's
+   * baked light, unless asked (parameters set by hand are kept). */
+  if (lighting < 0) lighting = c->thesis ? BBC_LIGHTING_BAKED : (int)bbc_lighting_for_output(out);
+  bbc_params_lighting(&c->params, c->hand, (bbc_lighting)lighting);
+  cli_info(c, "lighting: %s", bbc_params_lighting_name(&c->params));
   bbc_session *sess = bbc_session_new();
   if (!sess) {
     cli_error("out of memory");

@@ -1,9 +1,11 @@
 /* cmd_eval.c — `bbcgen eval ORIGINAL OTHER [--views N] [--size S] [--json OUT]
- * [--png SHEET] [--lit]`: how close OTHER (a cloud, a baseline) looks to
- * ORIGINAL, through the library's bbc_eval. */
+ * [--png SHEET] [--lit] [--sun AZ,EL|sweep]`: how close OTHER (a cloud, a
+ * baseline) looks to ORIGINAL, through the library's bbc_eval; with --sun,
+ * both lit alike by an engine's sun and ambient light. */
 #include "cli.h"
 
 #include <cjson/cJSON.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,6 +37,8 @@ char *eval_json_text(const bbc_eval_result *r, const bbc_eval_options *o, const 
   cJSON_AddNumberToObject(j, "psnr_min", r->psnr_min);
   cJSON_AddNumberToObject(j, "mae_mean", r->mae_mean);
   cJSON_AddItemToObject(j, "brightness_ratio", cJSON_CreateDoubleArray(r->brightness_ratio, 3));
+  cJSON_AddNumberToObject(j, "luminance_ratio", r->luminance_ratio);
+  cJSON_AddNumberToObject(j, "block_luminance_error_mean", r->block_luminance_error_mean);
   cJSON_AddNumberToObject(j, "views", (double)r->view_count);
   cJSON_AddNumberToObject(j, "side_views", (double)r->side_count);
   cJSON_AddNumberToObject(j, "size", o->size);
@@ -53,6 +57,7 @@ char *eval_json_text(const bbc_eval_result *r, const bbc_eval_options *o, const 
     cJSON_AddNumberToObject(q, "mae", v->mae);
     cJSON_AddNumberToObject(q, "coverage_ratio", v->coverage_ratio);
     cJSON_AddNumberToObject(q, "block_iou", v->block_iou);
+    cJSON_AddNumberToObject(q, "block_luminance_error", v->block_luminance_error);
     cJSON_AddNumberToObject(q, "original_px", (double)v->original_px);
     cJSON_AddNumberToObject(q, "other_px", (double)v->other_px);
     cJSON_AddItemToArray(vs, q);
@@ -68,7 +73,43 @@ typedef struct eval_args {
   long long views, size;
   int lit; /* -1: lit when OTHER is prelit (all its materials unlit) */
   double side;
+  int suns;           /* --sun: 0 none, 1 one (sun_deg), 16 the sweep */
+  double sun_deg[2];  /* azimuth, elevation */
+  double sun_ambient; /* 0 = the library's 0.4 */
 } eval_args;
+
+/* The sweep: 8 azimuths x 2 elevations. */
+#define SWEEP_SUNS 16
+static void sweep_sun(int k, double deg[2]) {
+  deg[0] = 45.0 * (k % 8);
+  deg[1] = k < 8 ? 15.0 : 50.0;
+}
+
+/* "AZ,EL" in degrees or "sweep". */
+static int parse_sun(const char *v, eval_args *ea) {
+  if (!strcmp(v, "sweep")) {
+    ea->suns = SWEEP_SUNS;
+    return 0;
+  }
+  char *end;
+  double az = strtod(v, &end), el = 0;
+  int ok = end != v && *end == ',';
+  if (ok) {
+    const char *p = end + 1;
+    el = strtod(p, &end);
+    ok = end != p && !*end && az >= -360 && az <= 360 && el >= -90 && el <= 90;
+  }
+  if (!ok) {
+    cli_error("--sun: 'AZ,EL' (degrees: azimuth around the up axis, 0 = +z for y up, and "
+              "elevation -90..90) or 'sweep', not '%s'",
+              v);
+    return -1;
+  }
+  ea->suns = 1;
+  ea->sun_deg[0] = az;
+  ea->sun_deg[1] = el;
+  return 0;
+}
 
 /* The command line into `ea`: -1 to go on, else an exit code (said). */
 static int parse_eval_args(cli *c, int argc, char **argv, eval_args *ea) {
@@ -102,6 +143,16 @@ static int parse_eval_args(cli *c, int argc, char **argv, eval_args *ea) {
         cli_error("--side-elevation: degrees from 0 to 90, not '%s'", v);
         return EXIT_USAGE;
       }
+    } else if (!strcmp(argv[i], "--sun")) {
+      if (!(v = cli_option_value(argc, argv, &i)) || parse_sun(v, ea) < 0) return EXIT_USAGE;
+    } else if (!strcmp(argv[i], "--sun-ambient")) {
+      if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+      char *end;
+      ea->sun_ambient = strtod(v, &end);
+      if (*end || !(ea->sun_ambient > 0 && ea->sun_ambient <= 10)) {
+        cli_error("--sun-ambient: the ambient light against the sun's 1, in (0, 10], not '%s'", v);
+        return EXIT_USAGE;
+      }
     } else if (!strcmp(argv[i], "--lit")) {
       ea->lit = 1;
     } else if (!strcmp(argv[i], "--no-lit")) {
@@ -109,14 +160,15 @@ static int parse_eval_args(cli *c, int argc, char **argv, eval_args *ea) {
     } else if (argv[i][0] != '-' && np < 2) {
       ea->paths[np++] = argv[i];
     } else {
-      static const char *const own[] = {"--views", "--size",           "--json",   "--png",
-                                        "--lit",   "--side-elevation", "--no-lit", NULL};
+      static const char *const own[] = {"--views",  "--size", "--json",        "--png",
+                                        "--lit",    "--sun",  "--sun-ambient", "--side-elevation",
+                                        "--no-lit", NULL};
       return cli_unknown_option("eval", argv[i], own);
     }
   }
   if (np != 2) {
     cli_error("eval: usage: bbcgen eval ORIGINAL OTHER [--views N] [--size PX] [--json OUT] "
-              "[--png SHEET] [--lit|--no-lit] [--side-elevation DEG]");
+              "[--png SHEET] [--lit|--no-lit] [--sun AZ,EL|sweep] [--side-elevation DEG]");
     return EXIT_USAGE;
   }
   return -1;
@@ -142,6 +194,21 @@ static void eval_options(const cli *c, const eval_args *ea, const bbc_mesh *othe
   o->point_square = !c->params.point_smooth;
   o->side_elevation_deg = ea->side > 0 ? ea->side : -1; /* -1: the horizon only */
   bbc_params_get_light_direction(&c->params, o->light);
+  if (ea->suns) {
+    o->lighting = 1;
+    o->sun = 1;
+    o->sun_ambient = ea->sun_ambient;
+  }
+}
+
+/* The direction towards a sun at azimuth deg[0] around the up axis (0 =
+ * the axis after it: +z for y up, +x for z up) and elevation deg[1]. */
+static void sun_direction(bbc_axis up_axis, const double deg[2], double light[3]) {
+  int up = (int)up_axis >= 0 && up_axis <= 2 ? (int)up_axis : 1, a = (up + 1) % 3, b = (up + 2) % 3;
+  double az = deg[0] * 3.14159265358979323846 / 180, el = deg[1] * 3.14159265358979323846 / 180;
+  light[up] = sin(el);
+  light[a] = cos(el) * cos(az);
+  light[b] = cos(el) * sin(az);
 }
 
 /* The two summary lines; the side-view figures "n/a" when no view is one. */
@@ -163,8 +230,62 @@ static void print_eval(const bbc_eval_result *r, const bbc_eval_options *o, doub
          r->coverage_ratio_mean, side_cov, r->block_iou_mean, side_block);
 }
 
+/* --sun: one bbc_eval per sun, a line each, the JSON with every sun's and
+ * the range of their luminance ratios. */
+static int eval_suns(const cli *c, const eval_args *ea, const bbc_mesh m[2], bbc_eval_options *o,
+                     bbc_image *sheet) {
+  int n = ea->suns, rc = EXIT_OK;
+  double lo = 1e300, hi = -1e300, t0 = cli_now();
+  cJSON *j = cJSON_CreateObject(), *arr = cJSON_AddArrayToObject(j, "suns");
+  cJSON_AddStringToObject(j, "original", ea->paths[0]);
+  cJSON_AddStringToObject(j, "other", ea->paths[1]);
+  cJSON_AddNumberToObject(j, "ambient", ea->sun_ambient > 0 ? ea->sun_ambient : 0.4);
+  printf("sun (az, el)  luminance  r      g      b      block lum err  iou     block iou\n");
+  for (int k = 0; k < n && rc == EXIT_OK; k++) {
+    double deg[2] = {ea->sun_deg[0], ea->sun_deg[1]};
+    if (n > 1) sweep_sun(k, deg);
+    sun_direction(c->params.up_axis, deg, o->light);
+    o->sheet = k == 0 ? sheet : NULL;
+    bbc_eval_result r;
+    bbc_error err;
+    if (bbc_eval(&m[0], &m[1], o, &r, &err) != BBC_OK) {
+      rc = cli_fail(&err, 0);
+      break;
+    }
+    printf("%5.0f %5.0f    %.3f      %.3f  %.3f  %.3f  %.3f          %.4f  %.4f\n", deg[0], deg[1],
+           r.luminance_ratio, r.brightness_ratio[0], r.brightness_ratio[1], r.brightness_ratio[2],
+           r.block_luminance_error_mean, r.iou_mean, r.block_iou_mean);
+    lo = fmin(lo, r.luminance_ratio);
+    hi = fmax(hi, r.luminance_ratio);
+    cJSON *q = cJSON_CreateObject();
+    cJSON_AddItemToObject(q, "sun_deg", cJSON_CreateDoubleArray(deg, 2));
+    cJSON_AddItemToObject(q, "light", cJSON_CreateDoubleArray(o->light, 3));
+    cJSON_AddNumberToObject(q, "luminance_ratio", r.luminance_ratio);
+    cJSON_AddItemToObject(q, "brightness_ratio", cJSON_CreateDoubleArray(r.brightness_ratio, 3));
+    cJSON_AddNumberToObject(q, "block_luminance_error", r.block_luminance_error_mean);
+    cJSON_AddNumberToObject(q, "iou_mean", r.iou_mean);
+    cJSON_AddNumberToObject(q, "block_iou_mean", r.block_iou_mean);
+    cJSON_AddItemToArray(arr, q);
+    bbc_eval_result_free(&r);
+  }
+  if (rc == EXIT_OK) {
+    printf("luminance ratio over %d sun%s: %.3f .. %.3f  [%d views, %d px, ambient %.2g, %.2f s]\n",
+           n, n > 1 ? "s" : "", lo, hi, o->views, o->size,
+           o->sun_ambient > 0 ? o->sun_ambient : 0.4, cli_now() - t0);
+    cJSON_AddNumberToObject(j, "luminance_ratio_min", lo);
+    cJSON_AddNumberToObject(j, "luminance_ratio_max", hi);
+    char *text = ea->json ? cJSON_Print(j) : NULL;
+    bbc_error err;
+    if (ea->json && (!text || bbc_write_file_atomic(ea->json, text, strlen(text), &err) != BBC_OK))
+      rc = text ? cli_fail(&err, 1) : EXIT_RESOURCES;
+    cJSON_free(text);
+  }
+  cJSON_Delete(j);
+  return rc;
+}
+
 int cmd_eval(cli *c, int argc, char **argv) {
-  eval_args ea = {{NULL, NULL}, NULL, NULL, 64, 256, -1, 30};
+  eval_args ea = {{NULL, NULL}, NULL, NULL, 64, 256, -1, 30, 0, {0, 0}, 0};
   int rc = parse_eval_args(c, argc, argv, &ea);
   if (rc >= 0) return rc;
   const char *json = ea.json, *png = ea.png;
@@ -191,7 +312,11 @@ int cmd_eval(cli *c, int argc, char **argv) {
   bbc_eval_result r;
   double t0 = cli_now();
   rc = EXIT_OK;
-  if (bbc_eval(&m[0], &m[1], &o, &r, &err) != BBC_OK) {
+  if (ea.suns) {
+    rc = eval_suns(c, &ea, m, &o, png ? &sheet : NULL);
+    if (rc == EXIT_OK && png && bbc_image_write_png(png, &sheet, &err) != BBC_OK)
+      rc = cli_fail(&err, 1);
+  } else if (bbc_eval(&m[0], &m[1], &o, &r, &err) != BBC_OK) {
     rc = cli_fail(&err, 0);
   } else {
     print_eval(&r, &o, t0);

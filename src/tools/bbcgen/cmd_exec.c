@@ -415,6 +415,7 @@ int cmd_exec(cli *c, int argc, char **argv) {
     cli_error("exec: usage: bbcgen exec BATCHFILE");
     return EXIT_USAGE;
   }
+  bbc_params_lighting(&c->params, c->hand, BBC_LIGHTING_BAKED); /* as cmd_prompt */
   batch *b = calloc(1, sizeof *b);
   if (b) b->sess = bbc_session_new();
   if (!b || !b->sess) {
@@ -474,6 +475,8 @@ static void on_interrupt(int sig) {
 }
 
 int cmd_prompt(cli *c, const char *batch_file) {
+  /* The thesis's workflow, whose `save` writes VRML: a baked light. */
+  bbc_params_lighting(&c->params, c->hand, BBC_LIGHTING_BAKED);
   batch *b = calloc(1, sizeof *b);
   if (b) b->sess = bbc_session_new();
   if (!b || !b->sess) {

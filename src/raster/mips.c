@@ -1,0 +1,69 @@
+/* mips.c — the mipmaps of a model's textures that step 3 reads colours
+ * from (a baked light: as a GPU shows the textures from afar), each level the
+ * 2x2 box average of the one before, the colour weighted by alpha. */
+#include "raster.h"
+
+#include <stdlib.h>
+
+bbc_result bbc__mips_build(const bbc_mesh *m, bbc__mips **out, bbc_error *err) {
+  *out = NULL;
+  if (!m->texture_count) return BBC_OK;
+  bbc__mips *mips = calloc(m->texture_count, sizeof *mips);
+  if (!mips) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "mipmaps: out of memory");
+  for (size_t t = 0; t < m->texture_count; t++) {
+    const bbc_image *base = &m->textures[t].image;
+    if (!base->rgba || base->width < 1 || base->height < 1) continue;
+    int n = 0;
+    for (int w = base->width, h = base->height; w > 1 || h > 1;
+         w = w > 1 ? w / 2 : 1, h = h > 1 ? h / 2 : 1)
+      n++;
+    mips[t].level = calloc(n ? (size_t)n : 1, sizeof *mips[t].level);
+    if (!mips[t].level) {
+      bbc__mips_free(mips, m->texture_count);
+      return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "mipmaps: out of memory");
+    }
+    const bbc_image *prev = base;
+    for (int k = 0; k < n; k++) {
+      bbc_image *img = &mips[t].level[k];
+      int w = prev->width > 1 ? prev->width / 2 : 1, h = prev->height > 1 ? prev->height / 2 : 1;
+      if (bbc_image_alloc(img, w, h) != BBC_OK) {
+        bbc__mips_free(mips, m->texture_count);
+        return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "mipmaps: out of memory");
+      }
+      mips[t].levels = k + 1;
+      for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+          int x0 = 2 * x < prev->width ? 2 * x : prev->width - 1;
+          int y0 = 2 * y < prev->height ? 2 * y : prev->height - 1;
+          int x1 = x0 + 1 < prev->width ? x0 + 1 : x0, y1 = y0 + 1 < prev->height ? y0 + 1 : y0;
+          const uint8_t *p00 = prev->rgba + 4 * ((size_t)y0 * prev->width + x0);
+          const uint8_t *p01 = prev->rgba + 4 * ((size_t)y0 * prev->width + x1);
+          const uint8_t *p10 = prev->rgba + 4 * ((size_t)y1 * prev->width + x0);
+          const uint8_t *p11 = prev->rgba + 4 * ((size_t)y1 * prev->width + x1);
+          uint8_t *o = img->rgba + 4 * ((size_t)y * w + x);
+          /* The colour of the covered texels (alpha-weighted): the albedo, not
+           * the colour of transparent texels bled in (which shifts the hue of
+           * alpha-card leaves); alpha the plain mean. */
+          unsigned wa = (unsigned)p00[3] + p01[3] + p10[3] + p11[3];
+          for (int c = 0; c < 3; c++)
+            o[c] = wa ? (uint8_t)(((unsigned)p00[c] * p00[3] + (unsigned)p01[c] * p01[3] +
+                                   (unsigned)p10[c] * p10[3] + (unsigned)p11[c] * p11[3] + wa / 2) /
+                                  wa)
+                      : (uint8_t)((p00[c] + p01[c] + p10[c] + p11[c] + 2) / 4);
+          o[3] = (uint8_t)((wa + 2) / 4);
+        }
+      prev = img;
+    }
+  }
+  *out = mips;
+  return BBC_OK;
+}
+
+void bbc__mips_free(bbc__mips *mips, size_t count) {
+  if (!mips) return;
+  for (size_t t = 0; t < count; t++) {
+    for (int k = 0; k < mips[t].levels; k++) bbc_image_free(&mips[t].level[k]);
+    free(mips[t].level);
+  }
+  free(mips);
+}

@@ -3,7 +3,9 @@
 scripts/threejs_sun.sh with the material cloud first, the baked cloud second)
 as Markdown on stdout.
 
-    python3 scripts/sun_sweep_table.py OUTDIR
+    python3 scripts/sun_sweep_table.py OUTDIR [LABEL]
+
+LABEL names the second cloud's columns (default `--lighting baked`).
 """
 import json
 import os
@@ -11,10 +13,11 @@ import sys
 
 
 def main():
-    if len(sys.argv) != 2:
+    if len(sys.argv) not in (2, 3):
         print(__doc__, file=sys.stderr)
         return 1
     out = sys.argv[1]
+    label = sys.argv[2] if len(sys.argv) == 3 else "`--lighting baked`"
     rows = []
     for name in sorted(os.listdir(out)):
         path = os.path.join(out, name, "threejs.json")
@@ -42,7 +45,7 @@ def main():
         "0.90-1.10.\n" % (o.get("ambient"), o.get("sunIntensity"), o.get("size"),
                           rows[0][1]["renders"]))
     print("| tree | default (material) min | max | mean | outside | "
-          "coverage | `--lighting baked` min | max | outside | albedo R G B | result |")
+          "coverage | %s min | max | outside | albedo R G B | result |" % label)
     print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---|")
     fails = 0
     for name, m, b, _, albedo in rows:

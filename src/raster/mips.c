@@ -1,6 +1,7 @@
-/* mips.c — the mipmaps of a model's textures that step 3 reads colours
- * from (a baked light: as a GPU shows the textures from afar), each level the
- * 2x2 box average of the one before, the colour weighted by alpha. */
+/* mips.c — the mipmaps of a model's textures that step 3 reads a baked
+ * light's colours from: as a GPU makes them (glGenerateMipmap), each level
+ * the 2x2 box average of the one before, every channel on its own, so that
+ * the colour of transparent texels bleeds in as it does on screen. */
 #include "raster.h"
 
 #include <stdlib.h>
@@ -41,16 +42,7 @@ bbc_result bbc__mips_build(const bbc_mesh *m, bbc__mips **out, bbc_error *err) {
           const uint8_t *p10 = prev->rgba + 4 * ((size_t)y1 * prev->width + x0);
           const uint8_t *p11 = prev->rgba + 4 * ((size_t)y1 * prev->width + x1);
           uint8_t *o = img->rgba + 4 * ((size_t)y * w + x);
-          /* The colour of the covered texels (alpha-weighted): the albedo, not
-           * the colour of transparent texels bled in (which shifts the hue of
-           * alpha-card leaves); alpha the plain mean. */
-          unsigned wa = (unsigned)p00[3] + p01[3] + p10[3] + p11[3];
-          for (int c = 0; c < 3; c++)
-            o[c] = wa ? (uint8_t)(((unsigned)p00[c] * p00[3] + (unsigned)p01[c] * p01[3] +
-                                   (unsigned)p10[c] * p10[3] + (unsigned)p11[c] * p11[3] + wa / 2) /
-                                  wa)
-                      : (uint8_t)((p00[c] + p01[c] + p10[c] + p11[c] + 2) / 4);
-          o[3] = (uint8_t)((wa + 2) / 4);
+          for (int c = 0; c < 4; c++) o[c] = (uint8_t)((p00[c] + p01[c] + p10[c] + p11[c] + 2) / 4);
         }
       prev = img;
     }

@@ -9,9 +9,10 @@
 #include "base.h"
 
 /* ---- baking, coverage, splats (src/raster/raster.c) ----------------------- */
-/* A texture's mipmaps (src/raster/mips.c): each level the 2x2 box average of the one before,
- * alpha on its own and the colour weighted by alpha (the albedo of what is
- * covered, as engines that premultiply or pad their textures show it). */
+/* A texture's mipmaps (src/raster/mips.c) as a GPU makes them
+ * (glGenerateMipmap: each level the 2x2 box average of the one before, every
+ * channel on its own, so the colour of transparent texels bleeds into their
+ * opaque neighbours, as on screen). Only a baked light reads them. */
 typedef struct bbc__mips {
   int levels;       /* levels after the base image */
   bbc_image *level; /* level[k - 1]: level k, half of level k - 1 (at least 1) */

@@ -214,8 +214,12 @@ bbc_result bbc_session_write(bbc_session *s, const char *out, const bbc_callback
   if (!glb && !gltf && !obj && !wrl)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "the output must end in .glb, .gltf, .obj or .wrl, not '%s'", out);
-  if (obj && lods[0]->params.normal_maps)
-    bbc__log(cb, BBC_LOG_WARNING, "OBJ output carries no normal map (use .glb, .gltf or .wrl)");
+  if (obj && (lods[0]->params.normal_maps || lods[0]->params.occlusion > 0))
+    bbc__log(cb, BBC_LOG_WARNING,
+             "OBJ output carries no normal or occlusion map (use .glb or .gltf, or "
+             "--lighting baked)");
+  if (wrl && lods[0]->params.occlusion > 0 && !lods[0]->params.prelight)
+    bbc__log(cb, BBC_LOG_WARNING, "VRML carries no occlusion map (use .glb or .gltf)");
   if (wrl && lods[0]->params.normal_maps && lods[0]->params.format == BBC_VRML_97)
     bbc__log(cb, BBC_LOG_WARNING,
              "VRML97 (format 1) carries no normal map: none written (format 0 has them)");

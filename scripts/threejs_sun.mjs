@@ -26,7 +26,7 @@
 //   --original-material standard|phong
 //                      standard (default): an OBJ original's Phong materials
 //                      become MeshStandardMaterial (map, colour, alpha kept;
-//                      metalness 0; roughness sqrt(2 / (Ns + 2)) from the
+//                      metalness 0; roughness (2 / (Ns + 2))^(1/4) from the
 //                      MTL's Ns, 1 without, the rule bbcgen's loader uses):
 //                      the same lighting model as the glTF clouds; phong:
 //                      as MTLLoader makes them (Ks/Ns specular kept).
@@ -324,14 +324,15 @@ async function loadObj(url) {
       m.needsUpdate = true;
       if (initOpt.originalMaterial === 'standard' && m.isMeshPhongMaterial) {
         // The same material as glTF's metallic-roughness: roughness from
-        // the MTL's Ns (sqrt(2 / (Ns + 2)), the match bbcgen's loader
-        // uses), 1 without Ns; metalness 0; Ks dropped.
+        // the MTL's Ns ((2 / (Ns + 2))^(1/4): Blinn-Phong's match alpha =
+        // sqrt(2 / (Ns + 2)) is GGX's alpha = roughness^2; the rule
+        // bbcgen's loader uses), 1 without Ns; metalness 0; Ks dropped.
         const info = infosAll[m.name] || {};
         const ns = info.ns !== undefined ? parseFloat(info.ns) : NaN;
         const st = new THREE.MeshStandardMaterial({ name: m.name, color: m.color, map: m.map,
           alphaMap: m.alphaMap, side: m.side, transparent: m.transparent, alphaTest: m.alphaTest,
           depthWrite: m.depthWrite, opacity: m.opacity, metalness: 0,
-          roughness: ns > 0 ? Math.sqrt(2 / (ns + 2)) : 1 });
+          roughness: ns > 0 ? Math.pow(2 / (ns + 2), 0.25) : 1 });
         st.userData.bbcDone = true;
         swaps.set(m, st);
       }

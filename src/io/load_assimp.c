@@ -509,8 +509,9 @@ static bbc_result load_materials(loader *L) {
     if ((!strcmp(ext, "glb") || !strcmp(ext, "gltf")) &&
         aiGetMaterialIntegerArray(am, AI_MATKEY_TWOSIDED, &two, &one_int) == AI_SUCCESS)
       mat->single_sided = !two;
-    /* Roughness: glTF's own, else from a Phong shininess (MTL Ns) by the
-     * usual Blinn-Phong match, sqrt(2 / (Ns + 2)). */
+    /* Roughness: glTF's own, else from a Phong shininess (MTL Ns): the
+     * Blinn-Phong match alpha = sqrt(2 / (Ns + 2)) is GGX's alpha, and glTF's
+     * roughness is its square root (alpha = roughness^2). */
     ai_real rough, shin;
     one = 1;
     if (aiGetMaterialFloatArray(am, AI_MATKEY_ROUGHNESS_FACTOR, &rough, &one) == AI_SUCCESS &&
@@ -519,7 +520,7 @@ static bbc_result load_materials(loader *L) {
     } else if ((one = 1, aiGetMaterialFloatArray(am, AI_MATKEY_SHININESS, &shin, &one)) ==
                    AI_SUCCESS &&
                shin > 0 && shin < 1e6) {
-      mat->roughness = (float)sqrt(2.0 / (shin + 2.0));
+      mat->roughness = (float)sqrt(sqrt(2.0 / (shin + 2.0)));
     }
     int shading = 0;
     one_int = 1;

@@ -627,13 +627,13 @@ static void mul(const double *a, const double *b, double *o) { /* 3 x 4 affine *
 
 /* Nodes walked at most: a scene that USEs a group inside itself or nests
  * many instances would otherwise take exponential time. */
-#define MAX_VISITS 2000000u
+#define MAX_VISITS 500000u
 
 static int walk(builder *b, const vnode *n, const double *xf, int depth) {
   if (!n || depth > MAX_DEPTH) return 1;
   if (++b->visits > MAX_VISITS)
     return fail(b->p, BBC_ERROR_CORRUPT,
-                "more than 2,000,000 node instances (USE inside itself, or nested too often)");
+                "more than 500,000 node instances (USE inside itself, or nested too often)");
   const char *t = n->type;
   if (!strcmp(t, "Shape")) {
     const vnode *g = child(n, "geometry");

@@ -437,6 +437,12 @@ static ALWAYS_INLINE int row_span(const edges *ed, double py, int x0, int x1, in
  * covers (the top-left rule on its edges) within the view's slab, with the
  * depth tests, the alpha test, the colour, the shading and the normal, into
  * the front and back images (or only the coverage). */
+/* A material's map (1 + texture index, 0 = none: normal_map,
+ * occlusion_map) as an image, or NULL. */
+static const bbc_image *material_map(const bbc_mesh *m, int map) {
+  return map > 0 && (size_t)map <= m->texture_count ? &m->textures[map - 1].image : NULL;
+}
+
 /* An engine's lighting (bbc_view.sun), as glTF viewers light a lit
  * material: the normal n (interpolated, unit) bent by the material's normal
  * map through the corners' tangents (weights w, at texture coordinate (u, v);
@@ -449,9 +455,7 @@ static double engine_light(const bbc_mesh *m, size_t t, const target *tg, const 
   const bbc_material *mat = tr->mat;
   const uint32_t *ix = m->indices + 3 * t;
   vec3 nn = vload(n);
-  const bbc_image *nmap = mat->normal_map > 0 && (size_t)mat->normal_map <= m->texture_count
-                              ? &m->textures[mat->normal_map - 1].image
-                              : NULL;
+  const bbc_image *nmap = material_map(m, mat->normal_map);
   if (nmap && nmap->rgba && m->tangents && u >= 0) {
     double tg3[3] = {0, 0, 0}, hand = 0;
     for (int k = 0; k < 3; k++) {
@@ -469,9 +473,7 @@ static double engine_light(const bbc_mesh *m, size_t t, const target *tg, const 
   }
   if (!tr->faces_camera) nn = vscale(nn, -1.0);
   double ao = 1.0;
-  const bbc_image *omap = mat->occlusion_map > 0 && (size_t)mat->occlusion_map <= m->texture_count
-                              ? &m->textures[mat->occlusion_map - 1].image
-                              : NULL;
+  const bbc_image *omap = material_map(m, mat->occlusion_map);
   if (omap && omap->rgba && u >= 0) ao = k_unit[sample(omap, u, v)[0]];
   double ndl = vdot(nn, vload(tg->light));
   double amb = tg->view->sun_ambient;

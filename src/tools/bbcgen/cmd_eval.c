@@ -201,16 +201,6 @@ static void eval_options(const cli *c, const eval_args *ea, const bbc_mesh *othe
   }
 }
 
-/* The direction towards a sun at azimuth deg[0] around the up axis (0 =
- * the axis after it: +z for y up, +x for z up) and elevation deg[1]. */
-static void sun_direction(bbc_axis up_axis, const double deg[2], double light[3]) {
-  int up = (int)up_axis >= 0 && up_axis <= 2 ? (int)up_axis : 1, a = (up + 1) % 3, b = (up + 2) % 3;
-  double az = deg[0] * 3.14159265358979323846 / 180, el = deg[1] * 3.14159265358979323846 / 180;
-  light[up] = sin(el);
-  light[a] = cos(el) * cos(az);
-  light[b] = cos(el) * sin(az);
-}
-
 /* The two summary lines; the side-view figures "n/a" when no view is one. */
 static void print_eval(const bbc_eval_result *r, const bbc_eval_options *o, double t0) {
   char side_iou[32] = "n/a", side_psnr[32] = "n/a", side_cov[32] = "n/a", side_block[32] = "n/a";
@@ -244,7 +234,12 @@ static int eval_suns(const cli *c, const eval_args *ea, const bbc_mesh m[2], bbc
   for (int k = 0; k < n && rc == EXIT_OK; k++) {
     double deg[2] = {ea->sun_deg[0], ea->sun_deg[1]};
     if (n > 1) sweep_sun(k, deg);
-    sun_direction(c->params.up_axis, deg, o->light);
+    /* The sun as the prelight's light is set: azimuth around the up axis
+     * (0 = +z for y up), elevation above the horizon. */
+    bbc_params sun = c->params;
+    sun.light_azim_deg = deg[0];
+    sun.light_elev_deg = deg[1];
+    bbc_params_get_light_direction(&sun, o->light);
     o->sheet = k == 0 ? sheet : NULL;
     bbc_eval_result r;
     bbc_error err;

@@ -262,8 +262,8 @@ static void test_tree_command(void **state) {
   assert_memory_equal(ba, bb, na - (size_t)(ba - (char *)fa));
   free(fa);
   free(fb);
-  snprintf(a, sizeof a, "%s/t1_leaf.png", tu_dir);
-  snprintf(b, sizeof b, "%s/t2_leaf.png", tu_dir);
+  snprintf(a, sizeof a, "%s/t1_obj_leaf.png", tu_dir);
+  snprintf(b, sizeof b, "%s/t2_obj_leaf.png", tu_dir);
   fa = tu_read_file(a, &na);
   fb = tu_read_file(b, &nb);
   assert_non_null(fa);
@@ -404,7 +404,7 @@ static void test_exec_batch(void **state) {
 /* Tree_1's saved cloud in vrml97models/A/... and vrml97models/B/... are the
  * same bytes. */
 static void same_saves(const char *a, const char *b) {
-  const char *files[] = {"Tree_1.wrl", "Tree_1_billboards.png", "Tree_1_billboards.dds"};
+  const char *files[] = {"Tree_1.wrl", "Tree_1_wrl_billboards.png", "Tree_1_wrl_billboards.dds"};
   for (int i = 0; i < 3; i++) {
     char fa[2048], fb[2048];
     snprintf(fa, sizeof fa, "%s/vrml97models/%s/Tree_1/Tree_1_e6.00_tex32_pl/%s", tu_dir, a,
@@ -511,7 +511,7 @@ static void test_exec_state(void **state) {
   assert_null(strstr(t, ".dds"));
   free(t);
   snprintf(saved, sizeof saved,
-           "%s/vrml97models/free/Tree_1/Tree_1_e6.00_tex16_pl/Tree_1_billboards.dds", tu_dir);
+           "%s/vrml97models/free/Tree_1/Tree_1_e6.00_tex16_pl/Tree_1_wrl_billboards.dds", tu_dir);
   assert_false(tu_have_file(saved));
 }
 
@@ -890,9 +890,9 @@ static void test_exec_errors(void **state) {
     }
     char pa[2048], pb[2048];
     snprintf(pa, sizeof pa, "%s/vrml97models/m0/oak_medium/oak_medium_e6.00_tex32_pl/%s", tu_dir,
-             "oak_medium_billboards.png");
+             "oak_medium_wrl_billboards.png");
     snprintf(pb, sizeof pb, "%s/vrml97models/m1/oak_medium/oak_medium_e6.00_tex32_pl/%s", tu_dir,
-             "oak_medium_billboards.png");
+             "oak_medium_wrl_billboards.png");
     size_t na, nb;
     unsigned char *ta = tu_read_file(pa, &na), *tb = tu_read_file(pb, &nb);
     if (!ta || !tb) fail_msg("missing %s or %s", pa, pb);
@@ -1012,10 +1012,14 @@ static void test_cloud_command(void **state) {
   snprintf(args, sizeof args, "%s/my_tree.mtl", tu_dir);
   char *mtl = (char *)tu_read_file(args, NULL);
   assert_non_null(mtl);
-  assert_non_null(strstr(mtl, "\nmap_Kd my_tree_billboards.png\n"));
+  assert_non_null(strstr(mtl, "\nmap_Kd my_tree_obj_billboards.png\n"));
   free(mtl);
-  const char *made[] = {
-      "UP.GLB", "UP.PNG", "UP.OBJ", "UP.mtl", "UP_billboards.png", "my_tree_billboards.png"};
+  const char *made[] = {"UP.GLB",
+                        "UP.PNG",
+                        "UP.OBJ",
+                        "UP.mtl",
+                        "UP_OBJ_billboards.png",
+                        "my_tree_obj_billboards.png"};
   for (size_t i = 0; i < sizeof made / sizeof made[0]; i++) {
     char f[1200];
     snprintf(f, sizeof f, "%s/%s", tu_dir, made[i]);
@@ -1100,7 +1104,7 @@ static void test_cloud_command(void **state) {
   snprintf(wrl, sizeof wrl, "%s/vrml97models/forest/Tree_1/Tree_1_e6.00_tex32_pl/Tree_1.wrl",
            tu_dir);
   snprintf(png, sizeof png,
-           "%s/vrml97models/forest/Tree_1/Tree_1_e6.00_tex32_pl/Tree_1_billboards.png", tu_dir);
+           "%s/vrml97models/forest/Tree_1/Tree_1_e6.00_tex32_pl/Tree_1_wrl_billboards.png", tu_dir);
   size_t n;
   unsigned char *w = tu_read_file(wrl, &n), *p = tu_read_file(png, NULL);
   assert_non_null(w);
@@ -1324,22 +1328,28 @@ static void test_materials_and_texture_names(void **state) {
     int v = tu_gltf_validate(p);
     if (v != 3) assert_int_equal(v, 0);
   }
-  assert_true(file_exists(dir, "u_billboards.png"));
-  assert_true(file_exists(dir, "u_billboards_nm.png")); /* the .gltf's and the .wrl's */
-  assert_true(file_exists(dir, "l_billboards.png"));
+  /* Each output its own side files, though u.gltf, u.wrl and u.obj share a
+   * folder and a stem. */
+  assert_true(file_exists(dir, "u_gltf_billboards.png") &&
+              file_exists(dir, "u_obj_billboards.png"));
+  assert_true(file_exists(dir, "u_gltf_billboards_nm.png") &&
+              file_exists(dir, "u_wrl_billboards_nm.png"));
+  assert_true(file_exists(dir, "l_wrl_billboards.png") && file_exists(dir, "l_obj_billboards.png"));
+  assert_false(file_exists(dir, "u_billboards.png"));
   assert_true(file_exists(dir, "u.mtl") && file_exists(dir, "l.mtl"));
   snprintf(p, sizeof p, "%s/u.gltf", dir);
   char *t = (char *)tu_read_file(p, NULL);
-  assert_non_null(strstr(t, "\"uri\":\"u_billboards.png\""));
-  assert_non_null(strstr(t, "\"uri\":\"u_billboards_nm.png\""));
+  assert_non_null(strstr(t, "\"uri\":\"u_gltf_billboards.png\""));
+  assert_non_null(strstr(t, "\"uri\":\"u_gltf_billboards_nm.png\""));
   free(t);
-  assert_true(file_exists(dir, "m_billboards_nm.png") && file_exists(dir, "m_billboards_ao.png"));
+  assert_true(file_exists(dir, "m_gltf_billboards_nm.png") &&
+              file_exists(dir, "m_gltf_billboards_ao.png"));
   snprintf(p, sizeof p, "%s/u.wrl", dir);
   t = (char *)tu_read_file(p, NULL);
   assert_null(strstr(t, "Material {"));
   /* the DDS with the atlas's mip levels first, the PNG for other readers */
-  assert_non_null(strstr(t, "url [ \"u_billboards.dds\" \"u_billboards.png\" ]"));
-  assert_true(file_exists(dir, "u_billboards.dds"));
+  assert_non_null(strstr(t, "url [ \"u_wrl_billboards.dds\" \"u_wrl_billboards.png\" ]"));
+  assert_true(file_exists(dir, "u_wrl_billboards.dds"));
   free(t);
   snprintf(p, sizeof p, "%s/l.wrl", dir);
   t = (char *)tu_read_file(p, NULL);
@@ -1348,7 +1358,7 @@ static void test_materials_and_texture_names(void **state) {
   snprintf(p, sizeof p, "%s/u.mtl", dir);
   t = (char *)tu_read_file(p, NULL);
   assert_non_null(strstr(t, "illum 0"));
-  assert_non_null(strstr(t, "map_Kd u_billboards.png"));
+  assert_non_null(strstr(t, "map_Kd u_obj_billboards.png"));
   free(t);
   snprintf(p, sizeof p, "%s/l.mtl", dir);
   t = (char *)tu_read_file(p, NULL);

@@ -299,7 +299,8 @@ static void test_textured_quad(void **state) {
   const cJSON *buf = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(j, "buffers"), 0);
   assert_string_equal(cJSON_GetObjectItemCaseSensitive(buf, "uri")->valuestring, "quad.bin");
   img = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(j, "images"), 0);
-  assert_string_equal(cJSON_GetObjectItemCaseSensitive(img, "uri")->valuestring, "quad_leaf.png");
+  assert_string_equal(cJSON_GetObjectItemCaseSensitive(img, "uri")->valuestring,
+                      "quad_gltf_leaf.png");
   cJSON_Delete(j);
 
   const char *files[2] = {glb, gltf};
@@ -509,7 +510,7 @@ static void test_deterministic(void **state) {
   assert_true(files_equal(a, b));
   /* .gltf: write, keep copies, write again over them, compare. */
   char *g = join(tu_dir, "det.gltf"), *bin = join(tu_dir, "det.bin");
-  char *png = join(tu_dir, "det_leaf.png");
+  char *png = join(tu_dir, "det_gltf_leaf.png");
   const char *names[3] = {g, bin, png};
   char *copies[3];
   write_ok(g, &m, 0, NULL);

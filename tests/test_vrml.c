@@ -180,13 +180,13 @@ static void check_shapes(const char *text, const bbc_cloud *cl, const char *stem
   assert_int_equal(count(text, "Shape {"), sides * cl->billboard_count);
   assert_int_equal(count(text, "IndexedFaceSet {"), sides * cl->billboard_count);
   char url[300];
-  snprintf(url, sizeof url, "url \"%s_billboards.png\" repeatS FALSE repeatT FALSE", stem);
+  snprintf(url, sizeof url, "url \"%s_wrl_billboards.png\" repeatS FALSE repeatT FALSE", stem);
   assert_int_equal(count(text, url), sides * cl->billboard_count);
   assert_int_equal(count(text, sides == 2 ? "solid TRUE" : "solid FALSE"),
                    sides * cl->billboard_count);
   assert_int_equal(count(text, sides == 2 ? "solid FALSE" : "solid TRUE"), 0);
   assert_int_equal(count(text, "ccw TRUE"), sides * cl->billboard_count);
-  snprintf(url, sizeof url, "NormalMap { url \"%s_billboards_nm.png\" }", stem);
+  snprintf(url, sizeof url, "NormalMap { url \"%s_wrl_billboards_nm.png\" }", stem);
   assert_int_equal(count(text, url), nm_nodes ? sides * cl->billboard_count : 0);
 
   size_t base = 0, tri = 0;
@@ -289,10 +289,10 @@ static void test_formats_with_back_images_and_normal_maps(void **state) {
       assert_null(strstr(text, "NormalMap"));
       assert_null(strstr(text, "PROTO"));
     }
-    snprintf(name, sizeof name, "%s_billboards.png", stem);
+    snprintf(name, sizeof name, "%s_wrl_billboards.png", stem);
     char *png = path_in(dir, name);
     check_png(png, &cl.mesh.textures[0].image);
-    snprintf(name, sizeof name, "%s_billboards_nm.png", stem);
+    snprintf(name, sizeof name, "%s_wrl_billboards_nm.png", stem);
     char *nm = path_in(dir, name);
     if (format == 0)
       check_png(nm, &cl.mesh.textures[1].image);
@@ -324,7 +324,7 @@ static void test_double_sided_without_back_images(void **state) {
   assert_null(strstr(text, "_back"));
   assert_null(strstr(text, "NormalMap")); /* format 0 without normal maps */
   check_shapes(text, &cl, "one", 0);
-  assert_int_equal(entries(dir), 2); /* one.wrl, one_billboards.png */
+  assert_int_equal(entries(dir), 2); /* one.wrl, one_wrl_billboards.png */
   free(text);
   /* A name outside the URL-safe characters: the file keeps it, the url
    * percent-encodes it. */
@@ -333,7 +333,7 @@ static void test_double_sided_without_back_images(void **state) {
     fail_msg("%s", err.message);
   text = read_text(spaced);
   check_shapes(text, &cl, "my%20cloud%231", 0);
-  char *spaced_png = path_in(dir, "my cloud#1_billboards.png");
+  char *spaced_png = path_in(dir, "my cloud#1_wrl_billboards.png");
   check_png(spaced_png, &cl.mesh.textures[0].image);
   assert_int_equal(entries(dir), 4);
   free(spaced_png);
@@ -399,13 +399,13 @@ static void test_dds_mip_levels(void **state) {
   const bbc_image *atlas = &cl.mesh.textures[0].image;
   assert_true(bbc_image_has_transparency(atlas));
   char *dir = sub_dir("dds");
-  char *wrl = path_in(dir, "d.wrl"), *dds = path_in(dir, "d_billboards.dds");
+  char *wrl = path_in(dir, "d.wrl"), *dds = path_in(dir, "d_wrl_billboards.dds");
   bbc_error err;
   if (bbc_cloud_write_vrml(wrl, &cl, &(bbc_vrml_options){.format = BBC_VRML_97, .dds = 1}, &err) !=
       BBC_OK)
     fail_msg("%s", err.message);
   char *text = read_text(wrl);
-  assert_int_equal(count(text, "url [ \"d_billboards.dds\" \"d_billboards.png\" ]"), 4);
+  assert_int_equal(count(text, "url [ \"d_wrl_billboards.dds\" \"d_wrl_billboards.png\" ]"), 4);
   assert_int_equal(count(text, "url"), 4);
   size_t size = 0;
   unsigned char *f = tu_read_file(dds, &size);
@@ -446,13 +446,13 @@ static void test_dds_mip_levels(void **state) {
   if (bbc_mesh_load(wrl, NULL, &m, &err) != BBC_OK) fail_msg("%s", err.message);
   assert_int_equal(m.texture_count, 1);
   const char *tp = m.textures[0].path;
-  assert_true(strlen(tp) > 16 && !strcmp(tp + strlen(tp) - 16, "d_billboards.png"));
+  assert_true(strlen(tp) > 20 && !strcmp(tp + strlen(tp) - 20, "d_wrl_billboards.png"));
   assert_int_equal(m.textures[0].image.width, atlas->width);
   bbc_mesh_free(&m);
   assert_int_equal(entries(dir), 3); /* .wrl, .png, .dds; no temporary files */
   /* Without the PNG: said once, and the shapes keep their colour (as a
    * missing map_Kd) instead of drawing an empty texture. */
-  char *png = path_in(dir, "d_billboards.png");
+  char *png = path_in(dir, "d_wrl_billboards.png");
   assert_int_equal(remove(png), 0);
   int warnings = 0;
   bbc_load_options lo;
@@ -581,7 +581,7 @@ static void test_deterministic(void **state) {
   bbc_cloud cl;
   build_cloud(1, 1, &cl);
   char *dirs[2] = {sub_dir("det_a"), sub_dir("det_b")};
-  const char *names[3] = {"c.wrl", "c_billboards.png", "c_billboards_nm.png"};
+  const char *names[3] = {"c.wrl", "c_wrl_billboards.png", "c_wrl_billboards_nm.png"};
   unsigned char *first[3] = {0};
   size_t first_size[3] = {0};
   bbc_error err;

@@ -17,6 +17,19 @@ void bbc__safe_name(const char *in, char *out, size_t n) {
   if (i == 0) snprintf(out, n, "unnamed");
 }
 
+void bbc__side_file_stem(const char *path, int safe, char *out, size_t n) {
+  const char *base = strrchr(path, '/');
+  base = base ? base + 1 : path;
+  char name[1024];
+  snprintf(name, sizeof name, "%s", base);
+  char *dot = strrchr(name, '.');
+  if (dot) *dot = '_';
+  if (safe)
+    bbc__safe_name(name, out, n);
+  else
+    snprintf(out, n, "%s", name);
+}
+
 void bbc_texture_file_name(const bbc_mesh *m, size_t t, char *out, size_t n) {
   assert(m && out);
   /* The first material that uses it as colour, else as normal map, else

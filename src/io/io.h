@@ -12,6 +12,12 @@
  * '_'; "unnamed" when empty. */
 void bbc__safe_name(const char *in, char *out, size_t n);
 
+/* The stem of the files an output writes beside it (its textures): the
+ * output's whole file name with the extension's dot as '_' ("u.gltf" ->
+ * "u_gltf", "u.obj" -> "u_obj"), so that outputs of different formats in
+ * one folder never share a side file; `safe`: as bbc__safe_name. */
+void bbc__side_file_stem(const char *path, int safe, char *out, size_t n);
+
 /* Checks that `path` names a readable regular file; BBC_ERROR_NOT_FOUND,
  * BBC_ERROR_NOT_A_FILE or BBC_ERROR_IO with a message otherwise. */
 bbc_result bbc__check_input_file(const char *path, bbc_error *err);

@@ -317,6 +317,7 @@ typedef struct gltf_writer {
   const char *extras; /* the asset's extras_json, or NULL */
   int binary, lod, unlit;
   const char *stem, *dir; /* file names' stem; the output's folder */
+  const char *tex_stem;   /* the images' stem (bbc__side_file_stem) */
   gbuf bin, json;
   mesh_out *mo; /* per node */
   view *views;
@@ -465,7 +466,7 @@ static void put_indices(gltf_writer *w, const bbc_mesh *m, mesh_out *mo) {
 }
 
 /* Texture t of the mesh as the next image: a PNG in the buffer (.glb) or a
- * file beside the .gltf named <stem>_<material>[_nm].png, made unique
+ * file beside the .gltf named <stem>_gltf_<material>[_nm].png, made unique
  * within the file. */
 static bbc_result put_image(gltf_writer *w, const bbc_mesh *m, mesh_out *mo, size_t t) {
   const bbc_image *im = &m->textures[t].image;
@@ -480,10 +481,10 @@ static bbc_result put_image(gltf_writer *w, const bbc_mesh *m, mesh_out *mo, siz
   mo->tex_gltf[t] = (int)n;
   char name[160];
   bbc_texture_file_name(m, t, name, sizeof name);
-  snprintf(w->image_names[n], sizeof w->image_names[0], "%s_%s", w->stem, name);
+  snprintf(w->image_names[n], sizeof w->image_names[0], "%s_%s", w->tex_stem, name);
   for (size_t i = 0; i < n; i++)
     if (!strcmp(w->image_names[i], w->image_names[n])) {
-      snprintf(w->image_names[n], sizeof w->image_names[0], "%s_%s_%zu", w->stem, name, n);
+      snprintf(w->image_names[n], sizeof w->image_names[0], "%s_%s_%zu", w->tex_stem, name, n);
       break;
     }
   bbc_result r = BBC_OK;
@@ -914,8 +915,10 @@ bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, si
   bbc_result r = check_scene(&w, ext, &total_views, &total_tex);
   if (r != BBC_OK) return r;
 
-  char stem[256], dir[2048];
+  char stem[256], dir[2048], tex_stem[270];
   safe_stem(path, stem, sizeof stem);
+  bbc__side_file_stem(path, 1, tex_stem, sizeof tex_stem);
+  w.tex_stem = tex_stem;
   bbc__path_folder(path, dir, sizeof dir);
   w.stem = stem;
   w.dir = dir;

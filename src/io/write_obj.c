@@ -148,7 +148,7 @@ bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m,
   char stem[256], dir[2048];
   /* The MTL and PNG names: the OBJ's stem with bytes outside
    * [A-Za-z0-9_.-] as '_', since `mtllib` and `map_Kd` split at spaces
-   * (an OBJ named "my tree.obj" gets my_tree.mtl, my_tree_billboards.png). */
+   * (an OBJ named "my tree.obj" gets my_tree.mtl, my_tree_obj_billboards.png). */
   char raw_stem[256];
   path_stem(obj_path, raw_stem, sizeof raw_stem);
   bbc__safe_name(raw_stem, stem, sizeof stem);
@@ -164,7 +164,9 @@ bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m,
     free(written);
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", obj_path);
   }
-  bbc_result r = write_textures(m, stem, dir, tex_names, written, &n_written, err);
+  char tex_stem[270];
+  bbc__side_file_stem(obj_path, 1, tex_stem, sizeof tex_stem);
+  bbc_result r = write_textures(m, tex_stem, dir, tex_names, written, &n_written, err);
   char mtl_path[2400];
   snprintf(mtl_path, sizeof mtl_path, "%s%s.mtl", dir, stem);
   if (r == BBC_OK) r = write_mtl(mtl_path, m, tex_names, unlit, err);

@@ -1,6 +1,6 @@
 /* write_vrml.c — a Billboard Cloud as VRML (thesis Appendix A, "save"): the
- * .wrl and beside it the colour atlas <stem>.png (and the normal atlas
- * <stem>_nm.png in format 0; with the dds option the colour atlas also as <stem>.dds with
+ * .wrl and beside it the colour atlas <stem>_wrl_<material>.png (and the normal atlas
+ * ..._nm.png in format 0; with the dds option the colour atlas also as .dds with
  * its mip levels), every file atomic. The whole text is built in memory
  * first, then the PNGs are written, then the .wrl, so a failure writes
  * nothing and the .wrl never names a missing file. */
@@ -436,7 +436,7 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud,
   if (r != BBC_OK) return r;
 
   const char *base_name = strrchr(wrl_path, '/') ? strrchr(wrl_path, '/') + 1 : wrl_path;
-  size_t len = strlen(wrl_path), stem_len = strlen(base_name) - 4;
+  size_t len = strlen(wrl_path), stem_len = strlen(base_name);
   char *dir = malloc(len + 1), *stem = malloc(stem_len + 1), *png = malloc(len + 200);
   text t = {0};
   if (!dir || !stem || !png) {
@@ -444,8 +444,7 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud,
     goto done;
   }
   bbc__path_folder(wrl_path, dir, len + 1);
-  memcpy(stem, base_name, stem_len);
-  stem[stem_len] = 0;
+  bbc__side_file_stem(wrl_path, 0, stem, stem_len + 1); /* "t.wrl": t_wrl_billboards.png */
 
   put_header(&t, cloud, comment, format, sides, nm, unlit);
   vrml_ctx x;

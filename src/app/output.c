@@ -11,7 +11,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <dirent.h>
+#include <stdatomic.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 typedef bbc__level job_lod;
 
@@ -201,8 +204,8 @@ static bbc_result write_level_files(const bbc_session *s, job_lod *const *lods, 
   return r;
 }
 
-bbc_result bbc_session_write(bbc_session *s, const char *out, const bbc_callbacks *cb,
-                             bbc_error *err) {
+static bbc_result write_levels(bbc_session *s, const char *out, const bbc_callbacks *cb,
+                               bbc_error *err) {
   size_t count = bbc_session_get_level_count(s);
   if (!count)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "no Billboard Cloud to write: run step 3");
@@ -238,6 +241,101 @@ bbc_result bbc_session_write(bbc_session *s, const char *out, const bbc_callback
   else
     r = write_level_files(s, lods, count, out, obj, unlit, err);
   s->write_s = bbc__now_s() - t0;
+  return r;
+}
+
+/* ---- one run's files together or not at all ---------------------------------
+ * The writers write into a fresh folder beside OUT ("<folder>.bbcgen-<pid>-<k>.tmp/");
+ * once every file is there, each is renamed into OUT's folder, the side files
+ * (atlases, .bin, .mtl, DDS) first and the outputs last, so that no output
+ * names a file that is not there yet; a failure or an interruption before
+ * that leaves the folder as it was. */
+
+static atomic_uint g_stage_counter;
+
+/* stage/<name> -> folder/<name> for every file of the stage: `outputs` 0
+ * moves the side files, 1 those with the output's extension. */
+static int move_staged(const char *stage, const char *folder, const char *ext, int outputs,
+                       int dry_run, char *bad, size_t bad_size) {
+  DIR *d = opendir(stage);
+  if (!d) {
+    snprintf(bad, bad_size, "%s", stage);
+    return -1;
+  }
+  int rc = 0;
+  struct dirent *e;
+  while (rc == 0 && (e = readdir(d))) {
+    if (e->d_name[0] == '.' && (!e->d_name[1] || (e->d_name[1] == '.' && !e->d_name[2]))) continue;
+    if ((strcasecmp(extension_of(e->d_name), ext) == 0) != outputs) continue;
+    char from[4600], to[4600];
+    snprintf(from, sizeof from, "%s/%s", stage, e->d_name);
+    snprintf(to, sizeof to, "%s%s", folder, e->d_name);
+    struct stat st;
+    if (dry_run ? stat(to, &st) == 0 && S_ISDIR(st.st_mode) : rename(from, to) != 0) {
+      snprintf(bad, bad_size, "%s", to);
+      rc = -1;
+    }
+  }
+  closedir(d);
+  return rc;
+}
+
+static void remove_stage(const char *stage) {
+  DIR *d = opendir(stage);
+  if (d) {
+    struct dirent *e;
+    while ((e = readdir(d))) {
+      char f[4600];
+      snprintf(f, sizeof f, "%s/%s", stage, e->d_name);
+      if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) unlink(f);
+    }
+    closedir(d);
+  }
+  rmdir(stage);
+}
+
+/* err's message names the stage's files by their final names. */
+static void unstage_message(bbc_error *err, const char *stage, const char *folder) {
+  char *at = strstr(err->message, stage);
+  if (!at) return;
+  char msg[sizeof err->message + 4300];
+  size_t sl = strlen(stage);
+  int n = snprintf(msg, sizeof msg, "%.*s%s%s", (int)(at - err->message), err->message, folder,
+                   at[sl] == '/' ? at + sl + 1 : at + sl);
+  size_t len = n < 0 ? 0 : (size_t)n < sizeof err->message ? (size_t)n : sizeof err->message - 1;
+  memcpy(err->message, msg, len);
+  err->message[len] = 0;
+}
+
+bbc_result bbc_session_write(bbc_session *s, const char *out, const bbc_callbacks *cb,
+                             bbc_error *err) {
+  const char *slash = strrchr(out, '/');
+  const char *base = slash ? slash + 1 : out;
+  char folder[4200], stage[4300], staged_out[4600];
+  snprintf(folder, sizeof folder, "%.*s", slash ? (int)(slash - out) + 1 : 0, out);
+  int made = -1, e = 0;
+  for (int attempt = 0; attempt < 100 && made != 0; attempt++) {
+    snprintf(stage, sizeof stage, "%s.bbcgen-%ld-%u.tmp", folder, (long)getpid(),
+             atomic_fetch_add(&g_stage_counter, 1u));
+    made = mkdir(stage, 0777);
+    e = errno;
+    if (made != 0 && e != EEXIST) break;
+  }
+  if (made != 0)
+    return bbc__fail(err, BBC_ERROR_IO, "%s: cannot write in the folder %s: %s", out,
+                     *folder ? folder : "./", strerror(e));
+  snprintf(staged_out, sizeof staged_out, "%s/%s", stage, base);
+  bbc_result r = write_levels(s, staged_out, cb, err);
+  if (r != BBC_OK) unstage_message(err, stage, folder);
+  const char *ext = extension_of(base);
+  char bad[4600];
+  if (r == BBC_OK && (move_staged(stage, folder, ext, 0, 1, bad, sizeof bad) != 0 ||
+                      move_staged(stage, folder, ext, 1, 1, bad, sizeof bad) != 0))
+    r = bbc__fail(err, BBC_ERROR_IO, "%s: a folder is in the way; nothing written", bad);
+  if (r == BBC_OK && (move_staged(stage, folder, ext, 0, 0, bad, sizeof bad) != 0 ||
+                      move_staged(stage, folder, ext, 1, 0, bad, sizeof bad) != 0))
+    r = bbc__fail(err, BBC_ERROR_IO, "%s: cannot move it into place: %s", bad, strerror(errno));
+  remove_stage(stage);
   return r;
 }
 

@@ -1,0 +1,174 @@
+/* test_robust.c — nothing lost, bad input refused (issue 32, items 4 and 5):
+ * one output never damages another's files, one run's files appear all
+ * together or not at all, and damaged, compressed or misplaced inputs get a
+ * clear error instead of a partial model. Runs the tools as a user would. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+#include <dirent.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+#include "test_util.h"
+
+/* Runs `TOOL ARGS` (bbcgen or forest) in tu_dir, stdout and stderr to
+ * files; returns the exit code and stderr (caller frees). */
+static int run_tool(const char *tool, const char *args, char **errout) {
+  char cmd[8192], o[1024], e[1024];
+  snprintf(o, sizeof o, "%s/stdout.txt", tu_dir);
+  snprintf(e, sizeof e, "%s/stderr.txt", tu_dir);
+  snprintf(cmd, sizeof cmd, "cd '%s' && '%s/%s' %s > '%s' 2> '%s' < /dev/null", tu_dir, BBC_BIN_DIR,
+           tool, args, o, e);
+  int st = system(cmd);
+  char *err = (char *)tu_read_file(e, NULL);
+  if (errout)
+    *errout = err ? err : strdup("");
+  else
+    free(err);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
+}
+
+static int file_exists(const char *dir, const char *name) {
+  char p[2048];
+  snprintf(p, sizeof p, "%s/%s", dir, name);
+  return access(p, F_OK) == 0;
+}
+
+/* The names in a folder, sorted, as one string "a b c" (caller frees). */
+static char *listing(const char *dir) {
+  char *names[256];
+  size_t n = 0, total = 1;
+  DIR *d = opendir(dir);
+  assert_non_null(d);
+  struct dirent *e;
+  while ((e = readdir(d)) && n < 256)
+    if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
+      names[n] = strdup(e->d_name);
+      total += strlen(e->d_name) + 1;
+      n++;
+    }
+  closedir(d);
+  for (size_t i = 1; i < n; i++)
+    for (size_t j = i; j > 0 && strcmp(names[j - 1], names[j]) > 0; j--) {
+      char *t = names[j];
+      names[j] = names[j - 1];
+      names[j - 1] = t;
+    }
+  char *s = calloc(total, 1);
+  for (size_t i = 0; i < n; i++) {
+    if (i) strcat(s, " ");
+    strcat(s, names[i]);
+    free(names[i]);
+  }
+  return s;
+}
+
+/* Every file of `dir` read into memory, to compare later. */
+typedef struct snapshot {
+  size_t n;
+  char names[64][256];
+  unsigned char *data[64];
+  size_t size[64];
+} snapshot;
+
+static void take(snapshot *s, const char *dir) {
+  memset(s, 0, sizeof *s);
+  DIR *d = opendir(dir);
+  assert_non_null(d);
+  struct dirent *e;
+  while ((e = readdir(d)) && s->n < 64) {
+    if (e->d_name[0] == '.') continue;
+    char p[2048];
+    snprintf(p, sizeof p, "%s/%s", dir, e->d_name);
+    snprintf(s->names[s->n], sizeof s->names[0], "%s", e->d_name);
+    s->data[s->n] = tu_read_file(p, &s->size[s->n]);
+    s->n++;
+  }
+  closedir(d);
+}
+
+/* Each file of the snapshot still there with the same bytes. */
+static void unchanged(const snapshot *s, const char *dir) {
+  for (size_t i = 0; i < s->n; i++) {
+    char p[2048];
+    snprintf(p, sizeof p, "%s/%s", dir, s->names[i]);
+    size_t n = 0;
+    unsigned char *now = tu_read_file(p, &n);
+    if (!now || n != s->size[i] || memcmp(now, s->data[i], n))
+      fail_msg("%s changed or went missing", s->names[i]);
+    free(now);
+  }
+}
+
+static void drop(snapshot *s) {
+  for (size_t i = 0; i < s->n; i++) free(s->data[i]);
+}
+
+/* The issue's case: a .gltf chain, then an .obj chain of the same name in
+ * the same folder; every file the glTF wrote keeps its bytes. */
+static void test_outputs_do_not_clash(void **state) {
+  (void)state;
+  char model[1024], args[4096];
+  tu_data_path(model, sizeof model, "trees/quaternius/OBJ/Tree_1.obj");
+  if (!tu_have_file(model)) skip();
+  char *dir = tu_make_temp_dir();
+  snprintf(args, sizeof args, "'%s' -o '%s/peach.gltf' --lod 5,10 --texres 32 -q", model, dir);
+  assert_int_equal(run_tool("bbcgen", args, NULL), 0);
+  snapshot gl;
+  take(&gl, dir);
+  assert_true(gl.n >= 3); /* .gltf, .bin, the atlases */
+  for (const char *ext = "obj"; ext; ext = !strcmp(ext, "obj") ? "wrl" : NULL) {
+    snprintf(args, sizeof args, "'%s' -o '%s/peach.%s' --lod 5,10 --texres 32 -q", model, dir, ext);
+    assert_int_equal(run_tool("bbcgen", args, NULL), 0);
+  }
+  unchanged(&gl, dir);
+  drop(&gl);
+  assert_true(file_exists(dir, "peach_gltf_billboards_LOD0.png"));
+  assert_true(file_exists(dir, "peach_obj_billboards_LOD0.png"));
+  assert_true(file_exists(dir, "peach_lod1_wrl_billboards_LOD1.png"));
+  tu_remove_dir(dir);
+  free(dir);
+}
+
+/* A run that cannot put one of its files in place writes none of them and
+ * leaves no temporary folder. */
+static void test_all_or_nothing(void **state) {
+  (void)state;
+  char model[1024], args[4096], *err;
+  tu_data_path(model, sizeof model, "trees/quaternius/OBJ/Tree_1.obj");
+  if (!tu_have_file(model)) skip();
+  char *dir = tu_make_temp_dir(), sub[2048];
+  snprintf(sub, sizeof sub, "%s/t.mtl", dir); /* a folder where the .mtl goes */
+  assert_int_equal(mkdir(sub, 0777), 0);
+  snprintf(args, sizeof args, "'%s' -o '%s/t.obj' --texres 32 -q", model, dir);
+  assert_int_equal(run_tool("bbcgen", args, &err), 5);
+  assert_non_null(strstr(err, "t.mtl"));
+  assert_null(strstr(err, ".bbcgen-")); /* the final names, not the staging folder's */
+  free(err);
+  char *l = listing(dir);
+  assert_string_equal(l, "t.mtl"); /* no t.obj, no atlas, no temporary folder */
+  free(l);
+  assert_int_equal(rmdir(sub), 0);
+  /* With the way clear, the same run writes all three. */
+  assert_int_equal(run_tool("bbcgen", args, NULL), 0);
+  l = listing(dir);
+  assert_string_equal(l, "t.mtl t.obj t_obj_billboards.png");
+  free(l);
+  tu_remove_dir(dir);
+  free(dir);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_outputs_do_not_clash),
+      cmocka_unit_test(test_all_or_nothing),
+  };
+  return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
+}

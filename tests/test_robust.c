@@ -165,10 +165,41 @@ static void test_all_or_nothing(void **state) {
   free(dir);
 }
 
+/* Ctrl-C during a run: "interrupted", exit 130 (documented), nothing
+ * written. ash_large_hi takes seconds; the signal comes after half a
+ * second, while the model loads or the planes are chosen. */
+static void test_ctrl_c(void **state) {
+  (void)state;
+  char model[1024], args[4096], *err;
+  tu_data_path(model, sizeof model, "trees/eztree/ash_large_hi.obj");
+  if (!tu_have_file(model)) skip();
+  char *dir = tu_make_temp_dir();
+  char cmd[8192], e[1024];
+  snprintf(e, sizeof e, "%s/stderr.txt", tu_dir);
+  snprintf(args, sizeof args, "'%s' -o '%s/a.glb' --report '%s/a.json'", model, dir, dir);
+  snprintf(cmd, sizeof cmd,
+           "timeout --preserve-status -s INT 0.5 '%s/bbcgen' %s 2> '%s' > /dev/null", BBC_BIN_DIR,
+           args, e);
+  int st = system(cmd);
+  err = (char *)tu_read_file(e, NULL);
+  assert_non_null(err);
+  assert_true(WIFEXITED(st));
+  if (WEXITSTATUS(st) != 130) fail_msg("exit %d: %s", WEXITSTATUS(st), err);
+  assert_non_null(strstr(err, "interrupted"));
+  assert_null(strstr(err, "cancelled")); /* said once */
+  free(err);
+  char *l = listing(dir);
+  assert_string_equal(l, "");
+  free(l);
+  tu_remove_dir(dir);
+  free(dir);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_outputs_do_not_clash),
       cmocka_unit_test(test_all_or_nothing),
+      cmocka_unit_test(test_ctrl_c),
   };
   return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

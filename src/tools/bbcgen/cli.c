@@ -82,6 +82,8 @@ int cli_exit_code(bbc_result r, int output) {
 }
 
 int cli_fail(const bbc_error *err, int output) {
+  /* Ctrl-C: the caller says "interrupted" once */
+  if (err->code == BBC_ERROR_CANCELLED && cli_interrupted) return EXIT_INTERRUPTED;
   cli_error("%s", err->message[0] ? err->message : bbc_result_string(err->code));
   return cli_exit_code(err->code, output);
 }
@@ -342,6 +344,7 @@ int cli_output_ok(const char *option, const char *path) {
 }
 
 int cli_fail_in(const char *path, const bbc_error *err, int output) {
+  if (err->code == BBC_ERROR_CANCELLED && cli_interrupted) return EXIT_INTERRUPTED;
   if (!strncmp(err->message, path, strlen(path))) return cli_fail(err, output);
   cli_error("%s: %s", path, err->message);
   return cli_exit_code(err->code, output);

@@ -11,13 +11,14 @@
 /* Exit codes (documented in --help and docs/cli.md). */
 enum {
   EXIT_OK = 0,
-  EXIT_USAGE = 1,      /* bad command line, unknown or out-of-range parameter */
-  EXIT_INPUT = 2,      /* input missing, a folder, or unreadable */
-  EXIT_FORMAT = 3,     /* input in a format no reader knows */
-  EXIT_DAMAGED = 4,    /* input damaged, truncated, invalid or empty */
-  EXIT_OUTPUT = 5,     /* an output could not be written */
-  EXIT_RESOURCES = 6,  /* out of memory */
-  EXIT_INTERRUPTED = 7 /* interrupted (Ctrl-C at the prompt) */
+  EXIT_USAGE = 1,       /* bad command line, unknown or out-of-range parameter */
+  EXIT_INPUT = 2,       /* input missing, a folder, or unreadable */
+  EXIT_FORMAT = 3,      /* input in a format no reader knows */
+  EXIT_DAMAGED = 4,     /* input damaged, truncated, invalid or empty */
+  EXIT_OUTPUT = 5,      /* an output could not be written */
+  EXIT_RESOURCES = 6,   /* out of memory */
+  EXIT_INTERRUPTED = 7, /* interrupted (Ctrl-C at the prompt: the session goes on) */
+  EXIT_SIGINT = 130     /* interrupted (Ctrl-C) outside the prompt: 128 + SIGINT */
 };
 
 /* "FILE:LINE: " while a batch command runs (cli_error then names it), else NULL. */

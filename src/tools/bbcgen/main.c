@@ -4,6 +4,7 @@
 #include "cli.h"
 
 #include <locale.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -149,7 +150,8 @@ static void print_help(FILE *out) {
                "  2 input missing or unreadable  3 input format not supported\n"
                "  4 input damaged, invalid or empty (NaN coordinates, bad indices, truncated)\n"
                "  5 output could not be written  6 out of memory\n"
-               "  7 interrupted (Ctrl-C during a step at the prompt)\n");
+               "  7 interrupted (Ctrl-C during a step at the prompt)\n"
+               "  130 interrupted (Ctrl-C): the run stopped, no file half-written\n");
 }
 
 /* `bbcgen COMMAND --help`: that command's lines of the help (its usage
@@ -204,6 +206,22 @@ static void print_command_help(const char *cmd) {
   free(text);
 }
 
+/* Ctrl-C outside the prompt: the first asks the running step to stop (the
+ * library cleans up, no file is left half-written) and the run ends with
+ * "interrupted" and exit 130; a second stops at once. */
+static void on_sigint(int sig) {
+  (void)sig;
+  if (cli_interrupted) {
+    static const char msg[] = "\nbbcgen: interrupted\n";
+    ssize_t w = write(2, msg, sizeof msg - 1);
+    (void)w;
+    _exit(EXIT_SIGINT);
+  }
+  cli_interrupted = 1;
+}
+
+static int run_command(cli *c, const char *cmd, int argc, char **argv);
+
 int main(int argc, char **argv) {
   /* Numbers in text formats and JSON must never get a decimal comma. */
   setlocale(LC_ALL, "C");
@@ -253,16 +271,30 @@ int main(int argc, char **argv) {
       print_command_help(cmd);
       return EXIT_OK;
     }
-  if (!strcmp(cmd, "info")) return cmd_info(&c, argc - 1, argv + 1);
-  if (!strcmp(cmd, "tree")) return cmd_tree(&c, argc - 1, argv + 1);
-  if (!strcmp(cmd, "sample")) return cmd_sample(&c, argc - 1, argv + 1);
-  if (!strcmp(cmd, "render")) return cmd_render(&c, argc - 1, argv + 1);
-  if (!strcmp(cmd, "setup")) return cmd_setup(&c, argc - 1, argv + 1);
-  if (!strcmp(cmd, "planes")) return cmd_planes(&c, argc - 1, argv + 1);
-  if (!strcmp(cmd, "eval")) return cmd_eval(&c, argc - 1, argv + 1);
-  if (!strcmp(cmd, "baseline")) return cmd_baseline(&c, argc - 1, argv + 1);
-  if (!strcmp(cmd, "exec")) return cmd_exec(&c, argc - 1, argv + 1);
-  if (!strcmp(cmd, "view")) return cmd_view(&c, argc - 1, argv + 1);
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_sigint;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, NULL);
+  int rc = run_command(&c, cmd, argc, argv);
+  if (cli_interrupted) {
+    cli_error("interrupted (Ctrl-C): stopped; no file is left half-written");
+    return EXIT_SIGINT;
+  }
+  return rc;
+}
+
+static int run_command(cli *c, const char *cmd, int argc, char **argv) {
+  if (!strcmp(cmd, "info")) return cmd_info(c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "tree")) return cmd_tree(c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "sample")) return cmd_sample(c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "render")) return cmd_render(c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "setup")) return cmd_setup(c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "planes")) return cmd_planes(c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "eval")) return cmd_eval(c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "baseline")) return cmd_baseline(c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "exec")) return cmd_exec(c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "view")) return cmd_view(c, argc - 1, argv + 1);
   static const char *const commands[] = {"info", "sample",   "tree", "render", "setup", "planes",
                                          "eval", "baseline", "exec", "view",   NULL};
   if (cmd[0] == '-') {
@@ -284,5 +316,5 @@ int main(int argc, char **argv) {
     return EXIT_USAGE;
   }
   /* Anything else is a model: the whole pipeline. */
-  return cmd_cloud(&c, argc - 1, argv + 1);
+  return cmd_cloud(c, argc - 1, argv + 1);
 }

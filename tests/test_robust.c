@@ -195,11 +195,128 @@ static void test_ctrl_c(void **state) {
   free(dir);
 }
 
+/* `bbcgen info FILE` on bytes written to FILE: the exit code, and stderr
+ * holding `want` (when not NULL). */
+static int info_on(const char *name, const void *bytes, size_t n, int want_rc, const char *want) {
+  char *path = tu_write_file(tu_dir, name, bytes, n), args[2048], *err;
+  snprintf(args, sizeof args, "info '%s'", path);
+  int rc = run_tool("bbcgen", args, &err);
+  if (rc != want_rc || (want && !strstr(err, want)))
+    fail_msg("%s: exit %d (wanted %d), stderr: %s (wanted '%s')", name, rc, want_rc, err,
+             want ? want : "");
+  free(err);
+  free(path);
+  return rc;
+}
+
+#define INFO(name, text, rc, want) info_on(name, text, sizeof text - 1, rc, want)
+
+/* Files cut short are refused, naming the file and what is missing; whole
+ * files without a last line end are not. */
+static void test_cut_short(void **state) {
+  (void)state;
+  const char *quad = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\n";
+  char buf[512];
+  snprintf(buf, sizeof buf, "%sf 2 4 ", quad); /* the last face cut */
+  info_on("face.obj", buf, strlen(buf), 4, "face.obj: cut short");
+  snprintf(buf, sizeof buf, "%sf 2 4 3", quad); /* whole, no line end */
+  info_on("whole.obj", buf, strlen(buf), 0, NULL);
+  snprintf(buf, sizeof buf,
+           "v 0.500000 0.000000 0.000000\nv 1.000000 0.000000 0.000000\n"
+           "v 0.000000 1.000000 0.000000\nf 1 2 3\nv 0.000000 1.0");
+  info_on("vertex.obj", buf, strlen(buf), 4, "'v 0.000000 1.0' is incomplete");
+  snprintf(buf, sizeof buf, "%sf 2/1 4/2 3/", quad); /* a corner cut */
+  info_on("corner.obj", buf, strlen(buf), 4, "cut short");
+  INFO("pts.xyz", "1.5 2.5 3.5 7 9\n1.5 2.5 3.5 7 9\n1.5 2.5 3.5", 4, "pts.xyz: cut short");
+  INFO("ok.xyz", "1.5 2.5 3.5\n1.5 2.5 4.5\n1.5 3.5 3.5", 0, NULL);
+  INFO("count.ply",
+       "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+       "property float z\nend_header\n0 0 0\n1 0 0\n",
+       4, "truncated");
+  /* a binary PLY whose body is short of its header's count */
+  char bin[256];
+  int hn = snprintf(bin, sizeof bin,
+                    "ply\nformat binary_little_endian 1.0\nelement vertex 10\n"
+                    "property float x\nproperty float y\nproperty float z\nend_header\n");
+  memset(bin + hn, 0, 40);
+  info_on("short.ply", bin, (size_t)hn + 40, 4, "truncated");
+  /* an OBJ cut at a line end: its last vertices serve no face (said) */
+  char big[8192];
+  size_t n = 0;
+  for (int i = 0; i < 60; i++)
+    n += (size_t)snprintf(big + n, sizeof big - n, "v %d %d 0\nv %d %d 1\n", i, i % 7, i, i % 5);
+  n += (size_t)snprintf(big + n, sizeof big - n, "f 1 2 3\nf 2 3 4\n");
+  info_on("tail.obj", big, n, 0, "used by no face");
+}
+
+/* glTF: a GLB cut short, accessors and buffers claiming more than is there. */
+static void test_gltf_claims(void **state) {
+  (void)state;
+  char model[1024], args[4096];
+  tu_data_path(model, sizeof model, "trees/quaternius/OBJ/Tree_1.obj");
+  if (!tu_have_file(model)) skip();
+  snprintf(args, sizeof args, "'%s' -o t.glb --texres 16 -q", model);
+  assert_int_equal(run_tool("bbcgen", args, NULL), 0);
+  char path[2048];
+  snprintf(path, sizeof path, "%s/t.glb", tu_dir);
+  size_t n = 0;
+  unsigned char *g = tu_read_file(path, &n);
+  assert_non_null(g);
+  info_on("cut.glb", g, n / 2, 4, "cut short: its header says");
+  /* the first accessor's count made 9...9 (same length: the chunks hold) */
+  char *c = strstr((char *)g + 20, "\"count\":");
+  assert_non_null(c);
+  for (char *d = c + 8; *d >= '0' && *d <= '9'; d++) *d = '9';
+  info_on("claims.glb", g, n, 4, "claims.glb: accessor 0 claims");
+  free(g);
+  /* a .gltf whose .bin is shorter than its buffer says */
+  snprintf(args, sizeof args, "'%s' -o s.gltf --texres 16 -q", model);
+  assert_int_equal(run_tool("bbcgen", args, NULL), 0);
+  snprintf(path, sizeof path, "%s/s.bin", tu_dir);
+  assert_int_equal(truncate(path, 64), 0);
+  char *err;
+  assert_int_equal(run_tool("bbcgen", "info s.gltf", &err), 4);
+  assert_non_null(strstr(err, "buffer 0 claims"));
+  free(err);
+}
+
+/* Compressed files, LAS, images, material libraries and forest files given
+ * as a model are named as what they are; forest given a model says so. */
+static void test_not_a_model(void **state) {
+  (void)state;
+  INFO("tree.obj.gz", "\x1f\x8b\x08\x00\x00\x00\x00\x00", 3, "decompress it first (gunzip -k");
+  INFO("tree.ply.xz",
+       "\xfd"
+       "7zXZ\0\0\0",
+       3, "xz-compressed");
+  INFO("tree.obj.bz2", "BZh91AY&SY", 3, "bzip2-compressed");
+  INFO("tree.obj.zst", "\x28\xb5\x2f\xfd\0\0", 3, "zstd-compressed");
+  INFO("scan.las", "LASF\0\0\0\0\0\0", 3, "LAS/LAZ point cloud");
+  INFO("scan.laz", "LASF\0\0\0\0\0\0", 3, "convert it to PLY or XYZ");
+  INFO("tree.mtl", "# made by hand\nnewmtl bark\nKd 1 1 1\n", 3, "a material library");
+  INFO("bark.png", "\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR", 3, "an image");
+  INFO("bark.jpg", "\xff\xd8\xff\xe0\0\x10JFIF", 3, "an image");
+  INFO("map.txt", "' my map\nhmap height.png\nheightscale 0.5\n", 3, "a forest map file");
+  INFO("oak.txt", "LOD ( oak.glb min 0 max 100 )\n", 3, "a forest model description file");
+  char *err;
+  assert_int_equal(run_tool("forest", "bark.png.glb", &err), 2);
+  assert_non_null(strstr(err, "not a map"));
+  assert_non_null(strstr(err, "bbcgen view"));
+  free(err);
+  /* a word-valued parameter's message lists the words */
+  assert_int_equal(run_tool("bbcgen", "info x.obj --set upaxis=w", &err), 1);
+  assert_non_null(strstr(err, "x, y or z"));
+  free(err);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_outputs_do_not_clash),
       cmocka_unit_test(test_all_or_nothing),
       cmocka_unit_test(test_ctrl_c),
+      cmocka_unit_test(test_cut_short),
+      cmocka_unit_test(test_gltf_claims),
+      cmocka_unit_test(test_not_a_model),
   };
   return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

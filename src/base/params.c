@@ -298,10 +298,12 @@ void bbc_params_default(bbc_params *p) {
 static void describe_range(const bbc_param_info *in, char *buf, size_t n) {
   switch (in->type) {
   case BBC_PARAM_BOOL:
-    snprintf(buf, n, "0 or 1 (off/on)");
+    snprintf(buf, n, "0 or 1 (also off/on, false/true, no/yes)");
     break;
   case BBC_PARAM_INT:
-    if (in->max >= 1e9)
+    if (!strcmp(in->name, "upaxis"))
+      snprintf(buf, n, "x, y or z (or 0, 1, 2)");
+    else if (in->max >= 1e9)
       snprintf(buf, n, "an integer >= %g", in->min);
     else
       snprintf(buf, n, "an integer from %g to %g", in->min, in->max);
@@ -345,8 +347,10 @@ bbc_result bbc_params_set(bbc_params *p, const char *name, const char *text, bbc
     v = strtod(text, &end);
     while (end && isspace((unsigned char)*end)) end++;
     if (end == text || !end || *end || errno == ERANGE || !isfinite(v))
-      return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
-                       "parameter %s: '%s' is not a number; allowed: %s", in->name, text, range);
+      return bbc__fail(
+          err, BBC_ERROR_INVALID_ARGUMENT, "parameter %s: '%s' is not %s; allowed: %s", in->name,
+          text, in->type == BBC_PARAM_BOOL || !strcmp(in->name, "upaxis") ? "accepted" : "a number",
+          range);
   }
   if (v < in->min || v > in->max)
     return bbc__fail(err, BBC_ERROR_OUT_OF_RANGE, "parameter %s = %s is out of range; allowed: %s",

@@ -79,6 +79,13 @@ int bbc__texture_resolve(const char *model_path, const char *ref, bbc__texture_s
 bbc_result bbc__png_encode(const bbc_image *image, uint8_t **out, size_t *out_size);
 
 /* ---- loaders (src/io) ---------------------------------------------------- */
+/* Before any reader (src/io/sniff.c): compressed files, LAS, images,
+ * material libraries and forest files refused with what they are; an OBJ or
+ * XYZ whose last line is cut short, a glTF whose accessors or buffers claim
+ * more bytes than it holds, refused (BBC_ERROR_CORRUPT); an OBJ whose last
+ * vertices no face uses, said. `data`/`size` when from_memory. */
+bbc_result bbc__sniff_input(const char *name, const void *data, size_t size, int from_memory,
+                            const bbc_load_options *options, bbc_error *err);
 /* A model Assimp reads, from its file (src/io/load_assimp.c). */
 bbc_result bbc__load_assimp(const char *path, const bbc_load_options *options, bbc_mesh *mesh,
                             bbc_error *err);

@@ -84,6 +84,7 @@ static bbc_result load_any(const char *name, const void *data, size_t size, int 
     err->message[0] = 0;
   }
   bbc_result r = from_memory ? BBC_OK : bbc__check_input_file(name, err);
+  if (r == BBC_OK) r = bbc__sniff_input(name, data, size, from_memory, options, err);
   if (r != BBC_OK) return r;
   char ext[16];
   bbc__path_extension(name, ext, sizeof ext);

@@ -549,6 +549,14 @@ int main(int argc, char **argv) {
     usage(stderr);
     return 2;
   }
+  if (scene_is_model_file(st.map_path)) { /* a model where a map belongs */
+    fprintf(stderr,
+            "forest: %s is a 3D model, not a map: forest takes a map file (Appendix B, "
+            "docs/forest.md) whose object2d and rndtree lines place models. To look at this "
+            "one: bbcgen view %s\n",
+            st.map_path, st.map_path);
+    return 2;
+  }
   if (!st.check) {
     st.o.headless = st.size_given && !st.window;
     return draw_map(st.map_path, &st.o, st.log_path);

@@ -169,6 +169,29 @@ int bbc_session_grid_stale_step(const bbc_session *session, const bbc_planes_opt
 #define BBC_SESSION_MAX_LEVELS 8
 bbc_result bbc_session_run_levels(bbc_session *session, const bbc_planes_options *options,
                                   const double *epsilons, size_t count, bbc_error *err);
+/* One level of a chain: its epsilon (percent); the tree's height on screen,
+ * in pixels, where the level starts to be shown (0: not known); its texres
+ * (0: the parameters' texres and atlasmax). */
+typedef struct bbc_lod_level {
+  double epsilon_pct;
+  double screen_px;
+  int texres;
+} bbc_lod_level;
+/* bbc_session_run_levels with screen sizes and texres per level. Along the
+ * chain texels and triangles strictly fall: a level with as many texels as
+ * the one before it is baked again at half its texres, one with as many
+ * triangles gets a 1.5x epsilon (up to 99 %), until they fall. */
+bbc_result bbc_session_run_chain(bbc_session *session, const bbc_planes_options *options,
+                                 const bbc_lod_level *levels, size_t count, bbc_error *err);
+/* The tree's height on screen, in pixels, where level k starts to be shown
+ * (0 when the chain was made from epsilons only). */
+double bbc_session_get_level_screen_px(const bbc_session *session, size_t k);
+/* On: bbc_session_write also writes each level of a glTF chain as a file
+ * of its own, OUT_LOD<k>.glb|.gltf, a node named <model>_LOD<k> (for
+ * engines that do not read MSFT_lod). */
+void bbc_session_set_level_files(bbc_session *session, int on);
+/* OUT_LOD<k>.EXT: level k's own file (bbc_session_set_level_files). */
+void bbc_session_get_level_file_path(const char *path, size_t k, char *buf, size_t size);
 /* Levels held: 0 without a cloud, 1 after a run or step 3, more after
  * bbc_session_run_levels. */
 size_t bbc_session_get_level_count(const bbc_session *session);

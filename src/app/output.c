@@ -47,6 +47,11 @@ static void model_name(const char *path, char *out, size_t n) {
   if (!i) snprintf(out, n, "model");
 }
 
+void bbc_session_get_level_file_path(const char *out, size_t k, char *buf, size_t n) {
+  const char *ext = extension_of(out);
+  snprintf(buf, n, "%.*s_LOD%zu%s", (int)(ext - out), out, k, ext);
+}
+
 /* OUT and, for OBJ and VRML chains, OUT_lod<k>.EXT: the files a write makes. */
 void bbc_session_get_output_path(const char *out, size_t level, char *buf, size_t n) {
   lod_path(out, level, buf, n);
@@ -119,7 +124,7 @@ static bbc_result share_chain_atlas(bbc_session *s, job_lod *const *lods, size_t
 static bbc_result write_gltf_chain(const bbc_session *s, job_lod *const *lods, size_t count,
                                    const char *out, const char *model, int binary, int unlit,
                                    bbc_error *err) {
-  char *texts[BBC_SESSION_MAX_LEVELS] = {0}, names[BBC_SESSION_MAX_LEVELS][160];
+  char *texts[BBC_SESSION_MAX_LEVELS] = {0}, names[BBC_SESSION_MAX_LEVELS][200];
   bbc_gltf_node nodes[BBC_SESSION_MAX_LEVELS];
   double coverage[BBC_SESSION_MAX_LEVELS];
   for (size_t k = 0; k < count; k++) {
@@ -129,10 +134,14 @@ static bbc_result write_gltf_chain(const bbc_session *s, job_lod *const *lods, s
     else
       snprintf(names[k], sizeof names[k], "%s", model);
     nodes[k] = (bbc_gltf_node){&lods[k]->cloud.mesh, names[k], texts[k]};
-    /* MSFT_screencoverage: level k gives way to level k + 1 once level
-     * k + 1's error (epsilon, a share of the bounding radius) is at most
-     * 2 pixels of a 1080-line screen; the last level ends at 2 pixels. */
-    if (k + 1 < count) {
+    /* MSFT_screencoverage: with screen sizes (--lod-pixels) level k gives
+     * way to level k + 1 where the tree's height on a 1080-line screen
+     * falls to level k + 1's size; else where level k + 1's error
+     * (epsilon, a share of the bounding radius) is at most 2 pixels. The
+     * last level ends at 2 pixels. */
+    if (k + 1 < count && lods[k + 1]->screen_px > 0) {
+      coverage[k] = fmin(1.0, lods[k + 1]->screen_px / 1080.0);
+    } else if (k + 1 < count) {
       double e = lods[k + 1]->epsilon_pct * lods[k + 1]->planes.epsilon_scale / 100;
       coverage[k] = fmin(1.0, 2.0 * 2.0 / (e * 1080.0));
     } else {
@@ -232,6 +241,15 @@ static bbc_result write_levels(bbc_session *s, const char *out, const bbc_callba
   model_name(s->model_path, model, sizeof model);
   name_chain_materials(lods, count);
   int unlit = bbc_params_is_unlit(&lods[0]->params);
+  /* --lod-files: each level a file of its own, with its own atlas */
+  for (size_t k = 0; (glb || gltf) && count > 1 && s->level_files && k < count && r == BBC_OK;
+       k++) {
+    char path[4200], name[160];
+    bbc_session_get_level_file_path(out, k, path, sizeof path);
+    snprintf(name, sizeof name, "%s_LOD%zu", model, k);
+    r = write_gltf_chain(s, &lods[k], 1, path, name, glb, unlit, err);
+  }
+  if (r != BBC_OK) return r;
   if ((glb || gltf) && count > 1 && !s->atlas_shared) {
     r = share_chain_atlas(s, lods, count, cb, err);
     if (r != BBC_OK) return r;

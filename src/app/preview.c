@@ -1,6 +1,6 @@
 /* preview.c — the preview sheet of bbcgen --preview: the original lit as
- * the textures were baked, the cloud, and the billboards' outlines over the
- * faded original, from four sides. */
+ * the textures were baked, the cloud (a row per level of a chain), and the
+ * billboards' outlines over the faded original, from four sides. */
 #include "session.h"
 
 #include <math.h>
@@ -64,8 +64,11 @@ bbc_result bbc_session_write_preview(const bbc_session *s, const char *out, int 
   dirs[3][up] = -sin(e);
   ups[0][up] = ups[1][up] = ups[3][up] = 1;
   ups[2][b] = -1;
+  /* rows: the original, each level's cloud, level 0's outlines */
+  size_t levels = bbc_session_get_level_count(s);
+  int rows = 2 + (int)levels, outline_row = rows - 1;
   bbc_image sheet, img;
-  if (bbc_image_alloc(&sheet, 4 * cell, 3 * cell) != BBC_OK ||
+  if (bbc_image_alloc(&sheet, 4 * cell, rows * cell) != BBC_OK ||
       bbc_image_alloc(&img, cell, cell) != BBC_OK) {
     bbc_image_free(&sheet);
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "preview: out of memory");
@@ -85,24 +88,26 @@ bbc_result bbc_session_write_preview(const bbc_session *s, const char *out, int 
   bbc_result rc = BBC_OK;
   if (L->params.prelight) rc = bbc_light_gain_measure(m, light, L->params.up_axis, &gain, err);
   for (int v = 0; v < 4 && rc == BBC_OK; v++) {
-    for (int row = 0; row < 3 && rc == BBC_OK; row++) {
+    for (int row = 0; row < rows && rc == BBC_OK; row++) {
+      int cloud_row = row >= 1 && row < outline_row;
+      const job_lod *lv = cloud_row ? bbc__session_level((bbc_session *)s, (size_t)row - 1) : L;
       bbc_view view;
       bbc_view_frame_mesh(m, dirs[v], ups[v], &view);
       /* The original lit as the textures were baked; the cloud unlit (its
        * textures carry the light). A material (no baked light): both lit
        * alike by the lightelev/lightazim sun, as an engine lights them. */
       int material = !L->params.prelight && !bbc_params_is_unlit(&L->params);
-      view.lighting = material || (row != 1 && L->params.prelight);
+      view.lighting = material || (!cloud_row && L->params.prelight);
       view.sun = material;
       view.sun_ambient = 0.4;
       view.light_gain = gain;
       view.ambient = L->params.viewer_ambient;
       memcpy(view.light, light, sizeof light);
-      view.vertex_shade = row == 1 ? NULL : shade;
-      if (row == 2) view.background[0] = view.background[1] = view.background[2] = 40;
-      const bbc_mesh *what = row == 1 ? &L->cloud.mesh : m;
+      view.vertex_shade = cloud_row ? NULL : shade;
+      if (row == outline_row) view.background[0] = view.background[1] = view.background[2] = 40;
+      const bbc_mesh *what = cloud_row ? &lv->cloud.mesh : m;
       if ((rc = bbc_render_ortho(what, &view, &img, err)) != BBC_OK) break;
-      if (row == 2) {
+      if (row == outline_row) {
         /* The original faded into the background, the billboards' outlines
          * on top, coloured by kind. */
         for (size_t i = 0; i < (size_t)cell * cell; i++)

@@ -63,15 +63,17 @@ static cJSON *lod_json(const job_lod *L, int detailed) {
   cJSON_AddNumberToObject(o, "epsilon", L->planes.epsilon_abs);
   cJSON_AddNumberToObject(o, "planes", (double)L->planes.plane_count);
   cJSON_AddNumberToObject(o, "billboards", (double)L->cloud.billboard_count);
+  /* the tree's height on screen where the level starts (a --lod-pixels chain) */
+  if (L->screen_px > 0) cJSON_AddNumberToObject(o, "screen_px", L->screen_px);
+  cJSON_AddNumberToObject(o, "triangles", (double)L->cloud.mesh.triangle_count);
+  cJSON_AddNumberToObject(o, "texels", (double)L->cloud.texels);
   cJSON *kinds = cJSON_AddArrayToObject(o, "kinds");
   for (size_t b = 0; b < L->cloud.billboard_count; b++)
     cJSON_AddItemToArray(kinds,
                          cJSON_CreateString(bbc_plane_kind_name(L->cloud.billboards[b].kind)));
   if (!detailed) return o;
   const bbc_mesh *m = &L->cloud.mesh;
-  cJSON_AddNumberToObject(o, "triangles", (double)m->triangle_count);
   cJSON_AddNumberToObject(o, "limb_triangles", (double)L->cloud.limb_triangles);
-  cJSON_AddNumberToObject(o, "texels", (double)L->cloud.texels);
   cJSON_AddNumberToObject(o, "texres_used", L->cloud.texres);
   cJSON_AddNumberToObject(o, "plane_runs", L->planes.attempts);
   cJSON *atlas = cJSON_AddArrayToObject(o, "atlas");

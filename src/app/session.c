@@ -5,6 +5,7 @@
  * session as it was. */
 #include "session.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -43,6 +44,7 @@ static void set_cloud(bbc_session *s, const bbc_cloud *c, const bbc_params *para
   s->level0.cloud = *c;
   s->level0.params = *params;
   s->level0.epsilon_pct = params->epsilon_pct;
+  s->level0.screen_px = 0;
   s->have_cloud = 1;
 }
 
@@ -183,51 +185,163 @@ bbc_result bbc_session_run_levels(bbc_session *s, const bbc_planes_options *opti
   if (count > BBC_SESSION_MAX_LEVELS)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "at most %d levels of detail",
                      BBC_SESSION_MAX_LEVELS);
-  for (size_t k = 0; k < count; k++)
-    if (!(epsilons[k] > 0) || (k && epsilons[k] <= epsilons[k - 1]))
+  bbc_lod_level lv[BBC_SESSION_MAX_LEVELS];
+  for (size_t k = 0; k < count; k++) lv[k] = (bbc_lod_level){epsilons[k], 0, 0};
+  return bbc_session_run_chain(s, options, lv, count, err);
+}
+
+/* Triangles a level draws: its billboards' and its limbs'. */
+static size_t level_triangles(const bbc__level *L) {
+  return L->cloud.mesh.triangle_count;
+}
+
+/* Steps 1 to 3 of one level at epsilon `eps` (texres as `o` says); the grid
+ * is kept in *g for level 0. */
+static bbc_result run_one_level(bbc_session *s, bbc_planes_options *o, double eps, bbc__level *L,
+                                bbc_grid **g, bbc_error *err) {
+  double base = o->params.epsilon_pct;
+  o->params.epsilon_pct = eps;
+  for (size_t i = 0; i < o->part_override_count; i++) /* a part's own epsilon stays */
+    if (o->part_overrides[i].params.epsilon_pct == base)
+      o->part_overrides[i].params.epsilon_pct = eps;
+  bbc_result r = bbc_grid_build(&s->model, o, g, err);
+  if (r != BBC_OK) return r;
+  r = bbc_planes_select(*g, o, &L->planes, err);
+  if (r == BBC_OK) {
+    r = bbc_cloud_build(&s->model, &L->planes, &o->params, &o->callbacks, &L->cloud, err);
+    if (r != BBC_OK) bbc_planeset_free(&L->planes);
+  }
+  if (r != BBC_OK) {
+    bbc_grid_free(*g);
+    *g = NULL;
+    return r;
+  }
+  L->params = o->params;
+  L->epsilon_pct = eps;
+  return BBC_OK;
+}
+
+static void free_level(bbc__level *L) {
+  bbc_planeset_free(&L->planes);
+  bbc_cloud_free(&L->cloud);
+}
+
+static int floor_pow2_int(double x) {
+  int t = 4;
+  while (t * 2 <= x && t < 8192) t *= 2;
+  return t;
+}
+
+/* Level k's options: its epsilon (given, else the level before's as used
+ * times (its size / this size)^(1/4), the plane budgets off) and texres
+ * (given; else for a screen size at most a texel a pixel there and, past
+ * level 0, at most half the level before's; level 0 otherwise by the atlas
+ * budget). */
+static double level_options(const bbc_planes_options *options, const bbc_lod_level *levels,
+                            size_t k, const bbc__level *prev, bbc_planes_options *o) {
+  *o = *options;
+  double eps = levels[k].epsilon_pct > 0 ? levels[k].epsilon_pct : o->params.epsilon_pct;
+  if (k && levels[k].epsilon_pct <= 0) {
+    double step = levels[k - 1].screen_px > 0 && levels[k].screen_px > 0
+                      ? pow(levels[k - 1].screen_px / levels[k].screen_px, 0.25)
+                      : 1.5;
+    eps = fmin(99, prev->epsilon_pct * prev->planes.epsilon_scale * step);
+    o->params.max_planes = o->params.min_planes = 0;
+  }
+  if (levels[k].texres > 0) {
+    o->params.texres = levels[k].texres;
+    o->params.atlas_max = 0;
+  } else if (k && levels[k].screen_px > 0) {
+    int t = floor_pow2_int(levels[k].screen_px);
+    if (t > prev->cloud.texres / 2) t = prev->cloud.texres / 2 < 4 ? 4 : prev->cloud.texres / 2;
+    o->params.texres = t;
+    o->params.atlas_max = 0;
+  }
+  return eps;
+}
+
+/* Step 3 again at `texres` (the planes kept). */
+static bbc_result rebake(bbc_session *s, bbc__level *L, int texres, const bbc_callbacks *cb,
+                         bbc_error *err) {
+  bbc_params p = L->params;
+  p.texres = texres;
+  p.atlas_max = 0;
+  bbc_cloud c;
+  bbc_result r = bbc_cloud_build(&s->model, &L->planes, &p, cb, &c, err);
+  if (r != BBC_OK) return r;
+  bbc_cloud_free(&L->cloud);
+  L->cloud = c;
+  L->params = p;
+  return BBC_OK;
+}
+
+bbc_result bbc_session_run_chain(bbc_session *s, const bbc_planes_options *options,
+                                 const bbc_lod_level *levels, size_t count, bbc_error *err) {
+  if (!levels || !count) return bbc_session_run(s, options, err);
+  if (count > BBC_SESSION_MAX_LEVELS)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "at most %d levels of detail",
+                     BBC_SESSION_MAX_LEVELS);
+  for (size_t k = 1; k < count; k++)
+    if ((levels[k].epsilon_pct > 0 && levels[k].epsilon_pct <= levels[k - 1].epsilon_pct) ||
+        (levels[k].screen_px > 0 && levels[k].screen_px >= levels[k - 1].screen_px) ||
+        levels[k].epsilon_pct < 0)
       return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
-                       "the levels' epsilons must be positive and increase (finest first)");
+                       "the levels' epsilons must increase and their screen sizes fall "
+                       "(finest first)");
   if (!s->have_model)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "steps 1 to 3 need a model: load one");
   /* every level into new state first: a failure keeps the session as it was */
   bbc__level lv[BBC_SESSION_MAX_LEVELS];
+  memset(lv, 0, sizeof lv);
   bbc_grid *g0 = NULL;
   bbc_result r = BBC_OK;
   size_t made = 0;
   bbc_planes_options o0;
   for (size_t k = 0; k < count && r == BBC_OK; k++) {
-    bbc_planes_options o = *options;
-    o.params.epsilon_pct = epsilons[k];
-    for (size_t i = 0; i < o.part_override_count; i++) /* a part's own epsilon stays */
-      if (o.part_overrides[i].params.epsilon_pct == options->params.epsilon_pct)
-        o.part_overrides[i].params.epsilon_pct = epsilons[k];
-    if (!k) o0 = o;
+    bbc_planes_options o;
+    double eps = level_options(options, levels, k, k ? &lv[k - 1] : NULL, &o);
     bbc__label lab;
     if (count > 1)
       bbc__label_callbacks(&options->callbacks, &lab, &o.callbacks, "level %zu of %zu", k + 1,
                            count);
-    bbc_grid *g;
-    r = bbc_grid_build(&s->model, &o, &g, err);
-    if (r != BBC_OK) break;
-    r = bbc_planes_select(g, &o, &lv[k].planes, err);
-    if (r == BBC_OK) {
-      r = bbc_cloud_build(&s->model, &lv[k].planes, &o.params, &o.callbacks, &lv[k].cloud, err);
-      if (r != BBC_OK) bbc_planeset_free(&lv[k].planes);
-    }
-    if (k == 0 && r == BBC_OK)
-      g0 = g;
-    else
+    bbc_grid *g = NULL;
+    r = run_one_level(s, &o, eps, &lv[k], &g, err);
+    /* triangles fall: a coarser epsilon until they do */
+    while (r == BBC_OK && k && level_triangles(&lv[k]) >= level_triangles(&lv[k - 1]) && eps < 99) {
+      free_level(&lv[k]);
       bbc_grid_free(g);
-    if (r != BBC_OK) break;
-    lv[k].params = o.params;
-    lv[k].epsilon_pct = epsilons[k];
+      g = NULL;
+      eps = fmin(99, eps * 1.5);
+      level_options(options, levels, k, &lv[k - 1], &o);
+      o.params.max_planes = o.params.min_planes = 0;
+      if (count > 1)
+        bbc__label_callbacks(&options->callbacks, &lab, &o.callbacks, "level %zu of %zu", k + 1,
+                             count);
+      r = run_one_level(s, &o, eps, &lv[k], &g, err);
+    }
+    /* level 0 at most a texel a pixel where it starts */
+    if (r == BBC_OK && !k && levels[0].texres <= 0 && levels[0].screen_px > 0 &&
+        lv[0].cloud.texres > floor_pow2_int(levels[0].screen_px))
+      r = rebake(s, &lv[0], floor_pow2_int(levels[0].screen_px), &o.callbacks, err);
+    /* texels fall: half the texres until they do */
+    while (r == BBC_OK && k && lv[k].cloud.texels >= lv[k - 1].cloud.texels &&
+           lv[k].cloud.texres > 4)
+      r = rebake(s, &lv[k], lv[k].cloud.texres / 2, &o.callbacks, err);
+    if (k == 0 && r == BBC_OK) {
+      o0 = o;
+      g0 = g;
+    } else {
+      bbc_grid_free(g);
+    }
+    if (r != BBC_OK) { /* both free on failure; zeroed, lv[k] frees as nothing */
+      free_level(&lv[k]);
+      break;
+    }
+    lv[k].screen_px = levels[k].screen_px;
     made = k + 1;
   }
   if (r != BBC_OK) {
-    for (size_t k = 0; k < made; k++) {
-      bbc_planeset_free(&lv[k].planes);
-      bbc_cloud_free(&lv[k].cloud);
-    }
+    for (size_t k = 0; k < made; k++) free_level(&lv[k]);
     bbc_grid_free(g0);
     return r;
   }
@@ -239,6 +353,15 @@ bbc_result bbc_session_run_levels(bbc_session *s, const bbc_planes_options *opti
   for (size_t k = 1; k < count; k++) s->extra[k - 1] = lv[k];
   s->extra_count = count - 1;
   return BBC_OK;
+}
+
+double bbc_session_get_level_screen_px(const bbc_session *s, size_t k) {
+  const bbc__level *L = bbc__session_level((bbc_session *)s, k);
+  return L ? L->screen_px : 0;
+}
+
+void bbc_session_set_level_files(bbc_session *s, int on) {
+  s->level_files = on != 0;
 }
 
 size_t bbc_session_get_level_count(const bbc_session *s) {

@@ -13,6 +13,7 @@ typedef struct bbc__level {
   bbc_cloud cloud;
   bbc_params params;  /* the cloud's parameters */
   double epsilon_pct; /* the epsilon asked (maxplanes/minplanes may scale it) */
+  double screen_px;   /* the tree's height on screen where the level starts; 0 unknown */
 } bbc__level;
 
 struct bbc_session {
@@ -30,6 +31,7 @@ struct bbc_session {
   size_t extra_count;
   bbc__level extra[BBC_SESSION_MAX_LEVELS - 1];
   int atlas_shared; /* the chain's levels share one atlas (after a glTF write) */
+  int level_files;  /* bbc_session_set_level_files */
 };
 
 /* Level k (0 = level0), NULL past the last. */

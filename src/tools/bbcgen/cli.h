@@ -47,6 +47,7 @@ typedef struct cli {
   int branches_with_trunk;    /* --branches trunk (default: with the foliage) */
   bbc_hand hand;              /* parameters set by hand (bbc_params_note_hand's rules) */
   const char *progress_label; /* what progress bars belong to ("level 2 of 3") */
+  int level_files;            /* --lod-files: a glTF chain's levels as files too */
 } cli;
 
 void cli_init(cli *c);

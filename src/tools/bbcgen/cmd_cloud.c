@@ -2,6 +2,7 @@
  * pipeline, steps 1 to 3, with levels of detail, a report and a preview. */
 #include "pipeline.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -38,10 +39,54 @@ static int parse_lods(const char *text, double *eps, size_t max, size_t *count) 
   return 0;
 }
 
+/* "512,128,32" -> decreasing screen sizes in pixels; -1 on error (printed). */
+static int parse_pixels(const char *text, double *px, size_t max, size_t *count) {
+  *count = 0;
+  const char *p = text;
+  while (*p) {
+    char *end;
+    double v = strtod(p, &end);
+    if (end == p || !(v >= 4 && v <= 8192) || v != floor(v) || (*end && *end != ',')) {
+      cli_error("--lod-pixels: '%s' is not a list of screen sizes in pixels (4..8192: the "
+                "tree's height on screen where each level starts), e.g. 512,128,32",
+                text);
+      return -1;
+    }
+    if (*count == max) {
+      cli_error("--lod-pixels: at most %zu levels", max);
+      return -1;
+    }
+    if (*count && v >= px[*count - 1]) {
+      cli_error("--lod-pixels: the sizes must fall (nearest level first): '%s'", text);
+      return -1;
+    }
+    px[(*count)++] = v;
+    p = *end ? end + 1 : end;
+  }
+  if (!*count) {
+    cli_error("--lod-pixels needs at least one size");
+    return -1;
+  }
+  return 0;
+}
+
+/* The chain's levels from screen sizes: level k starts where the tree is
+ * px[k] pixels high. Level 0 is the single cloud the parameters make (the
+ * plane and atlas budgets), at most a texel a pixel at px[0]; each further
+ * level takes the epsilon used before it times (px[k-1] / px[k])^(1/4) and
+ * at most a texel a pixel, at most half the texres before it
+ * (bbc_session_run_chain). Measured at 32 px on the eztree oak and aspen,
+ * the Scopia pine and Quaternius's birch: epsilon 12 keeps the side
+ * coverage at 0.91-1.11 of the original's where 24 loses up to 17 %
+ * (bench/results/lod_chain.md). */
+static void levels_from_pixels(const double *px, size_t n, bbc_lod_level *lv) {
+  for (size_t k = 0; k < n; k++) lv[k] = (bbc_lod_level){0, px[k], 0};
+}
+
 int cmd_cloud(cli *c, int argc, char **argv) {
   const char *path = argv[0], *out = NULL, *report = NULL, *preview = NULL;
-  double eps[BBC_SESSION_MAX_LEVELS];
-  size_t lods = 0;
+  double eps[BBC_SESSION_MAX_LEVELS], px[BBC_SESSION_MAX_LEVELS];
+  size_t lods = 0, pixels = 0;
   long long cell = 256;
   int lighting = -1; /* --lighting: -1 = by the output's format */
   for (int i = 1; i < argc; i++) {
@@ -64,6 +109,11 @@ int cmd_cloud(cli *c, int argc, char **argv) {
     } else if (!strcmp(argv[i], "--lod")) {
       if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
       if (parse_lods(v, eps, BBC_SESSION_MAX_LEVELS, &lods) < 0) return EXIT_USAGE;
+    } else if (!strcmp(argv[i], "--lod-pixels")) {
+      if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+      if (parse_pixels(v, px, BBC_SESSION_MAX_LEVELS, &pixels) < 0) return EXIT_USAGE;
+    } else if (!strcmp(argv[i], "--lod-files")) {
+      c->level_files = 1;
     } else if (!strcmp(argv[i], "--lighting")) {
       if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
       if (!strcmp(v, "material"))
@@ -78,7 +128,8 @@ int cmd_cloud(cli *c, int argc, char **argv) {
       }
     } else {
       static const char *const own[] = {
-          "-o", "--output", "--report", "--preview", "--preview-size", "--lod", "--lighting", NULL};
+          "-o",    "--output",     "--report",    "--preview",  "--preview-size",
+          "--lod", "--lod-pixels", "--lod-files", "--lighting", NULL};
       return cli_unknown_option(NULL, argv[i], own);
     }
   }
@@ -104,7 +155,22 @@ int cmd_cloud(cli *c, int argc, char **argv) {
   if (!cli_output_ok("-o", out) || (preview && !cli_output_ok("--preview", preview)) ||
       (report && !cli_output_ok("--report", report)))
     return EXIT_OUTPUT;
-  /* A LOD chain asks for these epsilons: neither minplanes nor maxplanes
+  if (lods && pixels) {
+    cli_error("--lod (epsilons) and --lod-pixels (screen sizes) choose the levels two ways: "
+              "give one");
+    return EXIT_USAGE;
+  }
+  /* --lod-files alone: the default chain, for 512, 128 and 32 pixels */
+  if (c->level_files && !lods && !pixels) {
+    const double dflt[3] = {512, 128, 32};
+    memcpy(px, dflt, sizeof dflt);
+    pixels = 3;
+  }
+  bbc_lod_level levels[BBC_SESSION_MAX_LEVELS];
+  for (size_t k = 0; k < lods; k++) levels[k] = (bbc_lod_level){eps[k], 0, 0};
+  if (pixels) levels_from_pixels(px, pixels, levels);
+  size_t count = lods ? lods : pixels;
+  /* A LOD chain of epsilons asks for them: neither minplanes nor maxplanes
    * moves them (unless set by hand), so the levels stay in order. */
   if (lods) bbc_params_lod_chain(&c->params, c->hand);
   /* glTF gets materials for engines to light; VRML and OBJ the thesis's
@@ -117,7 +183,7 @@ int cmd_cloud(cli *c, int argc, char **argv) {
     cli_error("out of memory");
     return EXIT_RESOURCES;
   }
-  int rc = session_run(c, sess, path, lods ? eps : NULL, lods);
+  int rc = session_run(c, sess, path, count ? levels : NULL, count);
   if (rc == EXIT_OK) rc = session_write(c, sess, out);
   bbc_error err;
   if (rc == EXIT_OK && preview) {

@@ -279,6 +279,147 @@ static int eval_suns(const cli *c, const eval_args *ea, const bbc_mesh m[2], bbc
   return rc;
 }
 
+/* ---- chains: each level alone at its own screen size ----------------------- */
+
+/* A whole file (NULL when it cannot be read, or beyond 1 GiB). */
+static unsigned char *read_whole(const char *path, size_t *n) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  unsigned char *d = NULL;
+  long len = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
+  if (len > 0 && len < (1L << 30) && fseek(f, 0, SEEK_SET) == 0 && (d = malloc((size_t)len)) &&
+      fread(d, 1, (size_t)len, f) != (size_t)len) {
+    free(d);
+    d = NULL;
+  }
+  fclose(f);
+  *n = d ? (size_t)len : 0;
+  return d;
+}
+
+/* A glTF chain's levels (nodes "<model>_LOD<k>") and each one's screen size
+ * from its extras ("screen_px", written for --lod-pixels chains; 0 when
+ * absent). Returns the number of levels, 0 when OTHER is not a chain. */
+static size_t chain_levels(const char *path, double *px, size_t max) {
+  size_t n = 0, count = 0;
+  unsigned char *d = read_whole(path, &n);
+  if (!d) return 0;
+  const char *json = (const char *)d;
+  size_t jl = n;
+  if (n >= 20 && !memcmp(d, "glTF", 4)) {
+    jl = (size_t)d[12] | (size_t)d[13] << 8 | (size_t)d[14] << 16 | (size_t)d[15] << 24;
+    json = (const char *)d + 20;
+    if (jl > n - 20) jl = 0;
+  }
+  cJSON *j = cJSON_ParseWithLength(json, jl);
+  free(d);
+  const cJSON *nodes = cJSON_GetObjectItemCaseSensitive(j, "nodes"), *node;
+  cJSON_ArrayForEach(node, nodes) {
+    const cJSON *name = cJSON_GetObjectItemCaseSensitive(node, "name");
+    const char *lod = cJSON_IsString(name) ? strstr(name->valuestring, "_LOD") : NULL;
+    if (!lod) continue;
+    char *end;
+    long k = strtol(lod + 4, &end, 10);
+    if (end == lod + 4 || *end || k < 0 || (size_t)k >= max) continue;
+    const cJSON *sp = cJSON_GetObjectItemCaseSensitive(
+        cJSON_GetObjectItemCaseSensitive(node, "extras"), "screen_px");
+    px[k] = cJSON_IsNumber(sp) ? sp->valuedouble : 0;
+    if ((size_t)k + 1 > count) count = (size_t)k + 1;
+  }
+  cJSON_Delete(j);
+  return count > 1 ? count : 0;
+}
+
+/* The sheets of the levels one under the other. */
+static bbc_result stack_sheets(const bbc_image *rows, size_t n, bbc_image *out) {
+  int w = 0, h = 0;
+  for (size_t k = 0; k < n; k++) {
+    if (rows[k].width > w) w = rows[k].width;
+    h += rows[k].height;
+  }
+  bbc_result r = bbc_image_alloc(out, w ? w : 1, h ? h : 1);
+  if (r != BBC_OK) return r;
+  memset(out->rgba, 255, (size_t)out->width * out->height * 4);
+  int y = 0;
+  for (size_t k = 0; k < n; k++) {
+    for (int row = 0; row < rows[k].height; row++)
+      memcpy(out->rgba + ((size_t)(y + row) * out->width) * 4,
+             rows[k].rgba + (size_t)row * rows[k].width * 4, (size_t)rows[k].width * 4);
+    y += rows[k].height;
+  }
+  return BBC_OK;
+}
+
+/* `bbcgen eval ORIGINAL CHAIN`: each level loaded alone and judged at its
+ * screen size (the eval's image size; --size where the chain has none), a
+ * line per level, a "levels" array in the JSON, a row per level in the
+ * sheet. */
+static int eval_chain(const cli *c, const eval_args *ea, const bbc_mesh *orig, const double *px,
+                      size_t count) {
+  bbc_load_options lo;
+  cli_load_options(c, &lo);
+  cJSON *j = cJSON_CreateObject(), *arr = cJSON_AddArrayToObject(j, "levels");
+  cJSON_AddStringToObject(j, "original", ea->paths[0]);
+  cJSON_AddStringToObject(j, "other", ea->paths[1]);
+  bbc_image sheets[16];
+  memset(sheets, 0, sizeof sheets);
+  int rc = EXIT_OK;
+  for (size_t k = 0; k < count && rc == EXIT_OK; k++) {
+    bbc_error err;
+    bbc_mesh m;
+    lo.lod_node = (int)k + 1;
+    if (bbc_mesh_load(ea->paths[1], &lo, &m, &err) != BBC_OK) {
+      rc = cli_fail(&err, 0);
+      break;
+    }
+    eval_args one = *ea;
+    if (px[k] > 0) one.size = (long long)(px[k] < 16 ? 16 : px[k] > 8192 ? 8192 : px[k]);
+    bbc_eval_options o;
+    eval_options(c, &one, &m, &o);
+    if (ea->png && k < 16) o.sheet = &sheets[k];
+    bbc_eval_result r;
+    double t0 = cli_now();
+    if (bbc_eval(orig, &m, &o, &r, &err) != BBC_OK) {
+      rc = cli_fail(&err, 0);
+      bbc_mesh_free(&m);
+      break;
+    }
+    printf("level %zu (%s%lld px, %zu triangles):\n", k,
+           px[k] > 0 ? "" : "no screen size: ", one.size, m.triangle_count);
+    print_eval(&r, &o, t0);
+    char *text = eval_json_text(&r, &o, NULL, NULL);
+    cJSON *q = text ? cJSON_Parse(text) : NULL;
+    cJSON_free(text);
+    if (q) {
+      cJSON_DeleteItemFromObjectCaseSensitive(q, "per_view");
+      cJSON_AddNumberToObject(q, "level", (double)k);
+      cJSON_AddNumberToObject(q, "screen_px", (double)one.size);
+      cJSON_AddNumberToObject(q, "triangles", (double)m.triangle_count);
+      cJSON_AddItemToArray(arr, q);
+    }
+    bbc_eval_result_free(&r);
+    bbc_mesh_free(&m);
+  }
+  bbc_error err;
+  if (rc == EXIT_OK && ea->json) {
+    char *text = cJSON_Print(j);
+    if (!text || bbc_write_file_atomic(ea->json, text, strlen(text), &err) != BBC_OK)
+      rc = text ? cli_fail(&err, 1) : EXIT_RESOURCES;
+    cJSON_free(text);
+  }
+  if (rc == EXIT_OK && ea->png) {
+    bbc_image all = {0, 0, NULL};
+    if (stack_sheets(sheets, count < 16 ? count : 16, &all) != BBC_OK)
+      rc = EXIT_RESOURCES;
+    else if (bbc_image_write_png(ea->png, &all, &err) != BBC_OK)
+      rc = cli_fail(&err, 1);
+    bbc_image_free(&all);
+  }
+  for (size_t k = 0; k < 16; k++) bbc_image_free(&sheets[k]);
+  cJSON_Delete(j);
+  return rc;
+}
+
 int cmd_eval(cli *c, int argc, char **argv) {
   eval_args ea = {{NULL, NULL}, NULL, NULL, 64, 256, -1, 30, 0, {0, 0}, 0};
   int rc = parse_eval_args(c, argc, argv, &ea);
@@ -296,6 +437,13 @@ int cmd_eval(cli *c, int argc, char **argv) {
   bbc_mesh m[2];
   bbc_error err;
   if (bbc_mesh_load(ea.paths[0], &lo, &m[0], &err) != BBC_OK) return cli_fail(&err, 0);
+  double px[BBC_SESSION_MAX_LEVELS] = {0};
+  size_t levels = ea.suns ? 0 : chain_levels(ea.paths[1], px, BBC_SESSION_MAX_LEVELS);
+  if (levels) {
+    rc = eval_chain(c, &ea, &m[0], px, levels);
+    bbc_mesh_free(&m[0]);
+    return rc;
+  }
   if (bbc_mesh_load(ea.paths[1], &lo, &m[1], &err) != BBC_OK) {
     bbc_mesh_free(&m[0]);
     return cli_fail(&err, 0);

@@ -52,7 +52,7 @@ void session_info(const cli *c, const bbc_session *s, size_t k, int kept) {
            a->width, a->height, 100 * cloud->atlas_fill, steps, cloud->bake_s + cloud->atlas_s);
 }
 
-int session_run(const cli *c, bbc_session *s, const char *model, const double *epsilons,
+int session_run(const cli *c, bbc_session *s, const char *model, const bbc_lod_level *levels,
                 size_t count) {
   bbc_load_options lo;
   cli_load_options(c, &lo);
@@ -60,7 +60,7 @@ int session_run(const cli *c, bbc_session *s, const char *model, const double *e
   if (cli_planes_options(c, &po) != EXIT_OK) return EXIT_USAGE;
   bbc_error err;
   if (bbc_session_load(s, model, &lo, &err) != BBC_OK) return cli_fail(&err, 0);
-  if (bbc_session_run_levels(s, &po, epsilons, epsilons ? count : 0, &err) != BBC_OK)
+  if (bbc_session_run_chain(s, &po, levels, levels ? count : 0, &err) != BBC_OK)
     return cli_fail_in(model, &err, 0); /* the message names the model */
   for (size_t k = 0; k < bbc_session_get_level_count(s); k++) session_info(c, s, k, 0);
   return EXIT_OK;
@@ -76,8 +76,18 @@ static void wrote(const cli *c, const bbc_session *s, const char *out) {
     const bbc_cloud *cl = bbc_session_get_level(s, k, &set, NULL, &eps);
     char path[4200];
     bbc_session_get_output_path(out, one_file ? 0 : k, path, sizeof path);
-    cli_info(c, "wrote %s: %zu billboards, %zu triangles (epsilon %.3g %%)", path,
-             cl->billboard_count, cl->mesh.triangle_count, eps * set->epsilon_scale);
+    double px = bbc_session_get_level_screen_px(s, k);
+    char at[64] = "";
+    if (px > 0) snprintf(at, sizeof at, ", from %.0f px", px);
+    if (one_file && bbc_session_get_level_count(s) > 1)
+      snprintf(path + strlen(path), sizeof path - strlen(path), " level %zu", k);
+    cli_info(c, "wrote %s: %zu billboards, %zu triangles, %zu texels (epsilon %.3g %%%s)", path,
+             cl->billboard_count, cl->mesh.triangle_count, cl->texels, eps * set->epsilon_scale,
+             at);
+    if (one_file && c->level_files && bbc_session_get_level_count(s) > 1) {
+      bbc_session_get_level_file_path(out, k, path, sizeof path);
+      cli_info(c, "wrote %s", path);
+    }
   }
 }
 
@@ -91,6 +101,7 @@ int session_write(const cli *c, bbc_session *s, const char *out) {
   }
   bbc_error err;
   bbc_session_set_output(s, &c->params);
+  bbc_session_set_level_files(s, c->level_files);
   bbc_result r = bbc_session_write(s, out, &c->callbacks, &err);
   if (r != BBC_OK) return cli_fail(&err, r != BBC_ERROR_INVALID_ARGUMENT);
   wrote(c, s, out);

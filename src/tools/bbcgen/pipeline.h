@@ -9,7 +9,7 @@
 /* Loads the model into the session and runs steps 1 to 3 for each epsilon
  * (percent; NULL / 0 = the parameters' epsilon), printing a line per level.
  * Returns an exit code. */
-int session_run(const cli *c, bbc_session *s, const char *model, const double *epsilons,
+int session_run(const cli *c, bbc_session *s, const char *model, const bbc_lod_level *levels,
                 size_t count);
 /* The info line of the session's planes (no cloud yet: `kept` 1 = step 1
  * was kept) or of level k's cloud (`kept` 1 = steps 1+2 were kept). */

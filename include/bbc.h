@@ -452,6 +452,8 @@ typedef struct bbc_params {
                           * many triangles inside the cloud (0 = billboards) */
   int refine;            /* refine: quality 2: views of the original each billboard's
                           * alpha is refined against (0 = off) */
+  int refine_size;       /* refinesize: pixels across the renders refine judges
+                          * against (the screen size the cloud is made for) */
   int grow_min;          /* growmin: quality 2: a texel is opaque when at least this
                           * many of its 16 samples are (1 = the thesis's growing) */
   int max_planes;        /* maxplanes: > 0: more planes than this runs steps 1-2

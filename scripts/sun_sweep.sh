@@ -39,30 +39,7 @@ out=$1
 mkdir -p "$out/gen"
 
 # name<TAB>original
-trees=$(cat <<EOF
-eztree_oak	$data/trees/eztree/oak_medium.obj
-eztree_pine	$data/trees/eztree/pine_medium.obj
-eztree_ash	$data/trees/eztree/ash_large_hi.obj
-eztree_bush	$data/trees/eztree/bush_1.obj
-eztree_aspen	$data/trees/eztree/aspen_small.obj
-scopia_pine	$data/trees/scopia/pine/pine.obj
-scopia_copperBeech	$data/trees/scopia/copperBeech/copperBeech.obj
-scopia_palm	$data/trees/scopia/palm/palm.obj
-scopia_bush	$data/trees/scopia/bush/bush.obj
-quaternius_Birch_1	$data/trees/quaternius/OBJ/Birch_1.obj
-quaternius_DeadTree_1	$data/trees/quaternius/OBJ/DeadTree_1.obj
-quaternius_Pine_1	$data/trees/quaternius/OBJ/Pine_1.obj
-quaternius_Tree_1	$data/trees/quaternius/OBJ/Tree_1.obj
-quaternius_Tree_3	$data/trees/quaternius/OBJ/Tree_3.obj
-gen_larch	$out/gen/larch/larch.obj
-gen_weeping	$out/gen/weeping/weeping.obj
-gen_winter	$out/gen/winter/winter.obj
-EOF
-)
-for sp in larch weeping winter; do
-  [ -f "$out/gen/$sp/$sp.obj" ] || { mkdir -p "$out/gen/$sp" &&
-    "$bbcgen" tree --species "$sp" --seed 7 -o "$out/gen/$sp/$sp.obj" -q; }
-done
+trees=$("$here/data_trees.sh" "$data" "$out/gen" "$bbcgen")
 
 wanted() { [ -z "$only" ] || [[ ",$only," == *",$1,"* ]]; }
 

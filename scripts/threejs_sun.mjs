@@ -159,6 +159,7 @@ const files = [];
       case '--json': opt.json = str(); break;
       case '--keep': opt.keep = str(); break;
       case '--timeout': opt.timeout = num(name, value(), 1, 1e6); break;
+      case '--inspect': opt.inspect = true; break;
       case '--': files.push(...argv.slice(i + 1)); i = argv.length; break;
       default:
         if (a.startsWith('-') && a !== '-') die(1, `unknown option ${a} (see the header of scripts/threejs_sun.mjs)`);
@@ -166,7 +167,8 @@ const files = [];
     }
   }
 }
-if (files.length < 2) die(1, 'usage: threejs_sun.sh [options] ORIGINAL CLOUD [CLOUD...]');
+if (files.length < (opt.inspect ? 1 : 2))
+  die(1, 'usage: threejs_sun.sh [options] ORIGINAL CLOUD [CLOUD...] | --inspect FILE...');
 
 let suns;
 if (opt.suns === 'sweep') {
@@ -427,7 +429,13 @@ window.bbc = {
       }
     });
     models.push(m.root);
-    return { index: models.length - 1, box: boxInfo(m.root), triangles: tris, materials: m.materials };
+    // What a user's scene gets: the top-level objects (a glTF scene's root
+    // nodes; MSFT_lod is not read by three.js) and the meshes under them.
+    let meshes = 0;
+    m.root.traverse((o) => { if (o.isMesh) meshes++; });
+    const roots = m.root.children.map((o) => o.name);
+    return { index: models.length - 1, box: boxInfo(m.root), triangles: tris, materials: m.materials,
+      roots, meshes };
   },
 
   // Renders model i for every view and sun; returns statistics (and PNGs).
@@ -614,6 +622,14 @@ for (let i = 0; i < files.length; i++) {
 }
 if (missing.length) await finish(4, `files the models name are missing: ${[...new Set(missing)].join(', ')}`);
 const loadSeconds = (Date.now() - tLoad) / 1000;
+if (opt.inspect) { // what GLTFLoader makes of each file: no render
+  for (let i = 0; i < files.length; i++)
+    process.stdout.write(JSON.stringify({ file: files[i], roots: loaded[i].roots,
+      meshes: loaded[i].meshes, triangles: loaded[i].triangles,
+      materials: loaded[i].materials.map((m) => ({ name: m.name, alphaTest: m.alphaTest,
+        map: m.map, normalMap: m.normalMap, aoMap: m.aoMap })) }) + '\n');
+  await finish(0);
+}
 
 const ob = loaded[0].box;
 if (!(ob.radius > 0) || !ob.center.every(Number.isFinite)) await finish(4, `${files[0]}: empty model (no bounding sphere)`);

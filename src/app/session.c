@@ -248,6 +248,9 @@ static double level_options(const bbc_planes_options *options, const bbc_lod_lev
     eps = fmin(99, prev->epsilon_pct * prev->planes.epsilon_scale * step);
     o->params.max_planes = o->params.min_planes = 0;
   }
+  /* refine judges the alpha at the size the level is shown at (at most 256) */
+  if (levels[k].screen_px > 0 && levels[k].screen_px < o->params.refine_size)
+    o->params.refine_size = (int)fmax(16, levels[k].screen_px);
   if (levels[k].texres > 0) {
     o->params.texres = levels[k].texres;
     o->params.atlas_max = 0;

@@ -175,6 +175,10 @@ static const param_row k_rows[] = {
       "quality 2: texels whose opacity adds more false than true coverage of the original, "
       "over this many views, are cleared, and the reverse (0 = off)"},
      INT_FIELD(refine)},
+    {{"refinesize", BBC_PARAM_INT, 16, 4096, 256, F3, "extension", "pixels",
+      "refine: the size of the original's renders the alpha is judged against, the screen size "
+      "the cloud is made for (a --lod-pixels chain: each level its own, at most 256)"},
+     INT_FIELD(refine_size)},
     {{"growmin", BBC_PARAM_INT, 1, 16, 1, F3, "extension", "samples",
       "quality 2: opaque texel when >= n of its 16 samples are (1 = thesis 2.3.9)"},
      INT_FIELD(grow_min)},

@@ -467,7 +467,8 @@ bbc_result bbc__refine_baked(const bbc_mesh *m, const bbc_params *prm, bbc_cloud
   }
   if (r == BBC_OK && prm->refine > 0 && !points) { /* renders of triangles */
     if (cbk) bbc__progress(cbk, "refining", 0.0);
-    bbc__refine_options ro = {prm->refine, 256, 3, prm->up_axis, prm->threads, NULL};
+    int size = prm->refine_size >= 16 ? prm->refine_size : 256;
+    bbc__refine_options ro = {prm->refine, size, 3, prm->up_axis, prm->threads, NULL};
     ro.solid = limbs->triangle_count ? limbs : NULL;
     r = bbc__refine_alpha(m, cl->billboards, ri, nk, &ro, err);
     if (cbk) bbc__progress(cbk, "refining", 1.0);

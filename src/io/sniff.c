@@ -257,11 +257,12 @@ static bbc_result check_last_line(const char *name, const char *tail, size_t n, 
 }
 
 /* OBJ: vertices after the last one any face, line or point uses (relative
- * indices aside): the faces that used them were lost, as when a file is cut
- * at a line end. Said, not refused: some exporters leave stray vertices. */
+ * indices aside) while the last face uses about the highest vertex used:
+ * the faces that used the rest were lost, as when a file is cut at a line
+ * end. Said, not refused: some exporters leave stray vertices. */
 static void check_obj_unused_tail(const char *name, const char *buf, size_t n,
                                   const bbc_load_options *options) {
-  size_t verts = 0, max_used = 0;
+  size_t verts = 0, max_used = 0, last_face_max = 0;
   int relative = 0;
   const char *p = buf, *end = buf + n;
   while (p < end) {
@@ -272,18 +273,24 @@ static void check_obj_unused_tail(const char *name, const char *buf, size_t n,
     if (le - q > 2 && q[0] == 'v' && (q[1] == ' ' || q[1] == '\t')) {
       verts++;
     } else if (le - q > 2 && strchr("fpl", q[0]) && (q[1] == ' ' || q[1] == '\t')) {
+      last_face_max = 0;
       for (const char *s = q + 2; s < le;) {
         while (s < le && (*s == ' ' || *s == '\t')) s++;
         if (s >= le) break;
         if (*s == '-') relative = 1;
         size_t v = (size_t)strtoull(s, NULL, 10);
         if (v > max_used) max_used = v;
+        if (v > last_face_max) last_face_max = v;
         while (s < le && *s != ' ' && *s != '\t') s++;
       }
     }
     p = le + 1;
   }
-  if (relative || max_used == 0 || max_used >= verts) return;
+  /* a cut: the faces were still reaching new vertices when the file ended
+   * (its last face near the highest vertex used); whole files from some
+   * exporters (ez-tree's ash) carry unused vertices after faces that end
+   * elsewhere */
+  if (relative || max_used == 0 || max_used >= verts || last_face_max * 100 < max_used * 99) return;
   size_t unused = verts - max_used;
   if (unused >= 16 && unused * 100 >= verts)
     bbc__log(&options->callbacks, BBC_LOG_WARNING,

@@ -233,7 +233,7 @@ static int floor_pow2_int(double x) {
 }
 
 /* Level k's options: its epsilon (given, else the level before's as used
- * times (its size / this size)^(1/4), the plane budgets off) and texres
+ * times (its size / this size)^(1/8), the plane budgets off) and texres
  * (given; else for a screen size at most a texel a pixel there and, past
  * level 0, at most half the level before's; level 0 otherwise by the atlas
  * budget). */
@@ -243,7 +243,7 @@ static double level_options(const bbc_planes_options *options, const bbc_lod_lev
   double eps = levels[k].epsilon_pct > 0 ? levels[k].epsilon_pct : o->params.epsilon_pct;
   if (k && levels[k].epsilon_pct <= 0) {
     double step = levels[k - 1].screen_px > 0 && levels[k].screen_px > 0
-                      ? pow(levels[k - 1].screen_px / levels[k].screen_px, 0.25)
+                      ? pow(levels[k - 1].screen_px / levels[k].screen_px, 0.125)
                       : 1.5;
     eps = fmin(99, prev->epsilon_pct * prev->planes.epsilon_scale * step);
     o->params.max_planes = o->params.min_planes = 0;

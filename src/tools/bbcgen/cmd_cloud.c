@@ -8,63 +8,39 @@
 #include <string.h>
 #include <strings.h>
 
-/* "5,10,15" -> increasing epsilons in percent; -1 on error (printed). */
-static int parse_lods(const char *text, double *eps, size_t max, size_t *count) {
-  const bbc_param_info *info = bbc_param_find("epsilon");
-  *count = 0;
-  const char *p = text;
-  while (*p) {
-    char *end;
-    double v = strtod(p, &end);
-    if (end == p || !(v >= info->min && v <= info->max) || (*end && *end != ',')) {
-      cli_error("--lod: '%s' is not a list of epsilons in %g..%g (percent), e.g. 5,10,15", text,
-                info->min, info->max);
-      return -1;
-    }
-    if (*count == max) {
-      cli_error("--lod: at most %zu levels", max);
-      return -1;
-    }
-    if (*count && v <= eps[*count - 1]) {
-      cli_error("--lod: the epsilons must increase (finest level first): '%s'", text);
-      return -1;
-    }
-    eps[(*count)++] = v;
-    p = *end ? end + 1 : end;
-  }
-  if (!*count) {
-    cli_error("--lod needs at least one epsilon");
-    return -1;
-  }
-  return 0;
-}
+/* A chain's list: "5,10,15" (--lod: epsilons in percent, increasing) or
+ * "512,128,32" (--lod-pixels: whole pixels, falling); -1 on error (printed). */
+typedef struct lod_list {
+  const char *option, *what, *example;
+  double min, max;
+  int falls, whole;
+} lod_list;
 
-/* "512,128,32" -> decreasing screen sizes in pixels; -1 on error (printed). */
-static int parse_pixels(const char *text, double *px, size_t max, size_t *count) {
+static int parse_list(const lod_list *l, const char *text, double *v, size_t max, size_t *count) {
   *count = 0;
-  const char *p = text;
-  while (*p) {
+  for (const char *p = text; *p;) {
     char *end;
-    double v = strtod(p, &end);
-    if (end == p || !(v >= 4 && v <= 8192) || v != floor(v) || (*end && *end != ',')) {
-      cli_error("--lod-pixels: '%s' is not a list of screen sizes in pixels (4..8192: the "
-                "tree's height on screen where each level starts), e.g. 512,128,32",
-                text);
+    double x = strtod(p, &end);
+    if (end == p || !(x >= l->min && x <= l->max) || (l->whole && x != floor(x)) ||
+        (*end && *end != ',')) {
+      cli_error("%s: '%s' is not a list of %s in %g..%g, e.g. %s", l->option, text, l->what, l->min,
+                l->max, l->example);
       return -1;
     }
     if (*count == max) {
-      cli_error("--lod-pixels: at most %zu levels", max);
+      cli_error("%s: at most %zu levels", l->option, max);
       return -1;
     }
-    if (*count && v >= px[*count - 1]) {
-      cli_error("--lod-pixels: the sizes must fall (nearest level first): '%s'", text);
+    if (*count && (l->falls ? x >= v[*count - 1] : x <= v[*count - 1])) {
+      cli_error("%s: the values must %s (the finest level first): '%s'", l->option,
+                l->falls ? "fall" : "increase", text);
       return -1;
     }
-    px[(*count)++] = v;
+    v[(*count)++] = x;
     p = *end ? end + 1 : end;
   }
   if (!*count) {
-    cli_error("--lod-pixels needs at least one size");
+    cli_error("%s needs at least one level", l->option);
     return -1;
   }
   return 0;
@@ -73,12 +49,11 @@ static int parse_pixels(const char *text, double *px, size_t max, size_t *count)
 /* The chain's levels from screen sizes: level k starts where the tree is
  * px[k] pixels high. Level 0 is the single cloud the parameters make (the
  * plane and atlas budgets), at most a texel a pixel at px[0]; each further
- * level takes the epsilon used before it times (px[k-1] / px[k])^(1/4) and
- * at most a texel a pixel, at most half the texres before it
- * (bbc_session_run_chain). Measured at 32 px on the eztree oak and aspen,
- * the Scopia pine and Quaternius's birch: epsilon 12 keeps the side
- * coverage at 0.91-1.11 of the original's where 24 loses up to 17 %
- * (bench/results/lod_chain.md). */
+ * level takes the epsilon used before it times (px[k-1] / px[k])^(1/8), at
+ * most a texel a pixel and half the texres before it, refined at its size
+ * (bbc_session_run_chain). Coverage falls as epsilon grows (few planes,
+ * seen edge-on): on the Scopia palm's 32-pixel level, x1.41 a level kept
+ * 0.85 of the original's side coverage, x1.19 0.89 (bench/results/lod_chain.md). */
 static void levels_from_pixels(const double *px, size_t n, bbc_lod_level *lv) {
   for (size_t k = 0; k < n; k++) lv[k] = (bbc_lod_level){0, px[k], 0};
 }
@@ -108,10 +83,20 @@ int cmd_cloud(cli *c, int argc, char **argv) {
       }
     } else if (!strcmp(argv[i], "--lod")) {
       if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
-      if (parse_lods(v, eps, BBC_SESSION_MAX_LEVELS, &lods) < 0) return EXIT_USAGE;
+      const bbc_param_info *e = bbc_param_find("epsilon");
+      const lod_list l = {"--lod", "epsilons (percent)", "5,10,15", e->min, e->max, 0, 0};
+      if (parse_list(&l, v, eps, BBC_SESSION_MAX_LEVELS, &lods) < 0) return EXIT_USAGE;
     } else if (!strcmp(argv[i], "--lod-pixels")) {
       if (!(v = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
-      if (parse_pixels(v, px, BBC_SESSION_MAX_LEVELS, &pixels) < 0) return EXIT_USAGE;
+      const lod_list l = {"--lod-pixels",
+                          "screen sizes in pixels (the tree's height on screen where each level "
+                          "starts)",
+                          "512,128,32",
+                          4,
+                          8192,
+                          1,
+                          1};
+      if (parse_list(&l, v, px, BBC_SESSION_MAX_LEVELS, &pixels) < 0) return EXIT_USAGE;
     } else if (!strcmp(argv[i], "--lod-files")) {
       c->level_files = 1;
     } else if (!strcmp(argv[i], "--lighting")) {

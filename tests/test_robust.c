@@ -269,6 +269,18 @@ static void test_gltf_claims(void **state) {
   for (char *d = c + 8; *d >= '0' && *d <= '9'; d++) *d = '9';
   info_on("claims.glb", g, n, 4, "claims.glb: accessor 0 claims");
   free(g);
+  /* indices past the vertices (fuzz_glb: Assimp crashed on it after reading) */
+  char *err0;
+  snprintf(args, sizeof args, "info '%s/tests/fuzz/glb/assimp-crash-index-past-vertices.glb'",
+           BBC_SOURCE_DIR);
+  assert_int_equal(run_tool("bbcgen", args, &err0), 4);
+  assert_non_null(strstr(err0, "past its 133 vertices"));
+  free(err0);
+  snprintf(args, sizeof args, "info '%s/tests/fuzz/glb/assimp-overread-not-gltf.glb'",
+           BBC_SOURCE_DIR);
+  assert_int_equal(run_tool("bbcgen", args, &err0), 4);
+  assert_non_null(strstr(err0, "not a glTF file"));
+  free(err0);
   /* a .gltf whose .bin is shorter than its buffer says */
   snprintf(args, sizeof args, "'%s' -o s.gltf --texres 16 -q", model);
   assert_int_equal(run_tool("bbcgen", args, NULL), 0);

@@ -178,6 +178,7 @@ static int line_cut_short(const char *ls, const char *le, const char *ps, const 
   if (obj && we[0] - w[0] == 1 && *w[0] == 'v' && n < 4) return 1; /* v x y z */
   if (pn == 0 || n < pn) return pn > 0;
   if (obj && we[0] - w[0] == 1 && *w[0] == 'f') {
+    if (pn < 2) return 0;
     for (int i = 1; i < n; i++)
       if (corner_shape(w[i], we[i]) != corner_shape(pw[1], pwe[1])) return 1;
     return 0;
@@ -205,7 +206,7 @@ static bbc_result check_last_line(const char *name, const char *tail, size_t n, 
   const char *ke = ks;
   while (ke < le && *ke != ' ' && *ke != '\t') ke++;
   if (ks == le || *ks == '#') return BBC_OK;
-  if (obj && !((ke - ks == 1 && strchr("vfpl", *ks)) ||
+  if (obj && !((ke - ks == 1 && *ks && strchr("vfpl", *ks)) ||
                (ke - ks == 2 && (!memcmp(ks, "vt", 2) || !memcmp(ks, "vn", 2)))))
     return BBC_OK;
   /* the previous line of the same kind, within the tail (XYZ: and the one
@@ -278,7 +279,9 @@ static void check_obj_unused_tail(const char *name, const char *buf, size_t n,
         while (s < le && (*s == ' ' || *s == '\t')) s++;
         if (s >= le) break;
         if (*s == '-') relative = 1;
-        size_t v = (size_t)strtoull(s, NULL, 10);
+        size_t v = 0; /* bounded by the line: the bytes need not end in a NUL */
+        for (const char *d = s; d < le && *d >= '0' && *d <= '9' && v < ((size_t)1 << 60); d++)
+          v = v * 10 + (size_t)(*d - '0');
         if (v > max_used) max_used = v;
         if (v > last_face_max) last_face_max = v;
         while (s < le && *s != ' ' && *s != '\t') s++;
@@ -350,8 +353,88 @@ static double buffer_holds(const cJSON *buf, size_t i, const char *folder, doubl
   return stat(path, &st) == 0 && S_ISREG(st.st_mode) ? (double)st.st_size : -1;
 }
 
+static uint32_t le32(const unsigned char *p);
+
+/* Every index of every primitive below its POSITION count (Assimp reads
+ * out-of-range indices unchecked and crashes in its post-processing). The
+ * ranges were checked; `bin`: a GLB's binary chunk; external buffers are
+ * read from `folder`; data: URIs are left to the reader. */
+static bbc_result check_indices(const char *name, const cJSON *j, const unsigned char *bin,
+                                size_t bin_len, const char *folder, bbc_error *err) {
+  const cJSON *buffers = cJSON_GetObjectItemCaseSensitive(j, "buffers");
+  const cJSON *views = cJSON_GetObjectItemCaseSensitive(j, "bufferViews");
+  const cJSON *accessors = cJSON_GetObjectItemCaseSensitive(j, "accessors");
+  const cJSON *meshes = cJSON_GetObjectItemCaseSensitive(j, "meshes"), *mesh;
+  int nb = cJSON_GetArraySize(buffers);
+  char *files[8] = {0};
+  size_t sizes[8] = {0};
+  bbc_result r = BBC_OK;
+  int mi = 0;
+  cJSON_ArrayForEach(mesh, meshes) {
+    const cJSON *prim;
+    cJSON_ArrayForEach(prim, cJSON_GetObjectItemCaseSensitive(mesh, "primitives")) {
+      double mode = num(prim, "mode", 4);
+      if (!(mode >= 0 && mode <= 6)) { /* Assimp crashes past 6 */
+        r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                      "%s: mesh %d: primitive mode %g (glTF's are 0 to 6): the file is damaged",
+                      name, mi, mode);
+        break;
+      }
+      int ii = (int)num(prim, "indices", -1);
+      int pi = (int)num(cJSON_GetObjectItemCaseSensitive(prim, "attributes"), "POSITION", -1);
+      const cJSON *ia = cJSON_GetArrayItem(accessors, ii), *pa = cJSON_GetArrayItem(accessors, pi);
+      if (ii < 0 || !ia || !pa) continue;
+      const cJSON *v = cJSON_GetArrayItem(views, (int)num(ia, "bufferView", -1));
+      int b = v ? (int)num(v, "buffer", -1) : -1;
+      int cs = component_size((int)num(ia, "componentType", 0));
+      if (b < 0 || b >= nb || cs < 1) continue;
+      const unsigned char *data = NULL;
+      size_t size = 0;
+      const cJSON *uri = cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(buffers, b), "uri");
+      if (!uri && b == 0) {
+        data = bin;
+        size = bin_len;
+      } else if (cJSON_IsString(uri) && strncmp(uri->valuestring, "data:", 5) && folder && b < 8 &&
+                 !strstr(uri->valuestring, "..")) {
+        if (!files[b]) {
+          char path[4600];
+          snprintf(path, sizeof path, "%s%s", folder, uri->valuestring);
+          bbc_error quiet;
+          if (bbc__read_whole_file(path, &files[b], &sizes[b], &quiet) != BBC_OK) files[b] = NULL;
+        }
+        data = (const unsigned char *)files[b];
+        size = sizes[b];
+      }
+      if (!data) continue;
+      double count = num(ia, "count", 0), verts = num(pa, "count", 0);
+      double at = num(v, "byteOffset", 0) + num(ia, "byteOffset", 0);
+      double stride = num(v, "byteStride", cs);
+      for (double e = 0; e < count; e++) {
+        double o = at + e * stride;
+        if (o < 0 || o + cs > (double)size) break; /* past what is there: the reader's */
+        const unsigned char *q = data + (size_t)o;
+        uint32_t x = cs == 1 ? q[0] : cs == 2 ? (uint32_t)(q[0] | q[1] << 8) : le32(q);
+        if ((double)x >= verts) {
+          r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                        "%s: mesh %d: index %.0f is %u, past its %.0f vertices: the file is "
+                        "damaged",
+                        name, mi, e, (unsigned)x, verts);
+          break;
+        }
+      }
+      if (r != BBC_OK) break;
+    }
+    if (r != BBC_OK) break;
+    mi++;
+  }
+  for (int b = 0; b < 8; b++) free(files[b]);
+  return r;
+}
+
 static bbc_result check_gltf_json(const char *name, const char *json, size_t len,
-                                  const char *folder, double bin_chunk, bbc_error *err) {
+                                  const char *folder, const unsigned char *bin, size_t bin_len,
+                                  bbc_error *err) {
+  double bin_chunk = bin ? (double)bin_len : 0;
   cJSON *j = cJSON_ParseWithLength(json, len);
   if (!j) return BBC_OK; /* the reader says what is wrong with it */
   bbc_result r = BBC_OK;
@@ -407,6 +490,7 @@ static bbc_result check_gltf_json(const char *name, const char *json, size_t len
                     "holds %.0f bytes: the file is damaged",
                     name, i, count, need, vi, have);
   }
+  if (r == BBC_OK) r = check_indices(name, j, bin, bin_len, folder, err);
   cJSON_Delete(j);
   return r;
 }
@@ -424,17 +508,18 @@ static bbc_result check_glb(const char *name, const unsigned char *d, size_t n, 
                      "%s: cut short: its header says %u bytes, the file has %zu", name, total, n);
   if ((size_t)jl + 20 > n || le32(d + 16) != 0x4E4F534Au)
     return bbc__fail(err, BBC_ERROR_CORRUPT, "%s: a damaged GLB (its JSON chunk)", name);
-  double bin = 0;
-  size_t at = 20 + (size_t)jl;
+  const unsigned char *bin = NULL;
+  size_t bin_len = 0, at = 20 + (size_t)jl;
   if (at + 8 <= n && le32(d + at + 4) == 0x004E4942u) {
     uint32_t bl = le32(d + at);
     if (at + 8 + bl > n)
       return bbc__fail(err, BBC_ERROR_CORRUPT,
                        "%s: cut short: its binary chunk claims %u bytes, %zu are there", name, bl,
                        n - at - 8);
-    bin = bl;
+    bin = d + at + 8;
+    bin_len = bl;
   }
-  return check_gltf_json(name, (const char *)d + 20, jl, NULL, bin, err);
+  return check_gltf_json(name, (const char *)d + 20, jl, NULL, bin, bin_len, err);
 }
 
 /* ---- the entry ---------------------------------------------------------- */
@@ -461,6 +546,14 @@ bbc_result bbc__sniff_input(const char *name, const void *data, size_t size, int
   int obj = !strcmp(ext, "obj"),
       xyz = !strcmp(ext, "xyz") || !strcmp(ext, "pts") || !strcmp(ext, "txt");
   int glb = starts(head, hn, "glTF", 4), gltf = !strcmp(ext, "gltf");
+  if (!glb && (gltf || !strcmp(ext, "glb"))) { /* else Assimp guesses among all its formats */
+    size_t i = starts(head, hn, "\xef\xbb\xbf", 3) ? 3 : 0; /* a UTF-8 byte order mark */
+    while (i < hn && isspace(head[i])) i++;
+    if (i >= hn || head[i] != '{')
+      return bbc__fail(err, BBC_ERROR_CORRUPT,
+                       "%s: not a glTF file: neither a GLB header ('glTF') nor JSON", name);
+    gltf = 1;
+  }
   if (!obj && !xyz && !glb && !gltf) return BBC_OK;
   char *buf = NULL;
   size_t n = size;
@@ -486,7 +579,7 @@ bbc_result bbc__sniff_input(const char *name, const void *data, size_t size, int
   } else if (gltf) {
     char folder[4096];
     bbc__path_folder(name, folder, sizeof folder);
-    r = check_gltf_json(name, buf, n, from_memory ? NULL : folder, 0, err);
+    r = check_gltf_json(name, buf, n, from_memory ? NULL : folder, NULL, 0, err);
   } else {
     size_t tn = n < SNIFF_HEAD ? n : SNIFF_HEAD;
     r = check_last_line(name, buf + n - tn, tn, tn == n, obj, err);

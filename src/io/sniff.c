@@ -469,7 +469,15 @@ static bbc_result check_gltf_json(const char *name, const char *json, size_t len
     int cs = component_size((int)num(a, "componentType", 0)),
         nc = type_components(cJSON_IsString(type) ? type->valuestring : NULL);
     int vi = (int)num(a, "bufferView", -1);
-    if (vi < 0 || !cs || !nc) {
+    if (!cs || !nc) { /* Assimp compares the type's name unchecked */
+      r = bbc__fail(err, BBC_ERROR_CORRUPT,
+                    "%s: accessor %d: type '%s', componentType %g: not glTF's; the file is "
+                    "damaged",
+                    name, i, cJSON_IsString(type) ? type->valuestring : "(none)",
+                    num(a, "componentType", 0));
+      break;
+    }
+    if (vi < 0) {
       if (count > 1e9) /* a sparse or zero accessor still gets count elements */
         r = bbc__fail(err, BBC_ERROR_CORRUPT, "%s: accessor %d claims %.0f elements", name, i,
                       count);
@@ -489,6 +497,14 @@ static bbc_result check_gltf_json(const char *name, const char *json, size_t len
                     "%s: accessor %d claims %.0f elements (%.0f bytes) but its bufferView %d "
                     "holds %.0f bytes: the file is damaged",
                     name, i, count, need, vi, have);
+  }
+  const cJSON *image;
+  cJSON_ArrayForEach(image, cJSON_GetObjectItemCaseSensitive(j, "images")) {
+    const cJSON *mime = cJSON_GetObjectItemCaseSensitive(image, "mimeType");
+    if (r == BBC_OK && mime && (!cJSON_IsString(mime) || !strchr(mime->valuestring, '/')))
+      r = bbc__fail(err, BBC_ERROR_CORRUPT, /* Assimp reads past a '/' it does not find */
+                    "%s: an image's mimeType '%s' is no MIME type: the file is damaged", name,
+                    cJSON_IsString(mime) ? mime->valuestring : "(not text)");
   }
   if (r == BBC_OK) r = check_indices(name, j, bin, bin_len, folder, err);
   cJSON_Delete(j);

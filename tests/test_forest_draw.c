@@ -341,6 +341,56 @@ static void test_lod_transition(void **state) {
   assert_true(near0 > near);
 }
 
+/* The switch distance after `levels [0, ` in the log line of `object NAME`. */
+static double first_switch(const char *log, const char *name) {
+  char key[128];
+  snprintf(key, sizeof key, "object %s: ", name);
+  const char *p = strstr(log, key);
+  if (!p) fail_msg("no '%s' in the log", key);
+  p = strstr(p, "[0, ");
+  if (!p) fail_msg("no levels for %s", name);
+  return strtod(p + 4, NULL);
+}
+
+/* A chain placed directly switches where the tree is the same size on
+ * screen, whatever units it was modelled in: a centimetre copy placed at
+ * 0.01 switches where the metre tree placed at 1 does (issue 33, item 6),
+ * and the metre tree placed at 2 twice as far. */
+static void test_switch_follows_scale(void **state) {
+  (void)state;
+  if (!have_gl) skip();
+  char *out = NULL;
+  int rc = sh(&out,
+              "cd '%s' && awk '/^v /{printf \"v %%.6f %%.6f %%.6f\\n\", 100*$2, 100*$3, 100*$4; "
+              "next} {print}' t.obj > tcm.obj && "
+              "'%s/bbcgen' t.obj -o tm.glb --lod 8,16 --texres 32 -q && "
+              "'%s/bbcgen' tcm.obj -o tcm.glb --lod 8,16 --texres 32 -q",
+              dir, BBC_BIN_DIR, BBC_BIN_DIR);
+  if (rc) fail_msg("chains: %s", out);
+  free(out);
+  put("scaled.txt", "hmap flat.png\nstretch 4\n"
+                    "object2d tm.glb 1 1 100 100 0 0 0 0\n"
+                    "object2d tcm.glb 0.01 1 140 140 0 0 0 0\n"
+                    "object2d tm.glb 2 1 160 160 0 0 0 0\n");
+  rc = sh(&out, "'%s/forest' '%s/scaled.txt' --size 16x16 --frames 1 --log '%s/slog.txt'",
+          BBC_BIN_DIR, dir, dir);
+  if (rc) fail_msg("forest: %s", out);
+  free(out);
+  char p[700];
+  snprintf(p, sizeof p, "%s/slog.txt", dir);
+  char *log = (char *)tu_read_file(p, NULL);
+  assert_non_null(log);
+  double m = first_switch(log, "tm.glb"), cm = first_switch(log, "tcm.glb");
+  const char *second = strstr(strstr(log, "object tm.glb: ") + 1, "object tm.glb: ");
+  assert_non_null(second); /* the same file at another scale: a model of its own */
+  double m2 = first_switch(second, "tm.glb");
+  fprintf(stderr, "first switch: metre tree %g, centimetre tree at 0.01 %g, metre tree at 2 %g\n",
+          m, cm, m2);
+  assert_true(m > 0 && fabs(cm - m) <= 1e-3 * m);
+  assert_true(fabs(m2 - 2 * m) <= 1e-3 * m);
+  free(log);
+}
+
 /* Keys as Appendix B has them, scripted: moving, statistics, positions. */
 static void test_keys(void **state) {
   (void)state;
@@ -550,8 +600,9 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_bad_usage),      cmocka_unit_test(test_screenshot),
       cmocka_unit_test(test_skymap),         cmocka_unit_test(test_no_cracks),
-      cmocka_unit_test(test_lod_transition), cmocka_unit_test(test_keys),
-      cmocka_unit_test(test_bench_line),     cmocka_unit_test(test_window),
+      cmocka_unit_test(test_lod_transition), cmocka_unit_test(test_switch_follows_scale),
+      cmocka_unit_test(test_keys),           cmocka_unit_test(test_bench_line),
+      cmocka_unit_test(test_window),
   };
   return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }

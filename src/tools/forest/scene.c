@@ -150,6 +150,7 @@ static long find_mesh(scene *s, const char *path, int lod_node, FILE *log, int p
  * flag and line, and what loading says where. */
 typedef struct model_source {
   const char *file;
+  double scale; /* the placement's: distances from a radius are the placed size's */
   int mipmap, line;
   const char *map_path;
   FILE *log;
@@ -157,7 +158,9 @@ typedef struct model_source {
 } model_source;
 
 /* A 3D file placed directly: one level, or each level of a glTF chain,
- * switching at 40, 120, 360... times the model's radius. 0 on failure. */
+ * switching at 40, 120, 360... times the model's radius as placed (times
+ * the placement's scale: a tree modelled in centimetres and placed at 0.01
+ * switches where one modelled in metres does). 0 on failure. */
 static int model_from_mesh_file(scene *s, scene_model *m, const model_source *src,
                                 const char *path) {
   size_t cap = 8;
@@ -182,7 +185,7 @@ static int model_from_mesh_file(scene *s, scene_model *m, const model_source *sr
     m->lod_count++;
     if (s->meshes[mesh].lod_node == 0) break;
   }
-  double r = s->meshes[m->parts[0][0].mesh].radius;
+  double r = s->meshes[m->parts[0][0].mesh].radius * src->scale;
   for (size_t l = 0; l < m->lod_count; l++) {
     m->ranges[2 * l] = l ? 40 * r * pow(3, (double)l - 1) : 0;
     m->ranges[2 * l + 1] = l + 1 < m->lod_count ? 40 * r * pow(3, (double)l) : 1e30;
@@ -237,10 +240,16 @@ static int model_from_description(scene *s, scene_model *m, const model_source *
 }
 
 /* The model of a placement file (loaded once per file and mipmap flag). */
-static long find_model(scene *s, const char *file, int mipmap, int line, const char *map_path,
-                       FILE *log, int progress) {
+static long find_model(scene *s, const char *file, int mipmap, double scale, int line,
+                       const char *map_path, FILE *log, int progress) {
   char key[4200];
-  snprintf(key, sizeof key, "%s|%d", file, mipmap);
+  /* a 3D file's switch distances depend on the scale it is placed at: a
+   * model per scale; a description file's are its own, in world units */
+  int mesh_file = scene_is_model_file(file);
+  if (mesh_file)
+    snprintf(key, sizeof key, "%s|%d|%.17g", file, mipmap, scale);
+  else
+    snprintf(key, sizeof key, "%s|%d", file, mipmap);
   for (size_t i = 0; i < s->model_count; i++)
     if (!strcmp(s->models[i].key, key)) return (long)i;
   scene_model *m2 = realloc(s->models, (s->model_count + 1) * sizeof *m2);
@@ -250,9 +259,9 @@ static long find_model(scene *s, const char *file, int mipmap, int line, const c
   memset(m, 0, sizeof *m);
   char path[4096];
   scene_join(s->folder, file, path, sizeof path);
-  model_source src = {file, mipmap, line, map_path, log, progress};
-  int ok = scene_is_model_file(file) ? model_from_mesh_file(s, m, &src, path)
-                                     : model_from_description(s, m, &src, path);
+  model_source src = {file, scale, mipmap, line, map_path, log, progress};
+  int ok =
+      mesh_file ? model_from_mesh_file(s, m, &src, path) : model_from_description(s, m, &src, path);
   if (!ok) { /* nothing of a model that did not load stays allocated */
     free(m->ranges);
     free(m->parts);
@@ -328,11 +337,11 @@ int scene_load(scene *s, const char *map_path, FILE *log, int progress) {
   for (size_t p = 0; p < s->map.placement_count; p++) {
     const bbc_forest_placement *pl = &s->map.placements[p];
     s->placement_models[p][0] = s->placement_models[p][1] = UINT32_MAX;
-    long a = find_model(s, pl->file, pl->mipmap, pl->line, map_path, log, progress);
+    long a = find_model(s, pl->file, pl->mipmap, pl->scale, pl->line, map_path, log, progress);
     if (a < 0) return 0;
     s->placement_models[p][0] = (uint32_t)a;
     if (pl->file2) {
-      long b = find_model(s, pl->file2, pl->mipmap, pl->line, map_path, log, progress);
+      long b = find_model(s, pl->file2, pl->mipmap, pl->scale, pl->line, map_path, log, progress);
       if (b < 0) return 0;
       s->placement_models[p][1] = (uint32_t)b;
     }

@@ -65,20 +65,26 @@ print(f"{r0['machine']}; renderer: {r0.get('renderer', '?')}; viewport {r0.get('
       "returns (llvmpipe shades vertices there); cull: CPU culling and levels of detail of the "
       "objects (0 with --gpu-cull, whose culling is in the frame's GPU time); draw calls: a "
       "multi-draw counts once (its commands in brackets); ready: from the start of loading "
-      "to the first frame drawn.\n")
+      "to the first frame drawn. What a GPU pays, counted by pipeline statistics queries "
+      "(medians per frame): vertices and primitives submitted, fragments shaded (alpha-tested "
+      "ones included) and fragments per pixel of the viewport (overdraw).\n")
 print("| map | objects | mode | frame ms median | frame ms p95 | CPU ms | cull ms median | cull ms p95 "
-      "| trees drawn | billboards drawn | draw calls | load s | ready s | peak MiB | default faster by |")
-print("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+      "| trees drawn | billboards drawn | draw calls | vertices | primitives | fragments | fragments/pixel "
+      "| load s | ready s | peak MiB | default faster by |")
+print("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
 by = {(r["map"], r["mode"]): r for r in rows}
+count = lambda r, k: f"{int(r[k]):,}" if k in r else "n/a"
 for r in rows:
     d = by.get((r["map"], "default"))
     ratio = ""
     if r["mode"] != "default" and d:
         ratio = f"{r['frame_ms_median'] / d['frame_ms_median']:.2f}x"
     calls = f"{r['draw_calls']:,}" + (f" ({r['draw_commands']:,})" if r.get("draw_commands") else "")
+    fpp = f"{r['fragments_per_pixel']:.2f}" if "fragments_per_pixel" in r else "n/a"
     print(f"| {r['map']} | {r['objects']:,} | {r['mode']} | {r['frame_ms_median']:.1f} | "
           f"{r['frame_ms_p95']:.1f} | {r['cpu_ms_median']:.1f} | {r['cull_ms_median']:.3f} | "
           f"{r['cull_ms_p95']:.3f} | {r['trees_drawn']:,} | {r['billboards_drawn']:,} | {calls} | "
+          f"{count(r, 'vertices')} | {count(r, 'primitives')} | {count(r, 'fragments')} | {fpp} | "
           f"{r['load_s']:.2f} | {r['ready_s']:.2f} | {r['peak_rss_mb']:.0f} | {ratio} |")
 print("\nTexture memory per model (MiB, with mip levels):\n")
 seen = set()

@@ -488,6 +488,20 @@ static void test_bench_line(void **state) {
   assert_non_null(tex);
   assert_int_equal(sscanf(tex, "texture_mb[tree.txt]=%lf", &tex_mb), 1);
   assert_true(tex_mb > 0.01);
+  /* what a GPU pays (pipeline statistics; llvmpipe answers them): at least
+   * a triangle's vertices a drawn billboard, fragments over the viewport */
+  const char *gpu = strstr(out, "vertices=");
+  if (gpu) {
+    double v, p, f, fpp;
+    assert_int_equal(sscanf(gpu,
+                            "vertices=%lf primitives=%lf fragments=%lf fragments_per_pixel=%lf", &v,
+                            &p, &f, &fpp),
+                     4);
+    assert_true(p >= (double)b.billboards && v >= p && f > 0);
+    assert_true(fabs(fpp - f / (96.0 * 64.0)) < 1e-3 * (1 + fpp));
+  } else {
+    assert_non_null(strstr(out, "counters=unavailable"));
+  }
   free(out);
   /* --naive: the same trees and billboards, a draw call per billboard */
   rc = sh(&out,

@@ -35,6 +35,17 @@ void bbcgl_context_end(bbcgl_context *ctx);
 int bbcgl_context_read(bbcgl_context *ctx, bbc_image *out, char *err);
 /* "OpenGL 4.5 (Core Profile) Mesa 22.3.6, llvmpipe ..." */
 const char *bbcgl_context_describe(bbcgl_context *ctx);
+/* What the GPU did between counters_begin and counters_end, from pipeline
+ * statistics queries (OpenGL 4.6 or ARB_pipeline_statistics_query; Mesa's
+ * llvmpipe answers them): vertices and primitives submitted, fragment
+ * shader invocations (alpha-tested fragments included). `available` 0 where
+ * the driver has none. counters_end waits for the results. */
+typedef struct bbcgl_counters {
+  int available;
+  unsigned long long vertices, primitives, fragments;
+} bbcgl_counters;
+void bbcgl_context_counters_begin(bbcgl_context *ctx);
+void bbcgl_context_counters_end(bbcgl_context *ctx, bbcgl_counters *out);
 
 /* ---- the forest renderer (forest.c, forest_*.c) -------------------------- */
 typedef struct bbcgl_forest bbcgl_forest;

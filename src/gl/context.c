@@ -25,6 +25,9 @@ struct bbcgl_context {
   /* window */
   GLFWwindow *window;
   char describe[256];
+  /* pipeline statistics: -1 not looked for yet, 0 none, 1 queries made */
+  int counters;
+  GLuint query[3];
 };
 
 static void describe(bbcgl_context *c) {
@@ -49,6 +52,7 @@ bbcgl_context *bbcgl_context_headless(int width, int height, char *err) {
     return NULL;
   }
   bbcgl_context *c = calloc(1, sizeof *c);
+  if (c) c->counters = -1;
   if (!c) {
     snprintf(err, BBCGL_ERR, "out of memory");
     return NULL;
@@ -143,6 +147,7 @@ bbcgl_context *bbcgl_context_window(int width, int height, const char *title, ch
   glfwMakeContextCurrent(w);
   glfwSwapInterval(0);
   bbcgl_context *c = calloc(1, sizeof *c);
+  if (c) c->counters = -1;
   if (!c) {
     glfwDestroyWindow(w);
     glfwTerminate();
@@ -161,6 +166,7 @@ bbcgl_context *bbcgl_context_window(int width, int height, const char *title, ch
 
 void bbcgl_context_free(bbcgl_context *c) {
   if (!c) return;
+  if (c->counters > 0) glDeleteQueries(3, c->query);
   if (c->window) {
     /* No glfwTerminate, for the reason given below for eglTerminate: it
      * unloads the driver; the connection closes when the process ends. */
@@ -200,6 +206,30 @@ void bbcgl_context_end(bbcgl_context *c) {
     glfwSwapBuffers(c->window);
   else
     glFinish();
+}
+
+static const GLenum k_counter_target[3] = {GL_VERTICES_SUBMITTED_ARB, GL_PRIMITIVES_SUBMITTED_ARB,
+                                           GL_FRAGMENT_SHADER_INVOCATIONS_ARB};
+
+void bbcgl_context_counters_begin(bbcgl_context *c) {
+  if (c->counters < 0) {
+    c->counters =
+        epoxy_gl_version() >= 46 || epoxy_has_gl_extension("GL_ARB_pipeline_statistics_query");
+    if (c->counters) glGenQueries(3, c->query);
+  }
+  for (int i = 0; c->counters && i < 3; i++) glBeginQuery(k_counter_target[i], c->query[i]);
+}
+
+void bbcgl_context_counters_end(bbcgl_context *c, bbcgl_counters *out) {
+  memset(out, 0, sizeof *out);
+  if (c->counters <= 0) return;
+  GLuint64 v[3] = {0, 0, 0};
+  for (int i = 0; i < 3; i++) glEndQuery(k_counter_target[i]);
+  for (int i = 0; i < 3; i++) glGetQueryObjectui64v(c->query[i], GL_QUERY_RESULT, &v[i]);
+  out->available = 1;
+  out->vertices = v[0];
+  out->primitives = v[1];
+  out->fragments = v[2];
 }
 
 int bbcgl_context_read(bbcgl_context *c, bbc_image *out, char *err) {

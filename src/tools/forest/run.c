@@ -245,6 +245,7 @@ typedef struct frame_result {
   double terrain_ms; /* the terrain's node selection */
   bbcgl_stats stats;
   size_t per_level[8];
+  bbcgl_counters counters; /* --bench: what the GPU did (pipeline statistics) */
 } frame_result;
 
 static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fps,
@@ -282,6 +283,7 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
   /* with --gpu-cull the CPU culls nothing: the work is in the frame's GPU time */
   res->cull_ms = fr.gpu_cull ? 0 : (now_s() - c0) * 1000;
   bbcgl_context_begin(ctx);
+  if (st->o->bench) bbcgl_context_counters_begin(ctx);
   bbcgl_forest_draw(r, &fr, &st->s->terrain, &st->s->cull, &res->stats);
   if (fr.gpu_cull && !st->gpu_failed && bbcgl_forest_gpu_cull_error(r)) {
     fprintf(stderr, "forest: --gpu-cull: %s\n", bbcgl_forest_gpu_cull_error(r));
@@ -325,6 +327,7 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
   if (st->message[0] && t < st->message_until) lines[n++] = st->message;
   if (n) bbcgl_forest_text(r, w, h, lines, n, h >= 600 ? 2 : 1);
   res->frame_ms = (now_s() - t0) * 1000;
+  if (st->o->bench) bbcgl_context_counters_end(ctx, &res->counters);
   if (st->o->coverage) { /* the same frame again: objects only, white on black */
     fr.fill_colour = 1;
     bbcgl_stats dummy;
@@ -503,18 +506,22 @@ typedef struct runner {
 typedef struct frame_records {
   double (*ms)[4];
   size_t *trees, *bills, *calls, *cmds;
+  double (*gpu)[3]; /* vertices, primitives, fragments (pipeline statistics) */
+  int gpu_counted;
 } frame_records;
 
 static int records_alloc(frame_records *rec, size_t frames) {
+  rec->gpu = calloc(frames + 1, sizeof *rec->gpu);
   rec->ms = calloc(frames + 1, sizeof *rec->ms);
   rec->trees = calloc(frames + 1, sizeof *rec->trees);
   rec->bills = calloc(frames + 1, sizeof *rec->bills);
   rec->calls = calloc(frames + 1, sizeof *rec->calls);
   rec->cmds = calloc(frames + 1, sizeof *rec->cmds);
-  return rec->ms && rec->trees && rec->bills && rec->calls && rec->cmds;
+  return rec->ms && rec->trees && rec->bills && rec->calls && rec->cmds && rec->gpu;
 }
 
 static void records_free(frame_records *rec) {
+  free(rec->gpu);
   free(rec->ms);
   free(rec->cmds);
   free(rec->trees);
@@ -643,6 +650,10 @@ static int run_frames(runner *u, size_t *frames_io, frame_records *rec) {
     rec->bills[i] = u->res.stats.billboards;
     rec->calls[i] = u->res.stats.draw_calls;
     rec->cmds[i] = u->res.stats.draw_commands;
+    rec->gpu[i][0] = (double)u->res.counters.vertices;
+    rec->gpu[i][1] = (double)u->res.counters.primitives;
+    rec->gpu[i][2] = (double)u->res.counters.fragments;
+    rec->gpu_counted = u->res.counters.available;
     u->fps = u->res.frame_ms > 0 ? 1000 / u->res.frame_ms : 0;
     if (o->progress && frames > 1) fprintf(stderr, "\rforest: frame %zu of %zu", i + 1, frames);
   }
@@ -712,6 +723,19 @@ static void print_bench(const runner *u, const scene *s, size_t frames, const fr
            "draw_calls=%zu draw_commands=%zu\n",
            med[0], p95[0], med[1], med[2], p95[2], med[3], tsum / frames, bsum / frames,
            csum / frames, dsum / frames);
+    /* what a GPU pays, from pipeline statistics: medians over the frames */
+    if (rec->gpu_counted) {
+      double gm[3];
+      for (int q = 0; q < 3; q++) {
+        for (size_t i = 0; i < frames; i++) sorted[i] = rec->gpu[i][q];
+        qsort(sorted, frames, sizeof *sorted, cmp_double);
+        gm[q] = sorted[frames / 2];
+      }
+      printf("vertices=%.0f primitives=%.0f fragments=%.0f fragments_per_pixel=%.3f\n", gm[0],
+             gm[1], gm[2], gm[2] / ((double)o->width * o->height));
+    } else {
+      printf("counters=unavailable (no pipeline statistics queries)\n");
+    }
   }
   free(sorted);
 }

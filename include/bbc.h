@@ -188,6 +188,20 @@ int bbc_image_has_transparency(const bbc_image *image);
  * opaque texels stays level 0's (coverage-preserving alpha mipmaps, Castano
  * 2010); an opaque image gets box-filtered levels. */
 bbc_result bbc_image_mipmaps(const bbc_image *base, bbc_image **levels, int *count, bbc_error *err);
+/* BC1 (S3TC DXT1, 4 bits a texel) for GPUs that sample it: the bytes a
+ * width x height image takes (8 a 4 x 4 block, partial blocks whole). */
+size_t bbc_bc1_size(int width, int height);
+/* Encodes `image` into bbc_bc1_size bytes at `out`: opaque blocks in BC1's
+ * four-colour mode (stb_dxt), blocks with a texel of alpha < 128 in its
+ * three-colour mode with those texels transparent, so a binary alpha is kept
+ * exactly. Deterministic. */
+bbc_result bbc_image_encode_bc1(const bbc_image *image, uint8_t *out, bbc_error *err);
+/* Decodes BC1 blocks into a new RGBA8 image (free with bbc_image_free), as a
+ * GPU samples them. */
+bbc_result bbc_bc1_decode(const uint8_t *blocks, int width, int height, bbc_image *out,
+                          bbc_error *err);
+/* 1 when every texel's alpha is 0 or 255 (BC1 keeps such an alpha). */
+int bbc_image_alpha_is_binary(const bbc_image *image);
 /* Writes `image` with its bbc_image_mipmaps chain as an uncompressed RGBA8
  * DDS (Microsoft's DirectDraw Surface layout, every level down to 1 x 1),
  * atomically. */

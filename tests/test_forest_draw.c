@@ -391,6 +391,60 @@ static void test_switch_follows_scale(void **state) {
   free(log);
 }
 
+/* texture_mb[NAME]= of a --bench output. */
+static double texture_mb(const char *out, const char *name) {
+  char key[128];
+  snprintf(key, sizeof key, "texture_mb[%s]=", name);
+  const char *p = strstr(out, key);
+  if (!p) fail_msg("no %s in: %s", key, out);
+  return strtod(p + strlen(key), NULL);
+}
+
+/* BC1 textures (issue 33, item 3): the clouds' atlases and the polygon
+ * level's textures at an eighth of RGBA8's memory where the driver samples
+ * S3TC (llvmpipe does), and the picture within 30 dB PSNR of the
+ * uncompressed one (the alpha divided out, so BC1's black transparent
+ * texels leave no dark fringes). */
+static void test_bc1_textures(void **state) {
+  (void)state;
+  if (!have_gl) skip();
+  char *bc = NULL, *raw = NULL;
+  if (sh(&bc,
+         "'%s/forest' '%s/hills.txt' --size 160x120 --frames 1 --bench --log '%s/log.txt' "
+         "--screenshot '%s/bc1.png'",
+         BBC_BIN_DIR, dir, dir, dir) ||
+      sh(&raw,
+         "'%s/forest' '%s/hills.txt' --size 160x120 --frames 1 --bench --uncompressed --log "
+         "'%s/log.txt' --screenshot '%s/raw.png'",
+         BBC_BIN_DIR, dir, dir, dir))
+    fail_msg("forest: %s %s", bc ? bc : "", raw ? raw : "");
+  double mb_bc = texture_mb(bc, "tree.txt"), mb_raw = texture_mb(raw, "tree.txt");
+  fprintf(stderr, "texture memory of tree.txt: %.3f MiB BC1, %.3f MiB RGBA8\n", mb_bc, mb_raw);
+  assert_true(mb_raw > 0 && mb_bc * 4 <= mb_raw);
+  free(bc);
+  free(raw);
+  char pa[700], pb[700];
+  snprintf(pa, sizeof pa, "%s/bc1.png", dir);
+  snprintf(pb, sizeof pb, "%s/raw.png", dir);
+  bbc_image a, b;
+  bbc_error err;
+  assert_int_equal(bbc_image_load(pa, &a, &err), BBC_OK);
+  assert_int_equal(bbc_image_load(pb, &b, &err), BBC_OK);
+  assert_int_equal(a.width, b.width);
+  double se = 0;
+  size_t n = (size_t)a.width * a.height * 3;
+  for (size_t i = 0; i < (size_t)a.width * a.height; i++)
+    for (int k = 0; k < 3; k++) {
+      double d = (double)a.rgba[4 * i + k] - b.rgba[4 * i + k];
+      se += d * d;
+    }
+  double psnr = se > 0 ? 10 * log10(255.0 * 255.0 / (se / n)) : 99;
+  fprintf(stderr, "BC1 against RGBA8 textures: PSNR %.2f dB\n", psnr);
+  assert_true(psnr >= 30);
+  bbc_image_free(&a);
+  bbc_image_free(&b);
+}
+
 /* Keys as Appendix B has them, scripted: moving, statistics, positions. */
 static void test_keys(void **state) {
   (void)state;
@@ -615,8 +669,8 @@ int main(void) {
       cmocka_unit_test(test_bad_usage),      cmocka_unit_test(test_screenshot),
       cmocka_unit_test(test_skymap),         cmocka_unit_test(test_no_cracks),
       cmocka_unit_test(test_lod_transition), cmocka_unit_test(test_switch_follows_scale),
-      cmocka_unit_test(test_keys),           cmocka_unit_test(test_bench_line),
-      cmocka_unit_test(test_window),
+      cmocka_unit_test(test_bc1_textures),   cmocka_unit_test(test_keys),
+      cmocka_unit_test(test_bench_line),     cmocka_unit_test(test_window),
   };
   return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }

@@ -59,7 +59,14 @@ typedef struct bbcgl_scene {
   double fog_start, fog_end; /* world units; fog_end <= fog_start = no fog */
   const bbc_image *sky[6];   /* FR, BK, LF, RT, UP, DN; NULLs = a gradient */
   size_t bucket_count;       /* (model, level) buckets of the culling */
+  /* 1: textures as RGBA8 even where BC1 would do (comparisons); 0: images
+   * whose alpha is binary (cloud atlases) or opaque, and their mip levels,
+   * as BC1 (S3TC, an eighth of RGBA8) where the driver samples it */
+  int uncompressed;
 } bbcgl_scene;
+/* Bytes the GPU holds for `image` (with its mip levels where `mipmap`):
+ * what bbcgl_forest_add_part uploaded, 0 for an image it has not. */
+size_t bbcgl_forest_texture_bytes(const bbcgl_forest *f, const bbc_image *image, int mipmap);
 
 bbcgl_forest *bbcgl_forest_create(const bbcgl_scene *scene, char *err);
 void bbcgl_forest_free(bbcgl_forest *f);

@@ -9,7 +9,8 @@
 #include "shader.h"
 
 typedef struct batch {
-  GLuint tex; /* 0 = untextured */
+  GLuint tex;        /* 0 = untextured */
+  int premultiplied; /* tex is BC1: transparent texels black, colours divided by alpha */
   float base[4];
   int lit;
   float gain, amb[3];
@@ -33,6 +34,8 @@ typedef struct texture_entry {
   const uint8_t *key; /* the image's texels: one GL texture per image */
   int mipmap;
   GLuint tex;
+  size_t bytes;      /* what the GPU holds, all levels */
+  int premultiplied; /* BC1: transparent texels decode black (0, 0, 0, 0) */
 } texture_entry;
 
 struct bbcgl_forest {

@@ -11,12 +11,29 @@
 
 #include <epoxy/gl.h>
 
+/* BC1 for an image and its levels when the driver samples S3TC and every
+ * level's alpha is binary (cloud atlases, whose mip levels keep coverage
+ * with a binary alpha) or opaque; dimensions multiples of 4 for level 0
+ * (the GL wants whole blocks except at the smallest levels). */
+static int use_bc1(const bbcgl_forest *f, const bbc_image *im, const bbc_image *mips, int nm) {
+  static int s3tc = -1;
+  if (s3tc < 0) s3tc = epoxy_has_gl_extension("GL_EXT_texture_compression_s3tc");
+  if (f->scene.uncompressed || !s3tc || im->width % 4 || im->height % 4) return 0;
+  if (!bbc_image_alpha_is_binary(im)) return 0;
+  for (int l = 0; l < nm; l++)
+    if (!bbc_image_alpha_is_binary(&mips[l])) return 0;
+  return 1;
+}
+
 /* One GL texture per image (thesis 3.2.2: models that share a texture share
  * it in memory). */
-static GLuint texture_for(bbcgl_forest *f, const bbc_image *im, int mipmap, char *err) {
+static GLuint texture_for(bbcgl_forest *f, const bbc_image *im, int mipmap, int *premultiplied,
+                          char *err) {
   for (size_t i = 0; i < f->texture_count; i++)
-    if (f->textures[i].key == im->rgba && f->textures[i].mipmap == mipmap)
+    if (f->textures[i].key == im->rgba && f->textures[i].mipmap == mipmap) {
+      *premultiplied = f->textures[i].premultiplied;
       return f->textures[i].tex;
+    }
   texture_entry *t2 = realloc(f->textures, (f->texture_count + 1) * sizeof *t2);
   if (!t2) {
     snprintf(err, BBCGL_ERR, "out of memory");
@@ -39,14 +56,41 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_image *im, int mipmap, char
     while (nm > 0 && (mips[nm - 1].width < 8 || mips[nm - 1].height < 8)) nm--;
   GLuint tex;
   glCreateTextures(GL_TEXTURE_2D, 1, &tex);
-  glTextureStorage2D(tex, 1 + nm, GL_RGBA8, im->width, im->height);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTextureSubImage2D(tex, 0, 0, 0, im->width, im->height, GL_RGBA, GL_UNSIGNED_BYTE, im->rgba);
-  for (int l = 0; l < nm; l++) {
-    glTextureSubImage2D(tex, l + 1, 0, 0, mips[l].width, mips[l].height, GL_RGBA, GL_UNSIGNED_BYTE,
-                        mips[l].rgba);
+  size_t bytes = 0;
+  int bc1 = use_bc1(f, im, mips, nm);
+  if (bc1) { /* level 0 and its coverage-keeping levels, each as BC1 */
+    glTextureStorage2D(tex, 1 + nm, GL_COMPRESSED_RGBA_S3TC_DXT1_EXT, im->width, im->height);
+    for (int l = 0; l <= nm && tex; l++) {
+      const bbc_image *lv = l ? &mips[l - 1] : im;
+      size_t n = bbc_bc1_size(lv->width, lv->height);
+      uint8_t *blocks = malloc(n);
+      if (!blocks || bbc_image_encode_bc1(lv, blocks, &e) != BBC_OK) {
+        snprintf(err, BBCGL_ERR, "out of memory for a BC1 texture");
+        glDeleteTextures(1, &tex);
+        tex = 0;
+      } else {
+        glCompressedTextureSubImage2D(tex, l, 0, 0, lv->width, lv->height,
+                                      GL_COMPRESSED_RGBA_S3TC_DXT1_EXT, (GLsizei)n, blocks);
+        bytes += n;
+      }
+      free(blocks);
+    }
+  } else {
+    glTextureStorage2D(tex, 1 + nm, GL_RGBA8, im->width, im->height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(tex, 0, 0, 0, im->width, im->height, GL_RGBA, GL_UNSIGNED_BYTE, im->rgba);
+    bytes = (size_t)im->width * im->height * 4;
+    for (int l = 0; l < nm; l++) {
+      glTextureSubImage2D(tex, l + 1, 0, 0, mips[l].width, mips[l].height, GL_RGBA,
+                          GL_UNSIGNED_BYTE, mips[l].rgba);
+      bytes += (size_t)mips[l].width * mips[l].height * 4;
+    }
   }
   for (int l = 0; l < nm_all; l++) bbc_image_free(&mips[l]);
+  if (!tex) {
+    free(mips);
+    return 0;
+  }
   free(mips);
   glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, nm ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
   glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -54,8 +98,18 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_image *im, int mipmap, char
   glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_REPEAT);
   f->textures[f->texture_count].key = im->rgba;
   f->textures[f->texture_count].mipmap = mipmap;
+  f->textures[f->texture_count].bytes = bytes;
+  f->textures[f->texture_count].premultiplied = bc1;
+  *premultiplied = bc1;
   f->textures[f->texture_count++].tex = tex;
   return tex;
+}
+
+size_t bbcgl_forest_texture_bytes(const bbcgl_forest *f, const bbc_image *im, int mipmap) {
+  for (size_t i = 0; i < f->texture_count; i++)
+    if (f->textures[i].key == im->rgba && f->textures[i].mipmap == mipmap)
+      return f->textures[i].bytes;
+  return 0;
 }
 
 /* A new part of bucket `bucket` at the end of f->parts (counted once it is
@@ -99,7 +153,7 @@ static int add_batches(bbcgl_forest *f, part *p, const bbc_mesh *m, const size_t
     }
     if (ma->texture >= 0 && (size_t)ma->texture < m->texture_count &&
         m->textures[ma->texture].image.rgba) {
-      b->tex = texture_for(f, &m->textures[ma->texture].image, mipmap, err);
+      b->tex = texture_for(f, &m->textures[ma->texture].image, mipmap, &b->premultiplied, err);
       if (!b->tex) return 0;
     }
   }

@@ -8,7 +8,7 @@ in vec3 v_normal;
 in vec2 v_uv;
 in float v_fade;
 uniform sampler2D u_tex;
-uniform int u_has_tex;
+uniform int u_has_tex; // 0 none, 1 RGBA8, 2 BC1 (transparent texels black)
 uniform vec4 u_base;
 uniform int u_lit;
 uniform vec3 u_light;
@@ -28,7 +28,12 @@ float bayer(ivec2 p) {
 void main() {
   if (v_fade < 1.0 && bayer(ivec2(gl_FragCoord.xy)) >= v_fade) discard;
   vec4 c = u_base;
-  if (u_has_tex != 0) c *= texture(u_tex, v_uv);
+  vec4 t = u_has_tex != 0 ? texture(u_tex, v_uv) : vec4(1.0);
+  // BC1 (2): transparent texels decode black, so filtering mixes black into
+  // the edges; divided by the filtered alpha, the colour is the mean of the
+  // opaque texels around it, as with the RGBA8 atlas's filled texels (1)
+  if (u_has_tex == 2 && t.a > 0.0) t.rgb /= t.a;
+  c *= t;
   if (c.a < 0.5) discard;
   // lit as bbcgen bakes its clouds (two-sided Lambert, 0.35 ambient, the
   // model's light gain, X3D viewers' ambient), so that the polygon level

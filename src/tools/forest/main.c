@@ -69,6 +69,8 @@ static void usage(FILE *f) {
           "                       a screenshot; the program ends after the script (or at esc)\n"
           "  --stats              the statistics overlay (F10) from the start\n"
           "  --print-camera       print the final camera as --camera takes it\n"
+          "  --uncompressed       textures as RGBA8 (by default cloud atlases with binary\n"
+          "                       alpha and opaque images are BC1, an eighth of the memory)\n"
           "  --naive              draw the way the thesis did, to measure against: every tree\n"
           "                       tested and given its level one by one (no grid), and per\n"
           "                       tree, level and billboard its own draw call and texture bind\n"
@@ -375,6 +377,8 @@ static int set_flag(settings *st, const char *a) {
     o->stats = 1;
   else if (!strcmp(a, "--naive"))
     o->naive = 1;
+  else if (!strcmp(a, "--uncompressed"))
+    o->uncompressed = 1;
   else if (!strcmp(a, "--gpu-cull"))
     o->gpu_cull = 1;
   else if (!strcmp(a, "--coverage"))
@@ -474,17 +478,29 @@ static int set_value(settings *st, const char *a, const char *v) {
 }
 
 static void unknown_option(const char *a) {
-  static const char *const known[] = {"--help",         "--version",
-                                      "--check",        "--window",
-                                      "--stats",        "--naive",
-                                      "--gpu-cull",     "--coverage",
-                                      "--print-camera", "--size",
-                                      "--camera",       "--frames",
-                                      "--path",         "--screenshot",
-                                      "--keys",         "--demo-terrain",
-                                      "--terrain-kind", "--terrain-size",
-                                      "--seed",         "--log",
-                                      "--bench",        NULL};
+  static const char *const known[] = {"--help",
+                                      "--version",
+                                      "--check",
+                                      "--window",
+                                      "--stats",
+                                      "--naive",
+                                      "--uncompressed",
+                                      "--gpu-cull",
+                                      "--coverage",
+                                      "--print-camera",
+                                      "--size",
+                                      "--camera",
+                                      "--frames",
+                                      "--path",
+                                      "--screenshot",
+                                      "--keys",
+                                      "--demo-terrain",
+                                      "--terrain-kind",
+                                      "--terrain-size",
+                                      "--seed",
+                                      "--log",
+                                      "--bench",
+                                      NULL};
   const char *near = cli_closest(a, known);
   if (near)
     fprintf(stderr, "forest: unknown option '%s' (did you mean %s?)\n", a, near);

@@ -385,7 +385,7 @@ static bbcgl_context *open_context(const run_options *o, FILE *log) {
 
 /* The drawing side of the scene: terrain, water, fog, sky and one bucket
  * per model and level, each with its parts' meshes. */
-static bbcgl_forest *create_forest(scene *s) {
+static bbcgl_forest *create_forest(scene *s, const run_options *o) {
   char err[BBCGL_ERR];
   bbcgl_scene sc;
   memset(&sc, 0, sizeof sc);
@@ -403,6 +403,7 @@ static bbcgl_forest *create_forest(scene *s) {
   }
   for (int i = 0; i < 6 && s->has_sky; i++) sc.sky[i] = &s->sky[i];
   sc.bucket_count = s->cull.bucket_count;
+  sc.uncompressed = o->uncompressed;
   bbcgl_forest *r = bbcgl_forest_create(&sc, err);
   if (!r) {
     fprintf(stderr, "forest: %s\n", err);
@@ -664,9 +665,9 @@ static int run_frames(runner *u, size_t *frames_io, frame_records *rec) {
 
 /* ---- --bench's lines ----------------------------------------------------------- */
 
-/* Each model's textures in MiB: level 0 plus its mip levels (about a third
- * more), each image once. */
-static void print_texture_memory(const scene *s) {
+/* Each model's textures in MiB as the GPU holds them (BC1 or RGBA8, with
+ * the mip levels), each image once. */
+static void print_texture_memory(const scene *s, const bbcgl_forest *r) {
   for (size_t m = 0; m < s->model_count; m++) {
     const uint8_t *seen[64];
     size_t nseen = 0;
@@ -680,8 +681,7 @@ static void print_texture_memory(const scene *s) {
           for (size_t q = 0; q < nseen && !dup; q++) dup = seen[q] == im->rgba;
           if (dup) continue;
           if (nseen < 64) seen[nseen++] = im->rgba;
-          bytes += (double)im->width * im->height * 4 *
-                   (s->models[m].parts[l][k].mipmap ? 4.0 / 3.0 : 1.0);
+          bytes += (double)bbcgl_forest_texture_bytes(r, im, s->models[m].parts[l][k].mipmap);
         }
       }
     printf(" texture_mb[%s]=%.2f", s->models[m].name, bytes / (1024.0 * 1024.0));
@@ -716,7 +716,7 @@ static void print_bench(const runner *u, const scene *s, size_t frames, const fr
     getrusage(RUSAGE_SELF, &ru);
     printf("load_s=%.3f ready_s=%.3f peak_rss_mb=%.1f objects=%zu instance_bytes=%zu", o->load_s,
            u->ready_s, ru.ru_maxrss / 1024.0, s->world.instance_count, sizeof(bbc_forest_instance));
-    print_texture_memory(s);
+    print_texture_memory(s, u->r);
     printf("\n");
     printf("frame_ms_median=%.3f frame_ms_p95=%.3f cpu_ms_median=%.3f cull_ms_median=%.3f "
            "cull_ms_p95=%.3f terrain_ms_median=%.3f trees_drawn=%zu billboards_drawn=%zu "
@@ -748,7 +748,7 @@ int run(scene *s, const run_options *o, FILE *log) {
   u.o = o;
   u.ctx = open_context(o, log);
   if (!u.ctx) return 1;
-  u.r = create_forest(s);
+  u.r = create_forest(s, o);
   if (!u.r) {
     bbcgl_context_free(u.ctx);
     return 1;

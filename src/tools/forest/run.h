@@ -19,6 +19,7 @@ typedef struct run_options {
   int print_camera;       /* --print-camera: the final camera on stdout */
   int coverage;           /* --coverage: per frame, the pixels the objects cover */
   int naive;              /* --naive: draw the thesis's way (to measure against) */
+  int uncompressed;       /* --uncompressed: RGBA8 textures where BC1 would do */
   int gpu_cull;           /* --gpu-cull: culling and levels of detail in a compute shader */
   double load_s;          /* how long loading took (for --bench) */
   double start_s;         /* CLOCK_MONOTONIC when loading began (for --bench's ready_s) */

@@ -308,6 +308,7 @@ bbc_result bbc_session_run_chain(bbc_session *s, const bbc_planes_options *optio
       bbc__label_callbacks(&options->callbacks, &lab, &o.callbacks, "level %zu of %zu", k + 1,
                            count);
     bbc_grid *g = NULL;
+    const bbc_planes_options level = o; /* run_one_level writes the epsilon into o */
     r = run_one_level(s, &o, eps, &lv[k], &g, err);
     /* triangles fall: a coarser epsilon until they do */
     while (r == BBC_OK && k && level_triangles(&lv[k]) >= level_triangles(&lv[k - 1]) && eps < 99) {
@@ -315,11 +316,8 @@ bbc_result bbc_session_run_chain(bbc_session *s, const bbc_planes_options *optio
       bbc_grid_free(g);
       g = NULL;
       eps = fmin(99, eps * 1.5);
-      level_options(options, levels, k, &lv[k - 1], &o);
+      o = level;
       o.params.max_planes = o.params.min_planes = 0;
-      if (count > 1)
-        bbc__label_callbacks(&options->callbacks, &lab, &o.callbacks, "level %zu of %zu", k + 1,
-                             count);
       r = run_one_level(s, &o, eps, &lv[k], &g, err);
     }
     /* level 0 at most a texel a pixel where it starts */

@@ -67,13 +67,21 @@ typedef struct bbc_forest_placement {
   int line;               /* where it is written */
 } bbc_forest_placement;
 
+/* The map's `wind STRENGTH [DIRX DIRZ]`. */
+typedef struct bbc_forest_wind {
+  double strength; /* 0 = still; 1 = a breeze: a tree's top leans about 4 % of
+                    * its height, more in gusts */
+  double dir[2];   /* x, z of the direction it blows towards (unit) */
+} bbc_forest_wind;
+
 typedef struct bbc_forest_map {
   char *hmap;                                 /* hmap: heightmap image (required) */
   int hmap_filter_radius, hmap_filter_passes; /* hmapfilter (0 0 = none) */
   char *colmap;                               /* colmap: colour map image, NULL = none */
   double heightscale;                         /* heightscale (1): vertical scale */
   double stretch;                             /* stretch (1): horizontal scale */
-  double light[3];                            /* light (1 1 0.5): terrain prelighting */
+  double light[3];                            /* light (1 1 0.5): the sun's default direction */
+  bbc_forest_wind wind;                       /* wind (0, towards +x): still */
   double farclip;                             /* farclip: map vertices, 0 = not given */
   double roetger;                             /* roetger (10): terrain detail factor */
   char *skymap;                               /* skymap: file stem, NULL = none */
@@ -323,7 +331,8 @@ void bbc_forest_terrain_select(bbc_forest_terrain *t, const bbc_forest_world *wo
 void bbc_forest_terrain_free(bbc_forest_terrain *t);
 
 /* The terrain's colour texture with the `light` direction's lighting baked
- * in (thesis 3.2.1) and a soft dark disc under every object whose model
+ * in (thesis 3.2.1; NULL: none, for a renderer that lights it per pixel as
+ * forest does) and a soft dark disc under every object whose model
  * casts a shadow (3.2.4): shadow[p] = {radius, cutoff} for placement p in
  * world units ({0, 0} = none; full darkness up to cutoff, then falling off
  * to none at radius). Without a colour map, grass and rock by slope and
@@ -331,6 +340,41 @@ void bbc_forest_terrain_free(bbc_forest_terrain *t);
 bbc_result bbc_forest_terrain_bake_colour(const bbc_forest_world *world, const double light[3],
                                           const double (*shadow)[2], bbc_image *out,
                                           bbc_error *err);
+
+/* ======================================================================== */
+/* 4b. The sun and the wind (GL-free: the shaders do the same per vertex    */
+/*     and per pixel)                                                       */
+/* ======================================================================== */
+
+/* The direction towards the sun (unit, world axes, y up) at `azimuth_deg`
+ * around the vertical (0 = towards +z, 90 = towards +x, as bbcgen's
+ * lightazim) and `elevation_deg` above the horizon (as lightelev). */
+void bbc_forest_sun_direction(double azimuth_deg, double elevation_deg, double dir[3]);
+/* The azimuth and elevation (degrees) of the direction `light` (any
+ * length, not zero; a map's `light`). */
+void bbc_forest_sun_angles(const double light[3], double *azimuth_deg, double *elevation_deg);
+
+/* The ambient light the forest's sun comes with (the sun's being 1), as
+ * bbcgen eval --sun lights (docs/lighting.md). */
+#define BBC_FOREST_SUN_AMBIENT 0.4
+/* How bright a surface is under the sun, as a glTF viewer lights a lit
+ * material: (ambient x occlusion + max(0, n . l)) / (ambient + 1), so that
+ * a surface facing the sun keeps its colour. `n_dot_l`: its (bent, turned
+ * to the side seen) normal against the direction towards the sun;
+ * `occlusion` the occlusion map's value (1 = none). */
+double bbc_forest_sun_shade(double ambient, double occlusion, double n_dot_l);
+
+/* Where the wind moves a point of a tree at `time` seconds: `q` the point
+ * relative to the tree's base (world units, after the tree's scale and
+ * turn), `base` the base's world position (its x, z give the tree's phase
+ * and where the slow gusts are), `height` the tree's height (world units;
+ * the same for every level of a model, so that levels sway alike and the
+ * cross-fade stays seamless). Writes the displacement: nothing at the base
+ * (q.y <= 0), growing with the height above it (squared) and, a little,
+ * with the distance from the axis (leaves flutter). Mirrored by
+ * forest_model.vert.glsl. */
+void bbc_forest_wind_offset(const bbc_forest_wind *wind, double time, const double base[3],
+                            const double q[3], double height, double out[3]);
 
 /* ======================================================================== */
 /* 5. The camera and stored positions                                       */

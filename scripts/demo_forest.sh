@@ -37,18 +37,21 @@ model_file() {
 # file (thesis Appendix B) with the LOD ranges.
 make_species() {
   local s=$1
-  # Clouds with a baked light (--lighting baked): forest draws a model's
-  # colours as they are; it does not light material clouds yet (docs/lighting.md).
-  if [ ! -f "$out/$s.obj" ] || [ ! -f "$out/${s}_6.glb" ]; then
+  # Material clouds (bbcgen's default: albedo, normal and occlusion maps):
+  # forest lights them with its sun like the polygon tree (docs/forest.md).
+  if [ ! -f "$out/$s.obj" ] || [ ! -f "$out/${s}_6.glb" ] || [ ! -f "$stamp" ]; then
     echo "== forest: $s and its Billboard Clouds (22, 8 and 6 billboards)"
     "$bin/bbcgen" tree --species "$s" --seed 1 -o "$out/$s.obj" > /dev/null
-    "$bin/bbcgen" "$out/$s.obj" -o "$out/${s}_22.glb" --lighting baked --maxplanes 22 --texres 256 -q
-    "$bin/bbcgen" "$out/$s.obj" -o "$out/${s}_8.glb" --lighting baked --maxplanes 8 --minplanes 0 --texres 64 -q
-    "$bin/bbcgen" "$out/$s.obj" -o "$out/${s}_6.glb" --lighting baked --maxplanes 6 --minplanes 0 --texres 64 -q
+    "$bin/bbcgen" "$out/$s.obj" -o "$out/${s}_22.glb" --maxplanes 22 --texres 256 -q
+    "$bin/bbcgen" "$out/$s.obj" -o "$out/${s}_8.glb" --maxplanes 8 --minplanes 0 --texres 64 -q
+    "$bin/bbcgen" "$out/$s.obj" -o "$out/${s}_6.glb" --maxplanes 6 --minplanes 0 --texres 64 -q
   fi
   model_file "$s" "$s: the polygon tree near, Billboard Clouds farther (thesis Appendix B)" 6 6.5 2.5 \
     "$s.obj:45" "${s}_22.glb:160" "${s}_8.glb:420" "${s}_6.glb:1600"
 }
+# Clouds made before forest lit material clouds carried a baked light: the
+# stamp says these are material clouds (made again when it is missing).
+stamp="$out/clouds_material.stamp"
 for s in oak pine birch larch weeping; do make_species "$s"; done
 cat > "$out/map.txt" <<EOT
 ' The demo map: 1024 x 1024 units of hills, meadows and a lake, $((per * 3)) trees.
@@ -59,6 +62,7 @@ colmap colmap.png
 heightscale $heightscale
 stretch 2
 light 1 1 0.5
+wind 1 1 0.3
 farclip 800
 roetger 10
 waterheight $(awk -v w="$water" -v h="$heightscale" 'BEGIN { printf "%.2f", w * h + 0.6 }')
@@ -88,6 +92,7 @@ colmap $dir/colmap.png
 heightscale $hs
 stretch 2
 light 1 1 0.5
+wind 1 1 0.3
 farclip 800
 roetger 10
 waterheight $(awk -v w="$wat" -v h="$hs" 'BEGIN { printf "%.2f", w * h + 0.6 }')
@@ -117,13 +122,13 @@ EOT
 # simplified by bbcgen as a whole (the polygon group near, then clouds of 25,
 # 11 and 11 billboards at 256, 128 and 32 texels like the thesis's), on
 # flat land (3.3: groups belong on flat ground).
-if [ ! -f "$out/spruces.obj" ] || [ ! -f "$out/spruces_11s.glb" ]; then
+if [ ! -f "$out/spruces.obj" ] || [ ! -f "$out/spruces_11s.glb" ] || [ ! -f "$stamp" ]; then
   echo "== forest: a group of 8 spruces and its Billboard Clouds (25, 11 and 11 billboards)"
   awk -f "$(dirname "$0")/obj_group.awk" "$out/pine.obj" > "$out/spruces.obj.tmp"
   mv "$out/spruces.obj.tmp" "$out/spruces.obj"
-  "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_25.glb" --lighting baked --maxplanes 25 --texres 256 -q
-  "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_11.glb" --lighting baked --maxplanes 11 --minplanes 0 --texres 128 -q
-  "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_11s.glb" --lighting baked --maxplanes 11 --minplanes 0 --texres 32 -q
+  "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_25.glb" --maxplanes 25 --texres 256 -q
+  "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_11.glb" --maxplanes 11 --minplanes 0 --texres 128 -q
+  "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_11s.glb" --maxplanes 11 --minplanes 0 --texres 32 -q
 fi
 model_file spruces \
   "8 spruces as one model (thesis 3.3, Finland): the polygon group near, clouds farther" 8 14 6 \
@@ -136,18 +141,19 @@ EOT
 mkdir -p "$out/islands"
 islandwater=$("$bin/forest" --demo-terrain "$out/islands" --terrain-size 1024 --seed 6 \
   --terrain-kind islands | sed -n 's/^water_level=//p')
-if [ ! -f "$out/palm.obj" ] || [ ! -f "$out/palm_5.glb" ]; then
+if [ ! -f "$out/palm.obj" ] || [ ! -f "$out/palm_5.glb" ] || [ ! -f "$stamp" ]; then
   echo "== forest: palm and its Billboard Clouds (8, 8 and 5 billboards)"
   "$bin/bbcgen" tree --species palm --seed 1 -o "$out/palm.obj" > /dev/null
-  "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_8.glb" --lighting baked --maxplanes 8 --minplanes 0 --texres 512 -q
-  "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_8s.glb" --lighting baked --maxplanes 8 --minplanes 0 --texres 128 -q
-  "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_5.glb" --lighting baked --maxplanes 5 --minplanes 0 --texres 32 -q
+  "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_8.glb" --maxplanes 8 --minplanes 0 --texres 512 -q
+  "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_8s.glb" --maxplanes 8 --minplanes 0 --texres 128 -q
+  "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_5.glb" --maxplanes 5 --minplanes 0 --texres 32 -q
 fi
 model_file palm "palm: the polygon tree near, Billboard Clouds farther (thesis 3.3, Tropic Islands)" \
   6 5 2 palm.obj:45 palm_8.glb:160 palm_8s.glb:420 palm_5.glb:1600
 big_map islands islands "$islandwater" 0.5 "Tropic Islands (thesis 3.3, map b): palms" <<EOT
 rndtree palm.txt 1.0 25000 1 1 0 0 0 0
 EOT
+touch "$stamp"
 for m in mixed islands finland huge150k; do "$bin/forest" --check "$out/$m.txt" > "$out/check_$m.txt"; done
 # A camera path across the large maps (corner to corner, low and high).
 cat > "$out/path_big.txt" <<EOT

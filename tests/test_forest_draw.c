@@ -65,8 +65,10 @@ static int group_setup(void **state) {
          "'%s/bbcgen' tree --species oak --seed 2 --leaves 3000 -o '%s/t.obj' && "
          "'%s/bbcgen' '%s/t.obj' -o '%s/t22.glb' --maxplanes 22 --texres 128 -q && "
          "'%s/bbcgen' '%s/t.obj' -o '%s/t8.glb' --maxplanes 8 --minplanes 0 --texres 64 -q && "
-         "'%s/bbcgen' '%s/t.obj' -o '%s/t8.wrl' --maxplanes 8 --minplanes 0 --texres 64 -q",
-         BBC_BIN_DIR, dir, BBC_BIN_DIR, dir, dir, BBC_BIN_DIR, dir, dir, BBC_BIN_DIR, dir, dir)) {
+         "'%s/bbcgen' '%s/t.obj' -o '%s/t8.wrl' --maxplanes 8 --minplanes 0 --texres 64 -q && "
+         "'%s/bbcgen' '%s/t.obj' -o '%s/t3.glb' --maxplanes 3 --minplanes 0 --texres 32 -q",
+         BBC_BIN_DIR, dir, BBC_BIN_DIR, dir, dir, BBC_BIN_DIR, dir, dir, BBC_BIN_DIR, dir, dir,
+         BBC_BIN_DIR, dir, dir)) {
     fprintf(stderr, "trees: %s\n", out);
     free(out);
     return -1;
@@ -123,10 +125,20 @@ static int group_setup(void **state) {
   bbc_image_free(&flat);
   if (!ok) return -1;
   put("one.txt", "hmap flat.png\nstretch 4\nobject2d tree.txt 1 1 128 128 0 0 0 0\n");
+  /* the LOD walk: coarse clouds of 8 and 3 billboards (their coverage differs
+   * from the polygon tree's, so that a hard switch shows), with and without
+   * blending (fade 5), and blended in the wind */
+  put("one_walk.txt", "hmap flat.png\nstretch 4\nobject2d tree_walk.txt 1 1 128 128 0 0 0 0\n");
   put("one_hard.txt", "hmap flat.png\nstretch 4\nobject2d tree_hard.txt 1 1 128 128 0 0 0 0\n");
-  put("tree_hard.txt", "LOD ( file1 t.obj lighting mipmap min 0 max 30 )\n"
-                       "LOD ( file1 t22.glb mipmap min 30 max 60 )\n"
-                       "LOD ( file1 t8.glb mipmap min 60 max 400 )\n");
+  put("one_wind.txt",
+      "hmap flat.png\nstretch 4\nwind 2\nobject2d tree_walk.txt 1 1 128 128 0 0 0 0\n");
+  static const char levels[] = "LOD ( file1 t.obj lighting mipmap min 0 max 30 )\n"
+                               "LOD ( file1 t8.glb mipmap min 30 max 60 )\n"
+                               "LOD ( file1 t3.glb mipmap min 60 max 400 )\n";
+  put("tree_hard.txt", levels);
+  char walk[400];
+  snprintf(walk, sizeof walk, "fade 5\n%s", levels);
+  put("tree_walk.txt", walk);
   /* Is there OpenGL 4.5 without a display here? */
   if (sh(&out, "'%s/forest' '%s/hills.txt' --size 16x16 --log '%s/log.txt'", BBC_BIN_DIR, dir,
          dir) != 0) {
@@ -327,9 +339,9 @@ static void test_lod_transition(void **state) {
   (void)state;
   if (!have_gl) skip();
   double near, away;
-  lod_walk("one.txt", &near, &away);
+  lod_walk("one_walk.txt", &near, &away);
   fprintf(stderr,
-          "LOD blending (fade 3): largest relative step near the switches %.4f, away %.4f\n", near,
+          "LOD blending (fade 5): largest relative step near the switches %.4f, away %.4f\n", near,
           away);
   assert_true(near <= away);
   /* The measurement can fail: without blending (no `fade`) the switch
@@ -339,6 +351,90 @@ static void test_lod_transition(void **state) {
   fprintf(stderr, "LOD switch (no fade): largest relative step near the switches %.4f, away %.4f\n",
           near0, away0);
   assert_true(near0 > near);
+  /* In the wind (the tree sways as it is walked past, every level alike),
+   * the switches stay as smooth as the walk between them. */
+  double near_w, away_w;
+  lod_walk("one_wind.txt", &near_w, &away_w);
+  fprintf(stderr,
+          "LOD blending in the wind: largest relative step near the switches %.4f, "
+          "away %.4f\n",
+          near_w, away_w);
+  assert_true(near_w <= away_w && near_w < near0);
+}
+
+/* Mean luminance (Rec. 709) of the pixels of `im` that differ from `empty`
+ * (the same view without the tree): added to sum[0], their count to sum[1]. */
+static void tree_luminance(const bbc_image *im, const bbc_image *empty, double sum[2]) {
+  assert_int_equal(im->width, empty->width);
+  for (size_t i = 0; i < (size_t)im->width * im->height; i++) {
+    const uint8_t *a = im->rgba + 4 * i, *e = empty->rgba + 4 * i;
+    if (abs(a[0] - e[0]) <= 6 && abs(a[1] - e[1]) <= 6 && abs(a[2] - e[2]) <= 6) continue;
+    sum[0] += 0.2126 * a[0] + 0.7152 * a[1] + 0.0722 * a[2];
+    sum[1] += 1;
+  }
+}
+
+/* Issue 33: a tree's polygon level and its clouds (bbcgen's default
+ * material clouds: albedo, normal and occlusion maps) at the same spot
+ * under the same sun, seen from four sides: the clouds' mean brightness
+ * within 10 % of the polygon tree's for 8 sun azimuths (elevation 40). The
+ * sun turns by the arrow keys (15 degrees a press). */
+static void test_sun_levels_alike(void **state) {
+  (void)state;
+  if (!have_gl) skip();
+  static const char *const file[3] = {"t.obj lighting", "t22.glb", "t8.glb"};
+  static const char *const cam[4] = {"128,6,146,0,0", "146,6,128,-90,0", "128,6,110,180,0",
+                                     "110,6,128,90,0"};
+  char text[300], keys[600];
+  for (int l = 0; l < 3; l++) {
+    snprintf(text, sizeof text, "LOD ( file1 %s mipmap min 0 max 400 )\n", file[l]);
+    snprintf(keys, sizeof keys, "sun_l%d.txt", l);
+    put(keys, text);
+    snprintf(text, sizeof text,
+             "hmap flat.png\nstretch 4\nobject2d sun_l%d.txt 1 1 128 128 0 0 0 0\n", l);
+    snprintf(keys, sizeof keys, "sun_m%d.txt", l);
+    put(keys, text);
+  }
+  put("sun_m3.txt", "hmap flat.png\nstretch 4\n"); /* no tree */
+  for (int m = 0; m < 4; m++)
+    for (int c = 0; c < 4; c++) {
+      int n = 0;
+      for (int a = 0; a < 8; a++)
+        n += snprintf(keys + n, sizeof keys - (size_t)n, "%sshot:%s/sun_%d_%d_%d.png",
+                      a ? " right right right " : "", dir, m, c, a);
+      char *out;
+      if (sh(&out,
+             "'%s/forest' '%s/sun_m%d.txt' --size 160x160 --camera %s --sun 0,40 "
+             "--keys '%s' --log '%s/log.txt'",
+             BBC_BIN_DIR, dir, m, cam[c], keys, dir))
+        fail_msg("%s", out);
+      free(out);
+    }
+  fprintf(stderr, "sun azimuth: clouds of 22 and 8 billboards / polygon tree (mean brightness, "
+                  "4 views, elevation 40)\n");
+  for (int a = 0; a < 8; a++) {
+    double sum[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+    for (int c = 0; c < 4; c++) {
+      char name[64];
+      snprintf(name, sizeof name, "sun_3_%d_%d.png", c, a);
+      bbc_image empty = load_png(name);
+      for (int l = 0; l < 3; l++) {
+        snprintf(name, sizeof name, "sun_%d_%d_%d.png", l, c, a);
+        bbc_image im = load_png(name);
+        tree_luminance(&im, &empty, sum[l]);
+        bbc_image_free(&im);
+      }
+      bbc_image_free(&empty);
+    }
+    double lum[3];
+    for (int l = 0; l < 3; l++) {
+      assert_true(sum[l][1] > 1000); /* the tree is there */
+      lum[l] = sum[l][0] / sum[l][1];
+    }
+    fprintf(stderr, "  %3d: %.3f %.3f  (polygon %.1f)\n", 45 * a, lum[1] / lum[0], lum[2] / lum[0],
+            lum[0]);
+    for (int l = 1; l < 3; l++) assert_true(fabs(lum[l] / lum[0] - 1) <= 0.10);
+  }
 }
 
 /* The switch distance after `levels [0, ` in the log line of `object NAME`. */
@@ -666,11 +762,17 @@ static void test_bad_usage(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_bad_usage),      cmocka_unit_test(test_screenshot),
-      cmocka_unit_test(test_skymap),         cmocka_unit_test(test_no_cracks),
-      cmocka_unit_test(test_lod_transition), cmocka_unit_test(test_switch_follows_scale),
-      cmocka_unit_test(test_bc1_textures),   cmocka_unit_test(test_keys),
-      cmocka_unit_test(test_bench_line),     cmocka_unit_test(test_window),
+      cmocka_unit_test(test_bad_usage),
+      cmocka_unit_test(test_screenshot),
+      cmocka_unit_test(test_skymap),
+      cmocka_unit_test(test_no_cracks),
+      cmocka_unit_test(test_lod_transition),
+      cmocka_unit_test(test_sun_levels_alike),
+      cmocka_unit_test(test_switch_follows_scale),
+      cmocka_unit_test(test_bc1_textures),
+      cmocka_unit_test(test_keys),
+      cmocka_unit_test(test_bench_line),
+      cmocka_unit_test(test_window),
   };
   return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }

@@ -387,7 +387,111 @@ static void test_terrain_colour(void **state) {
   assert_true(edge[1] > under[1] && edge[1] < flat[1]);       /* falling off */
   assert_int_equal(im.rgba[4 * (16 * 64 + 30) + 1], flat[1]); /* outside the radius */
   bbc_image_free(&im);
+  /* no light (forest lights per pixel): the colours and the shadows only */
+  assert_int_equal(bbc_forest_terrain_bake_colour(&w, NULL, (const double(*)[2])shadow, &im, &err),
+                   BBC_OK);
+  assert_int_equal(im.rgba[4 * (40 * 64 + 10) + 1], 150);
+  assert_int_equal(im.rgba[4 * (40 * 64 + 50) + 1], 150); /* the slope is not lit */
+  assert_true(im.rgba[4 * (16 * 64 + 16) + 1] < 150 * 0.6);
+  bbc_image_free(&im);
   bbc_forest_world_free(&w);
+}
+
+static void test_sun(void **state) {
+  (void)state;
+  double d[3], az, el;
+  bbc_forest_sun_direction(0, 0, d); /* azimuth 0: towards +z */
+  assert_true(fabs(d[0]) < 1e-12 && fabs(d[1]) < 1e-12 && fabs(d[2] - 1) < 1e-12);
+  bbc_forest_sun_direction(90, 0, d); /* 90: towards +x */
+  assert_true(fabs(d[0] - 1) < 1e-12 && fabs(d[2]) < 1e-12);
+  bbc_forest_sun_direction(200, 90, d); /* noon whatever the azimuth */
+  assert_true(fabs(d[1] - 1) < 1e-12);
+  for (int a = 0; a < 360; a += 45)
+    for (int e = -30; e < 90; e += 20) {
+      bbc_forest_sun_direction(a, e, d);
+      assert_true(fabs(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - 1) < 1e-12);
+      bbc_forest_sun_angles(d, &az, &el);
+      assert_true(fabs(az - a) < 1e-9 && fabs(el - e) < 1e-9);
+    }
+  /* the maps' default light (1 1 0.5): the same direction, any length */
+  double light[3] = {2, 2, 1};
+  bbc_forest_sun_angles(light, &az, &el);
+  bbc_forest_sun_direction(az, el, d);
+  assert_true(fabs(d[0] - 2.0 / 3) < 1e-12 && fabs(d[1] - 2.0 / 3) < 1e-12 &&
+              fabs(d[2] - 1.0 / 3) < 1e-12);
+  /* a surface facing the sun keeps its colour; away, the ambient share,
+   * which the occlusion darkens (and only it) */
+  assert_true(fabs(bbc_forest_sun_shade(0.4, 1, 1) - 1) < 1e-12);
+  assert_true(fabs(bbc_forest_sun_shade(0.4, 1, -0.5) - 0.4 / 1.4) < 1e-12);
+  assert_true(fabs(bbc_forest_sun_shade(0.4, 0.75, -1) - 0.3 / 1.4) < 1e-12);
+  assert_true(fabs(bbc_forest_sun_shade(0.4, 0.75, 1) - 1.3 / 1.4) < 1e-12);
+  assert_true(bbc_forest_sun_shade(0.4, 1, 0.5) > bbc_forest_sun_shade(0.4, 1, 0.2));
+}
+
+static void test_wind(void **state) {
+  (void)state;
+  bbc_forest_wind w = {1.5, {0.6, 0.8}}, still = {0, {1, 0}};
+  const double base[3] = {120.5, 7, 33.25}, H = 12;
+  double o[3], o2[3];
+  /* the base stays put, at any time; no wind, no sway */
+  for (double t = 0; t < 30; t += 0.37) {
+    double foot[3] = {0.4, 0, -0.2}, top[3] = {1, H, 2};
+    bbc_forest_wind_offset(&w, t, base, foot, H, o);
+    assert_true(o[0] == 0 && o[1] == 0 && o[2] == 0);
+    bbc_forest_wind_offset(&still, t, base, top, H, o);
+    assert_true(o[0] == 0 && o[1] == 0 && o[2] == 0);
+  }
+  /* on the axis it leans downwind, more the higher: h^2 */
+  double mean_along = 0, mean_across = 0, top_max = 0;
+  int n = 0;
+  for (double t = 0; t < 120; t += 0.1, n++) {
+    double mid[3] = {0, H / 2, 0}, top[3] = {0, H, 0};
+    bbc_forest_wind_offset(&w, t, base, mid, H, o);
+    bbc_forest_wind_offset(&w, t, base, top, H, o2);
+    double a1 = o[0] * w.dir[0] + o[2] * w.dir[1], a2 = o2[0] * w.dir[0] + o2[2] * w.dir[1];
+    assert_true(a1 > 0 && fabs(a2 - 4 * a1) < 1e-9 * H);
+    assert_true(fabs(o2[1]) < 1e-12); /* no flutter on the axis */
+    mean_along += a2;
+    mean_across += -o2[0] * w.dir[1] + o2[2] * w.dir[0];
+    double m = sqrt(o2[0] * o2[0] + o2[2] * o2[2]);
+    if (m > top_max) top_max = m;
+  }
+  mean_along /= n;
+  mean_across /= n;
+  fprintf(stderr, "wind 1.5, tree 12 high: the top leans %.3f on average, %.3f at most\n",
+          mean_along, top_max);
+  assert_true(fabs(mean_across) < 1e-9);
+  /* a breeze: a few percent of the height (0.04 x strength x height x gusts) */
+  assert_true(mean_along > 0.01 * 1.5 * H && top_max <= 0.04 * 1.5 * H * 1.3 + 1e-9);
+  /* gusts: it moves (not a fixed lean) */
+  double lo = 1e30, hi = 0;
+  for (double t = 0; t < 60; t += 0.25) {
+    double top[3] = {0, H, 0};
+    bbc_forest_wind_offset(&w, t, base, top, H, o);
+    double a = o[0] * w.dir[0] + o[2] * w.dir[1];
+    lo = a < lo ? a : lo;
+    hi = a > hi ? a : hi;
+  }
+  assert_true(hi > 2 * lo);
+  /* leaves away from the axis flutter: every direction moves */
+  double leaf[3] = {3, 0.8 * H, -2}, spread[3] = {0, 0, 0};
+  for (double t = 0; t < 10; t += 0.05) {
+    bbc_forest_wind_offset(&w, t, base, leaf, H, o);
+    for (int k = 0; k < 3; k++) spread[k] = fmax(spread[k], fabs(o[k]));
+  }
+  assert_true(spread[0] > 0 && spread[1] > 0 && spread[2] > 0);
+  /* trees sway out of step (a phase per tree), deterministically */
+  double top[3] = {0, H, 0}, other[3] = {57.1, 7, 90.4};
+  bbc_forest_wind_offset(&w, 3.3, base, top, H, o);
+  bbc_forest_wind_offset(&w, 3.3, other, top, H, o2);
+  assert_true(fabs(o[0] - o2[0]) > 1e-3);
+  bbc_forest_wind_offset(&w, 3.3, base, top, H, o2);
+  assert_true(o[0] == o2[0] && o[1] == o2[1] && o[2] == o2[2]);
+  /* the same point of two levels moves alike: a function of the point */
+  double p1[3] = {1.25, 7.5, -0.5}, p2[3] = {1.25, 7.5, -0.5};
+  bbc_forest_wind_offset(&w, 8.1, base, p1, H, o);
+  bbc_forest_wind_offset(&w, 8.1, base, p2, H, o2);
+  assert_true(o[0] == o2[0] && o[1] == o2[1] && o[2] == o2[2]);
 }
 
 static void test_mipmaps(void **state) {
@@ -549,11 +653,18 @@ static void test_bmp_rle(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_frustum),        cmocka_unit_test(test_lod_weights),
-      cmocka_unit_test(test_cull),           cmocka_unit_test(test_cull_matches_flat),
-      cmocka_unit_test(test_terrain_select), cmocka_unit_test(test_terrain_colour),
-      cmocka_unit_test(test_mipmaps),        cmocka_unit_test(test_positions),
-      cmocka_unit_test(test_demo_terrain),   cmocka_unit_test(test_bmp_rle),
+      cmocka_unit_test(test_frustum),
+      cmocka_unit_test(test_lod_weights),
+      cmocka_unit_test(test_cull),
+      cmocka_unit_test(test_cull_matches_flat),
+      cmocka_unit_test(test_terrain_select),
+      cmocka_unit_test(test_terrain_colour),
+      cmocka_unit_test(test_mipmaps),
+      cmocka_unit_test(test_positions),
+      cmocka_unit_test(test_demo_terrain),
+      cmocka_unit_test(test_bmp_rle),
+      cmocka_unit_test(test_sun),
+      cmocka_unit_test(test_wind),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -89,7 +89,8 @@ static void test_every_map_keyword(void **state) {
                      "numobjs 38001\n"
                      "object2d house.txt 1.5 1 100 200 0 90 0 -0.5\n"
                      "rndtree tupelo.txt 1.0 20000 1 1 0 0 0 0\n"
-                     "rndtree2 foliage.wrl \"stem file.wrl\" 0.8 18000 0 1 -90 0 0 0.25\n";
+                     "rndtree2 foliage.wrl \"stem file.wrl\" 0.8 18000 0 1 -90 0 0 0.25\n"
+                     "wind 1.5 0 -3\n";
   bbc_forest_map m;
   bbc_error err;
   if (bbc_forest_map_parse(text, strlen(text), "mixed.txt", &m, &err) != BBC_OK)
@@ -97,6 +98,16 @@ static void test_every_map_keyword(void **state) {
   assert_string_equal(m.hmap, "terrain.png");
   assert_true(m.hmap_filter_radius == 2 && m.hmap_filter_passes == 3);
   assert_string_equal(m.colmap, "colour.png");
+  assert_true(m.wind.strength == 1.5 && m.wind.dir[0] == 0 && m.wind.dir[1] == -1);
+  { /* the direction is optional: a number on the next line belongs to its own command */
+    const char *t2 = "hmap h.png\nwind 2\nfog 10 20\n";
+    bbc_forest_map m2;
+    if (bbc_forest_map_parse(t2, strlen(t2), "w.txt", &m2, &err) != BBC_OK)
+      fail_msg("%s", err.message);
+    assert_true(m2.wind.strength == 2 && m2.wind.dir[0] == 1 && m2.wind.dir[1] == 0);
+    assert_true(m2.has_fog && m2.fog_start == 10 && m2.fog_end == 20);
+    bbc_forest_map_free(&m2);
+  }
   assert_true(m.heightscale == 10 && m.stretch == 2);
   assert_true(m.light[0] == 1 && m.light[1] == -2 && m.light[2] == 0.5);
   assert_true(m.farclip == 400 && m.roetger == 12.5);
@@ -165,6 +176,9 @@ static void test_mistakes_named(void **state) {
   expect_map_error("hmap h.png\nheightscale -1\n", "bad.txt:2:", "> 0");
   expect_map_error("hmap h.png\n\nfog 900 100\n", "bad.txt:3:", "fog");
   expect_map_error("hmap h.png\nlight 0 0 0\n", "bad.txt:2:", "light");
+  expect_map_error("hmap h.png\nwind -1\n", "bad.txt:2:", "wind");
+  expect_map_error("hmap h.png\nwind 1 0 0\n", "bad.txt:2:", "direction");
+  expect_map_error("hmap h.png\nwind 1 2\nfog 1 2\n", "bad.txt:3:", "direction's z");
   expect_map_error("hmap h.png\nforest 3\n", "bad.txt:2:", "unknown command 'forest'");
   /* a terminal's escape sequence in a binary file is shown, not sent */
   expect_map_error("hmap h.png\n\033[31mRED 1\n", "bad.txt:2:", "unknown command '\\x1b[31mRED'");

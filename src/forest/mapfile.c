@@ -251,6 +251,42 @@ void bbc_forest_map_default(bbc_forest_map *map) {
   map->light[1] = 1.0;
   map->light[2] = 0.5;
   map->roetger = 10.0;
+  map->wind.dir[0] = 1.0; /* still, and towards +x once it blows */
+}
+
+/* The next word when it is a number on the command's line (an optional
+ * value): 1 and *v; else 0 with the lexer where it was. */
+static int optional_real(lexer *lx, double *v) {
+  lexer save = *lx;
+  bbc_error ignored;
+  if (next_word(lx, &ignored) > 0 && lx->word_line == lx->cmd_line) {
+    char *e;
+    errno = 0;
+    double x = strtod(lx->word, &e);
+    if (e != lx->word && !*e && errno != ERANGE && isfinite(x)) {
+      *v = x;
+      return 1;
+    }
+  }
+  *lx = save;
+  return 0;
+}
+
+/* wind STRENGTH [DIRX DIRZ] */
+static int parse_wind(lexer *lx, bbc_forest_map *map, bbc_error *err) {
+  bbc_forest_wind *w = &map->wind;
+  if (!need_real(lx, "wind", "the wind's strength", &w->strength, err) ||
+      !check(lx, w->strength >= 0 && w->strength <= 100,
+             "the wind's strength must be within 0..100 (1 = a breeze)", "wind", err))
+    return 0;
+  double d[2];
+  if (!optional_real(lx, &d[0])) return 1;
+  if (!need_real(lx, "wind", "the direction's z (after its x)", &d[1], err)) return 0;
+  double n = sqrt(d[0] * d[0] + d[1] * d[1]);
+  if (!check(lx, n > 0, "the wind's direction must not be zero", "wind", err)) return 0;
+  w->dir[0] = d[0] / n;
+  w->dir[1] = d[1] / n;
+  return 1;
 }
 
 bbc_result bbc_forest_map_parse(const char *text, size_t size, const char *name,
@@ -289,6 +325,8 @@ bbc_result bbc_forest_map_parse(const char *text, size_t size, const char *name,
            need_real(&lx, "light", "the light vector z", &map->light[2], err) &&
            check(&lx, map->light[0] != 0 || map->light[1] != 0 || map->light[2] != 0,
                  "the light vector must not be zero", "light", err);
+    } else if (!strcasecmp(w, "wind")) {
+      ok = parse_wind(&lx, map, err);
     } else if (!strcasecmp(w, "farclip")) {
       ok = need_real(&lx, "farclip", "the far clipping distance (map vertices)", &map->farclip,
                      err) &&
@@ -320,14 +358,15 @@ bbc_result bbc_forest_map_parse(const char *text, size_t size, const char *name,
     } else if (!strcasecmp(w, "rndtree2")) {
       ok = parse_placement(&lx, map, &cap, BBC_FOREST_RNDTREE2, err);
     } else {
-      bbc__fail(err, BBC_ERROR_CORRUPT,
-                "%s:%d: unknown command '%s' (expected hmap, hmapfilter, colmap, heightscale, "
-                "stretch, light, farclip, roetger, skymap, waterheight, fog, numobjs, object2d, "
-                "rndtree or rndtree2)%s",
-                lx.name, lx.word_line, shown(w, word, sizeof word),
-                strtod(w, NULL) != 0 || w[0] == '0' ? ": a number, one value too many for the "
-                                                      "command before it?"
-                                                    : "");
+      bbc__fail(
+          err, BBC_ERROR_CORRUPT,
+          "%s:%d: unknown command '%s' (expected hmap, hmapfilter, colmap, heightscale, "
+          "stretch, light, wind, farclip, roetger, skymap, waterheight, fog, numobjs, object2d, "
+          "rndtree or rndtree2)%s",
+          lx.name, lx.word_line, shown(w, word, sizeof word),
+          strtod(w, NULL) != 0 || w[0] == '0' ? ": a number, one value too many for the "
+                                                "command before it?"
+                                              : "");
       ok = 0;
     }
     if (!ok) {

@@ -169,7 +169,8 @@ bbc_result bbc_forest_terrain_bake_colour(const bbc_forest_world *w, const doubl
     bbc_image_free(out);
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "terrain colour: out of memory");
   }
-  double L[3] = {light[0], light[1], light[2]};
+  double L[3] = {0, 1, 0}; /* no light: flat ground's factor everywhere (1) */
+  if (light) memcpy(L, light, sizeof L);
   double ln = sqrt(L[0] * L[0] + L[1] * L[1] + L[2] * L[2]);
   if (ln <= 0) {
     L[0] = L[2] = 0;
@@ -191,7 +192,8 @@ bbc_result bbc_forest_terrain_bake_colour(const bbc_forest_world *w, const doubl
       double dz = ((h1[0] + h1[1]) - (h0[0] + h0[1])) / (2 * w->spacing);
       double n[3] = {-dx, 1, -dz}, nl = sqrt(dx * dx + 1 + dz * dz);
       double d = (n[0] * L[0] + n[1] * L[1] + n[2] * L[2]) / nl;
-      lit[(size_t)z * cw + x] = (float)((ambient + (1 - ambient) * (d > 0 ? d : 0)) / flat);
+      lit[(size_t)z * cw + x] =
+          light ? (float)((ambient + (1 - ambient) * (d > 0 ? d : 0)) / flat) : 1.0f;
       uint8_t *p = out->rgba + 4 * ((size_t)z * cw + x);
       if (w->colour.rgba) {
         memcpy(p, w->colour.rgba + 4 * ((size_t)z * cw + x), 4);

@@ -52,8 +52,9 @@ typedef struct bbcgl_forest bbcgl_forest;
 
 typedef struct bbcgl_scene {
   const bbc_forest_world *world;
-  const bbc_image *terrain_colour; /* (width - 1) x (depth - 1), lighting baked in */
-  double light[3];                 /* towards the light, for models drawn with `lighting` */
+  const bbc_image *terrain_colour; /* (width - 1) x (depth - 1): its colours and the
+                                    * objects' soft shadows; the sun lights it per pixel */
+  bbc_forest_wind wind;            /* the map's wind (strength 0: still) */
   int has_water;
   double water_height;
   double fog_start, fog_end; /* world units; fog_end <= fog_start = no fog */
@@ -71,15 +72,27 @@ size_t bbcgl_forest_texture_bytes(const bbcgl_forest *f, const bbc_image *image,
 bbcgl_forest *bbcgl_forest_create(const bbcgl_scene *scene, char *err);
 void bbcgl_forest_free(bbcgl_forest *f);
 
+/* How a component is drawn (bbcgl_forest_add_part). */
+typedef struct bbcgl_part_options {
+  int lit;                /* its materials that are not unlit are lit by the frame's sun as
+                           * bbc_forest_sun_shade says: normal maps bend the normal, the
+                           * occlusion map darkens the ambient light; unlit ones (clouds with
+                           * a baked light) are drawn as they are */
+  int mipmap;             /* mip levels that keep alpha binary */
+  size_t billboards;      /* what the statistics count for it per tree (0: a polygon model) */
+  float sway_height;      /* the height the wind bends the model over (model units, the same
+                           * for every level of a model); 0 = it does not sway */
+  const float *occlusion; /* per vertex, the ambient light's share where no occlusion map
+                           * says (bbc_shade_vertices, as bbcgen bakes its clouds'
+                           * occlusion maps); NULL = 1 */
+} bbcgl_part_options;
+
 /* Adds `mesh` as a component of bucket `bucket` (one level of one model):
- * its triangles by material, each textured material's image uploaded once
- * (mipmaps that keep alpha binary when `mipmap`). When `lit` and a material
- * is not unlit, it is shaded as bbcgen bakes its clouds: scene.light (the
- * direction towards the light), 0.35 + 0.65 |n . l|, times `light_gain`
- * (bbc_light_gain_measure of the mesh), plus X3D viewers' ambient. `billboards` is
- * what the statistics count for it per tree (0 for polygon models). */
-int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *mesh, int lit,
-                          float light_gain, int mipmap, size_t billboards, char *err);
+ * its triangles by material, each image uploaded once (colour maps as BC1
+ * where their alpha is binary, normal and occlusion maps as BC1 where the
+ * driver samples S3TC; see bbcgl_scene.uncompressed). */
+int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *mesh,
+                          const bbcgl_part_options *options, char *err);
 
 typedef struct bbcgl_frame {
   float viewproj[16]; /* column-major */
@@ -95,6 +108,9 @@ typedef struct bbcgl_frame {
                     * static record, drawn by indirect draws the shader fills in (the
                     * CPU's bbc_forest_cull_run is then not needed) */
   double zoom;     /* with gpu_cull: distances are divided by it (0 = 1) */
+  double sun[3];   /* towards the sun (unit; bbc_forest_sun_direction): lights lit
+                    * models and the terrain */
+  double time;     /* seconds: the wind's clock */
 } bbcgl_frame;
 
 typedef struct bbcgl_stats {

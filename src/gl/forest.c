@@ -10,6 +10,7 @@
  * grown. */
 #include "forest_internal.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,6 +23,14 @@ void bbcgl__forest_set_fog(GLuint p, const bbcgl_forest *f, const double eye[3])
   glProgramUniform3fv(p, glGetUniformLocation(p, "u_fog_colour"), 1, f->fog_colour);
   glProgramUniform2f(p, glGetUniformLocation(p, "u_fog"), (float)f->scene.fog_start,
                      (float)f->scene.fog_end);
+}
+
+void bbcgl__forest_set_sun(GLuint p, const bbcgl_frame *fr) {
+  double l = sqrt(fr->sun[0] * fr->sun[0] + fr->sun[1] * fr->sun[1] + fr->sun[2] * fr->sun[2]);
+  double d[3] = {0, 1, 0}; /* no sun given: noon */
+  for (int k = 0; k < 3 && l > 0; k++) d[k] = fr->sun[k] / l;
+  glProgramUniform3f(p, glGetUniformLocation(p, "u_light"), (float)d[0], (float)d[1], (float)d[2]);
+  glProgramUniform1f(p, glGetUniformLocation(p, "u_ambient"), (float)BBC_FOREST_SUN_AMBIENT);
 }
 
 bbcgl_forest *bbcgl_forest_create(const bbcgl_scene *scene, char *err) {
@@ -50,8 +59,8 @@ bbcgl_forest *bbcgl_forest_create(const bbcgl_scene *scene, char *err) {
   f->u_has = glGetUniformLocation(f->p_model, "u_has_tex");
   f->u_base = glGetUniformLocation(f->p_model, "u_base");
   f->u_lit = glGetUniformLocation(f->p_model, "u_lit");
-  f->u_gain = glGetUniformLocation(f->p_model, "u_gain");
-  f->u_amb = glGetUniformLocation(f->p_model, "u_amb");
+  f->u_maps = glGetUniformLocation(f->p_model, "u_maps");
+  f->u_sway = glGetUniformLocation(f->p_model, "u_sway");
   bbcgl__forest_build_water(f);
   bbcgl__forest_build_sky(f);
   glCreateBuffers(1, &f->instances);
@@ -110,6 +119,7 @@ void bbcgl_forest_draw(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_
   glPolygonMode(GL_FRONT_AND_BACK, fr->wireframe ? GL_LINE : GL_FILL);
   if (!fr->no_terrain && !fr->fill_colour) bbcgl__forest_draw_terrain(f, fr, t, st);
   if (!fr->no_objects && c) bbcgl__forest_draw_objects(f, fr, c, st);
+  glDisable(GL_CULL_FACE); /* single-sided materials turn it on */
   if (f->scene.has_water && !fr->no_terrain && !fr->fill_colour)
     bbcgl__forest_draw_water(f, fr, st);
   glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);

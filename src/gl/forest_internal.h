@@ -9,11 +9,12 @@
 #include "shader.h"
 
 typedef struct batch {
-  GLuint tex;        /* 0 = untextured */
-  int premultiplied; /* tex is BC1: transparent texels black, colours divided by alpha */
+  GLuint tex[3];     /* colour, normal and occlusion maps (units 0, 1, 2); 0 = none */
+  int premultiplied; /* tex[0] is BC1: transparent texels black, colours divided by alpha */
   float base[4];
   int lit;
-  float gain, amb[3];
+  int single_sided;    /* the material's: back faces culled (a cloud's two sides are two quads) */
+  float sway;          /* bbcgl_part_options.sway_height */
   size_t first, count; /* indices */
   int limbs;           /* bbcgen's material "limbs": a mesh, not billboards */
   uint32_t *runs;      /* naive mode: 2 per run of consecutive triangles in one
@@ -31,8 +32,8 @@ typedef struct part {
 } part;
 
 typedef struct texture_entry {
-  const uint8_t *key; /* the image's texels: one GL texture per image */
-  int mipmap;
+  const uint8_t *key; /* the image's texels: one GL texture per image and use */
+  int mipmap, map;    /* map: 0 a colour map, 1 a normal or occlusion map */
   GLuint tex;
   size_t bytes;      /* what the GPU holds, all levels */
   int premultiplied; /* BC1: transparent texels decode black (0, 0, 0, 0) */
@@ -43,7 +44,7 @@ struct bbcgl_forest {
   const bbc_forest_world *world;
   float fog_colour[3];
   GLuint p_terrain, p_model, p_sky, p_water;
-  GLint u_has, u_base, u_lit, u_gain, u_amb; /* the model program's per-material uniforms */
+  GLint u_has, u_base, u_lit, u_maps, u_sway; /* the model program's per-material uniforms */
   /* terrain */
   GLuint t_vao, t_vbo, t_ebo, t_nodes, t_height, t_colour;
   size_t t_first[5], t_count[5], t_node_capacity;
@@ -77,6 +78,9 @@ struct bbcgl_forest {
 
 /* forest.c: the fog's uniforms (fog.glsl) of program `p`. */
 void bbcgl__forest_set_fog(GLuint p, const bbcgl_forest *f, const double eye[3]);
+
+/* forest.c: the sun's uniforms (u_light towards it, u_ambient) of program `p`. */
+void bbcgl__forest_set_sun(GLuint p, const bbcgl_frame *fr);
 
 /* forest_terrain.c */
 int bbcgl__forest_build_terrain(bbcgl_forest *f, char *err);

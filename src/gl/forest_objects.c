@@ -14,11 +14,26 @@
 
 /* A material's uniforms of the model program. */
 static void set_batch(const bbcgl_forest *f, const batch *ba) {
-  glUniform1i(f->u_has, ba->tex == 0 ? 0 : ba->premultiplied ? 2 : 1);
+  glUniform1i(f->u_has, ba->tex[0] == 0 ? 0 : ba->premultiplied ? 2 : 1);
   glUniform4fv(f->u_base, 1, ba->base);
   glUniform1i(f->u_lit, ba->lit);
-  glUniform1f(f->u_gain, ba->gain);
-  glUniform3fv(f->u_amb, 1, ba->amb);
+  glUniform2i(f->u_maps, ba->tex[1] != 0, ba->tex[2] != 0);
+  glUniform1f(f->u_sway, ba->sway);
+  if (ba->single_sided)
+    glEnable(GL_CULL_FACE);
+  else
+    glDisable(GL_CULL_FACE);
+}
+
+/* A material's maps on units 0, 1, 2 where they are not bound already
+ * (bound[3]: what is). */
+static void bind_maps(const batch *ba, GLuint *bound, bbcgl_stats *st) {
+  for (int k = 0; k < 3; k++)
+    if (ba->tex[k] && ba->tex[k] != bound[k]) {
+      glBindTextureUnit((GLuint)k, ba->tex[k]);
+      bound[k] = ba->tex[k];
+      st->texture_binds++;
+    }
 }
 
 /* The thesis's way (3.3), for measuring against: per tree, level and
@@ -34,8 +49,8 @@ static void draw_objects_naive(bbcgl_forest *f, const bbc_forest_cull *c, bbcgl_
       glBindVertexArray(pt->vao);
       for (size_t b = 0; b < pt->batch_count; b++) {
         const batch *ba = &pt->batches[b];
-        glBindTextureUnit(0, ba->tex);
-        st->texture_binds++;
+        GLuint none[3] = {0, 0, 0}; /* the thesis's way: bound for every call */
+        bind_maps(ba, none, st);
         set_batch(f, ba);
         if (!pt->billboards) { /* a polygon model: one call (its display list) */
           glDrawElementsInstancedBaseInstance(GL_TRIANGLES, (GLsizei)ba->count, GL_UNSIGNED_INT,
@@ -89,11 +104,7 @@ static int upload_instances(bbcgl_forest *f, const bbc_forest_cull *c) {
  * uniforms, and `n` commands of the bound indirect buffer from `first`. */
 static void multi_draw(bbcgl_forest *f, const batch *ba, size_t first, size_t n, GLuint *bound,
                        bbcgl_stats *st) {
-  if (ba->tex && ba->tex != *bound) {
-    glBindTextureUnit(0, ba->tex);
-    *bound = ba->tex;
-    st->texture_binds++;
-  }
+  bind_maps(ba, bound, st);
   set_batch(f, ba);
   glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
                               (const void *)(first * 5 * sizeof(uint32_t)), (GLsizei)n, 0);
@@ -239,14 +250,14 @@ static int gpu_cull(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_cul
 static void draw_objects_gpu(bbcgl_forest *f, const bbc_forest_cull *c, bbcgl_stats *st) {
   vao_source(f, f->g_out);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, f->g_cmds);
-  GLuint bound = 0;
+  GLuint bound[3] = {0, 0, 0};
   size_t k = 0;
   for (size_t i = 0; i < f->part_count; i++) {
     const part *pt = &f->parts[i];
     if (pt->bucket >= c->bucket_count) continue;
     glBindVertexArray(pt->vao);
     for (size_t bi = 0; bi < pt->batch_count; bi++, k++)
-      multi_draw(f, &pt->batches[bi], k, 1, &bound, st);
+      multi_draw(f, &pt->batches[bi], k, 1, bound, st);
   }
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
   /* the statistics: the counters read back (waits for the culling) */
@@ -321,7 +332,7 @@ static void draw_objects_indirect(bbcgl_forest *f, const bbc_forest_cull *c, bbc
   glInvalidateBufferData(f->indirect);
   glNamedBufferSubData(f->indirect, 0, (GLsizeiptr)(ncmd * sizeof *f->cmds), f->cmds);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, f->indirect);
-  GLuint bound = 0;
+  GLuint bound[3] = {0, 0, 0};
   size_t k = 0;
   for (size_t i = 0; i < f->part_count; i++) {
     const part *pt = &f->parts[i];
@@ -333,7 +344,7 @@ static void draw_objects_indirect(bbcgl_forest *f, const bbc_forest_cull *c, bbc
     glBindVertexArray(pt->vao);
     for (size_t bi = 0; bi < pt->batch_count; bi++) {
       const batch *ba = &pt->batches[bi];
-      multi_draw(f, ba, k, per, &bound, st);
+      multi_draw(f, ba, k, per, bound, st);
       k += per;
       st->triangles += count * ba->count / 3;
     }
@@ -359,12 +370,14 @@ void bbcgl__forest_draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bb
   glUseProgram(p);
   glUniformMatrix4fv(glGetUniformLocation(p, "u_viewproj"), 1, GL_FALSE, fr->viewproj);
   bbcgl__forest_set_fog(p, f, fr->eye);
-  double L[3] = {f->scene.light[0], f->scene.light[1], f->scene.light[2]};
-  double ln = sqrt(L[0] * L[0] + L[1] * L[1] + L[2] * L[2]);
-  if (ln <= 0) ln = L[1] = 1;
-  glUniform3f(glGetUniformLocation(p, "u_light"), (float)(L[0] / ln), (float)(L[1] / ln),
-              (float)(L[2] / ln));
+  bbcgl__forest_set_sun(p, fr);
+  const bbc_forest_wind *w = &f->scene.wind;
+  glUniform3f(glGetUniformLocation(p, "u_wind"), (float)w->strength, (float)w->dir[0],
+              (float)w->dir[1]);
+  glUniform1f(glGetUniformLocation(p, "u_time"), (float)fr->time);
   glUniform1i(glGetUniformLocation(p, "u_tex"), 0);
+  glUniform1i(glGetUniformLocation(p, "u_normal"), 1);
+  glUniform1i(glGetUniformLocation(p, "u_occlusion"), 2);
   glUniform1i(glGetUniformLocation(p, "u_fill"), fr->fill_colour);
   if (gpu) {
     draw_objects_gpu(f, c, st);

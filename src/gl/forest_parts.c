@@ -19,18 +19,34 @@ static int use_bc1(const bbcgl_forest *f, const bbc_image *im, const bbc_image *
   static int s3tc = -1;
   if (s3tc < 0) s3tc = epoxy_has_gl_extension("GL_EXT_texture_compression_s3tc");
   if (f->scene.uncompressed || !s3tc || im->width % 4 || im->height % 4) return 0;
+  /* (normal and occlusion maps come here opaque) */
   if (!bbc_image_alpha_is_binary(im)) return 0;
   for (int l = 0; l < nm; l++)
     if (!bbc_image_alpha_is_binary(&mips[l])) return 0;
   return 1;
 }
 
-/* One GL texture per image (thesis 3.2.2: models that share a texture share
- * it in memory). */
-static GLuint texture_for(bbcgl_forest *f, const bbc_image *im, int mipmap, int *premultiplied,
-                          char *err) {
+/* A normal or occlusion map as the shaders read it: its colour channels,
+ * opaque (the colour map's alpha decides what is drawn), so that its mip
+ * levels are plain averages and BC1 holds it. */
+static int opaque_copy(const bbc_image *im, bbc_image *out, char *err) {
+  if (bbc_image_alloc(out, im->width, im->height) != BBC_OK) {
+    snprintf(err, BBCGL_ERR, "out of memory");
+    return 0;
+  }
+  size_t n = (size_t)im->width * im->height;
+  memcpy(out->rgba, im->rgba, 4 * n);
+  for (size_t i = 0; i < n; i++) out->rgba[4 * i + 3] = 255;
+  return 1;
+}
+
+/* One GL texture per image and use (thesis 3.2.2: models that share a
+ * texture share it in memory); `map` 1: a normal or occlusion map. */
+static GLuint texture_for(bbcgl_forest *f, const bbc_image *src, int mipmap, int map,
+                          int *premultiplied, char *err) {
   for (size_t i = 0; i < f->texture_count; i++)
-    if (f->textures[i].key == im->rgba && f->textures[i].mipmap == mipmap) {
+    if (f->textures[i].key == src->rgba && f->textures[i].mipmap == mipmap &&
+        f->textures[i].map == map) {
       *premultiplied = f->textures[i].premultiplied;
       return f->textures[i].tex;
     }
@@ -40,11 +56,15 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_image *im, int mipmap, int 
     return 0;
   }
   f->textures = t2;
+  bbc_image opaque = {0};
+  if (map && !opaque_copy(src, &opaque, err)) return 0;
+  const bbc_image *im = map ? &opaque : src;
   bbc_image *mips = NULL;
   int nm = 0;
   bbc_error e;
   if (mipmap && bbc_image_mipmaps(im, &mips, &nm, &e) != BBC_OK) {
     snprintf(err, BBCGL_ERR, "%s", e.message);
+    bbc_image_free(&opaque);
     return 0;
   }
   /* Alpha-tested textures stop at 8 x 8 texels: below, a level cannot keep
@@ -87,29 +107,29 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_image *im, int mipmap, int 
     }
   }
   for (int l = 0; l < nm_all; l++) bbc_image_free(&mips[l]);
-  if (!tex) {
-    free(mips);
-    return 0;
-  }
   free(mips);
+  bbc_image_free(&opaque);
+  if (!tex) return 0;
   glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, nm ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
   glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_REPEAT);
   glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_REPEAT);
-  f->textures[f->texture_count].key = im->rgba;
+  f->textures[f->texture_count].key = src->rgba;
   f->textures[f->texture_count].mipmap = mipmap;
+  f->textures[f->texture_count].map = map;
   f->textures[f->texture_count].bytes = bytes;
   f->textures[f->texture_count].premultiplied = bc1;
-  *premultiplied = bc1;
+  *premultiplied = bc1 && !map;
   f->textures[f->texture_count++].tex = tex;
   return tex;
 }
 
 size_t bbcgl_forest_texture_bytes(const bbcgl_forest *f, const bbc_image *im, int mipmap) {
+  size_t n = 0; /* as a colour map and as a normal or occlusion map */
   for (size_t i = 0; i < f->texture_count; i++)
     if (f->textures[i].key == im->rgba && f->textures[i].mipmap == mipmap)
-      return f->textures[i].bytes;
-  return 0;
+      n += f->textures[i].bytes;
+  return n;
 }
 
 /* A new part of bucket `bucket` at the end of f->parts (counted once it is
@@ -130,11 +150,18 @@ static part *new_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *m, size_t 
   return p;
 }
 
+/* The image of texture `index` of `m` (-1 or out of range: none). */
+static const bbc_image *mesh_image(const bbc_mesh *m, int index) {
+  return index >= 0 && (size_t)index < m->texture_count && m->textures[index].image.rgba
+             ? &m->textures[index].image
+             : NULL;
+}
+
 /* A batch per material with triangles (first[], count[]: its indices), lit
- * as bbcgl_forest_add_part says, its texture uploaded once; 0 when a
- * texture fails. */
+ * as bbcgl_forest_add_part says, its maps uploaded once; 0 when a texture
+ * fails. */
 static int add_batches(bbcgl_forest *f, part *p, const bbc_mesh *m, const size_t *first,
-                       const size_t *count, int lit, float light_gain, int mipmap, char *err) {
+                       const size_t *count, const bbcgl_part_options *o, char *err) {
   for (size_t mat = 0; mat < m->material_count; mat++) {
     if (!count[mat]) continue;
     const bbc_material *ma = &m->materials[mat];
@@ -143,26 +170,24 @@ static int add_batches(bbcgl_forest *f, part *p, const bbc_mesh *m, const size_t
     b->count = count[mat];
     memcpy(b->base, ma->base_color, sizeof b->base);
     b->limbs = bbc_material_is_limbs(ma);
-    b->lit = lit && !ma->unlit;
-    b->gain = light_gain > 0 ? light_gain : 1.0f;
-    if (b->lit) { /* X3D viewers' ambient, as bbc_view.ambient bakes it */
-      double ka = (ma->ambient[0] + ma->ambient[1] + ma->ambient[2]) / 3;
-      double kd = (ma->base_color[0] + ma->base_color[1] + ma->base_color[2]) / 3;
-      if (!(ka > 0)) ka = 0.2;
-      for (int c = 0; c < 3 && kd > 0; c++) b->amb[c] = (float)(0.2 * ka / kd * ma->base_color[c]);
-    }
-    if (ma->texture >= 0 && (size_t)ma->texture < m->texture_count &&
-        m->textures[ma->texture].image.rgba) {
-      b->tex = texture_for(f, &m->textures[ma->texture].image, mipmap, &b->premultiplied, err);
-      if (!b->tex) return 0;
+    b->lit = o->lit && !ma->unlit;
+    b->single_sided = ma->single_sided;
+    b->sway = o->sway_height;
+    const bbc_image *im[3] = {mesh_image(m, ma->texture), NULL, NULL};
+    if (b->lit && m->tangents) im[1] = mesh_image(m, ma->normal_map - 1);
+    if (b->lit) im[2] = mesh_image(m, ma->occlusion_map - 1);
+    for (int k = 0; k < 3; k++) {
+      int pm = 0;
+      if (im[k] && !(b->tex[k] = texture_for(f, im[k], o->mipmap, k > 0, &pm, err))) return 0;
+      if (k == 0) b->premultiplied = pm;
     }
   }
   return 1;
 }
 
 /* The naive mode's draw calls (thesis 3.3): each billboard (consecutive
- * triangles in one plane) on its own; v, idx: the part's vertices (8 floats
- * each) and indices. Without memory for them the batch has none. */
+ * triangles in one plane) on its own; v, idx: the part's vertices
+ * (BBCGL_VERTEX_FLOATS floats each) and indices. Without memory for them the batch has none. */
 static void naive_runs(batch *b, const float *v, const uint32_t *idx) {
   b->runs = malloc((b->count / 3 + 1) * 2 * sizeof *b->runs);
   if (!b->runs) return;
@@ -175,7 +200,8 @@ static void naive_runs(batch *b, const float *v, const uint32_t *idx) {
   }
   for (size_t t = 0; t < b->count / 3; t++) {
     const uint32_t *ix = idx + b->first + 3 * t;
-    const float *a = v + 8 * ix[0], *c1 = v + 8 * ix[1], *c2 = v + 8 * ix[2];
+    const float *a = v + BBCGL_VERTEX_FLOATS * ix[0], *c1 = v + BBCGL_VERTEX_FLOATS * ix[1],
+                *c2 = v + BBCGL_VERTEX_FLOATS * ix[2];
     double e1[3] = {c1[0] - a[0], c1[1] - a[1], c1[2] - a[2]};
     double e2[3] = {c2[0] - a[0], c2[1] - a[1], c2[2] - a[2]};
     double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
@@ -211,8 +237,9 @@ static void instance_attributes(const bbcgl_forest *f, GLuint a) {
     glVertexArrayVertexBuffer(a, 1, f->instances, 0, sizeof(bbc_forest_draw));
 }
 
-int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *m, int lit,
-                          float light_gain, int mipmap, size_t billboards, char *err) {
+int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *m,
+                          const bbcgl_part_options *o, char *err) {
+  size_t billboards = o->billboards;
   if (m->kind != BBC_MESH_TRIANGLES || !m->triangle_count) {
     snprintf(err, BBCGL_ERR, "a model to draw needs triangles");
     return 0;
@@ -225,14 +252,15 @@ int bbcgl_forest_add_part(bbcgl_forest *f, size_t bucket, const bbc_mesh *m, int
   float *v = NULL;
   uint32_t *idx = NULL;
   if (!first || !count || !p->batches ||
-      !bbcgl__mesh_upload(m, &p->vao, &p->vbo, &p->ebo, first, count, &v, &idx, err)) {
+      !bbcgl__mesh_upload(m, o->occlusion, &p->vao, &p->vbo, &p->ebo, first, count, &v, &idx,
+                          err)) {
     if (!first || !count || !p->batches) snprintf(err, BBCGL_ERR, "out of memory");
     free(first);
     free(count);
     free(p->batches);
     return 0;
   }
-  int ok = add_batches(f, p, m, first, count, lit, light_gain, mipmap, err);
+  int ok = add_batches(f, p, m, first, count, o, err);
   free(first);
   free(count);
   if (!ok) {

@@ -147,6 +147,7 @@ void bbcgl__forest_draw_terrain(bbcgl_forest *f, const bbcgl_frame *fr, const bb
   glUniform1i(glGetUniformLocation(p, "u_height"), 0);
   glUniform1i(glGetUniformLocation(p, "u_colour"), 1);
   glUniform1i(glGetUniformLocation(p, "u_flat"), fr->wireframe);
+  bbcgl__forest_set_sun(p, fr);
   glBindTextureUnit(0, f->t_height);
   glBindTextureUnit(1, f->t_colour);
   st->texture_binds += 2;

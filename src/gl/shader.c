@@ -56,10 +56,11 @@ GLuint bbcgl__program(const char *vs, const char *fs, const char *name, char *er
   return link(sh, name, err);
 }
 
-int bbcgl__mesh_upload(const bbc_mesh *m, GLuint *vao, GLuint *vbo, GLuint *ebo, size_t *first,
-                       size_t *count, float **keep_vertices, uint32_t **keep_indices, char *err) {
+int bbcgl__mesh_upload(const bbc_mesh *m, const float *occlusion, GLuint *vao, GLuint *vbo,
+                       GLuint *ebo, size_t *first, size_t *count, float **keep_vertices,
+                       uint32_t **keep_indices, char *err) {
   size_t nv = m->vertex_count, groups = m->material_count ? m->material_count : 1;
-  float *v = malloc((nv ? nv : 1) * 8 * sizeof *v);
+  float *v = malloc((nv ? nv : 1) * BBCGL_VERTEX_FLOATS * sizeof *v);
   uint32_t *idx = malloc((m->triangle_count ? m->triangle_count * 3 : 1) * sizeof *idx);
   if (!v || !idx) {
     free(v);
@@ -68,11 +69,14 @@ int bbcgl__mesh_upload(const bbc_mesh *m, GLuint *vao, GLuint *vbo, GLuint *ebo,
     return 0;
   }
   for (size_t i = 0; i < nv; i++) {
-    float *o = v + 8 * i;
+    float *o = v + BBCGL_VERTEX_FLOATS * i;
     for (int k = 0; k < 3; k++) o[k] = (float)m->positions[3 * i + k];
     for (int k = 0; k < 3; k++) o[3 + k] = m->normals ? m->normals[3 * i + k] : (k == 1);
     o[6] = m->uvs ? m->uvs[2 * i] : 0;
     o[7] = m->uvs ? m->uvs[2 * i + 1] : 0;
+    for (int k = 0; k < 4; k++)
+      o[8 + k] = m->tangents ? m->tangents[4 * i + k] : (k == 0 || k == 3);
+    o[12] = occlusion ? occlusion[i] : 1;
   }
   size_t k = 0;
   for (size_t mat = 0; mat < groups; mat++) {
@@ -87,16 +91,16 @@ int bbcgl__mesh_upload(const bbc_mesh *m, GLuint *vao, GLuint *vbo, GLuint *ebo,
   glCreateVertexArrays(1, vao);
   glCreateBuffers(1, vbo);
   glCreateBuffers(1, ebo);
-  glNamedBufferStorage(*vbo, (GLsizeiptr)((nv ? nv : 1) * 8 * sizeof *v), v, 0);
+  glNamedBufferStorage(*vbo, (GLsizeiptr)((nv ? nv : 1) * BBCGL_VERTEX_FLOATS * sizeof *v), v, 0);
   glNamedBufferStorage(*ebo, (GLsizeiptr)((k ? k : 1) * sizeof *idx), idx, 0);
-  glVertexArrayVertexBuffer(*vao, 0, *vbo, 0, 8 * sizeof(float));
+  glVertexArrayVertexBuffer(*vao, 0, *vbo, 0, BBCGL_VERTEX_FLOATS * sizeof(float));
   glVertexArrayElementBuffer(*vao, *ebo);
-  static const int size[3] = {3, 3, 2}, off[3] = {0, 3, 6};
-  for (int i = 0; i < 3; i++) {
-    glEnableVertexArrayAttrib(*vao, (GLuint)i);
-    glVertexArrayAttribFormat(*vao, (GLuint)i, size[i], GL_FLOAT, GL_FALSE,
+  static const int loc[5] = {0, 1, 2, 5, 6}, size[5] = {3, 3, 2, 4, 1}, off[5] = {0, 3, 6, 8, 12};
+  for (int i = 0; i < 5; i++) {
+    glEnableVertexArrayAttrib(*vao, (GLuint)loc[i]);
+    glVertexArrayAttribFormat(*vao, (GLuint)loc[i], size[i], GL_FLOAT, GL_FALSE,
                               (GLuint)(off[i] * sizeof(float)));
-    glVertexArrayAttribBinding(*vao, (GLuint)i, 0);
+    glVertexArrayAttribBinding(*vao, (GLuint)loc[i], 0);
   }
   if (keep_vertices)
     *keep_vertices = v;

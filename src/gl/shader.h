@@ -25,14 +25,19 @@ GLuint bbcgl__program(const char *vs, const char *fs, const char *name, char *er
 /* A program of one compute shader. */
 GLuint bbcgl__compute_program(const char *cs, const char *name, char *err);
 
-/* A mesh on the GPU: its vertices (position, normal, uv: 8 floats) and its
- * triangles grouped by material, materials in order, in new buffers vbo
- * and ebo with a VAO whose attributes 0, 1, 2 read them from binding 0.
+/* A mesh on the GPU: its vertices (position, normal, uv, tangent with its
+ * handedness, occlusion: BBCGL_VERTEX_FLOATS floats; a mesh without
+ * tangents gets (1, 0, 0, 1), without `occlusion` (one per vertex, may be
+ * NULL) 1) and its triangles grouped by material, materials in order, in
+ * new buffers vbo and ebo with a VAO whose attributes 0, 1, 2, 5 and 6 read
+ * them from binding 0.
  * first[g], count[g]: each material's indices (one group when the mesh has
  * no materials; arrays of that many). keep_vertices / keep_indices (may be
  * NULL) get the packed arrays, the caller's to free. */
-int bbcgl__mesh_upload(const bbc_mesh *mesh, GLuint *vao, GLuint *vbo, GLuint *ebo, size_t *first,
-                       size_t *count, float **keep_vertices, uint32_t **keep_indices, char *err);
+#define BBCGL_VERTEX_FLOATS 13
+int bbcgl__mesh_upload(const bbc_mesh *mesh, const float *occlusion, GLuint *vao, GLuint *vbo,
+                       GLuint *ebo, size_t *first, size_t *count, float **keep_vertices,
+                       uint32_t **keep_indices, char *err);
 
 /* A text overlay (text.c): lines in a 5 x 7 font on a dark panel, at the
  * top left of a width x height framebuffer (bottom: at the bottom left),

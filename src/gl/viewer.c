@@ -88,7 +88,7 @@ static int vmesh_build(vmesh *g, const bbc_mesh *m, char *err) {
   g->batches = calloc(groups, sizeof *g->batches);
   g->textures = calloc(m->texture_count ? m->texture_count : 1, sizeof *g->textures);
   if (!first || !count || !g->batches || !g->textures ||
-      !bbcgl__mesh_upload(m, &g->vao, &g->vbo, &g->ebo, first, count, NULL, NULL, err)) {
+      !bbcgl__mesh_upload(m, NULL, &g->vao, &g->vbo, &g->ebo, first, count, NULL, NULL, err)) {
     if (!first || !count || !g->batches || !g->textures) snprintf(err, BBCGL_ERR, "out of memory");
     free(first);
     free(count);

@@ -1,20 +1,25 @@
-// forest_model.frag.glsl — the objects' materials; levels blended by screen-
-// door dithering (a level discards the pixels its fade weight does not
-// cover, so no sorting is needed and depth stays right).
+// forest_model.frag.glsl — the objects' materials, lit by the sun as a glTF
+// viewer lights a lit material (bbc_forest_sun_shade); levels blended by
+// screen-door dithering (a level discards the pixels its fade weight does
+// not cover, so no sorting is needed and depth stays right).
 #version 450 core
 #include "fog.glsl"
 in vec3 v_world;
 in vec3 v_normal;
+in vec4 v_tangent;
 in vec2 v_uv;
 in float v_fade;
+in float v_occlusion;
 uniform sampler2D u_tex;
-uniform int u_has_tex; // 0 none, 1 RGBA8, 2 BC1 (transparent texels black)
+uniform sampler2D u_normal;
+uniform sampler2D u_occlusion;
+uniform int u_has_tex;  // 0 none, 1 RGBA8, 2 BC1 (transparent texels black)
+uniform ivec2 u_maps;   // a normal map, an occlusion map
 uniform vec4 u_base;
 uniform int u_lit;
-uniform vec3 u_light;
+uniform vec3 u_light;  // towards the sun
+uniform float u_ambient;
 uniform int u_fill;
-uniform float u_gain;
-uniform vec3 u_amb;
 out vec4 o_colour;
 // 8 x 8 ordered dither: the screen door of the level blending
 float bayer(ivec2 p) {
@@ -35,10 +40,27 @@ void main() {
   if (u_has_tex == 2 && t.a > 0.0) t.rgb /= t.a;
   c *= t;
   if (c.a < 0.5) discard;
-  // lit as bbcgen bakes its clouds (two-sided Lambert, 0.35 ambient, the
-  // model's light gain, X3D viewers' ambient), so that the polygon level
-  // and the clouds after it look alike
-  if (u_lit != 0)
-    c.rgb = c.rgb * (0.35 + 0.65 * abs(dot(normalize(v_normal), u_light))) * u_gain + u_amb;
+  if (u_lit != 0) {
+    // the normal bent by the normal map (tangent space: x along +u, y along
+    // the bitangent, z the surface's normal), turned to the side seen
+    vec3 n = normalize(v_normal);
+    if (u_maps.x != 0) {
+      vec3 tg = v_tangent.xyz - n * dot(n, v_tangent.xyz);
+      if (dot(tg, tg) > 1e-12) {
+        tg = normalize(tg);
+        vec3 b = cross(n, tg) * (v_tangent.w < 0.0 ? -1.0 : 1.0);
+        vec3 m = texture(u_normal, v_uv).xyz * 2.0 - 1.0;
+        vec3 bent = tg * m.x + b * m.y + n * m.z;
+        if (dot(bent, bent) > 1e-12) n = normalize(bent);
+      }
+    }
+    if (!gl_FrontFacing) n = -n;
+    // a cloud's texel keeps the normal its leaf had towards the image's
+    // viewer; seen from elsewhere, a two-sided leaf shows the side towards
+    // the eye, as the polygon level's leaves do
+    if (u_maps.x != 0 && dot(n, u_eye - v_world) < 0.0) n = -n;
+    float ao = u_maps.y != 0 ? texture(u_occlusion, v_uv).r : v_occlusion;
+    c.rgb *= (u_ambient * ao + max(dot(n, u_light), 0.0)) / (u_ambient + 1.0);
+  }
   o_colour = u_fill != 0 ? vec4(1.0) : vec4(fogged(c.rgb, v_world), 1.0);
 }

@@ -1,23 +1,49 @@
 // forest_model.vert.glsl — the forest's 3D objects, instanced: each instance
-// record scales, turns about the vertical and places the model.
+// record scales, turns about the vertical and places the model; the wind
+// sways it as bbc_forest_wind_offset (src/forest/sun_wind.c) says.
 #version 450 core
 layout(location = 0) in vec3 a_pos;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_uv;
 layout(location = 3) in vec4 a_inst;  // x, y, z, yaw
 layout(location = 4) in vec2 a_inst2;  // scale, fade
+layout(location = 5) in vec4 a_tangent;  // along +u, handedness in w
+layout(location = 6) in float a_occlusion;  // where no occlusion map says
 uniform mat4 u_viewproj;
+uniform vec3 u_wind;  // strength, direction x, z (unit)
+uniform float u_time;
+uniform float u_sway;  // the model's height (model units); 0 = it does not sway
 out vec3 v_world;
 out vec3 v_normal;
+out vec4 v_tangent;
 out vec2 v_uv;
 out float v_fade;
+out float v_occlusion;
+// bbc_forest_wind_offset: q relative to the base, base its world position
+vec3 wind_offset(vec3 q, vec3 base, float height) {
+  if (u_wind.x <= 0.0 || height <= 0.0 || q.y <= 0.0) return vec3(0.0);
+  vec2 d = u_wind.yz;
+  float a = 0.04 * u_wind.x * height;
+  float h = min(q.y / height, 2.0);
+  float phase = 6.28318531 * fract(0.6180339 * base.x + 0.4142136 * base.z);
+  float gust = 0.5 + 0.5 * sin(0.4 * u_time - 0.05 * (base.x * d.x + base.z * d.y));
+  float sway = (0.35 + 0.65 * gust) * (1.0 + 0.3 * sin(1.7 * u_time + phase));
+  float bend = a * h * h * sway;
+  float r = min(length(q.xz) / height, 1.0);
+  float flutter = 0.25 * a * r * h * (0.5 + gust) *
+                  sin(5.0 * u_time + phase + 3.0 * (q.x + q.y + q.z) / height);
+  return vec3(d.x * bend - d.y * 0.8 * flutter, 0.6 * flutter, d.y * bend + d.x * 0.8 * flutter);
+}
+vec3 turn(vec3 v, float c, float s) { return vec3(c * v.x + s * v.z, v.y, -s * v.x + c * v.z); }
 void main() {
   float c = cos(a_inst.w), s = sin(a_inst.w);
-  vec3 p = a_pos * a_inst2.x;
-  p = vec3(c * p.x + s * p.z, p.y, -s * p.x + c * p.z);
-  v_normal = vec3(c * a_normal.x + s * a_normal.z, a_normal.y, -s * a_normal.x + c * a_normal.z);
-  v_world = p + a_inst.xyz;
+  vec3 q = turn(a_pos * a_inst2.x, c, s);
+  q += wind_offset(q, a_inst.xyz, u_sway * a_inst2.x);
+  v_normal = turn(a_normal, c, s);
+  v_tangent = vec4(turn(a_tangent.xyz, c, s), a_tangent.w);
+  v_world = q + a_inst.xyz;
   v_uv = vec2(a_uv.x, 1.0 - a_uv.y);  // uvs: v up; images: rows top first
   v_fade = a_inst2.y;
+  v_occlusion = a_occlusion;
   gl_Position = u_viewproj * vec4(v_world, 1.0);
 }

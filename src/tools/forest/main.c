@@ -27,7 +27,8 @@ static void usage(FILE *f) {
           "      y/c (or z/c) up/down; Space stop; q/e zoom out/in, w reset; F3 store and\n"
           "      F2 load positions (save/MAPNAME.txt beside the map); F1 wireframe;\n"
           "      F4 terrain; F5 objects; 1/2 terrain detail; 3 lock the terrain's\n"
-          "      frustum; F10 statistics; h key help; Esc quits.\n"
+          "      frustum; Left/Right turn the sun, Up/Down raise and lower it; F10\n"
+          "      statistics; h key help; Esc quits.\n"
           "  forest MAP --size WxH [options]\n"
           "      The same drawing without a display (EGL), for screenshots and benchmarks.\n"
           "  forest --check MAP\n"
@@ -64,9 +65,18 @@ static void usage(FILE *f) {
           "                       every draw, a multi-draw counting once; draw_commands:\n"
           "                       the commands of the objects' multi-draws)\n"
           "  --keys \"K K 30f shot:A.png K\"  scripted keys (names as in the list above:\n"
-          "                       s x a d y c space q e w F1 F2 F3 F4 F5 F10 1 2 3 h esc, any\n"
+          "                       s x a d y c space q e w F1 F2 F3 F4 F5 F10 1 2 3 h esc\n"
+          "                       left right up down, any\n"
           "                       case, z for y), Nf runs N frames of 1/30 s, shot:FILE writes\n"
           "                       a screenshot; the program ends after the script (or at esc)\n"
+          "  --sun AZ,EL          the sun's azimuth (degrees around the vertical: 0 towards\n"
+          "                       +z, 90 towards +x) and elevation (above the horizon, -90\n"
+          "                       to 90); default: the map's light. Lit models (polygon\n"
+          "                       levels, clouds made with bbcgen's default --lighting\n"
+          "                       material) and the terrain follow it; clouds with a baked\n"
+          "                       light do not\n"
+          "  --time SECONDS       the wind's clock at the first frame (default 0): the same\n"
+          "                       time, the same picture (frames after it 1/30 s apart)\n"
           "  --stats              the statistics overlay (F10) from the start\n"
           "  --print-camera       print the final camera as --camera takes it\n"
           "  --uncompressed       textures as RGBA8 (by default cloud atlases with binary\n"
@@ -361,7 +371,8 @@ static int takes_value(const char *a) {
   return !strcmp(a, "--size") || !strcmp(a, "--camera") || !strcmp(a, "--path") ||
          !strcmp(a, "--frames") || !strcmp(a, "--screenshot") || !strcmp(a, "--keys") ||
          !strcmp(a, "--log") || !strcmp(a, "--demo-terrain") || !strcmp(a, "--terrain-size") ||
-         !strcmp(a, "--seed") || !strcmp(a, "--terrain-kind");
+         !strcmp(a, "--seed") || !strcmp(a, "--terrain-kind") || !strcmp(a, "--sun") ||
+         !strcmp(a, "--time");
 }
 
 /* The options without a value; 0 when `a` is none of them. */
@@ -427,6 +438,27 @@ static int set_checked_value(settings *st, const char *a, const char *v) {
       return -1;
     }
     o->frames = (int)n;
+  } else if (!strcmp(a, "--sun")) {
+    char extra;
+    double az, el;
+    if (sscanf(v, "%lf,%lf%c", &az, &el, &extra) != 2 || !(fabs(az) <= 3600) || !(fabs(el) <= 90)) {
+      fprintf(stderr,
+              "forest: --sun %s: expected AZIMUTH,ELEVATION in degrees (e.g. 135,30; "
+              "elevation -90 to 90)\n",
+              v);
+      return -1;
+    }
+    o->has_sun = 1;
+    o->sun_azimuth = az;
+    o->sun_elevation = el;
+  } else if (!strcmp(a, "--time")) {
+    char *end;
+    double t = strtod(v, &end);
+    if (*end || end == v || !(t >= 0 && t <= 1e6)) {
+      fprintf(stderr, "forest: --time %s: expected seconds, 0 to 1,000,000\n", v);
+      return -1;
+    }
+    o->time = t;
   } else if (!strcmp(a, "--terrain-kind")) {
     if (!strcmp(v, "hills"))
       st->terrain_kind = BBC_FOREST_DEMO_HILLS;

@@ -46,6 +46,9 @@ typedef struct state {
   /* mouse */
   double mouse_x, mouse_y;
   int mouse_known;
+  double sun_azimuth, sun_elevation; /* degrees (--sun, the map's light, the arrow keys) */
+  int clock_started;                 /* the wind's clock: --time at the first frame */
+  double clock_start;
 } state;
 
 __attribute__((format(printf, 3, 4))) static void say(state *st, double t, const char *fmt, ...) {
@@ -106,9 +109,9 @@ static void load_position(state *st, double t) {
 /* Keys by name, the same for GLFW's callback and scripts. */
 static int handle_key(state *st, const char *name, double t) {
   /* names as --help lists them, in any case; z is y (German keyboards) */
-  static const char *const names[] = {"s",  "x",   "a", "d",  "y",  "c",  "space",
-                                      "q",  "e",   "w", "F1", "F2", "F3", "F4",
-                                      "F5", "F10", "1", "2",  "3",  "h",  "esc"};
+  static const char *const names[] = {"s", "x",  "a",   "d",    "y",     "c",  "space", "q", "e",
+                                      "w", "F1", "F2",  "F3",   "F4",    "F5", "F10",   "1", "2",
+                                      "3", "h",  "esc", "left", "right", "up", "down"};
   const char *k = NULL;
   for (size_t i = 0; i < sizeof names / sizeof names[0] && !k; i++)
     if (!strcasecmp(name, names[i])) k = names[i];
@@ -152,6 +155,14 @@ static int handle_key(state *st, const char *name, double t) {
   } else if (!strcmp(k, "3")) {
     st->locked = !st->locked;
     say(st, t, "terrain frustum %s", st->locked ? "locked" : "unlocked");
+  } else if (!strcmp(k, "left") || !strcmp(k, "right")) {
+    st->sun_azimuth = fmod(st->sun_azimuth + (k[0] == 'l' ? -15 : 15) + 360, 360);
+    say(st, t, "sun: azimuth %.0f, elevation %.0f", st->sun_azimuth, st->sun_elevation);
+  } else if (!strcmp(k, "up") || !strcmp(k, "down")) {
+    st->sun_elevation += k[0] == 'u' ? 5 : -5;
+    if (st->sun_elevation > 90) st->sun_elevation = 90;
+    if (st->sun_elevation < -10) st->sun_elevation = -10;
+    say(st, t, "sun: azimuth %.0f, elevation %.0f", st->sun_azimuth, st->sun_elevation);
   } else if (!strcmp(k, "h")) {
     st->help = !st->help;
   } else if (!strcmp(k, "esc")) {
@@ -176,6 +187,14 @@ static const char *glfw_key_name(int key) {
     return "2";
   case GLFW_KEY_3:
     return "3";
+  case GLFW_KEY_LEFT:
+    return "left";
+  case GLFW_KEY_RIGHT:
+    return "right";
+  case GLFW_KEY_UP:
+    return "up";
+  case GLFW_KEY_DOWN:
+    return "down";
   case GLFW_KEY_SPACE:
     return "space";
   case GLFW_KEY_ESCAPE:
@@ -264,6 +283,12 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
   fr.wireframe = st->wireframe;
   fr.no_terrain = st->no_terrain;
   fr.no_objects = st->no_objects;
+  bbc_forest_sun_direction(st->sun_azimuth, st->sun_elevation, fr.sun);
+  if (!st->clock_started) {
+    st->clock_started = 1;
+    st->clock_start = t;
+  }
+  fr.time = st->o->time + (t - st->clock_start);
   if (!st->locked) {
     memcpy(st->locked_viewproj, fr.viewproj, sizeof fr.viewproj);
     memcpy(st->locked_eye, fr.eye, sizeof fr.eye);
@@ -321,7 +346,8 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
         "space: stop   q/e: zoom out/in   w: zoom reset",
         "F3: store position   F2: next stored position",
         "F1: wireframe   F4: terrain   F5: objects   F10: statistics",
-        "1/2: terrain detail   3: lock terrain frustum   h: this help   esc: quit"};
+        "1/2: terrain detail   3: lock terrain frustum   h: this help   esc: quit",
+        "left/right: turn the sun   up/down: raise/lower the sun"};
     for (size_t i = 0; i < sizeof help / sizeof help[0]; i++) lines[n++] = help[i];
   }
   if (st->message[0] && t < st->message_until) lines[n++] = st->message;
@@ -391,7 +417,7 @@ static bbcgl_forest *create_forest(scene *s, const run_options *o) {
   memset(&sc, 0, sizeof sc);
   sc.world = &s->world;
   sc.terrain_colour = &s->terrain_colour;
-  memcpy(sc.light, s->model_light, sizeof sc.light);
+  sc.wind = s->map.wind;
   sc.has_water = s->map.has_water;
   sc.water_height = s->map.water_height;
   if (s->map.has_fog) {
@@ -414,8 +440,9 @@ static bbcgl_forest *create_forest(scene *s, const run_options *o) {
       for (int k = 0; k < s->models[m].part_count[l]; k++) {
         const scene_part *p = &s->models[m].parts[l][k];
         const scene_mesh *me = &s->meshes[p->mesh];
-        if (!bbcgl_forest_add_part(r, s->cull.bucket_base[m] + l, &me->mesh, p->lit, me->light_gain,
-                                   p->mipmap, me->billboards, err)) {
+        bbcgl_part_options po = {p->lit, p->mipmap, me->billboards, (float)s->models[m].height,
+                                 me->occlusion};
+        if (!bbcgl_forest_add_part(r, s->cull.bucket_base[m] + l, &me->mesh, &po, err)) {
           fprintf(stderr, "forest: %s: %s\n", me->path, err);
           bbcgl_forest_free(r);
           return NULL;
@@ -447,6 +474,12 @@ static void init_state(state *st, scene *s, const run_options *o, FILE *log) {
   if (o->has_camera) {
     st->cam = o->camera;
     st->cam.zoom = 1;
+  }
+  if (o->has_sun) {
+    st->sun_azimuth = o->sun_azimuth;
+    st->sun_elevation = o->sun_elevation;
+  } else {
+    bbc_forest_sun_angles(s->map.light, &st->sun_azimuth, &st->sun_elevation);
   }
   move(st, 0); /* never starts below the ground or the water */
 }
@@ -565,7 +598,8 @@ static int run_keys(runner *u) {
     } else if (!handle_key(&u->st, tok, u->t)) {
       fprintf(stderr,
               "forest: --keys: unknown key or step '%s' (keys: s x a d y c space q e w "
-              "F1 F2 F3 F4 F5 F10 1 2 3 h esc, any case, z for y; frames to run "
+              "F1 F2 F3 F4 F5 F10 1 2 3 h esc left right up down, any case, z for y; frames "
+              "to run "
               "as Nf, e.g. 30f; shot:FILE.png)\n",
               tok);
       status = 2;

@@ -21,8 +21,11 @@ typedef struct run_options {
   int naive;              /* --naive: draw the thesis's way (to measure against) */
   int uncompressed;       /* --uncompressed: RGBA8 textures where BC1 would do */
   int gpu_cull;           /* --gpu-cull: culling and levels of detail in a compute shader */
-  double load_s;          /* how long loading took (for --bench) */
-  double start_s;         /* CLOCK_MONOTONIC when loading began (for --bench's ready_s) */
+  int has_sun;            /* --sun given (else the map's light) */
+  double sun_azimuth, sun_elevation; /* --sun AZ,EL (degrees) */
+  double time;                       /* --time: the wind's clock at the first frame (s) */
+  double load_s;                     /* how long loading took (for --bench) */
+  double start_s; /* CLOCK_MONOTONIC when loading began (for --bench's ready_s) */
 } run_options;
 
 /* Draws `s` as `o` says; the exit status. */

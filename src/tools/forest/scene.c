@@ -2,8 +2,8 @@
  * placed model (a model description file with its LOD blocks, or a 3D file
  * placed directly: one level, or one per level of a glTF LOD chain), every
  * 3D file read once however often it is used (thesis 3.2.2-3.2.3), the
- * terrain's colour with the light and the objects' shadows baked in, the
- * culling grid and the terrain quadtree. */
+ * terrain's colour with the objects' soft shadows (the sun lights it in the
+ * shaders), the culling grid and the terrain quadtree. */
 #include "scene.h"
 
 #include <math.h>
@@ -132,17 +132,32 @@ static long find_mesh(scene *s, const char *path, int lod_node, FILE *log, int p
     double d = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
     if (d > m->radius) m->radius = d;
   }
+  for (size_t v = 0; v < m->mesh.vertex_count; v++)
+    if (m->mesh.positions[3 * v + 1] > m->height) m->height = m->mesh.positions[3 * v + 1];
   s->triangles_loaded += m->mesh.triangle_count;
-  m->light_gain = 1;
-  int lit_material = 0;
-  for (size_t i = 0; i < m->mesh.material_count; i++) lit_material |= !m->mesh.materials[i].unlit;
-  double gain = 1;
-  if (lit_material && bbc_light_gain_measure(&m->mesh, s->model_light, 1, &gain, &err) == BBC_OK)
-    m->light_gain = (float)gain;
+  int unlit = 0;
+  for (size_t i = 0; i < m->mesh.material_count; i++) {
+    const bbc_material *ma = &m->mesh.materials[i];
+    m->relightable |= !ma->unlit && (ma->normal_map > 0 || ma->occlusion_map > 0);
+    unlit |= ma->unlit;
+  }
+  if (!m->relightable && !unlit && !m->billboards) { /* a polygon model */
+    bbc_params prm;
+    bbc_params_default(&prm);
+    m->occlusion = malloc((m->mesh.vertex_count + 1) * sizeof *m->occlusion);
+    if (m->occlusion && bbc_shade_vertices(&m->mesh, prm.occlusion, prm.occlusion_min, BBC_AXIS_Y,
+                                           m->occlusion, &err) != BBC_OK) {
+      free(m->occlusion);
+      m->occlusion = NULL;
+    }
+  }
   if (log)
-    fprintf(log, "model %s%s: %zu triangles, %zu materials, %zu billboards, light gain %.3f\n",
-            path, lod_node ? " (one level)" : "", m->mesh.triangle_count, m->mesh.material_count,
-            m->billboards, m->light_gain);
+    fprintf(log, "model %s%s: %zu triangles, %zu materials, %zu billboards, %s\n", path,
+            lod_node ? " (one level)" : "", m->mesh.triangle_count, m->mesh.material_count,
+            m->billboards,
+            m->relightable ? "lit by the sun (normal and occlusion maps)"
+            : unlit        ? "its light baked in (drawn as it is)"
+                           : "lit by the sun where marked lighting");
   return (long)s->mesh_count++;
 }
 
@@ -180,6 +195,7 @@ static int model_from_mesh_file(scene *s, scene_model *m, const model_source *sr
     if (mesh < 0) return 0;
     m->parts[level][0].mesh = (size_t)mesh;
     m->parts[level][0].lit = 1;
+    if (level == 0) m->height = s->meshes[mesh].height;
     m->parts[level][0].mipmap = src->mipmap;
     m->part_count[level] = 1;
     m->lod_count++;
@@ -231,7 +247,8 @@ static int model_from_description(scene *s, scene_model *m, const model_source *
         return 0;
       }
       m->parts[l][k].mesh = (size_t)mesh;
-      m->parts[l][k].lit = d.lods[l].part[k].lighting;
+      m->parts[l][k].lit = d.lods[l].part[k].lighting || s->meshes[mesh].relightable;
+      if (l == 0 && k == 0) m->height = s->meshes[mesh].height;
       m->parts[l][k].mipmap = src->mipmap || d.lods[l].part[k].mipmap;
     }
   }
@@ -289,6 +306,7 @@ void scene_free(scene *s) {
   for (size_t i = 0; i < s->mesh_count; i++) {
     free(s->meshes[i].path);
     bbc_mesh_free(&s->meshes[i].mesh);
+    free(s->meshes[i].occlusion);
   }
   free(s->meshes);
   for (size_t i = 0; i < s->model_count; i++) {
@@ -317,9 +335,6 @@ int scene_load(scene *s, const char *map_path, FILE *log, int progress) {
   char *dot = strrchr(s->map_name, '.');
   if (dot && dot != s->map_name) *dot = '\0';
   bbc_error err;
-  bbc_params prm;
-  bbc_params_default(&prm);
-  bbc_params_get_light_direction(&prm, s->model_light);
   if (bbc_forest_map_load(map_path, &s->map, &err) != BBC_OK) {
     fprintf(stderr, "forest: %s\n", err.message);
     return 0;
@@ -354,7 +369,8 @@ int scene_load(scene *s, const char *map_path, FILE *log, int progress) {
     shadow[p][0] = m->shadow_radius;
     shadow[p][1] = m->shadow_cutoff;
   }
-  bbc_result r = bbc_forest_terrain_bake_colour(&s->world, s->map.light, (const double(*)[2])shadow,
+  /* the colours and the shadows; the sun lights them per pixel */
+  bbc_result r = bbc_forest_terrain_bake_colour(&s->world, NULL, (const double(*)[2])shadow,
                                                 &s->terrain_colour, &err);
   free(shadow);
   if (r != BBC_OK) {

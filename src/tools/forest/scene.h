@@ -1,6 +1,6 @@
 /* scene.h — what `forest` loads for a map: the world, every model with its
  * levels of detail and components (each 3D file read once), the terrain's
- * colour with lighting and shadows, the culling grid and the terrain
+ * colour with the objects' soft shadows, the culling grid and the terrain
  * quadtree. GL-free; the drawing layer gets the meshes afterwards. */
 #ifndef FOREST_SCENE_H
 #define FOREST_SCENE_H
@@ -15,7 +15,12 @@ typedef struct scene_mesh {
   bbc_mesh mesh;
   size_t billboards; /* planes of the mesh when it is a Billboard Cloud, else 0 */
   double radius;     /* farthest vertex from the model's origin */
-  float light_gain;  /* bbc_light_gain_measure for the model light (lit meshes), else 1 */
+  double height;     /* highest vertex above the model's origin (its base) */
+  int relightable;   /* a material has a normal or occlusion map (a cloud made with
+                      * bbcgen --lighting material): lit by the sun wherever placed */
+  float *occlusion;  /* per vertex, for a polygon model lit by the sun: the occlusion
+                      * bbcgen bakes into its clouds' occlusion maps (occlusion 64,
+                      * occlusionmin 0.75), so that the levels light alike; else NULL */
 } scene_mesh;
 
 typedef struct scene_part {
@@ -32,6 +37,7 @@ typedef struct scene_model {
   scene_part (*parts)[2];
   int *part_count; /* per level: 1 or 2 */
   double radius;
+  double height; /* level 0's first component's: what the wind bends every level over */
 } scene_model;
 
 typedef struct scene {
@@ -52,9 +58,6 @@ typedef struct scene {
   double extent;   /* map size, world units */
   double far_clip; /* world units */
   size_t triangles_loaded;
-  double model_light[3]; /* towards the light that lit models get: bbcgen's
-                          * baking light (its defaults), so that polygon
-                          * levels and the clouds after them look alike */
 } scene;
 
 /* Loads everything; messages (progress when `progress`, details to `log`)

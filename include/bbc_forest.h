@@ -232,11 +232,16 @@ typedef struct bbc_forest_cull {
   uint32_t *model_cell_start;  /* model m, cell k: statics[start[m * (cell_count + 1) + k]
                                 * .. start[m * (cell_count + 1) + k + 1]) */
   uint32_t *model_cell_firsts; /* model m, cell k: how many of them have static_first */
-  /* per frame, whole ranges of statics: bucket b draws
-   * ranges[range_start[b] .. range_start[b + 1]), each (first, count) */
+  /* per frame, ranges of statics: bucket b draws ranges[range_start[b] ..
+   * range_start[b + 1]), each (first, count): those before range_blend[b]
+   * whole (weight 1), those from it weighted per tree by
+   * bbc_forest_lod_get_weight at its distance from `eye` / `zoom` (0:
+   * not drawn; the drawing layer computes it, e.g. in a vertex shader) */
   size_t range_capacity;
   uint32_t (*ranges)[2];
   size_t *range_start;
+  size_t *range_blend;
+  double eye[3], zoom; /* the last frame's */
   uint32_t (*range_scratch)[2];
   uint32_t *range_bucket;
   size_t *range_last;
@@ -247,7 +252,9 @@ typedef struct bbc_forest_cull {
   size_t *bucket_start;
   uint32_t *scratch_bucket;
   bbc_forest_draw *scratch;
-  /* statistics of the last frame */
+  /* statistics of the last frame: cells in view, (model, cell)s handled tree
+   * by tree, trees whose first component is in a range or a record (cells in
+   * view: some may be just outside the frustum) */
   size_t cells_visible, cells_tested_per_tree, trees_visible;
 } bbc_forest_cull;
 
@@ -261,21 +268,27 @@ bbc_result bbc_forest_cull_init(bbc_forest_cull *cull, const bbc_forest_world *w
                                 const uint32_t (*placement_models)[2], size_t placement_count,
                                 bbc_error *err);
 /* One frame: `viewproj` column-major (OpenGL), `eye` the camera position;
- * distances are divided by `zoom` (zooming in shows finer levels). After
- * it, bucket b draws its static ranges and its per-frame records (above);
- * trees_visible counts the trees whose first component is drawn. */
+ * distances are divided by `zoom` (zooming in shows finer levels). Work per
+ * cell of the grid: after it, bucket b draws its static ranges, whole or
+ * blend, and its per-frame records (above), those only for cells across a
+ * switch or the frustum's boundary within reach of level 0 (the polygon
+ * model, whose vertices are worth a test per tree). Every tree inside the
+ * frustum is in each
+ * level whose weight at its distance is > 0; trees of cells the frustum's
+ * boundary crosses may be outside it (the GPU clips them). */
 void bbc_forest_cull_run(bbc_forest_cull *cull, const float viewproj[16], const double eye[3],
                          double zoom);
 /* The same without the grid, the way the thesis did it: every tree tested
  * against the frustum and given its level one by one, all into per-frame
- * records, no static ranges (the naive mode that `forest --naive` measures
- * against). The same trees, levels and weights. */
+ * records with their weights, no static ranges (the naive mode that
+ * `forest --naive` measures against). */
 void bbc_forest_cull_run_flat(bbc_forest_cull *cull, const float viewproj[16], const double eye[3],
                               double zoom);
 /* How many records bucket b draws this frame (static ranges and per-frame). */
 size_t bbc_forest_cull_get_bucket_size(const bbc_forest_cull *cull, size_t bucket);
 /* Writes bucket b's records of this frame into out (bbc_forest_cull_get_bucket_size
- * of them): its static ranges, then its per-frame records. */
+ * of them): its static ranges (blend ranges' records with their weights, 0
+ * for those the level does not draw), then its per-frame records. */
 void bbc_forest_cull_copy_bucket(const bbc_forest_cull *cull, size_t bucket, bbc_forest_draw *out);
 /* The weight (0..1) level `lod` of `model` gets at distance d. */
 double bbc_forest_lod_get_weight(const bbc_forest_lod_model *model, size_t lod, double d);

@@ -659,8 +659,10 @@ static void test_bench_line(void **state) {
           BBC_BIN_DIR, dir, dir);
   if (rc) fail_msg("%s", out);
   bench_line n = parse_bench(out);
-  assert_int_equal(n.trees, b.trees);
-  assert_int_equal(n.billboards, b.billboards);
+  /* the cells send whole cells: the trees the flat way draws and some just
+   * outside the frustum */
+  assert_true(n.trees > 0 && n.trees <= b.trees && n.trees >= b.trees * 9 / 10);
+  assert_true(n.billboards <= b.billboards);
   if (!(n.calls >= n.billboards && n.calls > 10 * b.calls))
     fail_msg("naive calls %zu billboards %zu, instanced calls %zu", n.calls, n.billboards, b.calls);
   free(out);
@@ -673,8 +675,8 @@ static void test_bench_line(void **state) {
           BBC_BIN_DIR, dir, dir, dir, BBC_BIN_DIR, dir, dir, dir);
   if (rc) fail_msg("%s", out);
   bench_line g = parse_bench(out);
-  assert_int_equal(g.trees, b.trees);
-  assert_int_equal(g.billboards, b.billboards);
+  assert_int_equal(g.trees, n.trees); /* tree by tree, as the flat way */
+  assert_int_equal(g.billboards, n.billboards);
   assert_true(g.cull_ms == 0 && g.calls < 40);
   free(out);
   bbc_image gi = load_png("gpu.png"), ci = load_png("cpu.png");

@@ -2,13 +2,18 @@
  * frustum culling over a grid of cells (in blocks of 8 x 8), then discrete
  * levels of detail by distance with the thesis's blending (the next level
  * blended fully in before the previous fades out, over `fade` units each
- * way; Wimmer et al. 2002). Whole cells are classified first: a cell inside
- * the frustum whose trees all take one level of a model is drawn from the
- * static records (uploaded once) as a range; only cells on the frustum's
- * boundary or across an LOD switch are handled tree by tree. The output is,
- * per (model, level), ranges of static records and a list of per-frame
- * records, so the drawing layer issues one multi-draw per model, level,
- * component and material. Everything is allocated in bbc_forest_cull_init. */
+ * way; Wimmer et al. 2002). The work per frame is per cell: a cell in view
+ * (wholly or partly: the GPU clips the rest) whose trees all take one level
+ * of a model is a range of that level's static records (uploaded once); a
+ * cell across an LOD switch is a "blend" range in each level it reaches,
+ * whose weights the drawing layer computes per tree from the distance
+ * (bbc_forest_lod_get_weight, in the vertex shader); only cells within
+ * reach of level 0 (the polygon model, near the eye) across a switch or
+ * the frustum's boundary are handled tree by tree, into per-frame records. The output is, per
+ * (model, level), ranges of static records and per-frame records, so the drawing layer issues two
+ * multi-draws per model, level, component and material. bbc_forest_cull_run_flat does the thesis's
+ * per-tree work (into per-frame records) to measure against. Everything is allocated in
+ * bbc_forest_cull_init. */
 #include "bbc_forest.h"
 #include "io.h"
 
@@ -80,6 +85,7 @@ void bbc_forest_cull_free(bbc_forest_cull *c) {
   free(c->range_scratch);
   free(c->range_bucket);
   free(c->range_last);
+  free(c->range_blend);
   free(c->draws);
   free(c->bucket_start);
   free(c->scratch_bucket);
@@ -219,7 +225,7 @@ static size_t count_records(bbc_forest_cull *c, const bbc_forest_world *w,
     uint32_t *s = start + m * (ncell + 1);
     s[0] = (uint32_t)total;
     for (size_t k = 0; k < ncell; k++) {
-      if (s[k + 1]) c->range_capacity++;
+      if (s[k + 1]) c->range_capacity += models[m].lod_count; /* a blend range per level */
       s[k + 1] += s[k];
     }
     total = s[ncell];
@@ -262,21 +268,23 @@ static int place_records(bbc_forest_cull *c, const bbc_forest_world *w, size_t m
   return 1;
 }
 
-/* Per frame: a range per (model, cell) at most; records for trees one by
- * one: each record in at most two levels. 0 when out of memory. */
+/* Per frame: a range per (model, cell, level) at most; records for trees
+ * one by one (the flat way): each record in at most two levels. 0 when out
+ * of memory. */
 static int frame_buffers(bbc_forest_cull *c) {
   c->ranges = malloc((c->range_capacity ? c->range_capacity : 1) * sizeof *c->ranges);
   c->range_scratch = malloc((c->range_capacity ? c->range_capacity : 1) * sizeof *c->range_scratch);
   c->range_bucket = malloc((c->range_capacity ? c->range_capacity : 1) * sizeof *c->range_bucket);
   c->range_start = calloc(c->bucket_count + 1, sizeof *c->range_start);
-  c->range_last = malloc((c->bucket_count ? c->bucket_count : 1) * sizeof *c->range_last);
+  c->range_last = malloc((c->bucket_count ? c->bucket_count : 1) * 2 * sizeof *c->range_last);
+  c->range_blend = calloc(c->bucket_count + 1, sizeof *c->range_blend);
   c->capacity = c->static_count * 2;
   c->draws = malloc((c->capacity ? c->capacity : 1) * sizeof *c->draws);
   c->scratch = malloc((c->capacity ? c->capacity : 1) * sizeof *c->scratch);
   c->scratch_bucket = malloc((c->capacity ? c->capacity : 1) * sizeof *c->scratch_bucket);
   c->bucket_start = calloc(c->bucket_count + 1, sizeof *c->bucket_start);
   return c->ranges && c->range_scratch && c->range_bucket && c->range_start && c->range_last &&
-         c->draws && c->scratch && c->scratch_bucket && c->bucket_start;
+         c->range_blend && c->draws && c->scratch && c->scratch_bucket && c->bucket_start;
 }
 
 bbc_result bbc_forest_cull_init(bbc_forest_cull *c, const bbc_forest_world *w,
@@ -316,32 +324,20 @@ static unsigned box_planes(const double p[6][4], const float b[6], unsigned test
   return crossing | 1u << 6;
 }
 
-/* Records i of model m one by one: the frustum test against the planes in
- * `mask` (a sphere of the model's radius), then a record per level with a
- * weight; with `level` >= 0 every one that passes draws that level whole. */
+/* Records i of model m one by one (the flat way): the frustum test (a
+ * sphere of the model's radius), then a record per level with a weight. */
 static void emit_records(bbc_forest_cull *c, size_t m, uint32_t s, uint32_t e,
-                         const double planes[6][4], unsigned mask, int level, const double eye[3],
-                         double zoom, size_t *n) {
+                         const double planes[6][4], const double eye[3], double zoom, size_t *n) {
   const bbc_forest_lod_model *mod = &c->models[m];
-  int pl[6], np = 0;
-  for (int k = 0; k < 6; k++)
-    if (mask & (1u << k)) pl[np++] = k;
   for (uint32_t i = s; i < e; i++) {
     const bbc_forest_draw *in = &c->statics[i];
     double rad = mod->radius * in->scale;
     int out = 0;
-    for (int j = 0; j < np && !out; j++) {
-      const double *q = planes[pl[j]];
+    for (int j = 0; j < 6 && !out; j++) {
+      const double *q = planes[j];
       out = q[0] * in->x + q[1] * in->y + q[2] * in->z + q[3] < -rad;
     }
     if (out) continue;
-    if (level >= 0) {
-      if (*n >= c->capacity) return;
-      c->scratch[*n] = *in;
-      c->scratch_bucket[(*n)++] = (uint32_t)(c->bucket_base[m] + (size_t)level);
-      c->trees_visible += c->static_first[i];
-      continue;
-    }
     double dx = in->x - eye[0], dy = in->y - eye[1], dz = in->z - eye[2];
     double d = sqrt(dx * dx + dy * dy + dz * dz) / zoom;
     int drawn = 0;
@@ -381,17 +377,20 @@ static int classify(const bbc_forest_lod_model *m, double dmin, double dmax) {
   return found;
 }
 
-static void add_range(bbc_forest_cull *c, size_t bucket, uint32_t first, uint32_t count,
+/* A range of static records for `bucket`, whole (blend 0) or weighted by
+ * the distance (blend 1); joined to the bucket's last range of the same
+ * kind when they touch. */
+static void add_range(bbc_forest_cull *c, size_t bucket, int blend, uint32_t first, uint32_t count,
                       size_t *nr) {
-  size_t last = c->range_last[bucket];
+  size_t key = 2 * bucket + (size_t)blend, last = c->range_last[key];
   if (last != SIZE_MAX && c->range_scratch[last][0] + c->range_scratch[last][1] == first) {
     c->range_scratch[last][1] += count;
     return;
   }
   c->range_scratch[*nr][0] = first;
   c->range_scratch[*nr][1] = count;
-  c->range_bucket[*nr] = (uint32_t)bucket;
-  c->range_last[bucket] = (*nr)++;
+  c->range_bucket[*nr] = (uint32_t)key;
+  c->range_last[key] = (*nr)++;
 }
 
 /* Counting sorts (stable: the same order every run) of the ranges and of
@@ -404,16 +403,34 @@ static void sort_by_bucket(bbc_forest_cull *c, size_t n, size_t nr) {
   for (size_t i = 0; i < n; i++) c->draws[c->bucket_start[c->scratch_bucket[i]]++] = c->scratch[i];
   for (size_t b = nb; b > 0; b--) c->bucket_start[b] = c->bucket_start[b - 1];
   c->bucket_start[0] = 0;
+  /* the ranges by key (2 x bucket + blend): whole ranges, then blend ones */
   memset(c->range_start, 0, (nb + 1) * sizeof *c->range_start);
-  for (size_t i = 0; i < nr; i++) c->range_start[c->range_bucket[i] + 1]++;
-  for (size_t b = 0; b < nb; b++) c->range_start[b + 1] += c->range_start[b];
+  memset(c->range_blend, 0, (nb + 1) * sizeof *c->range_blend);
   for (size_t i = 0; i < nr; i++) {
-    uint32_t *r = c->ranges[c->range_start[c->range_bucket[i]]++];
+    uint32_t key = c->range_bucket[i];
+    if (key & 1)
+      c->range_blend[key / 2 + 1]++;
+    else
+      c->range_start[key / 2 + 1]++;
+  }
+  size_t at = 0;
+  for (size_t b = 0; b < nb; b++) { /* starts: whole ranges of b, then its blend ranges */
+    size_t whole = c->range_start[b + 1], blend = c->range_blend[b + 1];
+    c->range_start[b] = at;
+    c->range_blend[b] = at + whole;
+    at += whole + blend;
+  }
+  c->range_start[nb] = c->range_blend[nb] = at;
+  size_t *fill = c->range_last; /* 2 per bucket, free again after the frame's ranges */
+  for (size_t b = 0; b < nb; b++) {
+    fill[2 * b] = c->range_start[b];
+    fill[2 * b + 1] = c->range_blend[b];
+  }
+  for (size_t i = 0; i < nr; i++) {
+    uint32_t *r = c->ranges[fill[c->range_bucket[i]]++];
     r[0] = c->range_scratch[i][0];
     r[1] = c->range_scratch[i][1];
   }
-  for (size_t b = nb; b > 0; b--) c->range_start[b] = c->range_start[b - 1];
-  c->range_start[0] = 0;
 }
 
 /* A frame's start: the statistics cleared, no ranges, the frustum's
@@ -421,9 +438,11 @@ static void sort_by_bucket(bbc_forest_cull *c, size_t n, size_t nr) {
 static double frame_begin(bbc_forest_cull *c, const float viewproj[16], double zoom,
                           double planes[6][4]) {
   c->cells_visible = c->cells_tested_per_tree = c->trees_visible = 0;
-  for (size_t b = 0; b < c->bucket_count; b++) c->range_last[b] = SIZE_MAX;
+  for (size_t b = 0; b < 2 * c->bucket_count; b++) c->range_last[b] = SIZE_MAX;
   bbc_forest_frustum_from_matrix(viewproj, planes);
-  return zoom <= 0 ? 1 : zoom;
+  zoom = zoom <= 0 ? 1 : zoom;
+  c->zoom = zoom;
+  return zoom;
 }
 
 void bbc_forest_cull_run(bbc_forest_cull *c, const float viewproj[16], const double eye[3],
@@ -431,6 +450,7 @@ void bbc_forest_cull_run(bbc_forest_cull *c, const float viewproj[16], const dou
   assert(c && viewproj && eye);
   double planes[6][4];
   zoom = frame_begin(c, viewproj, zoom, planes);
+  memcpy(c->eye, eye, sizeof c->eye);
   size_t n = 0, nr = 0, ncell = c->cell_count, nblock = (size_t)c->blocks_x * c->blocks_z;
   for (size_t blk = 0; blk < nblock; blk++) {
     const float *bb = c->block_box[blk];
@@ -443,9 +463,8 @@ void bbc_forest_cull_run(bbc_forest_cull *c, const float viewproj[16], const dou
       /* only the planes that cross the block can cross its cells */
       unsigned vis = bvis & 63 ? box_planes(planes, b, bvis & 63) : bvis;
       if (!vis) continue;
-      unsigned mask = vis & 63;
+      int crossing = (vis & 63) != 0; /* the frustum's boundary crosses the cell */
       c->cells_visible++;
-      if (mask) c->cells_tested_per_tree++;
       /* the nearest and farthest tree origin the cell can hold */
       const float *r = c->cell_reach[cell];
       double near2 = 0, far2 = 0;
@@ -460,14 +479,30 @@ void bbc_forest_cull_run(bbc_forest_cull *c, const float viewproj[16], const dou
       for (size_t m = 0; m < c->model_count; m++) {
         const uint32_t *st = c->model_cell_start + m * (ncell + 1) + cell;
         if (st[0] == st[1]) continue;
-        int cls = classify(&c->models[m], dmin, dmax);
+        const bbc_forest_lod_model *mod = &c->models[m];
+        int cls = classify(mod, dmin, dmax);
         if (cls == -1) continue;
-        if (cls >= 0 && !mask) { /* wholly inside, one level: a range */
-          add_range(c, c->bucket_base[m] + (size_t)cls, st[0], st[1] - st[0], &nr);
-          c->trees_visible += c->model_cell_firsts[m * ncell + cell];
+        /* near the eye, within reach of level 0 (the polygon model, the
+         * most vertices), a cell across a switch or the frustum's boundary
+         * is handled tree by tree, so that trees beyond level 0's reach or
+         * outside the view do not send its vertices */
+        double f = mod->fade > 0 ? mod->fade : 0;
+        if ((cls == -2 || crossing) && mod->lod_count > 1 && dmin <= mod->ranges[1] + f) {
+          emit_records(c, m, st[0], st[1], planes, eye, zoom, &n);
+          c->cells_tested_per_tree++;
           continue;
         }
-        emit_records(c, m, st[0], st[1], planes, mask, cls, eye, zoom, &n);
+        c->trees_visible += c->model_cell_firsts[m * ncell + cell];
+        if (cls >= 0) { /* one level draws every tree whole: a range */
+          add_range(c, c->bucket_base[m] + (size_t)cls, 0, st[0], st[1] - st[0], &nr);
+          continue;
+        }
+        /* across a switch: a blend range in every level the cell reaches */
+        for (size_t l = 0; l < mod->lod_count; l++) {
+          double lo = mod->ranges[2 * l], hi = mod->ranges[2 * l + 1];
+          if ((lo <= 0 || dmax >= lo - f) && dmin <= hi + f)
+            add_range(c, c->bucket_base[m] + l, 1, st[0], st[1] - st[0], &nr);
+        }
       }
     }
   }
@@ -479,10 +514,11 @@ void bbc_forest_cull_run_flat(bbc_forest_cull *c, const float viewproj[16], cons
   assert(c && viewproj && eye);
   double planes[6][4];
   zoom = frame_begin(c, viewproj, zoom, planes);
+  memcpy(c->eye, eye, sizeof c->eye);
   size_t n = 0, ncell = c->cell_count;
   for (size_t m = 0; m < c->model_count; m++) {
     const uint32_t *st = c->model_cell_start + m * (ncell + 1);
-    emit_records(c, m, st[0], st[ncell], planes, 63, -1, eye, zoom, &n);
+    emit_records(c, m, st[0], st[ncell], planes, eye, zoom, &n);
   }
   sort_by_bucket(c, n, 0);
 }
@@ -498,8 +534,16 @@ size_t bbc_forest_cull_get_bucket_size(const bbc_forest_cull *c, size_t b) {
 void bbc_forest_cull_copy_bucket(const bbc_forest_cull *c, size_t b, bbc_forest_draw *out) {
   assert(c && out);
   if (b >= c->bucket_count) return;
+  size_t m = 0;
+  while (m + 1 < c->model_count && c->bucket_base[m + 1] <= b) m++;
   for (size_t r = c->range_start[b]; r < c->range_start[b + 1]; r++) {
     memcpy(out, c->statics + c->ranges[r][0], c->ranges[r][1] * sizeof *out);
+    if (r >= c->range_blend[b]) /* weighted as the drawing layer weights them */
+      for (uint32_t i = 0; i < c->ranges[r][1]; i++) {
+        double dx = out[i].x - c->eye[0], dy = out[i].y - c->eye[1], dz = out[i].z - c->eye[2];
+        double d = sqrt(dx * dx + dy * dy + dz * dz) / c->zoom;
+        out[i].fade = (float)bbc_forest_lod_get_weight(&c->models[m], b - c->bucket_base[m], d);
+      }
     out += c->ranges[r][1];
   }
   size_t s = c->bucket_start[b], e = c->bucket_start[b + 1];

@@ -61,6 +61,8 @@ bbcgl_forest *bbcgl_forest_create(const bbcgl_scene *scene, char *err) {
   f->u_lit = glGetUniformLocation(f->p_model, "u_lit");
   f->u_maps = glGetUniformLocation(f->p_model, "u_maps");
   f->u_sway = glGetUniformLocation(f->p_model, "u_sway");
+  f->u_blend = glGetUniformLocation(f->p_model, "u_blend");
+  f->u_lod = glGetUniformLocation(f->p_model, "u_lod");
   bbcgl__forest_build_water(f);
   bbcgl__forest_build_sky(f);
   glCreateBuffers(1, &f->instances);

@@ -45,6 +45,7 @@ struct bbcgl_forest {
   float fog_colour[3];
   GLuint p_terrain, p_model, p_sky, p_water;
   GLint u_has, u_base, u_lit, u_maps, u_sway; /* the model program's per-material uniforms */
+  GLint u_blend, u_lod;                       /* weights from the distance (blend ranges) */
   /* terrain */
   GLuint t_vao, t_vbo, t_ebo, t_nodes, t_height, t_colour;
   size_t t_first[5], t_count[5], t_node_capacity;

@@ -275,19 +275,34 @@ static void draw_objects_gpu(bbcgl_forest *f, const bbc_forest_cull *c, bbcgl_st
   free(n);
 }
 
+/* An indirect command: the batch's indices, `n` instances from `first`. */
+static void set_command(uint32_t *cmd, const batch *ba, uint32_t n, uint32_t first) {
+  cmd[0] = (uint32_t)ba->count;
+  cmd[1] = n;
+  cmd[2] = (uint32_t)ba->first;
+  cmd[3] = 0;
+  cmd[4] = first;
+}
+
+/* Bucket b's commands per material: whole ranges and per-frame records
+ * (weights in the records), then blend ranges (weights from the distance). */
+static size_t whole_commands(const bbc_forest_cull *c, size_t b) {
+  return c->range_blend[b] - c->range_start[b] + (c->bucket_start[b + 1] > c->bucket_start[b]);
+}
+static size_t blend_commands(const bbc_forest_cull *c, size_t b) {
+  return c->range_start[b + 1] - c->range_blend[b];
+}
+
 /* This frame's multi-draw commands in f->cmds (grown when needed): per part
- * and material a command per static range of its bucket and one for the
- * bucket's per-frame records. Their number; 0: nothing to draw (or no
- * memory for them). */
+ * and material a command per whole range of its bucket, one for the
+ * bucket's per-frame records, then one per blend range. Their number; 0:
+ * nothing to draw (or no memory for them). */
 static size_t fill_commands(bbcgl_forest *f, const bbc_forest_cull *c) {
   size_t ncmd = 0;
   for (size_t i = 0; i < f->part_count; i++) {
     const part *pt = &f->parts[i];
     if (pt->bucket >= c->bucket_count) continue;
-    size_t b = pt->bucket;
-    size_t per =
-        c->range_start[b + 1] - c->range_start[b] + (c->bucket_start[b + 1] > c->bucket_start[b]);
-    ncmd += per * pt->batch_count;
+    ncmd += (whole_commands(c, pt->bucket) + blend_commands(c, pt->bucket)) * pt->batch_count;
   }
   if (!ncmd) return 0;
   if (ncmd > f->cmd_capacity) {
@@ -304,28 +319,34 @@ static size_t fill_commands(bbcgl_forest *f, const bbc_forest_cull *c) {
     if (pt->bucket >= c->bucket_count) continue;
     size_t b = pt->bucket, dyn = c->bucket_start[b + 1] - c->bucket_start[b];
     for (size_t ba = 0; ba < pt->batch_count; ba++) {
-      for (size_t r = c->range_start[b]; r < c->range_start[b + 1]; r++) {
-        uint32_t *cmd = f->cmds[k++];
-        cmd[0] = (uint32_t)pt->batches[ba].count;
-        cmd[1] = c->ranges[r][1];
-        cmd[2] = (uint32_t)pt->batches[ba].first;
-        cmd[3] = 0;
-        cmd[4] = c->ranges[r][0];
-      }
-      if (dyn) {
-        uint32_t *cmd = f->cmds[k++];
-        cmd[0] = (uint32_t)pt->batches[ba].count;
-        cmd[1] = (uint32_t)dyn;
-        cmd[2] = (uint32_t)pt->batches[ba].first;
-        cmd[3] = 0;
-        cmd[4] = (uint32_t)(c->static_count + c->bucket_start[b]);
-      }
+      for (size_t r = c->range_start[b]; r < c->range_blend[b]; r++)
+        set_command(f->cmds[k++], &pt->batches[ba], c->ranges[r][1], c->ranges[r][0]);
+      if (dyn)
+        set_command(f->cmds[k++], &pt->batches[ba], (uint32_t)dyn,
+                    (uint32_t)(c->static_count + c->bucket_start[b]));
+      for (size_t r = c->range_blend[b]; r < c->range_start[b + 1]; r++)
+        set_command(f->cmds[k++], &pt->batches[ba], c->ranges[r][1], c->ranges[r][0]);
     }
   }
   return ncmd;
 }
 
-/* The CPU culling's objects: one multi-draw per part and material. */
+/* The levels of bucket b for the shader's weights of blend ranges: its
+ * range's start and end, the model's fade, 1 / zoom (as
+ * bbc_forest_lod_get_weight, distances divided by the zoom). */
+static void bucket_lod(const bbc_forest_cull *c, size_t b, float lod[4]) {
+  size_t m = 0;
+  while (m + 1 < c->model_count && c->bucket_base[m + 1] <= b) m++;
+  const bbc_forest_lod_model *mod = &c->models[m];
+  size_t l = b - c->bucket_base[m];
+  lod[0] = (float)mod->ranges[2 * l];
+  lod[1] = (float)(mod->ranges[2 * l + 1] < 1e30 ? mod->ranges[2 * l + 1] : 1e30);
+  lod[2] = (float)(mod->fade > 0 ? mod->fade : 0);
+  lod[3] = (float)(1 / (c->zoom > 0 ? c->zoom : 1));
+}
+
+/* The CPU culling's objects: per part and material a multi-draw of whole
+ * ranges and per-frame records, and one of blend ranges. */
 static void draw_objects_indirect(bbcgl_forest *f, const bbc_forest_cull *c, bbcgl_stats *st) {
   size_t ncmd = fill_commands(f, c);
   if (!ncmd) return;
@@ -338,14 +359,22 @@ static void draw_objects_indirect(bbcgl_forest *f, const bbc_forest_cull *c, bbc
     const part *pt = &f->parts[i];
     if (pt->bucket >= c->bucket_count) continue;
     size_t b = pt->bucket, count = bbc_forest_cull_get_bucket_size(c, b);
-    size_t per =
-        c->range_start[b + 1] - c->range_start[b] + (c->bucket_start[b + 1] > c->bucket_start[b]);
-    if (!per) continue;
+    size_t whole = whole_commands(c, b), blend = blend_commands(c, b);
+    if (!whole && !blend) continue;
     glBindVertexArray(pt->vao);
+    float lod[4];
+    bucket_lod(c, b, lod);
+    glUniform4fv(f->u_lod, 1, lod);
     for (size_t bi = 0; bi < pt->batch_count; bi++) {
       const batch *ba = &pt->batches[bi];
-      multi_draw(f, ba, k, per, bound, st);
-      k += per;
+      if (whole) multi_draw(f, ba, k, whole, bound, st);
+      k += whole;
+      if (blend) {
+        glUniform1i(f->u_blend, 1);
+        multi_draw(f, ba, k, blend, bound, st);
+        glUniform1i(f->u_blend, 0);
+      }
+      k += blend;
       st->triangles += count * ba->count / 3;
     }
     st->billboards += count * pt->billboards;
@@ -375,6 +404,7 @@ void bbcgl__forest_draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bb
   glUniform3f(glGetUniformLocation(p, "u_wind"), (float)w->strength, (float)w->dir[0],
               (float)w->dir[1]);
   glUniform1f(glGetUniformLocation(p, "u_time"), (float)fr->time);
+  glUniform1i(f->u_blend, 0);
   glUniform1i(glGetUniformLocation(p, "u_tex"), 0);
   glUniform1i(glGetUniformLocation(p, "u_normal"), 1);
   glUniform1i(glGetUniformLocation(p, "u_occlusion"), 2);

@@ -13,6 +13,9 @@ uniform mat4 u_viewproj;
 uniform vec3 u_wind;  // strength, direction x, z (unit)
 uniform float u_time;
 uniform float u_sway;  // the model's height (model units); 0 = it does not sway
+uniform int u_blend;  // 1: the level's weight from the distance (a cell across a switch)
+uniform vec4 u_lod;  // the level's start and end, the model's fade, 1 / zoom
+uniform vec3 u_eye;
 out vec3 v_world;
 out vec3 v_normal;
 out vec4 v_tangent;
@@ -34,8 +37,22 @@ vec3 wind_offset(vec3 q, vec3 base, float height) {
                   sin(5.0 * u_time + phase + 3.0 * (q.x + q.y + q.z) / height);
   return vec3(d.x * bend - d.y * 0.8 * flutter, 0.6 * flutter, d.y * bend + d.x * 0.8 * flutter);
 }
+// bbc_forest_lod_get_weight
+float lod_weight(float d) {
+  float lo = u_lod.x, hi = u_lod.y, f = u_lod.z;
+  if (f <= 0.0) return (d >= lo && d < hi) ? 1.0 : 0.0;
+  float win = lo <= 0.0 ? 1.0 : (d - (lo - f)) / f;
+  float wout = (hi + f - d) / f;
+  return clamp(min(win, wout), 0.0, 1.0);
+}
 vec3 turn(vec3 v, float c, float s) { return vec3(c * v.x + s * v.z, v.y, -s * v.x + c * v.z); }
 void main() {
+  v_fade = a_inst2.y;
+  if (u_blend != 0) v_fade = lod_weight(distance(a_inst.xyz, u_eye) * u_lod.w);
+  if (v_fade <= 0.0) {  // this level does not draw the tree: outside the clip volume
+    gl_Position = vec4(0.0, 0.0, 2.0, 1.0);
+    return;
+  }
   float c = cos(a_inst.w), s = sin(a_inst.w);
   vec3 q = turn(a_pos * a_inst2.x, c, s);
   q += wind_offset(q, a_inst.xyz, u_sway * a_inst2.x);
@@ -43,7 +60,6 @@ void main() {
   v_tangent = vec4(turn(a_tangent.xyz, c, s), a_tangent.w);
   v_world = q + a_inst.xyz;
   v_uv = vec2(a_uv.x, 1.0 - a_uv.y);  // uvs: v up; images: rows top first
-  v_fade = a_inst2.y;
   v_occlusion = a_occlusion;
   gl_Position = u_viewproj * vec4(v_world, 1.0);
 }

@@ -38,20 +38,23 @@ model_file() {
 make_species() {
   local s=$1
   # Material clouds (bbcgen's default: albedo, normal and occlusion maps):
-  # forest lights them with its sun like the polygon tree (docs/forest.md).
+  # forest lights them with its sun like the polygon tree (docs/forest.md);
+  # the farthest without the trunk mesh.
   if [ ! -f "$out/$s.obj" ] || [ ! -f "$out/${s}_6.glb" ] || [ ! -f "$stamp" ]; then
     echo "== forest: $s and its Billboard Clouds (22, 8 and 6 billboards)"
     "$bin/bbcgen" tree --species "$s" --seed 1 -o "$out/$s.obj" > /dev/null
     "$bin/bbcgen" "$out/$s.obj" -o "$out/${s}_22.glb" --maxplanes 22 --texres 256 -q
     "$bin/bbcgen" "$out/$s.obj" -o "$out/${s}_8.glb" --maxplanes 8 --minplanes 0 --texres 64 -q
-    "$bin/bbcgen" "$out/$s.obj" -o "$out/${s}_6.glb" --maxplanes 6 --minplanes 0 --texres 64 -q
+    "$bin/bbcgen" "$out/$s.obj" -o "$out/${s}_6.glb" --maxplanes 6 --minplanes 0 --texres 64 --limbs 0 -q
   fi
   model_file "$s" "$s: the polygon tree near, Billboard Clouds farther (thesis Appendix B)" 6 6.5 2.5 \
     "$s.obj:45" "${s}_22.glb:160" "${s}_8.glb:420" "${s}_6.glb:1600"
 }
-# Clouds made before forest lit material clouds carried a baked light: the
-# stamp says these are material clouds (made again when it is missing).
-stamp="$out/clouds_material.stamp"
+# Clouds made before forest lit material clouds carried a baked light, and
+# far levels a trunk mesh: the stamp says these are material clouds whose
+# far level (a tree a few pixels tall) is billboards only (--limbs 0: 2.5x
+# fewer vertices on the million map); made again when it is missing.
+stamp="$out/clouds_material_v2.stamp"
 for s in oak pine birch larch weeping; do make_species "$s"; done
 cat > "$out/map.txt" <<EOT
 ' The demo map: 1024 x 1024 units of hills, meadows and a lake, $((per * 3)) trees.
@@ -92,7 +95,6 @@ colmap $dir/colmap.png
 heightscale $hs
 stretch 2
 light 1 1 0.5
-wind 1 1 0.3
 farclip 800
 roetger 10
 waterheight $(awk -v w="$wat" -v h="$hs" 'BEGIN { printf "%.2f", w * h + 0.6 }')
@@ -128,7 +130,7 @@ if [ ! -f "$out/spruces.obj" ] || [ ! -f "$out/spruces_11s.glb" ] || [ ! -f "$st
   mv "$out/spruces.obj.tmp" "$out/spruces.obj"
   "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_25.glb" --maxplanes 25 --texres 256 -q
   "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_11.glb" --maxplanes 11 --minplanes 0 --texres 128 -q
-  "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_11s.glb" --maxplanes 11 --minplanes 0 --texres 32 -q
+  "$bin/bbcgen" "$out/spruces.obj" -o "$out/spruces_11s.glb" --maxplanes 11 --minplanes 0 --texres 32 --limbs 0 -q
 fi
 model_file spruces \
   "8 spruces as one model (thesis 3.3, Finland): the polygon group near, clouds farther" 8 14 6 \
@@ -146,7 +148,7 @@ if [ ! -f "$out/palm.obj" ] || [ ! -f "$out/palm_5.glb" ] || [ ! -f "$stamp" ]; 
   "$bin/bbcgen" tree --species palm --seed 1 -o "$out/palm.obj" > /dev/null
   "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_8.glb" --maxplanes 8 --minplanes 0 --texres 512 -q
   "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_8s.glb" --maxplanes 8 --minplanes 0 --texres 128 -q
-  "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_5.glb" --maxplanes 5 --minplanes 0 --texres 32 -q
+  "$bin/bbcgen" "$out/palm.obj" -o "$out/palm_5.glb" --maxplanes 5 --minplanes 0 --texres 32 --limbs 0 -q
 fi
 model_file palm "palm: the polygon tree near, Billboard Clouds farther (thesis 3.3, Tropic Islands)" \
   6 5 2 palm.obj:45 palm_8.glb:160 palm_8s.glb:420 palm_5.glb:1600

@@ -9,9 +9,19 @@
 # the level's mean brightness (Rec. 709 luminance of the pixels the tree
 # covers, the four views together) over the polygon level's, and how many
 # of the 16 suns fall outside 0.90-1.10.
+#
+#   --polygon-no-mipmaps   the polygon level drawn without mip levels (a
+#                          texture atlas whose mip levels mix its regions,
+#                          like the Scopia trees', brightens it)
+#   TREES=REGEX            only the trees whose name matches
 set -euo pipefail
-out=${1:?usage: forest_sun_levels.sh OUT [BUILD]}
-build=${2:-build}
+nomip=0
+args=()
+for a in "$@"; do
+  if [ "$a" = --polygon-no-mipmaps ]; then nomip=1; else args+=("$a"); fi
+done
+out=${args[0]:?usage: forest_sun_levels.sh OUT [BUILD] [--polygon-no-mipmaps]}
+build=${args[1]:-build}
 here=$(cd "$(dirname "$0")" && pwd)
 bin=$(cd "$build/bin" && pwd)
 data=$(cd "$here/../../shared/data" && pwd)
@@ -33,19 +43,25 @@ keys() {
   echo "$k"
 }
 "$here/data_trees.sh" "$data" "$out/gen" "$bin/bbcgen" | while IFS=$'\t' read -r name orig; do
+  [[ "$name" =~ ${TREES:-.} ]] || continue
   d="$out/$name"
   mkdir -p "$d"
   [ -s "$d/chain_LOD2.glb" ] || "$bin/bbcgen" "$orig" -o "$d/chain.glb" --lod-files -q
   cp "$out/flat.png" "$d/flat.png"
   # the tree scaled to a radius of 12 units (forest's log gives its radius)
-  printf 'LOD ( file1 "%s" lighting mipmap min 0 max 1000 )\n' "$orig" > "$d/l0.txt"
+  mip=mipmap
+  [ $nomip = 1 ] && mip=
+  printf 'LOD ( file1 "%s" lighting %s min 0 max 1000 )\n' "$orig" "$mip" > "$d/l0.txt"
   printf 'hmap flat.png\nstretch 4\nobject2d l0.txt 1 1 128 128 0 0 0 0\n' > "$d/probe.txt"
   "$bin/forest" "$d/probe.txt" --size 16x16 --log "$d/probe.log" > /dev/null
   radius=$(sed -n 's/.*radius \([0-9.e+-]*\).*/\1/p' "$d/probe.log" | head -1)
   scale=$(awk -v r="$radius" 'BEGIN { printf "%.6g", 12 / r }')
   for l in 0 1 2 3; do
     [ $l -gt 0 ] && printf 'LOD ( file1 chain_LOD%d.glb mipmap min 0 max 1000 )\n' $((l - 1)) > "$d/l$l.txt"
-    printf 'hmap flat.png\nstretch 4\nobject2d l%d.txt %s 1 128 128 0 0 0 0\n' $l "$scale" > "$d/m$l.txt"
+    flag=1
+    [ $l = 0 ] && [ $nomip = 1 ] && flag=0
+    printf 'hmap flat.png\nstretch 4\nobject2d l%d.txt %s %d 128 128 0 0 0 0\n' $l "$scale" $flag \
+      > "$d/m$l.txt"
   done
   printf 'hmap flat.png\nstretch 4\n' > "$d/m4.txt"
   for el in 15 40; do
@@ -60,12 +76,14 @@ keys() {
   done
   echo "$name: drawn" >&2
 done
-"$py" - "$out" <<'PY' > "$out/sun_levels.md"
+"$py" - "$out" "$nomip" <<'PY' > "$out/sun_levels.md"
 import sys, os, glob
 import numpy as np
 from PIL import Image
 out = sys.argv[1]
 print("# forest: cloud levels against the polygon level under one sun\n")
+if sys.argv[2] == '1':
+    print("The polygon level drawn without mip levels (`--polygon-no-mipmaps`).\n")
 print("`scripts/forest_sun_levels.sh OUT`: mean brightness of each level of the default chain "
       "(512, 128, 32 px) over the polygon level's, 4 views, 8 azimuths x elevations 15 and 40 "
       "(16 suns); outside = suns outside 0.90-1.10.\n")

@@ -59,19 +59,32 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_image *src, int mipmap, int
   bbc_image opaque = {0};
   if (map && !opaque_copy(src, &opaque, err)) return 0;
   const bbc_image *im = map ? &opaque : src;
-  bbc_image *mips = NULL;
+  bbc_image *all = NULL;
   int nm = 0;
   bbc_error e;
-  if (mipmap && bbc_image_mipmaps(im, &mips, &nm, &e) != BBC_OK) {
+  /* Normal and occlusion maps of 512 texels or more (and 128 a side) at
+   * half their resolution (light varies slowly across a leaf; a quarter of
+   * the memory): level 1 and the levels after it. Smaller atlases (far
+   * levels') would lose the leaves' orientation: the test oak's 8-billboard
+   * level, 256 x 128, fell to 0.898 of its polygon tree's brightness. */
+  int big = im->width > im->height ? im->width : im->height;
+  int half = map && big >= 512 && im->width >= 128 && im->height >= 128;
+  if ((mipmap || half) && bbc_image_mipmaps(im, &all, &nm, &e) != BBC_OK) {
     snprintf(err, BBCGL_ERR, "%s", e.message);
     bbc_image_free(&opaque);
     return 0;
+  }
+  int nm_all = nm;
+  bbc_image *mips = all;
+  if (half) {
+    im = &all[0];
+    mips = all + 1;
+    nm = mipmap ? nm - 1 : 0;
   }
   /* Alpha-tested textures stop at 8 x 8 texels: below, a level cannot keep
    * the opaque fraction (a 1 x 1 level of a 40 % leaf is nothing at all)
    * and small leaves would vanish; sampling 8 x 8 texels keeps it on
    * average. */
-  int nm_all = nm;
   if (nm && bbc_image_has_transparency(im))
     while (nm > 0 && (mips[nm - 1].width < 8 || mips[nm - 1].height < 8)) nm--;
   GLuint tex;
@@ -106,8 +119,8 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_image *src, int mipmap, int
       bytes += (size_t)mips[l].width * mips[l].height * 4;
     }
   }
-  for (int l = 0; l < nm_all; l++) bbc_image_free(&mips[l]);
-  free(mips);
+  for (int l = 0; l < nm_all; l++) bbc_image_free(&all[l]);
+  free(all);
   bbc_image_free(&opaque);
   if (!tex) return 0;
   glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, nm ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);

@@ -385,7 +385,7 @@ static void test_sun_levels_alike(void **state) {
   static const char *const file[3] = {"t.obj lighting", "t22.glb", "t8.glb"};
   static const char *const cam[4] = {"128,6,146,0,0", "146,6,128,-90,0", "128,6,110,180,0",
                                      "110,6,128,90,0"};
-  char text[300], keys[600];
+  char text[300], keys[2048];
   for (int l = 0; l < 3; l++) {
     snprintf(text, sizeof text, "LOD ( file1 %s mipmap min 0 max 400 )\n", file[l]);
     snprintf(keys, sizeof keys, "sun_l%d.txt", l);
@@ -399,9 +399,11 @@ static void test_sun_levels_alike(void **state) {
   for (int m = 0; m < 4; m++)
     for (int c = 0; c < 4; c++) {
       int n = 0;
-      for (int a = 0; a < 8; a++)
+      for (int a = 0; a < 8; a++) {
         n += snprintf(keys + n, sizeof keys - (size_t)n, "%sshot:%s/sun_%d_%d_%d.png",
                       a ? " right right right " : "", dir, m, c, a);
+        assert_true((size_t)n < sizeof keys); /* the script whole */
+      }
       char *out;
       if (sh(&out,
              "'%s/forest' '%s/sun_m%d.txt' --size 160x160 --camera %s --sun 0,40 "

@@ -284,6 +284,8 @@ void bbc_forest_cull_run(bbc_forest_cull *cull, const float viewproj[16], const 
  * `forest --naive` measures against). */
 void bbc_forest_cull_run_flat(bbc_forest_cull *cull, const float viewproj[16], const double eye[3],
                               double zoom);
+/* The model whose level bucket b is (its level in *level, may be NULL). */
+size_t bbc_forest_cull_get_bucket_model(const bbc_forest_cull *cull, size_t bucket, size_t *level);
 /* How many records bucket b draws this frame (static ranges and per-frame). */
 size_t bbc_forest_cull_get_bucket_size(const bbc_forest_cull *cull, size_t bucket);
 /* Writes bucket b's records of this frame into out (bbc_forest_cull_get_bucket_size

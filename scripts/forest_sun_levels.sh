@@ -13,18 +13,23 @@
 #   --polygon-no-mipmaps   the polygon level drawn without mip levels (a
 #                          texture atlas whose mip levels mix its regions,
 #                          like the Scopia trees', brightens it)
-#   TREES=REGEX            only the trees whose name matches
+#   --only NAME,...        only these trees (as lod_chain.sh and sun_sweep.sh)
 set -euo pipefail
 nomip=0
+only=
 args=()
-for a in "$@"; do
-  if [ "$a" = --polygon-no-mipmaps ]; then nomip=1; else args+=("$a"); fi
+while [ $# -gt 0 ]; do
+  case $1 in
+    --polygon-no-mipmaps) nomip=1; shift ;;
+    --only) only=$2; shift 2 ;;
+    *) args+=("$1"); shift ;;
+  esac
 done
-out=${args[0]:?usage: forest_sun_levels.sh OUT [BUILD] [--polygon-no-mipmaps]}
+out=${args[0]:?usage: forest_sun_levels.sh [--only NAME,...] [--polygon-no-mipmaps] OUT [BUILD]}
 build=${args[1]:-build}
 here=$(cd "$(dirname "$0")" && pwd)
 bin=$(cd "$build/bin" && pwd)
-data=$(cd "$here/../../shared/data" && pwd)
+data=$(cd "${BBC_DATA:-$here/../../shared/data}" && pwd)
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
 py=/usr/bin/python3
@@ -43,7 +48,7 @@ keys() {
   echo "$k"
 }
 "$here/data_trees.sh" "$data" "$out/gen" "$bin/bbcgen" | while IFS=$'\t' read -r name orig; do
-  [[ "$name" =~ ${TREES:-.} ]] || continue
+  [ -z "$only" ] || [[ ",$only," == *",$name,"* ]] || continue
   d="$out/$name"
   mkdir -p "$d"
   [ -s "$d/chain_LOD2.glb" ] || "$bin/bbcgen" "$orig" -o "$d/chain.glb" --lod-files -q

@@ -523,6 +523,14 @@ void bbc_forest_cull_run_flat(bbc_forest_cull *c, const float viewproj[16], cons
   sort_by_bucket(c, n, 0);
 }
 
+size_t bbc_forest_cull_get_bucket_model(const bbc_forest_cull *c, size_t b, size_t *level) {
+  assert(c);
+  size_t m = 0;
+  while (m + 1 < c->model_count && c->bucket_base[m + 1] <= b) m++;
+  if (level) *level = b - c->bucket_base[m];
+  return m;
+}
+
 size_t bbc_forest_cull_get_bucket_size(const bbc_forest_cull *c, size_t b) {
   assert(c);
   if (b >= c->bucket_count) return 0;
@@ -534,15 +542,14 @@ size_t bbc_forest_cull_get_bucket_size(const bbc_forest_cull *c, size_t b) {
 void bbc_forest_cull_copy_bucket(const bbc_forest_cull *c, size_t b, bbc_forest_draw *out) {
   assert(c && out);
   if (b >= c->bucket_count) return;
-  size_t m = 0;
-  while (m + 1 < c->model_count && c->bucket_base[m + 1] <= b) m++;
+  size_t level, m = bbc_forest_cull_get_bucket_model(c, b, &level);
   for (size_t r = c->range_start[b]; r < c->range_start[b + 1]; r++) {
     memcpy(out, c->statics + c->ranges[r][0], c->ranges[r][1] * sizeof *out);
     if (r >= c->range_blend[b]) /* weighted as the drawing layer weights them */
       for (uint32_t i = 0; i < c->ranges[r][1]; i++) {
         double dx = out[i].x - c->eye[0], dy = out[i].y - c->eye[1], dz = out[i].z - c->eye[2];
         double d = sqrt(dx * dx + dy * dy + dz * dz) / c->zoom;
-        out[i].fade = (float)bbc_forest_lod_get_weight(&c->models[m], b - c->bucket_base[m], d);
+        out[i].fade = (float)bbc_forest_lod_get_weight(&c->models[m], level, d);
       }
     out += c->ranges[r][1];
   }

@@ -335,10 +335,8 @@ static size_t fill_commands(bbcgl_forest *f, const bbc_forest_cull *c) {
  * range's start and end, the model's fade, 1 / zoom (as
  * bbc_forest_lod_get_weight, distances divided by the zoom). */
 static void bucket_lod(const bbc_forest_cull *c, size_t b, float lod[4]) {
-  size_t m = 0;
-  while (m + 1 < c->model_count && c->bucket_base[m + 1] <= b) m++;
+  size_t l, m = bbc_forest_cull_get_bucket_model(c, b, &l);
   const bbc_forest_lod_model *mod = &c->models[m];
-  size_t l = b - c->bucket_base[m];
   lod[0] = (float)mod->ranges[2 * l];
   lod[1] = (float)(mod->ranges[2 * l + 1] < 1e30 ? mod->ranges[2 * l + 1] : 1e30);
   lod[2] = (float)(mod->fade > 0 ? mod->fade : 0);

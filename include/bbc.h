@@ -427,6 +427,7 @@ typedef struct bbc_params {
   int point_smooth;     /* pointsmooth: round splats */
   int point_skip;       /* pointskip: drop planes with fewer points */
   int point_normals;    /* pointnormals: weigh points by their normals */
+  int point_sample;     /* pointsample: steps 1 and 2 on about this many points */
   double poly_skip_pct; /* polyskip: drop planes below n % of the largest's area (2.3.5) */
   int prelight;         /* prelight: lighting baked while texturing */
   bbc_pure pure;        /* pure: which faces a texture shows (2.2.5) */
@@ -644,7 +645,11 @@ typedef struct bbc_planeset {
                          * multiplied by (1 = as asked) */
   int attempts;         /* runs of steps 1 and 2 (> 1 when the plane budget moved
                          * epsilon) */
-  double retry_s;       /* wall-clock seconds of the discarded runs */
+  double retry_s;       /* wall-clock seconds of the discarded runs and the probes */
+  int probe_runs;       /* the epsilon search's runs on a sample of the faces (1 in
+                         * probe_stride): it predicts the plane count at a scale */
+  int probe_stride;
+  double probe_s; /* their wall-clock seconds (part of retry_s) */
 } bbc_planeset;
 
 /* Releases what the set owns and zeroes it (NULL: nothing). */
@@ -1171,8 +1176,9 @@ void bbc_tree_options_default(bbc_tree_options *options);
 bbc_result bbc_tree_generate(const bbc_tree_options *options, bbc_mesh *mesh, bbc_error *err);
 
 /* Samples `count` points on a triangle mesh's surface, uniform by area,
- * coloured as the surface there (material colour times texture), the same
- * for the same seed: a point cloud into `out` (bbc_mesh_free). */
+ * coloured as the surface there (material colour times texture), with its
+ * triangle's unit normal, the same for the same seed: a point cloud into
+ * `out` (bbc_mesh_free). */
 bbc_result bbc_mesh_sample_points(const bbc_mesh *mesh, size_t count, uint64_t seed, bbc_mesh *out,
                                   bbc_error *err);
 

@@ -210,3 +210,7 @@ cat "$res/latest.md"
 # The generator's speed per stage against an older release, in the same run
 # (bench/results/speed.md, .json).
 "$root/scripts/bench_speed.sh" "$build"
+# Speed by class of input (building and plot scans, 1M points, meshes)
+# against the binary before issue 34, in the same run
+# (bench/results/classes.md, .json).
+"$root/scripts/bench_classes.sh" "$build"

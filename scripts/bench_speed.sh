@@ -21,13 +21,7 @@ command -v /usr/bin/time > /dev/null || { echo "bench_speed.sh: GNU time is need
 case "$build" in /*) ;; *) build="$root/$build" ;; esac
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-echo "bench_speed: building $base as the older binary" >&2
-mkdir -p "$tmp/old/src"
-git -C "$root" archive "$base" | tar -x -C "$tmp/old/src"
-cmake -S "$tmp/old/src" -B "$tmp/old/build" -DCMAKE_BUILD_TYPE=Release -DBBC_BUILD_TESTS=OFF \
-  -DBBC_BUILD_BENCH=OFF > /dev/null
-cmake --build "$tmp/old/build" -j "$(nproc)" --target bbcgen > /dev/null
-old="$tmp/old/build/bin/bbcgen"
+old=$("$root/scripts/build_base.sh" "$base" "$tmp/old")
 new="$build/bin/bbcgen"
 "$new" tree --leaves 450000 -q -o "$tmp/big_oak.obj"
 models=("$data/trees/scopia/pine/pine.obj" "$data/trees/scopia/copperBeech/copperBeech.obj"

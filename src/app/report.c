@@ -76,6 +76,8 @@ static cJSON *lod_json(const job_lod *L, int detailed) {
   cJSON_AddNumberToObject(o, "limb_triangles", (double)L->cloud.limb_triangles);
   cJSON_AddNumberToObject(o, "texres_used", L->cloud.texres);
   cJSON_AddNumberToObject(o, "plane_runs", L->planes.attempts);
+  cJSON_AddNumberToObject(o, "plane_probe_runs", L->planes.probe_runs);
+  cJSON_AddNumberToObject(o, "plane_probe_stride", L->planes.probe_stride);
   cJSON *atlas = cJSON_AddArrayToObject(o, "atlas");
   cJSON_AddItemToArray(atlas, cJSON_CreateNumber(m->textures[0].image.width));
   cJSON_AddItemToArray(atlas, cJSON_CreateNumber(m->textures[0].image.height));
@@ -86,6 +88,7 @@ static cJSON *lod_json(const job_lod *L, int detailed) {
   cJSON_AddNumberToObject(t, "step1", s1);
   cJSON_AddNumberToObject(t, "step2", s2);
   cJSON_AddNumberToObject(t, "steps12_discarded_runs", L->planes.retry_s);
+  cJSON_AddNumberToObject(t, "steps12_probes", L->planes.probe_s);
   cJSON_AddNumberToObject(t, "step3_bake", L->cloud.bake_s);
   cJSON_AddNumberToObject(t, "step3_atlas", L->cloud.atlas_s);
   cJSON *parts = cJSON_AddArrayToObject(o, "parts");

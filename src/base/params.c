@@ -89,6 +89,11 @@ static const param_row k_rows[] = {
       "neighbours) meets it, as a triangle by its projected area; 0 = every point counts 1 "
       "(thesis 2.4.3)"},
      INT_FIELD(point_normals)},
+    {{"pointsample", BBC_PARAM_INT, 0, 1e9, 65536, 0, "extension", "points",
+      "point clouds of more points: planes chosen on a sample of about n points (1 in k), "
+      "every point then given to the first plane it is valid for, else (a few at the slabs' "
+      "edges) the nearest; 0 = every point in steps 1 and 2"},
+     INT_FIELD(point_sample)},
     {{"polyskip", BBC_PARAM_REAL, 0, 99, 0, F3, "billboard", "%",
       "skip planes whose coverage is below n% of the largest plane's (2.3.5)"},
      DBL_FIELD(poly_skip_pct)},
@@ -215,7 +220,8 @@ void bbc_params_thesis(bbc_params *p) {
   p->stem = 0;
   p->limbs = 0;
   p->point_normals = 0;
-  p->prelight = 1; /* the thesis bakes its light (2.1.9) */
+  p->point_sample = 0; /* every point, as the thesis */
+  p->prelight = 1;     /* the thesis bakes its light (2.1.9) */
   p->normal_maps = 0;
   p->occlusion = 0;
 }

@@ -10,6 +10,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* bbc__dual_face_valid's arithmetic for a point (its dual face: c the
+ * point, offsets zero). */
+static int point_valid(const double *c, const double n[3], double rho, double eps) {
+  double cc = c[0] * n[0] + c[1] * n[1] + c[2] * n[2] - rho;
+  return !(fabs(cc) > eps * (1 + 1e-12));
+}
+
 bbc_result bbc_billboards_compute(const bbc_mesh *mesh, const bbc_planeset *set, bbc_billboard *out,
                                   bbc_error *err) {
   assert(mesh && set && out);
@@ -20,14 +27,17 @@ bbc_result bbc_billboards_compute(const bbc_mesh *mesh, const bbc_planeset *set,
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "billboards: the plane set has %zu faces, the model %zu %s", nf, have,
                      points ? "points" : "triangles");
-  uint32_t *all = malloc((nf ? nf : 1) * sizeof *all);
+  /* Triangles in dual form; points are read from the mesh (a point's dual
+   * face, 184 bytes, for ten million points would be 1.8 GB). */
   dual_face *faces = NULL;
   const double origin[3] = {0, 0, 0};
-  for (size_t t = 0; all && t < nf; t++) all[t] = (uint32_t)t;
-  if (!all || (points ? bbc__dual_points_build(mesh, all, nf, origin, NULL, &faces)
-                      : bbc__dual_faces_build(mesh, all, nf, origin, &faces)) != BBC_OK) {
+  if (!points) {
+    uint32_t *all = malloc((nf ? nf : 1) * sizeof *all);
+    for (size_t t = 0; all && t < nf; t++) all[t] = (uint32_t)t;
+    bbc_result r =
+        all ? bbc__dual_faces_build(mesh, all, nf, origin, &faces) : BBC_ERROR_OUT_OF_MEMORY;
     free(all);
-    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "billboards: out of memory");
+    if (r != BBC_OK) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "billboards: out of memory");
   }
   int oom = 0;
   /* The planes are independent: one each, a face list per thread. */
@@ -50,7 +60,8 @@ bbc_result bbc_billboards_compute(const bbc_mesh *mesh, const bbc_planeset *set,
       for (size_t t = 0; t < nf; t++) {
         if (set->face_plane[t] != owner) continue;
         if (p->kind == BBC_PLANE_CARDBOARD &&
-            !bbc__dual_face_valid(&faces[t], p->normal, p->d, eps))
+            !(points ? point_valid(mesh->positions + 3 * t, p->normal, p->d, eps)
+                     : bbc__dual_face_valid(&faces[t], p->normal, p->d, eps)))
           continue;
         which[n++] = (uint32_t)t;
       }
@@ -58,7 +69,10 @@ bbc_result bbc_billboards_compute(const bbc_mesh *mesh, const bbc_planeset *set,
       memset(b, 0, sizeof *b);
       b->plane = (uint32_t)i;
       double mn[2], mx[2];
-      bbc__dual_min_rect(faces, which, n, p->normal, b->u, b->w, mn, mx);
+      if (points)
+        bbc__points_min_rect(mesh, which, n, p->normal, b->u, b->w, mn, mx);
+      else
+        bbc__dual_min_rect(faces, which, n, p->normal, b->u, b->w, mn, mx);
       double width = mx[0] - mn[0], height = mx[1] - mn[1];
       if (height > width) { /* longer side along u; u x w stays the normal */
         double u[3], w[3];
@@ -83,7 +97,6 @@ bbc_result bbc_billboards_compute(const bbc_mesh *mesh, const bbc_planeset *set,
     free(which);
   }
   free(faces);
-  free(all);
   if (oom) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "billboards: out of memory");
   return BBC_OK;
 }

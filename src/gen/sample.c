@@ -51,7 +51,8 @@ bbc_result bbc_mesh_sample_points(const bbc_mesh *m, size_t count, uint64_t seed
   double *cum = malloc(nt * sizeof *cum);
   out->positions = malloc(3 * count * sizeof *out->positions);
   out->colors = malloc(4 * count * sizeof *out->colors);
-  if (!cum || !out->positions || !out->colors) {
+  out->normals = malloc(3 * count * sizeof *out->normals);
+  if (!cum || !out->positions || !out->colors || !out->normals) {
     free(cum);
     bbc_mesh_free(out);
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "sampling: out of memory for %zu points", count);
@@ -82,6 +83,15 @@ bbc_result bbc_mesh_sample_points(const bbc_mesh *m, size_t count, uint64_t seed
       out->positions[3 * i + k] = (1 - u - v) * m->positions[3 * ix[0] + k] +
                                   u * m->positions[3 * ix[1] + k] + v * m->positions[3 * ix[2] + k];
     surface_colour(m, lo, u, v, out->colors + 4 * i);
+    /* the triangle's normal, as a scanner's estimate would give it */
+    const double *a = m->positions + 3 * ix[0], *b = m->positions + 3 * ix[1],
+                 *c = m->positions + 3 * ix[2];
+    double e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+           f[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double nn[3] = {e[1] * f[2] - e[2] * f[1], e[2] * f[0] - e[0] * f[2],
+                    e[0] * f[1] - e[1] * f[0]};
+    double len = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+    for (int k = 0; k < 3; k++) out->normals[3 * i + k] = len > 0 ? (float)(nn[k] / len) : 0.0f;
   }
   free(cum);
   out->kind = BBC_MESH_POINTS;

@@ -1,5 +1,6 @@
 /* write_ply.c — a point cloud as binary little-endian PLY (doubles, so
- * georeferenced coordinates keep their precision), atomically. */
+ * georeferenced coordinates keep their precision; colours and normals when
+ * the cloud has them), atomically. */
 #include "io.h"
 
 #include <assert.h>
@@ -17,10 +18,11 @@ bbc_result bbc_points_write_ply(const char *path, const bbc_mesh *m, bbc_error *
   fprintf(af.fp,
           "ply\nformat binary_little_endian 1.0\ncomment bbcgen " BBC_VERSION_STRING
           "\nelement vertex %zu\nproperty double x\nproperty double y\nproperty double z\n"
-          "%send_header\n",
+          "%s%send_header\n",
           m->vertex_count,
+          m->normals ? "property float nx\nproperty float ny\nproperty float nz\n" : "",
           m->colors ? "property uchar red\nproperty uchar green\nproperty uchar blue\n" : "");
-  unsigned char rec[27];
+  unsigned char rec[39];
   for (size_t v = 0; v < m->vertex_count; v++) {
     for (int k = 0; k < 3; k++) { /* little endian, whatever the host */
       uint64_t bits;
@@ -28,9 +30,15 @@ bbc_result bbc_points_write_ply(const char *path, const bbc_mesh *m, bbc_error *
       for (int b = 0; b < 8; b++) rec[8 * k + b] = (unsigned char)(bits >> (8 * b));
     }
     size_t n = 24;
+    if (m->normals)
+      for (int k = 0; k < 3; k++, n += 4) {
+        uint32_t bits;
+        memcpy(&bits, m->normals + 3 * v + k, 4);
+        for (int b = 0; b < 4; b++) rec[n + b] = (unsigned char)(bits >> (8 * b));
+      }
     if (m->colors) {
-      memcpy(rec + 24, m->colors + 4 * v, 3);
-      n = 27;
+      memcpy(rec + n, m->colors + 4 * v, 3);
+      n += 3;
     }
     fwrite(rec, 1, n, af.fp);
   }

@@ -222,9 +222,11 @@ static inline void dual_point_frame(const dual_frame *fr, const double p[3], dou
 }
 
 /* The points of a point cloud as dual faces (`idx`: point indices;
- * `normals`, 3 a point, may be NULL: unoriented points). */
+ * `normals`, 3 a point, may be NULL: unoriented points; indexed as the
+ * mesh's points, or with normals_local as idx). */
 bbc_result bbc__dual_points_build(const bbc_mesh *mesh, const uint32_t *idx, size_t count,
-                                  const double center[3], const float *normals, dual_face **out);
+                                  const double center[3], const float *normals, int normals_local,
+                                  dual_face **out);
 /* Prepares the faces of a part: `tris` lists mesh triangle indices; one
  * face a triangle. */
 bbc_result bbc__dual_faces_build(const bbc_mesh *mesh, const uint32_t *tris, size_t count,
@@ -351,5 +353,10 @@ int bbc__dual_fit_plane(const dual_face *faces, const uint32_t *which, size_t co
 void bbc__dual_min_rect(const dual_face *faces, const uint32_t *which, size_t count,
                         const double n[3], double u[3], double w[3], double min_uv[2],
                         double max_uv[2]);
+/* The same for points of a point cloud (mesh positions, which[count]):
+ * each point projected once, the same rectangle as their dual faces'. */
+void bbc__points_min_rect(const bbc_mesh *mesh, const uint32_t *which, size_t count,
+                          const double n[3], double u[3], double w[3], double min_uv[2],
+                          double max_uv[2]);
 
 #endif /* BBC_DUAL_H */

@@ -77,7 +77,8 @@ int bbc__dual_face_valid(const dual_face *f, const double n[3], double rho, doub
 }
 
 bbc_result bbc__dual_points_build(const bbc_mesh *m, const uint32_t *idx, size_t count,
-                                  const double center[3], const float *normals, dual_face **out) {
+                                  const double center[3], const float *normals, int normals_local,
+                                  dual_face **out) {
   dual_face *fs = calloc(count ? count : 1, sizeof *fs);
   if (!fs) return BBC_ERROR_OUT_OF_MEMORY;
     /* Faces are independent: any split over threads gives the same bytes. */
@@ -92,7 +93,7 @@ bbc_result bbc__dual_points_build(const bbc_mesh *m, const uint32_t *idx, size_t
     f->c_len = sqrt(f->c[0] * f->c[0] + f->c[1] * f->c[1] + f->c[2] * f->c[2]);
     f->mesh_index = idx[i];
     if (normals)
-      for (int k = 0; k < 3; k++) f->n[k] = normals[3 * (size_t)idx[i] + k];
+      for (int k = 0; k < 3; k++) f->n[k] = normals[3 * (normals_local ? i : (size_t)idx[i]) + k];
   }
   *out = fs;
   return BBC_OK;

@@ -16,6 +16,12 @@ void bbc__planes_options_copy(bbc_planes_options *dst, char text[3][4096],
 /* The options a grid's step 1 ran with. */
 const bbc_planes_options *bbc__grid_options(const bbc_grid *grid);
 
+/* bbc_points_estimate_normals for the points idx[count] only (NULL: every
+ * point, count = the mesh's), each from all the cloud's points around it
+ * (the same bits as for the whole cloud) into normals[3 * count]. */
+bbc_result bbc__points_estimate_normals_at(const bbc_mesh *mesh, const uint32_t *idx, size_t count,
+                                           int threads, float *normals, bbc_error *err);
+
 /* ---- the stem model (stem.c) ------------------------------------------------ */
 /* The split's view, the stem's path: keeps in part `trunk` only the faces
  * near the path of its stem up the up axis (0 = x, 1 = y, 2 = z; else y);

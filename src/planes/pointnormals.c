@@ -9,7 +9,7 @@
  * Deterministic: each point's normal depends on its neighbours only, summed
  * in index order, whatever the number of threads.
  */
-#include "base.h"
+#include "planes.h"
 
 #include <assert.h>
 #include <math.h>
@@ -52,16 +52,22 @@ static size_t find_key(const cell_key *keys, size_t n, uint64_t key) {
 bbc_result bbc_points_estimate_normals(const bbc_mesh *m, int threads, float *normals,
                                        bbc_error *err) {
   assert(m && normals);
+  return bbc__points_estimate_normals_at(m, NULL, m->vertex_count, threads, normals, err);
+}
+
+bbc_result bbc__points_estimate_normals_at(const bbc_mesh *m, const uint32_t *idx, size_t count,
+                                           int threads, float *normals, bbc_error *err) {
+  assert(m && normals);
   size_t n = m->vertex_count;
-  if (!n) return BBC_OK;
+  if (!n || !count) return BBC_OK;
   double ext[3], diag2 = 0;
   for (int k = 0; k < 3; k++) {
     ext[k] = m->bbox_max[k] - m->bbox_min[k];
     diag2 += ext[k] * ext[k];
   }
   if (!(diag2 > 0)) {
-    for (size_t v = 0; v < n; v++)
-      normals[3 * v] = 0, normals[3 * v + 1] = 0, normals[3 * v + 2] = 1;
+    for (size_t i = 0; i < count; i++)
+      normals[3 * i] = 0, normals[3 * i + 1] = 0, normals[3 * i + 2] = 1;
     return BBC_OK;
   }
   /* Cells holding about 12 points of a surface: a scan of n points over an
@@ -93,7 +99,8 @@ bbc_result bbc_points_estimate_normals(const bbc_mesh *m, int threads, float *no
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 4096) num_threads(nt)
 #endif
-  for (size_t v = 0; v < n; v++) {
+  for (size_t i = 0; i < count; i++) {
+    size_t v = idx ? idx[i] : i;
     const double *p = m->positions + 3 * v;
     int64_t c[3];
     for (int k = 0; k < 3; k++) c[k] = (int64_t)floor((p[k] - m->bbox_min[k]) / h);
@@ -104,8 +111,8 @@ bbc_result bbc_points_estimate_normals(const bbc_mesh *m, int threads, float *no
       for (int dy = -1; dy <= 1; dy++)
         for (int dx = -1; dx <= 1; dx++) {
           uint64_t key = pack(c[0] + dx, c[1] + dy, c[2] + dz);
-          for (size_t i = find_key(keys, n, key); i < n && keys[i].key == key; i++) {
-            const double *q = m->positions + 3 * (size_t)keys[i].point;
+          for (size_t j = find_key(keys, n, key); j < n && keys[j].key == key; j++) {
+            const double *q = m->positions + 3 * (size_t)keys[j].point;
             double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
             if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > h * h) continue;
             for (int a = 0; a < 3; a++) {
@@ -115,7 +122,7 @@ bbc_result bbc_points_estimate_normals(const bbc_mesh *m, int threads, float *no
             cnt++;
           }
         }
-    float *o = normals + 3 * v;
+    float *o = normals + 3 * i;
     if (cnt < 3) { /* too few neighbours: no preferred direction */
       o[0] = o[1] = o[2] = 0;
       continue;

@@ -228,37 +228,73 @@ static size_t convex_hull(pt2 *p, size_t n, pt2 *h) {
   return k > 1 ? k - 1 : k;
 }
 
-void bbc__dual_min_rect(const dual_face *faces, const uint32_t *which, size_t count,
-                        const double n[3], double u[3], double w[3], double min_uv[2],
-                        double max_uv[2]) {
-  /* In-plane axes. */
+/* The plane's in-plane axes a, b for normal n. */
+static void plane_axes(const double n[3], double a[3], double b[3]) {
   double t[3] = {0, 0, 0};
   int kk = fabs(n[0]) < fabs(n[1]) ? (fabs(n[0]) < fabs(n[2]) ? 0 : 2)
                                    : (fabs(n[1]) < fabs(n[2]) ? 1 : 2);
   t[kk] = 1;
-  double a[3] = {n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2], n[0] * t[1] - n[1] * t[0]};
+  a[0] = n[1] * t[2] - n[2] * t[1];
+  a[1] = n[2] * t[0] - n[0] * t[2];
+  a[2] = n[0] * t[1] - n[1] * t[0];
   double la = sqrt(vdot(vload(a), vload(a)));
   for (int k = 0; k < 3; k++) a[k] /= la;
-  double b[3] = {n[1] * a[2] - n[2] * a[1], n[2] * a[0] - n[0] * a[2], n[0] * a[1] - n[1] * a[0]};
+  b[0] = n[1] * a[2] - n[2] * a[1];
+  b[1] = n[2] * a[0] - n[0] * a[2];
+  b[2] = n[0] * a[1] - n[1] * a[0];
+}
+
+static void min_rect_of(pt2 *p, size_t np, const double a[3], const double b[3], double u[3],
+                        double w[3], double min_uv[2], double max_uv[2]);
+
+void bbc__dual_min_rect(const dual_face *faces, const uint32_t *which, size_t count,
+                        const double n[3], double u[3], double w[3], double min_uv[2],
+                        double max_uv[2]) {
+  double a[3], b[3];
+  plane_axes(n, a, b);
   size_t np = 4 * count;
   pt2 *p = malloc((np ? np : 1) * sizeof *p);
-  pt2 *h = malloc((2 * np + 2) * sizeof *h);
-  if (!p || !h || count == 0) {
-    free(p);
-    free(h);
+  if (p) {
+    np = 0;
+    for (size_t i = 0; i < count; i++) {
+      const dual_face *f = &faces[which[i]];
+      for (int j = 0; j < f->nv; j++) {
+        double v[3] = {f->c[0] + f->d[j][0], f->c[1] + f->d[j][1], f->c[2] + f->d[j][2]};
+        p[np].x = vdot(vload(v), vload(a));
+        p[np++].y = vdot(vload(v), vload(b));
+      }
+    }
+  }
+  min_rect_of(p, p ? np : 0, a, b, u, w, min_uv, max_uv);
+  free(p);
+}
+
+void bbc__points_min_rect(const bbc_mesh *m, const uint32_t *which, size_t count, const double n[3],
+                          double u[3], double w[3], double min_uv[2], double max_uv[2]) {
+  double a[3], b[3];
+  plane_axes(n, a, b);
+  pt2 *p = malloc((count ? count : 1) * sizeof *p);
+  if (p)
+    for (size_t i = 0; i < count; i++) {
+      const double *v = m->positions + 3 * (size_t)which[i];
+      p[i].x = vdot(vload(v), vload(a));
+      p[i].y = vdot(vload(v), vload(b));
+    }
+  min_rect_of(p, p ? count : 0, a, b, u, w, min_uv, max_uv);
+  free(p);
+}
+
+/* The minimum-area rectangle of 2D points p[np] (coordinates along a and
+ * b; np = 0 when they could not be had): its axes and extents. The points
+ * are reordered. */
+static void min_rect_of(pt2 *p, size_t np, const double a[3], const double b[3], double u[3],
+                        double w[3], double min_uv[2], double max_uv[2]) {
+  pt2 *h = np ? malloc((2 * np + 2) * sizeof *h) : NULL;
+  if (!h) {
     memcpy(u, a, 3 * sizeof *u);
     memcpy(w, b, 3 * sizeof *w);
     min_uv[0] = min_uv[1] = max_uv[0] = max_uv[1] = 0;
     return;
-  }
-  np = 0;
-  for (size_t i = 0; i < count; i++) {
-    const dual_face *f = &faces[which[i]];
-    for (int j = 0; j < f->nv; j++) {
-      double v[3] = {f->c[0] + f->d[j][0], f->c[1] + f->d[j][1], f->c[2] + f->d[j][2]};
-      p[np].x = vdot(vload(v), vload(a));
-      p[np++].y = vdot(vload(v), vload(b));
-    }
   }
   size_t hn = convex_hull(p, np, h);
   /* Rotating calipers: the minimum rectangle has a side on a hull edge. */
@@ -302,6 +338,5 @@ void bbc__dual_min_rect(const dual_face *faces, const uint32_t *which, size_t co
     u[k] = bc * a[k] + bs * b[k];
     w[k] = -bs * a[k] + bc * b[k];
   }
-  free(p);
   free(h);
 }

@@ -662,7 +662,7 @@ static void setup_light(const camera *cam, const bbc_view *view, double *light) 
   vstore(light, vnormalize(vload(light)));
 }
 
-static bbc_result check_view(const bbc_view *view, int w, int h, camera *cam, bbc_error *err) {
+bbc_result bbc__check_view(const bbc_view *view, int w, int h, camera *cam, bbc_error *err) {
   if (w <= 0 || h <= 0)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "render: image not allocated");
   if (!(view->half_extent > 0))
@@ -688,7 +688,7 @@ static bbc_result render(const bbc_mesh *m, const bbc_view *view, bbc_image *img
                          float *sun_lum, bbc_error *err) {
   if (!img->rgba) return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "render: image not allocated");
   camera cam;
-  bbc_result r = check_view(view, img->width, img->height, &cam, err);
+  bbc_result r = bbc__check_view(view, img->width, img->height, &cam, err);
   if (r != BBC_OK) return r;
   size_t n = (size_t)img->width * img->height;
   float *depth = malloc(n * sizeof *depth);
@@ -723,7 +723,7 @@ bbc_result bbc_render_ortho(const bbc_mesh *m, const bbc_view *view, bbc_image *
 bbc_result bbc__render_coverage(const bbc_mesh *m, const bbc_view *view, int size, uint8_t *cover,
                                 bbc_error *err) {
   camera cam;
-  bbc_result r = check_view(view, size, size, &cam, err);
+  bbc_result r = bbc__check_view(view, size, size, &cam, err);
   if (r != BBC_OK) return r;
   memset(cover, 0, (size_t)size * size);
   target tg;
@@ -756,7 +756,7 @@ bbc_result bbc__render_bake(const bbc_mesh *m, const uint32_t *faces, size_t fac
   if (m->kind != BBC_MESH_TRIANGLES || !bake->front)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "bake: needs triangles and a front image");
   camera cam;
-  bbc_result r = check_view(view, bake->width, bake->height, &cam, err);
+  bbc_result r = bbc__check_view(view, bake->width, bake->height, &cam, err);
   if (r != BBC_OK) return r;
   size_t n = (size_t)bake->width * bake->height;
   float *depth = malloc(2 * n * sizeof *depth);
@@ -770,56 +770,6 @@ bbc_result bbc__render_bake(const bbc_mesh *m, const uint32_t *faces, size_t fac
   setup_light(&cam, view, tg.light);
   size_t count = faces ? face_count : m->triangle_count;
   for (size_t i = 0; i < count; i++) draw_triangle(m, faces ? faces[i] : i, &tg);
-  free(depth);
-  return BBC_OK;
-}
-
-bbc_result bbc__render_splats(const bbc_mesh *m, const uint32_t *points, size_t count,
-                              const bbc_view *view, bbc__bake *bake, double size_px, int smooth,
-                              bbc_error *err) {
-  if (m->kind != BBC_MESH_POINTS || !bake->front)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "splats: needs points and a front image");
-  camera cam;
-  bbc_result r = check_view(view, bake->width, bake->height, &cam, err);
-  if (r != BBC_OK) return r;
-  size_t n = (size_t)bake->width * bake->height;
-  float *depth = malloc(2 * n * sizeof *depth);
-  if (!depth) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "splats: out of memory");
-  for (size_t i = 0; i < n; i++) {
-    depth[i] = FLT_MAX;
-    depth[n + i] = -FLT_MAX;
-  }
-  double half = 0.5 * (size_px >= 1 ? size_px : 1), r2 = half * half;
-  for (size_t i = 0; i < count; i++) {
-    size_t v = points ? points[i] : i;
-    double s[3];
-    bbc__camera_project(&cam, m->positions + 3 * v, s);
-    if (s[2] < view->depth_min || s[2] > view->depth_max) continue;
-    uint8_t px4[4] = {200, 200, 200, 255}; /* no colour in the scan: light grey */
-    if (m->colors) memcpy(px4, m->colors + 4 * v, 3);
-    int x0 = (int)floor(s[0] - half + 0.5), x1 = (int)floor(s[0] + half - 0.5);
-    int y0 = (int)floor(s[1] - half + 0.5), y1 = (int)floor(s[1] + half - 0.5);
-    if (x1 < x0) x1 = x0;
-    if (y1 < y0) y1 = y0;
-    for (int y = y0 < 0 ? 0 : y0; y <= y1 && y < bake->height; y++)
-      for (int x = x0 < 0 ? 0 : x0; x <= x1 && x < bake->width; x++) {
-        /* round splats: pixel centres within the disc, and always the pixel
-         * under the point (a small splat between pixel centres keeps one) */
-        double dx = x + 0.5 - s[0], dy = y + 0.5 - s[1];
-        int under = x == (int)floor(s[0]) && y == (int)floor(s[1]);
-        if (smooth && !under && dx * dx + dy * dy > r2) continue;
-        size_t pi = (size_t)y * bake->width + x;
-        float z = (float)s[2];
-        if (z < depth[pi]) { /* front: the point nearest the viewer */
-          depth[pi] = z;
-          memcpy(bake->front + 4 * pi, px4, 4);
-        }
-        if (bake->back && z > depth[n + pi]) { /* back: the farthest */
-          depth[n + pi] = z;
-          memcpy(bake->back + 4 * pi, px4, 4);
-        }
-      }
-  }
   free(depth);
   return BBC_OK;
 }

@@ -83,6 +83,9 @@ typedef struct bbc__camera {
 
 /* 0 when the view's up is parallel to its direction. */
 int bbc__camera_setup(bbc__camera *cam, const bbc_view *view, int w, int h);
+/* bbc__camera_setup for a w x h image, with the error said (no image, a
+ * zero extent, up along the view). */
+bbc_result bbc__check_view(const bbc_view *view, int w, int h, bbc__camera *cam, bbc_error *err);
 
 /* Screen position (x right, y down, pixels) and depth (model units along f). */
 static inline void bbc__camera_project(const bbc__camera *cam, const double *p, double *s) {

@@ -101,11 +101,13 @@ int cmd_tree(cli *c, int argc, char **argv) {
   return rc;
 }
 
-/* bbcgen sample MODEL -o OUT.ply [--points N] [--seed S]: a point cloud on
- * the model's surface (test input for the point-cloud path, thesis 2.4). */
+/* bbcgen sample MODEL -o OUT.ply [--points N] [--seed S] [--normals]: a
+ * point cloud on the model's surface (test input for the point-cloud path,
+ * thesis 2.4), with the surface's normals when asked (a scan's PLY). */
 int cmd_sample(cli *c, int argc, char **argv) {
   const char *model = NULL, *out = NULL;
   long long points = 1000000, seed = 1;
+  int normals = 0;
   for (int i = 1; i < argc; i++) {
     int k = cli_common_option(c, argc, argv, &i);
     if (k < 0) return EXIT_USAGE;
@@ -113,6 +115,8 @@ int cmd_sample(cli *c, int argc, char **argv) {
     const char *a = argv[i];
     if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
       if (!(out = cli_option_value(argc, argv, &i))) return EXIT_USAGE;
+    } else if (!strcmp(a, "--normals")) {
+      normals = 1;
     } else if (!strcmp(a, "--points") || !strcmp(a, "--seed")) {
       const char *v = cli_option_value(argc, argv, &i);
       long long n =
@@ -125,13 +129,13 @@ int cmd_sample(cli *c, int argc, char **argv) {
     } else if (a[0] != '-' && !model) {
       model = a;
     } else {
-      static const char *const own[] = {"-o", "--output", "--points", "--seed", NULL};
+      static const char *const own[] = {"-o", "--output", "--points", "--seed", "--normals", NULL};
       return cli_unknown_option("sample", a, own);
     }
   }
   size_t n = out ? strlen(out) : 0;
   if (!model || !out || n < 5 || strcasecmp(out + n - 4, ".ply")) {
-    cli_error("sample: usage: bbcgen sample MODEL -o OUT.ply [--points N] [--seed S]");
+    cli_error("sample: usage: bbcgen sample MODEL -o OUT.ply [--points N] [--seed S] [--normals]");
     return EXIT_USAGE;
   }
   if (!cli_output_ok("-o", out)) return EXIT_OUTPUT;
@@ -144,6 +148,10 @@ int cmd_sample(cli *c, int argc, char **argv) {
   bbc_result r = bbc_mesh_sample_points(&m, (size_t)points, (uint64_t)seed, &p, &err);
   bbc_mesh_free(&m);
   if (r != BBC_OK) return cli_fail(&err, 0);
+  if (!normals) {
+    free(p.normals);
+    p.normals = NULL;
+  }
   r = bbc_points_write_ply(out, &p, &err);
   if (r == BBC_OK)
     cli_info(c, "wrote %s: %zu points on %s's surface (seed %lld) in %.2f s", out, p.vertex_count,

@@ -1,0 +1,150 @@
+/*
+ * test_search.c — the epsilon search's probe and sampled point clouds
+ * (src/planes/planes.c, issue 34): the planes a search keeps are those of
+ * a whole run at the epsilon it lands on, byte for byte, whatever the
+ * probes predicted; a point cloud larger than `pointsample` gives every
+ * point a plane, the same with any number of threads, and one no larger
+ * gives the planes of every point.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include "bbc.h"
+#include "test_util.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static bbc_mesh tree_mesh(size_t leaves) {
+  bbc_tree_options t;
+  bbc_tree_options_default(&t);
+  t.leaves = leaves;
+  t.seed = 7;
+  bbc_mesh m;
+  bbc_error err;
+  if (bbc_tree_generate(&t, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  return m;
+}
+
+static void find(const bbc_mesh *m, const bbc_planes_options *o, bbc_planeset *s) {
+  bbc_error err;
+  if (bbc_planes_find(m, o, s, &err) != BBC_OK) fail_msg("%s", err.message);
+}
+
+/* The same planes (every bit of normal and offset) and the same face to
+ * plane table. */
+static void assert_same_planes(const bbc_planeset *a, const bbc_planeset *b) {
+  assert_int_equal(a->plane_count, b->plane_count);
+  assert_int_equal(a->face_count, b->face_count);
+  for (size_t i = 0; i < a->plane_count; i++) {
+    assert_memory_equal(a->planes[i].normal, b->planes[i].normal, sizeof a->planes[i].normal);
+    assert_memory_equal(&a->planes[i].d, &b->planes[i].d, sizeof a->planes[i].d);
+    assert_int_equal(a->planes[i].face_count, b->planes[i].face_count);
+  }
+  assert_memory_equal(a->face_plane, b->face_plane, a->face_count * sizeof *a->face_plane);
+}
+
+/* What a search kept against a whole run at the epsilon it landed on. */
+static void assert_whole_run(const bbc_mesh *m, const bbc_planes_options *o,
+                             const bbc_planeset *got) {
+  bbc_planes_options w = *o;
+  w.params.epsilon_pct = o->params.epsilon_pct * got->epsilon_scale;
+  w.params.min_planes = 0;
+  w.params.max_planes = 0;
+  bbc_planeset s;
+  find(m, &w, &s);
+  assert_same_planes(got, &s);
+  bbc_planeset_free(&s);
+}
+
+/* A tree of 34,000 leaves (over 32,768 foliage faces: probed). Within the
+ * budget at the asked epsilon, the search keeps that one whole run; asked
+ * for twice the planes, it lowers epsilon by probes and keeps a whole run
+ * at the epsilon it lands on. */
+static void test_probe_search(void **state) {
+  (void)state;
+  bbc_mesh m = tree_mesh(34000);
+  bbc_planes_options o;
+  bbc_planes_options_default(&o);
+  bbc_planeset s;
+  find(&m, &o, &s);
+  assert_true(s.probe_runs >= 1);
+  assert_true(s.probe_stride >= 4);
+  assert_true(s.plane_count >= 1);
+  assert_whole_run(&m, &o, &s);
+  size_t first = s.plane_count;
+  double first_scale = s.epsilon_scale;
+  bbc_planeset_free(&s);
+
+  o.params.min_planes = (int)(2 * first);
+  o.params.max_planes = 0;
+  find(&m, &o, &s);
+  assert_true(s.probe_runs >= 2);
+  assert_true(s.epsilon_scale < first_scale);
+  assert_true(s.plane_count >= (size_t)o.params.min_planes || s.epsilon_scale <= 0.2 + 1e-9);
+  /* the whole runs: the one kept, and at most a calibration's and the
+   * continuation's */
+  assert_true(s.attempts >= 1 && s.attempts <= 3);
+  assert_whole_run(&m, &o, &s);
+  bbc_planeset_free(&s);
+  bbc_mesh_free(&m);
+}
+
+/* A cloud of 70,000 points on a small tree: steps 1 and 2 on 35,000 of
+ * them (pointsample 65,536), every point then on a plane, the same with 1
+ * and 2 threads; pointsample 70,000 keeps every point, as pointsample 0. */
+static void test_point_sample(void **state) {
+  (void)state;
+  bbc_mesh t = tree_mesh(1500), m;
+  bbc_error err;
+  if (bbc_mesh_sample_points(&t, 70000, 3, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  bbc_mesh_free(&t);
+  bbc_planes_options o;
+  bbc_planes_options_default(&o);
+  o.params.min_planes = 0;
+  o.params.max_planes = 0;
+  o.params.threads = 1;
+  bbc_planeset a, b;
+  find(&m, &o, &a);
+  o.params.threads = 2;
+  find(&m, &o, &b);
+  assert_same_planes(&a, &b);
+  bbc_planeset_free(&b);
+  double eps = a.epsilon_abs;
+  size_t valid = 0, sum = 0;
+  for (size_t v = 0; v < m.vertex_count; v++) {
+    uint32_t k = a.face_plane[v];
+    assert_true(k < a.plane_count);
+    const bbc_plane *p = &a.planes[k];
+    assert_int_not_equal(p->kind, BBC_PLANE_CARDBOARD);
+    const double *x = m.positions + 3 * v;
+    double d = fabs(p->normal[0] * x[0] + p->normal[1] * x[1] + p->normal[2] * x[2] - p->d);
+    valid += d <= eps * (1 + 1e-9);
+    assert_true(d <= 2 * eps); /* the few that miss every plane: at a slab's edge */
+  }
+  for (size_t k = 0; k < a.plane_count; k++) sum += a.planes[k].face_count;
+  assert_int_equal(sum, m.vertex_count);
+  assert_true(valid >= m.vertex_count - m.vertex_count / 100);
+  bbc_planeset_free(&a);
+
+  o.params.point_sample = 70000;
+  find(&m, &o, &a);
+  o.params.point_sample = 0;
+  find(&m, &o, &b);
+  assert_same_planes(&a, &b);
+  bbc_planeset_free(&a);
+  bbc_planeset_free(&b);
+  bbc_mesh_free(&m);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_probe_search),
+      cmocka_unit_test(test_point_sample),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -89,10 +89,10 @@ static const param_row k_rows[] = {
       "neighbours) meets it, as a triangle by its projected area; 0 = every point counts 1 "
       "(thesis 2.4.3)"},
      INT_FIELD(point_normals)},
-    {{"pointsample", BBC_PARAM_INT, 0, 1e9, 65536, 0, "extension", "points",
-      "point clouds of more points: planes chosen on a sample of about n points (1 in k), "
-      "every point then given to the first plane it is valid for, else (a few at the slabs' "
-      "edges) the nearest; 0 = every point in steps 1 and 2"},
+    {{"pointsample", BBC_PARAM_INT, 0, 1e9, 16384, 0, "extension", "points",
+      "point clouds of more than 4n points: planes chosen on a sample of about n points "
+      "(1 in k), every point then given to the first plane it is valid for, else (a few at "
+      "the slabs' edges) the nearest; 0 = every point in steps 1 and 2"},
      INT_FIELD(point_sample)},
     {{"polyskip", BBC_PARAM_REAL, 0, 99, 0, F3, "billboard", "%",
       "skip planes whose coverage is below n% of the largest plane's (2.3.5)"},

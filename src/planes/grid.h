@@ -15,7 +15,7 @@ typedef struct grid_part {
   size_t meshed;    /* limbs: the part's triangles, kept as a mesh in step 3 (then n = 0) */
   dual_face *faces; /* its faces: a triangle, two coplanar ones, or a point */
   size_t nf;
-  size_t stride; /* a point cloud of more than `pointsample` points: faces holds 1 point
+  size_t stride; /* a point cloud of more than 4 x `pointsample` points: faces holds 1 point
                   * in stride of tris (every stride-th from stride / 2), steps 1 and 2
                   * run on them; 1 = every face */
   float *points; /* stride > 1: the n points about the centre, to give each its plane */

@@ -4,7 +4,8 @@
  * a whole run at the epsilon it lands on, byte for byte, whatever the
  * probes predicted; a point cloud larger than `pointsample` gives every
  * point a plane, the same with any number of threads, and one no larger
- * gives the planes of every point.
+ * gives the planes of every point; point splats drawn tile by tile give
+ * the pixels of one pass over the points.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -13,8 +14,10 @@
 #include <cmocka.h>
 
 #include "bbc.h"
+#include "raster.h"
 #include "test_util.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -146,10 +149,111 @@ static void test_point_sample(void **state) {
   bbc_mesh_free(&m);
 }
 
+/* Splats as one pass over the points draws them (what bbc__render_splats
+ * drew before it went tile by tile): the reference. */
+static void splats_reference(const bbc_mesh *m, const bbc_view *view, int w, int h, double size_px,
+                             int smooth, uint8_t *front, uint8_t *back) {
+  bbc__camera cam;
+  assert_true(bbc__camera_setup(&cam, view, w, h));
+  size_t n = (size_t)w * h;
+  float *depth = malloc(2 * n * sizeof *depth);
+  assert_non_null(depth);
+  for (size_t i = 0; i < n; i++) {
+    depth[i] = FLT_MAX;
+    depth[n + i] = -FLT_MAX;
+  }
+  double half = 0.5 * (size_px >= 1 ? size_px : 1), r2 = half * half;
+  for (size_t v = 0; v < m->vertex_count; v++) {
+    double s[3];
+    bbc__camera_project(&cam, m->positions + 3 * v, s);
+    if (s[2] < view->depth_min || s[2] > view->depth_max) continue;
+    uint8_t px4[4] = {200, 200, 200, 255};
+    if (m->colors) memcpy(px4, m->colors + 4 * v, 3);
+    int x0 = (int)floor(s[0] - half + 0.5), x1 = (int)floor(s[0] + half - 0.5);
+    int y0 = (int)floor(s[1] - half + 0.5), y1 = (int)floor(s[1] + half - 0.5);
+    if (x1 < x0) x1 = x0;
+    if (y1 < y0) y1 = y0;
+    for (int y = y0 < 0 ? 0 : y0; y <= y1 && y < h; y++)
+      for (int x = x0 < 0 ? 0 : x0; x <= x1 && x < w; x++) {
+        double dx = x + 0.5 - s[0], dy = y + 0.5 - s[1];
+        int under = x == (int)floor(s[0]) && y == (int)floor(s[1]);
+        if (smooth && !under && dx * dx + dy * dy > r2) continue;
+        size_t pi = (size_t)y * w + x;
+        float z = (float)s[2];
+        if (z < depth[pi]) {
+          depth[pi] = z;
+          memcpy(front + 4 * pi, px4, 4);
+        }
+        if (z > depth[n + pi]) {
+          depth[n + pi] = z;
+          memcpy(back + 4 * pi, px4, 4);
+        }
+      }
+  }
+  free(depth);
+}
+
+/* Splats drawn tile by tile give the reference's pixels, ties of depth
+ * included (a flat patch seen square-on, every point at one depth, and
+ * repeated points of other colours), on images whose sides are not
+ * multiples of the tiles', for small, odd and large splats. */
+static void test_splat_tiles(void **state) {
+  (void)state;
+  bbc_mesh t = tree_mesh(300), m;
+  bbc_error err;
+  if (bbc_mesh_sample_points(&t, 6000, 9, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  bbc_mesh_free(&t);
+  /* the last 1,000 points: a flat patch at one depth, the first 500 of it
+   * repeated with other colours */
+  for (size_t v = 5000; v < 6000; v++) {
+    double *p = m.positions + 3 * v;
+    size_t k = v < 5500 ? v - 5000 : v - 5500;
+    p[0] = m.bbox_min[0] + (m.bbox_max[0] - m.bbox_min[0]) * (double)(k % 25) / 25;
+    p[1] = m.bbox_min[1] + (m.bbox_max[1] - m.bbox_min[1]) * (double)(k / 25) / 40;
+    p[2] = 0.25;
+    m.colors[4 * v] = (uint8_t)(v < 5500 ? 10 : 240);
+  }
+  bbc_view view;
+  const double dir[3] = {0, 0, -1}, up[3] = {0, 1, 0};
+  bbc_view_frame_mesh(&m, dir, up, &view);
+  view.depth_min = -1e9;
+  view.depth_max = 1e9;
+  const int w = 301, h = 197;
+  size_t n = (size_t)w * h;
+  uint8_t *img[4];
+  for (int k = 0; k < 4; k++) {
+    img[k] = calloc(4 * n, 1);
+    assert_non_null(img[k]);
+  }
+  const double sizes[3] = {0.7, 3.5, 23};
+  for (int si = 0; si < 3; si++)
+    for (int smooth = 0; smooth < 2; smooth++) {
+      for (int k = 0; k < 4; k++) memset(img[k], 0, 4 * n);
+      bbc__bake bk;
+      memset(&bk, 0, sizeof bk);
+      bk.width = w;
+      bk.height = h;
+      bk.front = img[0];
+      bk.back = img[1];
+      if (bbc__render_splats(&m, NULL, m.vertex_count, &view, &bk, sizes[si], smooth, &err) !=
+          BBC_OK)
+        fail_msg("%s", err.message);
+      splats_reference(&m, &view, w, h, sizes[si], smooth, img[2], img[3]);
+      assert_memory_equal(img[0], img[2], 4 * n);
+      assert_memory_equal(img[1], img[3], 4 * n);
+      size_t covered = 0;
+      for (size_t i = 0; i < n; i++) covered += img[0][4 * i + 3] != 0;
+      assert_true(covered > n / 20); /* the splats cover a good part of the image */
+    }
+  for (int k = 0; k < 4; k++) free(img[k]);
+  bbc_mesh_free(&m);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_probe_search),
       cmocka_unit_test(test_point_sample),
+      cmocka_unit_test(test_splat_tiles),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -8,41 +8,49 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* A point's splat: its projection s, colour, and pixel rectangle. */
+/* A point's splat: its projection (image x, y; depth as drawn), colour. */
 typedef struct splat {
-  double s[3];
+  double x, y;
+  float z; /* NAN: outside the view's depth range */
   uint8_t px4[4];
-  int x0, x1, y0, y1;
 } splat;
 
-/* 0 when point v lies outside the view's depth range. */
-static int splat_of(const bbc_mesh *m, size_t v, const bbc__camera *cam, const bbc_view *view,
-                    double half, splat *sp) {
-  bbc__camera_project(cam, m->positions + 3 * v, sp->s);
-  if (sp->s[2] < view->depth_min || sp->s[2] > view->depth_max) return 0;
+static void splat_of(const bbc_mesh *m, size_t v, const bbc__camera *cam, const bbc_view *view,
+                     splat *sp) {
+  double s[3];
+  bbc__camera_project(cam, m->positions + 3 * v, s);
+  sp->x = s[0];
+  sp->y = s[1];
+  sp->z = s[2] < view->depth_min || s[2] > view->depth_max ? NAN : (float)s[2];
   const uint8_t grey[4] = {200, 200, 200, 255}; /* no colour in the scan: light grey */
   memcpy(sp->px4, grey, 4);
   if (m->colors) memcpy(sp->px4, m->colors + 4 * v, 3);
-  sp->x0 = (int)floor(sp->s[0] - half + 0.5), sp->x1 = (int)floor(sp->s[0] + half - 0.5);
-  sp->y0 = (int)floor(sp->s[1] - half + 0.5), sp->y1 = (int)floor(sp->s[1] + half - 0.5);
-  if (sp->x1 < sp->x0) sp->x1 = sp->x0;
-  if (sp->y1 < sp->y0) sp->y1 = sp->y0;
-  return 1;
+}
+
+/* Its pixel rectangle [r0, r1] x [r2, r3], for a splat `half` pixels across
+ * half its width. */
+static void splat_rect(const splat *sp, double half, int r[4]) {
+  r[0] = (int)floor(sp->x - half + 0.5), r[1] = (int)floor(sp->x + half - 0.5);
+  r[2] = (int)floor(sp->y - half + 0.5), r[3] = (int)floor(sp->y + half - 0.5);
+  if (r[1] < r[0]) r[1] = r[0];
+  if (r[3] < r[2]) r[3] = r[2];
 }
 
 /* A splat's pixels within [cx0, cx1] x [cy0, cy1] (and the image). */
-static void draw_splat(const splat *sp, double r2, int smooth, int cx0, int cy0, int cx1, int cy1,
+static void draw_splat(const splat *sp, double half, int smooth, int cx0, int cy0, int cx1, int cy1,
                        bbc__bake *bake, float *depth, size_t n) {
-  const double *s = sp->s;
-  int ya = sp->y0 < cy0 ? cy0 : sp->y0, yb = sp->y1 > cy1 ? cy1 : sp->y1;
-  int xa = sp->x0 < cx0 ? cx0 : sp->x0, xb = sp->x1 > cx1 ? cx1 : sp->x1;
-  int ux = (int)floor(s[0]), uy = (int)floor(s[1]);
-  float z = (float)s[2];
+  int rc[4];
+  splat_rect(sp, half, rc);
+  double r2 = half * half;
+  int ya = rc[2] < cy0 ? cy0 : rc[2], yb = rc[3] > cy1 ? cy1 : rc[3];
+  int xa = rc[0] < cx0 ? cx0 : rc[0], xb = rc[1] > cx1 ? cx1 : rc[1];
+  int ux = (int)floor(sp->x), uy = (int)floor(sp->y);
+  float z = sp->z;
   for (int y = ya; y <= yb; y++)
     for (int x = xa; x <= xb; x++) {
       /* round splats: pixel centres within the disc, and always the pixel
        * under the point (a small splat between pixel centres keeps one) */
-      double dx = x + 0.5 - s[0], dy = y + 0.5 - s[1];
+      double dx = x + 0.5 - sp->x, dy = y + 0.5 - sp->y;
       int under = x == ux && y == uy;
       if (smooth && !under && dx * dx + dy * dy > r2) continue;
       size_t pi = (size_t)y * bake->width + x;
@@ -83,10 +91,14 @@ bbc_result bbc__render_splats(const bbc_mesh *m, const uint32_t *points, size_t 
   int tx = (bake->width + TILE - 1) / TILE, ty = (bake->height + TILE - 1) / TILE;
   size_t nt = (size_t)tx * ty;
   size_t *start = calloc(nt + 1, sizeof *start);
-  if (!start) {
+  splat *sp = malloc((count ? count : 1) * sizeof *sp); /* each point projected once */
+  if (!start || !sp) {
+    free(start);
+    free(sp);
     free(depth);
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "splats: out of memory");
   }
+  for (size_t i = 0; i < count; i++) splat_of(m, points ? points[i] : i, &cam, view, &sp[i]);
   for (int pass = 0; pass < 2; pass++) {
     uint32_t *list = NULL;
     size_t *fill = NULL;
@@ -98,17 +110,19 @@ bbc_result bbc__render_splats(const bbc_mesh *m, const uint32_t *points, size_t 
         free(list);
         free(fill);
         free(start);
+        free(sp);
         free(depth);
         return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "splats: out of memory");
       }
       memcpy(fill, start, nt * sizeof *fill);
     }
     for (size_t i = 0; i < count; i++) {
-      splat sp;
-      if (!splat_of(m, points ? points[i] : i, &cam, view, half, &sp)) continue;
-      int a0 = sp.x0 < 0 ? 0 : sp.x0 / TILE, a1 = sp.x1 / TILE;
-      int b0 = sp.y0 < 0 ? 0 : sp.y0 / TILE, b1 = sp.y1 / TILE;
-      if (sp.x1 < 0 || sp.y1 < 0 || a0 >= tx || b0 >= ty) continue;
+      if (isnan(sp[i].z)) continue;
+      int rc[4];
+      splat_rect(&sp[i], half, rc);
+      int a0 = rc[0] < 0 ? 0 : rc[0] / TILE, a1 = rc[1] / TILE;
+      int b0 = rc[2] < 0 ? 0 : rc[2] / TILE, b1 = rc[3] / TILE;
+      if (rc[1] < 0 || rc[3] < 0 || a0 >= tx || b0 >= ty) continue;
       if (a1 >= tx) a1 = tx - 1;
       if (b1 >= ty) b1 = ty - 1;
       for (int b = b0; b <= b1; b++)
@@ -127,15 +141,12 @@ bbc_result bbc__render_splats(const bbc_mesh *m, const uint32_t *points, size_t 
       int cx1 = cx0 + TILE - 1, cy1 = cy0 + TILE - 1;
       if (cx1 >= bake->width) cx1 = bake->width - 1;
       if (cy1 >= bake->height) cy1 = bake->height - 1;
-      for (size_t k = start[t]; k < start[t + 1]; k++) {
-        size_t v = points ? points[list[k]] : list[k];
-        splat sp;
-        splat_of(m, v, &cam, view, half, &sp);
-        draw_splat(&sp, half * half, smooth, cx0, cy0, cx1, cy1, bake, depth, n);
-      }
+      for (size_t k = start[t]; k < start[t + 1]; k++)
+        draw_splat(&sp[list[k]], half, smooth, cx0, cy0, cx1, cy1, bake, depth, n);
     }
     free(list);
   }
+  free(sp);
   free(start);
   free(depth);
   return BBC_OK;

@@ -580,7 +580,7 @@ static bbc_result select_once(bbc_grid *g, const bbc_planes_options *o, double s
  * at a fraction of a whole run's cost, so that the search's tries cost
  * probes and only its answer a whole run (issue 34: a building scan's four
  * runs became four probes and one run). Smaller models (a point cloud
- * that `pointsample` did not sample, of fewer than 4 x PROBE_MIN_POINTS
+ * that `pointsample` did not sample, of fewer than 2 x PROBE_MIN_POINTS
  * points, a mesh of fewer than PROBE_MIN_FACES faces in its largest part)
  * are searched whole, as before. The plane count of a sample follows the
  * whole's closely (a building scan of 100k points and a sample of 6,250:
@@ -626,8 +626,8 @@ static int probe_init(const bbc_grid *g, probe *pr) {
     sampled |= g->part[pi].stride > 1;
   }
   /* a sampled cloud's sample (8k-16k points at the default pointsample),
-   * a whole cloud from 4 x PROBE_MIN_POINTS, a mesh from PROBE_MIN_FACES */
-  if (most < (!points ? PROBE_MIN_FACES : sampled ? PROBE_MIN_POINTS : 4 * PROBE_MIN_POINTS))
+   * a whole cloud from 2 x PROBE_MIN_POINTS, a mesh from PROBE_MIN_FACES */
+  if (most < (!points ? PROBE_MIN_FACES : sampled ? PROBE_MIN_POINTS : 2 * PROBE_MIN_POINTS))
     return 0;
   size_t stride = most / PROBE_FACES;
   if (stride < 4) stride = 4; /* a probe of 1/4 a run at most */

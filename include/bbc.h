@@ -705,7 +705,9 @@ void bbc_grid_free(bbc_grid *grid);
  * may differ from the grid's only in step-2 and step-3 parameters
  * (bbc_planes_options_stale_step != 1), else BBC_ERROR_INVALID_ARGUMENT
  * naming the parameter. When the plane budget moves epsilon, the grids at
- * the other epsilons are built into `grid` and kept too. */
+ * the other epsilons are built into `grid` and kept too; on large models
+ * the budget's tries run on a probe of one face in 4-16 (set->probe_runs)
+ * and the planes returned are always a whole run's at set->epsilon_scale. */
 bbc_result bbc_planes_select(bbc_grid *grid, const bbc_planes_options *options, bbc_planeset *set,
                              bbc_error *err);
 

@@ -447,7 +447,9 @@ static void assign_points(bbc_planeset *set, const grid_part *gp, const select_r
   const bbc_plane *pl = sr->planes;
   size_t count = sr->plane_count;
   double tol = eps * (1 + 1e-12);
-#pragma omp parallel for schedule(static, 4096) if (gp->n > 65536)
+  int nt = bbc__thread_count(gp->params->threads);
+  (void)nt;
+#pragma omp parallel for schedule(static, 4096) num_threads(nt) if (gp->n > 65536)
   for (size_t i = 0; i < gp->n; i++) {
     const float *x = gp->points + 3 * i;
     size_t best = SIZE_MAX, near = 0;

@@ -33,6 +33,15 @@ static bbc_mesh tree_mesh(size_t leaves) {
   return m;
 }
 
+/* `count` points sampled on a tree of `leaves` leaves (seed: the sample's). */
+static bbc_mesh tree_points(size_t leaves, size_t count, uint64_t seed) {
+  bbc_mesh t = tree_mesh(leaves), m;
+  bbc_error err;
+  if (bbc_mesh_sample_points(&t, count, seed, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  bbc_mesh_free(&t);
+  return m;
+}
+
 static void find(const bbc_mesh *m, const bbc_planes_options *o, bbc_planeset *s) {
   bbc_error err;
   if (bbc_planes_find(m, o, s, &err) != BBC_OK) fail_msg("%s", err.message);
@@ -65,15 +74,12 @@ static void assert_whole_run(const bbc_mesh *m, const bbc_planes_options *o,
 }
 
 /* 40,000 points on a tree, every point in steps 1 and 2 (pointsample 0):
- * probed (a cloud of 32,768 points or more). Within the budget at the
+ * probed (an unsampled cloud of 16,384 points or more). Within the budget at the
  * asked epsilon or not, the search keeps a whole run at the epsilon it
  * lands on; asked for twice the planes, it lowers epsilon by probes. */
 static void test_probe_search(void **state) {
   (void)state;
-  bbc_mesh t = tree_mesh(1500), m;
-  bbc_error err;
-  if (bbc_mesh_sample_points(&t, 40000, 5, &m, &err) != BBC_OK) fail_msg("%s", err.message);
-  bbc_mesh_free(&t);
+  bbc_mesh m = tree_points(1500, 40000, 5);
   bbc_planes_options o;
   bbc_planes_options_default(&o);
   o.params.point_sample = 0;
@@ -107,10 +113,7 @@ static void test_probe_search(void **state) {
  * every point, as pointsample 0. */
 static void test_point_sample(void **state) {
   (void)state;
-  bbc_mesh t = tree_mesh(1500), m;
-  bbc_error err;
-  if (bbc_mesh_sample_points(&t, 70000, 3, &m, &err) != BBC_OK) fail_msg("%s", err.message);
-  bbc_mesh_free(&t);
+  bbc_mesh m = tree_points(1500, 70000, 3);
   bbc_planes_options o;
   bbc_planes_options_default(&o);
   o.params.min_planes = 0;
@@ -199,10 +202,8 @@ static void splats_reference(const bbc_mesh *m, const bbc_view *view, int w, int
  * multiples of the tiles', for small, odd and large splats. */
 static void test_splat_tiles(void **state) {
   (void)state;
-  bbc_mesh t = tree_mesh(300), m;
+  bbc_mesh m = tree_points(300, 6000, 9);
   bbc_error err;
-  if (bbc_mesh_sample_points(&t, 6000, 9, &m, &err) != BBC_OK) fail_msg("%s", err.message);
-  bbc_mesh_free(&t);
   /* the last 1,000 points: a flat patch at one depth, the first 500 of it
    * repeated with other colours */
   for (size_t v = 5000; v < 6000; v++) {

@@ -751,6 +751,16 @@ bbc_result bbc__render_coverage(const bbc_mesh *m, const bbc_view *view, int siz
   return BBC_OK;
 }
 
+float *bbc__depth_front_back(size_t n) {
+  float *depth = malloc(2 * n * sizeof *depth);
+  if (depth)
+    for (size_t i = 0; i < n; i++) {
+      depth[i] = FLT_MAX;
+      depth[n + i] = -FLT_MAX;
+    }
+  return depth;
+}
+
 bbc_result bbc__render_bake(const bbc_mesh *m, const uint32_t *faces, size_t face_count,
                             const bbc_view *view, bbc__bake *bake, bbc_error *err) {
   if (m->kind != BBC_MESH_TRIANGLES || !bake->front)
@@ -759,12 +769,8 @@ bbc_result bbc__render_bake(const bbc_mesh *m, const uint32_t *faces, size_t fac
   bbc_result r = bbc__check_view(view, bake->width, bake->height, &cam, err);
   if (r != BBC_OK) return r;
   size_t n = (size_t)bake->width * bake->height;
-  float *depth = malloc(2 * n * sizeof *depth);
+  float *depth = bbc__depth_front_back(n);
   if (!depth) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "bake: out of memory");
-  for (size_t i = 0; i < n; i++) {
-    depth[i] = FLT_MAX;
-    depth[n + i] = -FLT_MAX;
-  }
   target tg = {&cam, view,      {0, 0, 0}, bake->width, bake->height, bake->front, depth,
                bake, depth + n, NULL,      {0, 0, 0},   NULL,         NULL};
   setup_light(&cam, view, tg.light);

@@ -83,6 +83,10 @@ typedef struct bbc__camera {
 
 /* 0 when the view's up is parallel to its direction. */
 int bbc__camera_setup(bbc__camera *cam, const bbc_view *view, int w, int h);
+/* Depth buffers of n pixels for a front and a back image: the nearest
+ * (FLT_MAX, cleared) then the farthest (-FLT_MAX); NULL when out of
+ * memory. */
+float *bbc__depth_front_back(size_t n);
 /* bbc__camera_setup for a w x h image, with the error said (no image, a
  * zero extent, up along the view). */
 bbc_result bbc__check_view(const bbc_view *view, int w, int h, bbc__camera *cam, bbc_error *err);

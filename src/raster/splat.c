@@ -3,7 +3,6 @@
  * nearest and the farthest point a texel), tile by tile. */
 #include "raster.h"
 
-#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -74,12 +73,8 @@ bbc_result bbc__render_splats(const bbc_mesh *m, const uint32_t *points, size_t 
   bbc_result r = bbc__check_view(view, bake->width, bake->height, &cam, err);
   if (r != BBC_OK) return r;
   size_t n = (size_t)bake->width * bake->height;
-  float *depth = malloc(2 * n * sizeof *depth);
+  float *depth = bbc__depth_front_back(n);
   if (!depth) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "splats: out of memory");
-  for (size_t i = 0; i < n; i++) {
-    depth[i] = FLT_MAX;
-    depth[n + i] = -FLT_MAX;
-  }
   double half = 0.5 * (size_px >= 1 ? size_px : 1);
   /* Tiles of 64 x 64 pixels, each drawn with the points whose splat
    * reaches it, in the points' order: every pixel sees the same points in

@@ -428,6 +428,7 @@ typedef struct bbc_params {
   int point_skip;       /* pointskip: drop planes with fewer points */
   int point_normals;    /* pointnormals: weigh points by their normals */
   int point_sample;     /* pointsample: steps 1 and 2 on about this many points */
+  int face_sample;      /* facesample: steps 1 and 2 on about this many faces of a large mesh */
   double poly_skip_pct; /* polyskip: drop planes below n % of the largest's area (2.3.5) */
   int prelight;         /* prelight: lighting baked while texturing */
   bbc_pure pure;        /* pure: which faces a texture shows (2.2.5) */
@@ -650,6 +651,13 @@ typedef struct bbc_planeset {
                          * probe_stride): it predicts the plane count at a scale */
   int probe_stride;
   double probe_s; /* their wall-clock seconds (part of retry_s) */
+  /* `pointsample`/`facesample`: steps 1 and 2 ran on one face or point in
+   * sample_stride (1: every one); beyond_count faces or points were valid
+   * for none of the sample's planes and went to the nearest, the farthest
+   * beyond_max epsilon away */
+  size_t sample_stride;
+  size_t beyond_count;
+  double beyond_max;
 } bbc_planeset;
 
 /* Releases what the set owns and zeroes it (NULL: nothing). */

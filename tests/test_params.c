@@ -50,6 +50,7 @@ static void test_defaults_match_appendix_a(void **state) {
   assert_int_equal(d.limbs, 512);
   assert_int_equal(d.point_normals, 1);
   assert_int_equal(d.point_sample, 16384);
+  assert_int_equal(d.face_sample, 32768);
   assert_int_equal(d.prelight, 0);
   assert_int_equal(d.normal_maps, 1);
   assert_int_equal(d.occlusion, 64);
@@ -59,6 +60,7 @@ static void test_defaults_match_appendix_a(void **state) {
   d.occlusion = 0;
   d.point_normals = 0;
   d.point_sample = 0;
+  d.face_sample = 0;
   d.dither = 0;
   d.refine = 0;
   d.stem = 0;

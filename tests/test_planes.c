@@ -572,6 +572,55 @@ static void check_points(const bbc_mesh *m, const bbc_planeset *s) {
   }
 }
 
+/* `facesample` on a mesh of many small faces and two large ones (a ground
+ * and a wall beside 6,000 leaf-sized triangles in a ball): the sample
+ * holds every face larger than a stride's worth of the mean, so the ground
+ * and the wall lie within epsilon of their planes, whatever the stride
+ * would have picked. */
+static void test_face_sample_large_faces(void **state) {
+  (void)state;
+  builder b;
+  b_init(&b);
+  uint64_t x = 12345;
+  for (int i = 0; i < 6000; i++) {
+    double p[3][3];
+    for (int v = 0; v < 3; v++)
+      for (int k = 0; k < 3; k++) {
+        x = x * 6364136223846793005ULL + 1442695040888963407ULL;
+        double r = (double)(x >> 11) / 9007199254740992.0;
+        p[v][k] = v == 0 ? 1.6 * r - 0.8 : p[0][k] + 0.06 * (r - 0.5);
+      }
+    b_tri(&b, b_vertex(&b, p[0]), b_vertex(&b, p[1]), b_vertex(&b, p[2]));
+  }
+  const double g[4][3] = {{-2, -1.2, -2}, {2, -1.2, -2}, {2, -1.2, 2}, {-2, -1.2, 2}};
+  const double w[4][3] = {{-2, -1.2, -1.5}, {-2, 1.5, -1.5}, {2, 1.5, -1.5}, {2, -1.2, -1.5}};
+  size_t first = b.m.triangle_count;
+  b_quad(&b, g[0], g[1], g[2], g[3]);
+  b_quad(&b, w[0], w[1], w[2], w[3]);
+  b_finish(&b);
+  bbc_planes_options o;
+  bbc_planes_options_default(&o);
+  o.split.mode = BBC_SPLIT_NONE;
+  o.params.min_planes = 0;
+  o.params.max_planes = 0;
+  o.params.face_sample = 1000;
+  bbc_planeset s;
+  bbc_error err;
+  if (bbc_planes_find(&b.m, &o, &s, &err) != BBC_OK) fail_msg("%s", err.message);
+  assert_true(s.sample_stride >= 5);
+  double eps = s.parts[0].epsilon_abs;
+  for (size_t t = first; t < first + 4; t++) {
+    const bbc_plane *p = &s.planes[s.face_plane[t]];
+    for (int c = 0; c < 3; c++) {
+      const double *v = b.m.positions + 3 * (size_t)b.m.indices[3 * t + c];
+      double d = p->normal[0] * v[0] + p->normal[1] * v[1] + p->normal[2] * v[2] - p->d;
+      assert_true(fabs(d) <= eps * (1 + 1e-9));
+    }
+  }
+  bbc_planeset_free(&s);
+  bbc_mesh_free(&b.m);
+}
+
 static void test_points(void **state) {
   (void)state;
   const char *files[] = {"points/adtree/house.xyz", "points/adtree/tree7.xyz", "points/ball.ply"};
@@ -660,6 +709,7 @@ int main(void) {
       cmocka_unit_test(test_palm),
       cmocka_unit_test(test_scopia_bush),
       cmocka_unit_test(test_maxplanes_narrowed),
+      cmocka_unit_test(test_face_sample_large_faces),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -78,6 +78,10 @@ static cJSON *lod_json(const job_lod *L, int detailed) {
   cJSON_AddNumberToObject(o, "plane_runs", L->planes.attempts);
   cJSON_AddNumberToObject(o, "plane_probe_runs", L->planes.probe_runs);
   cJSON_AddNumberToObject(o, "plane_probe_stride", L->planes.probe_stride);
+  cJSON_AddNumberToObject(o, "plane_sample_stride",
+                          (double)(L->planes.sample_stride ? L->planes.sample_stride : 1));
+  cJSON_AddNumberToObject(o, "plane_beyond_epsilon", (double)L->planes.beyond_count);
+  cJSON_AddNumberToObject(o, "plane_beyond_max_epsilons", L->planes.beyond_max);
   cJSON *atlas = cJSON_AddArrayToObject(o, "atlas");
   cJSON_AddItemToArray(atlas, cJSON_CreateNumber(m->textures[0].image.width));
   cJSON_AddItemToArray(atlas, cJSON_CreateNumber(m->textures[0].image.height));

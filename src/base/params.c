@@ -94,6 +94,11 @@ static const param_row k_rows[] = {
       "(1 in k), every point then given to the first plane it is valid for, else (a few at "
       "the slabs' edges) the nearest; 0 = every point in steps 1 and 2"},
      INT_FIELD(point_sample)},
+    {{"facesample", BBC_PARAM_INT, 0, 1e9, 32768, 0, "extension", "faces",
+      "meshes whose part has more than 4n faces (a triangle, or two coplanar ones): planes "
+      "chosen on a sample of about n faces (1 in k), every face then given to the first plane "
+      "it is valid for, else the nearest; 0 = every face in steps 1 and 2"},
+     INT_FIELD(face_sample)},
     {{"polyskip", BBC_PARAM_REAL, 0, 99, 0, F3, "billboard", "%",
       "skip planes whose coverage is below n% of the largest plane's (2.3.5)"},
      DBL_FIELD(poly_skip_pct)},
@@ -221,6 +226,7 @@ void bbc_params_thesis(bbc_params *p) {
   p->limbs = 0;
   p->point_normals = 0;
   p->point_sample = 0; /* every point, as the thesis */
+  p->face_sample = 0;  /* every face, as the thesis */
   p->prelight = 1;     /* the thesis bakes its light (2.1.9) */
   p->normal_maps = 0;
   p->occlusion = 0;

@@ -15,10 +15,13 @@ typedef struct grid_part {
   size_t meshed;    /* limbs: the part's triangles, kept as a mesh in step 3 (then n = 0) */
   dual_face *faces; /* its faces: a triangle, two coplanar ones, or a point */
   size_t nf;
-  size_t stride; /* a point cloud of more than 4 x `pointsample` points: faces holds 1 point
-                  * in stride of tris (every stride-th from stride / 2), steps 1 and 2
-                  * run on them; 1 = every face */
-  float *points; /* stride > 1: the n points about the centre, to give each its plane */
+  size_t stride;  /* a point cloud of more than 4 x `pointsample` points: faces holds 1 point
+                   * in stride of tris (every stride-th from stride / 2), steps 1 and 2
+                   * run on them; a mesh part of more than 4 x `facesample` faces: 1 face in
+                   * stride of its dual faces (all); 1 = every face */
+  float *points;  /* stride > 1, a cloud: the n points about the centre, to give each its plane */
+  dual_face *all; /* stride > 1, a mesh: every face (faces holds 1 in stride of them) */
+  size_t all_nf;
   double center[3], radius, total_area;
 } grid_part;
 
@@ -44,5 +47,13 @@ struct bbc_grid {
   size_t level_count;
   size_t current; /* the level step 2 used last (0 before) */
 };
+
+/* sampled.c: a mesh part of more than 4 x `facesample` faces to its sample
+ * (nothing for a smaller one); a sampled part's faces or points to the
+ * sample's planes sr (the first in the set at index base). */
+bbc_result bbc__sample_faces(grid_part *gp, bbc_error *err);
+struct select_result;
+void bbc__assign_sampled(bbc_planeset *set, const grid_part *gp, const struct select_result *sr,
+                         size_t base, double eps);
 
 #endif

@@ -161,6 +161,7 @@ void bbc_grid_free(bbc_grid *g) {
     free(g->part[p].tris);
     free(g->part[p].faces);
     free(g->part[p].points);
+    free(g->part[p].all);
   }
   free(g->face_part);
   free(g);
@@ -300,7 +301,7 @@ static bbc_result grid_part_faces(const bbc_mesh *mesh, bbc_grid *g, size_t pi, 
     if (bbc__dual_faces_build_merged(mesh, gp->tris, n, gp->center, FLAT_TOL * gp->radius,
                                      &gp->faces, &gp->nf) != BBC_OK)
       return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory for the grid");
-    return BBC_OK;
+    return bbc__sample_faces(gp, err);
   }
   /* A point cloud: steps 1 and 2 on a sample of it when it is larger than
    * 4 x `pointsample` (the density of 16k points stands for that of
@@ -435,45 +436,6 @@ static bbc_result planeset_start(const bbc_grid *g, bbc_planeset *set, bbc_error
 /* Part pi's planes (sr) into the set: the model's frame and global plane
  * indices; faces to mesh triangles (a face of four vertices is two), a
  * plane's face count its triangles'. */
-/* A sampled point cloud's points (gp->stride > 1) to the part's planes
- * (sr, the grid's frame; base: the first one's index in the set): each
- * point to the first plane (not a cardboard one) it is valid for, in the
- * planes' order, like the greedy select that found them; a point valid for
- * none (what the sample's planes miss of the whole lies at their slabs'
- * edges: 0.02 % of 1M points on the Scopia pine, within 1.2 eps) to the
- * nearest. Face counts from every point, areas the sample's scaled up. */
-static void assign_points(bbc_planeset *set, const grid_part *gp, const select_result *sr,
-                          size_t base, double eps) {
-  const bbc_plane *pl = sr->planes;
-  size_t count = sr->plane_count;
-  double tol = eps * (1 + 1e-12);
-  int nt = bbc__thread_count(gp->params->threads);
-  (void)nt;
-#pragma omp parallel for schedule(static, 4096) num_threads(nt) if (gp->n > 65536)
-  for (size_t i = 0; i < gp->n; i++) {
-    const float *x = gp->points + 3 * i;
-    size_t best = SIZE_MAX, near = 0;
-    double near_d = HUGE_VAL;
-    for (size_t k = 0; k < count && best == SIZE_MAX; k++) {
-      if (pl[k].kind == BBC_PLANE_CARDBOARD) continue;
-      double d =
-          fabs(pl[k].normal[0] * x[0] + pl[k].normal[1] * x[1] + pl[k].normal[2] * x[2] - pl[k].d);
-      if (d <= tol) best = k;
-      if (d < near_d) {
-        near_d = d;
-        near = k;
-      }
-    }
-    set->face_plane[gp->tris[i]] = (uint32_t)(base + (best != SIZE_MAX ? best : near));
-  }
-  double up = (double)gp->n / (double)gp->nf;
-  for (size_t k = base; k < base + count; k++) {
-    set->planes[k].area *= up;
-    if (set->planes[k].kind != BBC_PLANE_CARDBOARD) set->planes[k].face_count = 0;
-  }
-  for (size_t i = 0; i < gp->n; i++) set->planes[set->face_plane[gp->tris[i]]].face_count++;
-}
-
 static bbc_result add_part_planes(bbc_planeset *set, const grid_part *gp, size_t pi,
                                   const select_result *sr, double eps, bbc_error *err) {
   bbc_plane *planes = realloc(set->planes, (set->plane_count + sr->plane_count) * sizeof *planes);
@@ -491,7 +453,7 @@ static bbc_result add_part_planes(bbc_planeset *set, const grid_part *gp, size_t
   for (size_t k = 0; k < sr->plane_count; k++)
     if (planes[base + k].kind != BBC_PLANE_CARDBOARD) planes[base + k].face_count = 0;
   if (gp->stride > 1) {
-    assign_points(set, gp, sr, base, eps);
+    bbc__assign_sampled(set, gp, sr, base, eps);
     set->plane_count += sr->plane_count;
     set->parts[pi].plane_count = sr->plane_count;
     return BBC_OK;
@@ -511,6 +473,14 @@ static bbc_result add_part_planes(bbc_planeset *set, const grid_part *gp, size_t
   return BBC_OK;
 }
 
+/* `breaknum` (faces of the whole) for a run on one face in `stride` of
+ * part gp's faces (a sampled mesh's: of its sample), at least 10. */
+static int sampled_break_num(const grid_part *gp, int break_num, int stride) {
+  size_t st = (size_t)stride * (gp->all ? gp->stride : 1);
+  if (st <= 1) return break_num;
+  return (size_t)break_num / st > 10 ? (int)((size_t)break_num / st) : 10;
+}
+
 /* Step 2 for part pi at level L into the set. */
 static bbc_result select_part(bbc_grid *g, const bbc_planes_options *o, const grid_level *L,
                               size_t pi, double scale, int attempt, bbc_planeset *set,
@@ -522,8 +492,11 @@ static bbc_result select_part(bbc_grid *g, const bbc_planes_options *o, const gr
   pr->limbs = gp->meshed ? gp->params->limbs : 0;
   set->part_count = pi + 1;
   if (!gp->n) return BBC_OK;
-  /* select asks for the parameters of step 2 as they are now */
-  const bbc_params *p = part_params(o, gp->name);
+  /* select asks for the parameters of step 2 as they are now; `breaknum`
+   * counts faces: a sampled mesh's, its sample's */
+  bbc_params sp = *part_params(o, gp->name);
+  sp.break_num = sampled_break_num(gp, sp.break_num, 1);
+  const bbc_params *p = &sp;
   pr->epsilon_abs = L->eps_abs[pi];
   if (pr->epsilon_abs > set->epsilon_abs) set->epsilon_abs = pr->epsilon_abs;
   memcpy(pr->center, gp->center, sizeof pr->center);
@@ -629,7 +602,7 @@ static int probe_init(const bbc_grid *g, probe *pr) {
   }
   /* a sampled cloud's sample (8k-16k points at the default pointsample),
    * a whole cloud from 2 x PROBE_MIN_POINTS, a mesh from PROBE_MIN_FACES */
-  if (most < (!points ? PROBE_MIN_FACES : sampled ? PROBE_MIN_POINTS : 2 * PROBE_MIN_POINTS))
+  if (most < (sampled ? PROBE_MIN_POINTS : !points ? PROBE_MIN_FACES : 2 * PROBE_MIN_POINTS))
     return 0;
   size_t stride = most / PROBE_FACES;
   if (stride < 4) stride = 4; /* a probe of 1/4 a run at most */
@@ -672,7 +645,7 @@ static bbc_result probe_count(const bbc_grid *g, const bbc_planes_options *o, pr
     const bbc_params *p = gp->params;
     /* step 2's parameters as they are now; `breaknum` counts faces */
     bbc_params sp = *part_params(o, gp->name);
-    sp.break_num = sp.break_num / pr->stride > 10 ? sp.break_num / pr->stride : 10;
+    sp.break_num = sampled_break_num(gp, sp.break_num, pr->stride);
     double eps = scale * p->epsilon_pct / 100.0 * g->mesh_radius;
     bbc__label lab;
     bbc_callbacks cb;

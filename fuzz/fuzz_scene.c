@@ -125,16 +125,6 @@ static struct aiMaterial *make_material(reader *r, unsigned textures) {
   return m;
 }
 
-static void free_material(struct aiMaterial *m) {
-  if (!m) return;
-  for (unsigned i = 0; i < m->mNumProperties; i++) {
-    free(m->mProperties[i]->mData);
-    free(m->mProperties[i]);
-  }
-  free(m->mProperties);
-  free(m);
-}
-
 /* ---- embedded textures: compressed bytes (our image decoders) or texels */
 
 static struct aiTexture *make_texture(reader *r) {
@@ -309,7 +299,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   }
   free_node(sc.mRootNode);
   for (unsigned i = 0; i < sc.mNumMeshes; i++) free_mesh(sc.mMeshes[i]);
-  for (unsigned i = 0; i < sc.mNumMaterials; i++) free_material(sc.mMaterials[i]);
+  for (unsigned i = 0; i < sc.mNumMaterials; i++) bbc__scene_material_free(sc.mMaterials[i]);
   for (unsigned i = 0; i < sc.mNumTextures; i++) {
     free(sc.mTextures[i]->pcData);
     free(sc.mTextures[i]);

@@ -17,7 +17,7 @@ secs=${FUZZ_SECONDS:-60}
 dir=${FUZZ_DIR:-${HOME:-/tmp}/.cache/bbc-fuzz}
 # ours; then Assimp's formats through our mesh building (crashes inside
 # Assimp are Debian's libassimp's: `make fuzz` runs them, CI does not)
-all=(fuzz_ply fuzz_xyz fuzz_wrl fuzz_forest_map fuzz_forest_model fuzz_batch fuzz_scene fuzz_obj fuzz_3ds fuzz_glb)
+all=(fuzz_ply fuzz_xyz fuzz_wrl fuzz_forest_map fuzz_forest_model fuzz_batch fuzz_scene fuzz_objr fuzz_obj fuzz_3ds fuzz_glb)
 harnesses=("$@")
 [ ${#harnesses[@]} -eq 0 ] && harnesses=("${all[@]}")
 command -v clang > /dev/null || { echo "fuzz.sh: clang is needed (scripts/setup.sh fuzz)" >&2; exit 3; }

@@ -7,7 +7,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 data="$root/../shared/data"
 dir=${1:?usage: fuzz_seeds.sh DIR}
-for h in fuzz_ply fuzz_xyz fuzz_wrl fuzz_forest_map fuzz_forest_model fuzz_batch fuzz_scene fuzz_obj fuzz_3ds fuzz_glb; do
+for h in fuzz_ply fuzz_xyz fuzz_wrl fuzz_forest_map fuzz_forest_model fuzz_batch fuzz_scene fuzz_objr fuzz_obj fuzz_3ds fuzz_glb; do
   mkdir -p "$dir/$h/seeds"
 done
 seed() { # HARNESS NAME < content
@@ -20,6 +20,7 @@ if [ -d "$data" ]; then
     [ -f "$f" ] && head -c 16384 "$f" > "$dir/fuzz_xyz/seeds/$(basename "$f")"
   done
   find "$data" -type f -size -64k -name '*.obj' -exec cp {} "$dir/fuzz_obj/seeds/" \; 2>/dev/null || true
+  find "$data" -type f -size -64k -name '*.obj' -exec cp {} "$dir/fuzz_objr/seeds/" \; 2>/dev/null || true
   for f in "$data"/models/*.3ds; do # small 3DS files whole, the others' first chunks
     [ -f "$f" ] && head -c 65536 "$f" > "$dir/fuzz_3ds/seeds/$(basename "$f")"
   done
@@ -46,6 +47,7 @@ for f in "$root"/build/demo/forest/*.txt; do
   esac
 done
 printf 'o tri\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\ng leaves\nusemtl leaf\nf 1/1/1 2/2/1 3/3/1\nf 1 2 3 4\nl 1 2\np 3\n' | seed fuzz_obj tri.obj
+printf 'mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.3 0.3 1e-3\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\no a\nusemtl leaf\nf 1/1/1 2/2/1 5/3/1 4/1/1\ng twigs\nf -3//1 -2//1 -1//1\nusemtl bark\nf 1 2 3\ns 1\no a\nf 3 4 5\n' | seed fuzz_objr made.obj
 # a small .glb: our own cloud of the built-in tree when the build has made one
 for f in "$root"/build/demo/*.glb "$root"/build/demo/forest/*_6.glb; do
   [ -f "$f" ] && [ "$(stat -c %s "$f")" -lt 262144 ] && cp "$f" "$dir/fuzz_glb/seeds/"

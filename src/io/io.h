@@ -120,6 +120,14 @@ bbc_result bbc__parse_xyz(const char *path, char *buf, size_t size, const bbc_lo
 bbc_result bbc__load_assimp_memory(const char *name, const void *data, size_t size,
                                    const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err);
 
+/* An OBJ file's bytes (`buf`, `size` and a NUL) as Assimp's OBJ importer
+ * would read them (src/io/load_obj.c): the mesh as bbc__load_assimp gives
+ * it, not finalized; or, for what it leaves to Assimp, *deferred = 1 and
+ * BBC_OK with the mesh untouched. */
+bbc_result bbc__parse_obj(const char *path, const char *buf, size_t size,
+                          const bbc_load_options *options, bbc_mesh *mesh, int *deferred,
+                          bbc_error *err);
+
 /* What every load ends with (src/io/load.c): the mesh finalized (when
  * `finalize`: the readers other than PLY and XYZ), freed when `r` or the
  * finishing fails, else moved near 0. Returns the result. */
@@ -130,6 +138,14 @@ bbc_result bbc__load_finish(const char *name, bbc_result r, int finalize,
  * from memory), nodes, meshes, then bbc__load_finish; the scene stays the
  * caller's; `options` may not be NULL. */
 struct aiScene;
+/* The conversion alone (no finishing): what bbc__load_assimp does with the
+ * scene Assimp read, for a scene built by our own reader (load_obj.c). */
+bbc_result bbc__assimp_convert(const char *path, const struct aiScene *scene,
+                               const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err);
+/* A material built by hand as Assimp lays one out (each property and its
+ * data malloc'd, as load_obj.c and fuzz_scene.c build them), freed. */
+struct aiMaterial;
+void bbc__scene_material_free(struct aiMaterial *m);
 bbc_result bbc__load_assimp_scene(const char *name, const struct aiScene *scene,
                                   const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err);
 

@@ -84,10 +84,21 @@ static bbc_result load_any(const char *name, const void *data, size_t size, int 
     err->message[0] = 0;
   }
   bbc_result r = from_memory ? BBC_OK : bbc__check_input_file(name, err);
-  if (r == BBC_OK) r = bbc__sniff_input(name, data, size, from_memory, options, err);
   if (r != BBC_OK) return r;
   char ext[16];
   bbc__path_extension(name, ext, sizeof ext);
+  /* An OBJ file for our reader is read once, for the sniffing too */
+  char *obj = NULL;
+  size_t obj_size = 0;
+  if (!from_memory && !strcmp(ext, "obj") && options->lod_node <= 0 &&
+      (r = bbc__read_whole_file(name, &obj, &obj_size, err)) != BBC_OK)
+    return r;
+  r = obj ? bbc__sniff_input(name, obj, obj_size, 1, options, err)
+          : bbc__sniff_input(name, data, size, from_memory, options, err);
+  if (r != BBC_OK) {
+    free(obj);
+    return r;
+  }
   /* Every .ply goes to our reader, mesh or point cloud: Assimp would drop
    * the points, accept damaged binary bodies without complaint, read
    * out-of-range face indices from uninitialised memory, and it never
@@ -111,8 +122,16 @@ static bbc_result load_any(const char *name, const void *data, size_t size, int 
         : xyz ? bbc__parse_xyz(name, buf, n, options, mesh, err)
               : bbc__parse_vrml(name, buf, n, options, mesh, err);
   } else {
-    r = from_memory ? bbc__load_assimp_memory(name, data, size, options, mesh, err)
-                    : bbc__load_assimp(name, options, mesh, err);
+    /* OBJ files: our reader, which gives Assimp's mesh (load_obj.c), or
+     * Assimp for what it leaves to it */
+    int deferred = 1;
+    if (obj) {
+      r = bbc__parse_obj(name, obj, obj_size, options, mesh, &deferred, err);
+      free(obj);
+    }
+    if (deferred)
+      r = from_memory ? bbc__load_assimp_memory(name, data, size, options, mesh, err)
+                      : bbc__load_assimp(name, options, mesh, err);
     if (r == BBC_OK && !from_memory && !strcmp(ext, "obj")) check_mtllib(name, options);
   }
   return bbc__load_finish(name, r, !ply && !xyz, options, mesh, err);

@@ -730,6 +730,11 @@ bbc_result bbc__load_assimp_scene(const char *name, const struct aiScene *scene,
   return bbc__load_finish(name, r, 1, options, mesh, err);
 }
 
+bbc_result bbc__assimp_convert(const char *path, const struct aiScene *scene,
+                               const bbc_load_options *options, bbc_mesh *mesh, bbc_error *err) {
+  return convert(path, scene, options, mesh, err);
+}
+
 /* The scene as our mesh (the scene is left as it is). */
 static bbc_result convert(const char *path, const struct aiScene *sc, const bbc_load_options *opt,
                           bbc_mesh *mesh, bbc_error *err) {

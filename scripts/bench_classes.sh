@@ -8,8 +8,9 @@
 # forest plot scan (scripts/make_plot.py: ground and six generated trees,
 # 81,591 points as georeferenced XYZ), the data scans, 1M points sampled on
 # the Scopia pine (and 10M with POINTS_10M=1: one run each, minutes), the
-# Scopia pine itself, a generated broadleaf of ~480k triangles, a
-# non-organic mesh (the FlightGear H-60) and the generated oak of 1.13M
+# Scopia pine itself, a generated broadleaf of ~480k triangles and conifer
+# of ~640k, a non-organic mesh (the FlightGear H-60) and a large one (the
+# building tessellated into 245k triangles) and the generated oak of 1.13M
 # triangles. For each input: whether the two binaries wrote the same
 # geometry and textures (the .glb's binary chunk; its JSON differs by the
 # parameter list), epsilon and planes of each, and where they differ the
@@ -76,8 +77,12 @@ if [ -f "$pine" ]; then
 fi
 "$new" tree --leaves 190000 -o "$in/broadleaf.obj" -q
 list+=("large broadleaf mesh|tree --leaves 190000|$in/broadleaf.obj|")
+"$new" tree --species pine --leaves 250000 -o "$in/conifer.obj" -q
+list+=("large conifer mesh|tree --species pine --leaves 250000|$in/conifer.obj|")
 h60="$data/models/flightgear/H-60.ac"
 [ -f "$h60" ] && list+=("non-organic mesh|H-60.ac|$h60|")
+python3 "$root/scripts/make_building.py" "$in/building_fine.obj" 50
+list+=("large non-organic mesh (tessellated)|make_building.py 50|$in/building_fine.obj|")
 "$new" tree --leaves 450000 -o "$in/oak_1M.obj" -q
 list+=("1.13M-triangle oak|tree --leaves 450000|$in/oak_1M.obj|")
 

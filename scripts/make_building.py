@@ -72,7 +72,43 @@ window("z", 5.0, W + 0.7, 0.0, W + 4.3, 2.4, +1, 0.05)
 box(-14, 0, 11.8, -1.5, 1.0, 12.2, "wall")
 box(1.5, 0, 11.8, 14, 1.0, 12.2, "wall")
 
+# `make_building.py OUT.obj [N]`: with N, every face cut into an N x N grid
+# (quads into quads, a gable's triangle into triangles): the building as a
+# finely tessellated mesh (a remeshed scan), the same surface
 out = sys.argv[1]
+sub = int(sys.argv[2]) if len(sys.argv) > 2 else 1
+if sub > 1:
+    old_faces, faces = faces, []
+
+    def lerp(a, b, t):
+        return tuple(a[k] + (b[k] - a[k]) * t for k in range(3))
+
+    def vid(p):
+        verts.append(p)
+        return len(verts)
+
+    for m, ix in old_faces:
+        a, b, c, d = (verts[i - 1] for i in ix)
+        tri = c == d
+        grid = {}
+        for i in range(sub + 1):
+            for j in range(sub + 1):
+                u, v = i / sub, j / sub
+                if tri:  # a, b, c: barycentric, only i + j <= sub
+                    if i + j <= sub:
+                        grid[i, j] = vid(tuple(a[k] + u * (b[k] - a[k]) + v * (c[k] - a[k]) for k in range(3)))
+                else:
+                    grid[i, j] = vid(lerp(lerp(a, b, u), lerp(d, c, u), v))
+        for i in range(sub):
+            for j in range(sub):
+                if not tri:
+                    faces.append((m, (grid[i, j], grid[i + 1, j], grid[i + 1, j + 1], grid[i, j + 1])))
+                elif i + j < sub:
+                    p3 = grid[i, j + 1]
+                    faces.append((m, (grid[i, j], grid[i + 1, j], p3, p3)))
+                    if i + j + 1 < sub:
+                        q = grid[i + 1, j + 1]
+                        faces.append((m, (grid[i + 1, j], q, p3, p3)))
 mtl = out[:-4] + ".mtl"
 with open(mtl, "w") as f:
     for name, c in mats.items():

@@ -50,7 +50,7 @@ static void test_defaults_match_appendix_a(void **state) {
   assert_int_equal(d.limbs, 512);
   assert_int_equal(d.point_normals, 1);
   assert_int_equal(d.point_sample, 16384);
-  assert_int_equal(d.face_sample, 32768);
+  assert_int_equal(d.face_sample, 16384);
   assert_int_equal(d.prelight, 0);
   assert_int_equal(d.normal_maps, 1);
   assert_int_equal(d.occlusion, 64);

@@ -94,7 +94,7 @@ static const param_row k_rows[] = {
       "(1 in k), every point then given to the first plane it is valid for, else (a few at "
       "the slabs' edges) the nearest; 0 = every point in steps 1 and 2"},
      INT_FIELD(point_sample)},
-    {{"facesample", BBC_PARAM_INT, 0, 1e9, 32768, 0, "extension", "faces",
+    {{"facesample", BBC_PARAM_INT, 0, 1e9, 16384, 0, "extension", "faces",
       "meshes whose part has more than 4n faces (a triangle, or two coplanar ones): planes "
       "chosen on a sample of about n faces (1 in k), every face then given to the first plane "
       "it is valid for, else the nearest; 0 = every face in steps 1 and 2"},

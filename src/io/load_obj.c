@@ -1,27 +1,30 @@
 /* load_obj.c — Wavefront OBJ (and its MTL) read by us into the scene Assimp's
- * OBJ importer would hand over, then converted as every Assimp scene is
- * (load_assimp.c): the same mesh, bit for bit, at a fraction of the time
- * and memory (issue 34: Assimp took 3.8 s and 600 MB over the 227 MB file
- * of a 1.13M-triangle oak).
+ * OBJ importer would hand over (built by obj_scene.c), then converted as
+ * every Assimp scene is (load_assimp.c): the same mesh, bit for bit, at a
+ * fraction of the time and memory (issue 34: Assimp took 3.8 s and 600 MB
+ * over the 227 MB file of a 1.13M-triangle oak).
  *
  * The scene follows Assimp 5's importer (its behaviour, observed and read
  * in its documentation and sources): an object (`o`, and a new one at every
  * change of `g`) is a node named after it; a mesh per run of one material
  * in it (`usemtl` opens a new mesh once the current one has faces); every
  * face corner its own vertex; quads cut as its Triangulate step cuts them
- * (from a concave corner, else from the first); numbers rounded as its
- * fast_atof rounds them (the integer part as a float, the first 15
- * decimals through a double, added in float). The MTL gives each material
- * what the conversion reads: name, Kd, Ka, d, Ns, illum and map_Kd, on
- * Assimp's defaults (diffuse 0.6, opacity 1, illum 1).
+ * (from a concave corner, else from the first); lines (`l`) moved to a mesh
+ * of their own as its SortByPType step moves them (the triangles then get
+ * a vertex a corner); numbers rounded as its fast_atof rounds them (the
+ * integer part as a float, the first 15 decimals through a double, added
+ * in float). The MTL gives each material what the conversion reads: name,
+ * Kd, Ka, d, Ns, illum and map_Kd, on Assimp's defaults (diffuse 0.6,
+ * opacity 1, illum 1).
  *
  * Only a plain subset is read here: triangles and quads with v, vt, vn
- * indices, o, g, s, usemtl, mtllib, comments, numbers of the form
- * [-]digits[.digits][e[-]digits]. Anything else (polygons of more corners,
- * lines, points, vertex colours, names with spaces, texture options,
- * indentation, ...) is deferred (*deferred = 1) and the caller hands the
- * file to Assimp, as before. test_load_obj checks both readers give the same mesh
- * on every OBJ of the data set and on made ones. */
+ * indices, lines of vertex indices, o, g, s, usemtl, mtllib, comments,
+ * numbers of the form [-]digits[.digits][e[-]digits]. Anything else
+ * (polygons of more corners, points, vertex colours, names with spaces,
+ * texture options, indentation, ...) is deferred (*deferred = 1) and the
+ * caller hands the file to Assimp, as before. test_load_obj checks both
+ * readers give the same mesh on every OBJ of the data set and on made
+ * ones. */
 #include "io.h"
 
 #include <math.h>
@@ -34,48 +37,7 @@
 #include <assimp/mesh.h>
 #include <assimp/scene.h>
 
-enum { NO_MATERIAL = -1, NAME_MAX_LEN = 1000 };
-
-typedef struct obj_material {
-  char *name;
-  float ambient[3], diffuse[3], alpha, shininess;
-  int illum;
-  char *texture; /* map_Kd */
-} obj_material;
-
-typedef struct obj_mesh {
-  int material; /* NO_MATERIAL until a usemtl or the object's creation sets it */
-  int has_normals;
-  size_t uv_refs, faces;
-} obj_mesh;
-
-typedef struct obj_object {
-  char *name;
-  uint32_t *meshes;
-  size_t n, cap;
-} obj_object;
-
-/* A growing array of `elem`-byte items. */
-typedef struct vec {
-  void *p;
-  size_t n, cap, elem;
-} vec;
-
-typedef struct obj_reader {
-  const char *path;
-  const bbc_load_options *opt;
-  vec v, vt, vn;    /* floats: 3 a position, 3 a texture coordinate (z 0 when 2D), 3 a normal */
-  vec corners;      /* int32: v, vt, vn (-1: none) a corner, indices 0-based */
-  vec face_mesh;    /* uint32 a face: its mesh */
-  vec face_corners; /* uint8 a face: 3 or 4 */
-  vec meshes;       /* obj_mesh */
-  vec objects;      /* obj_object */
-  vec materials;    /* obj_material; [0] Assimp's DefaultMaterial */
-  int current_object, current_mesh, current_material; /* -1: none */
-  char *active_group;
-  int defer; /* beyond the subset: Assimp reads the file */
-  int oom;
-} obj_reader;
+#include "obj_reader.h"
 
 static void *vec_push(vec *a) {
   if (a->n == a->cap) {
@@ -387,6 +349,65 @@ static void load_mtllib(obj_reader *R, const char *name, size_t n) {
 
 /* ---- OBJ lines ---------------------------------------------------------------- */
 
+/* A face (or line) of nc corners already pushed: its mesh, size, kind. */
+static int store_face(obj_reader *R, int nc, int line) {
+  uint32_t *fm = vec_push(&R->face_mesh);
+  uint8_t *fc = vec_push(&R->face_corners), *fl = vec_push(&R->face_line);
+  if (!fm || !fc || !fl) {
+    R->oom = 1;
+    return 0;
+  }
+  *fm = (uint32_t)R->current_mesh;
+  *fc = (uint8_t)nc;
+  *fl = (uint8_t)line;
+  return 1;
+}
+
+/* A line (`l`) of plain vertex indices, 2 to 255 of them: Assimp keeps it
+ * in the mesh (its SortByPType step then moves lines to a mesh of their
+ * own, which the conversion counts and skips). */
+static void read_line_element(obj_reader *R, const char *p) {
+  int nc = 0;
+  const int nv = (int)R->v.n;
+  size_t at = R->corners.n;
+  for (;;) {
+    p = skip_blanks(p);
+    if (at_end(*p)) break;
+    int neg = *p == '-';
+    if (neg) p++;
+    long v = 0;
+    int digits = 0;
+    if (*p < '1' || *p > '9') digits = 10;
+    while (digits < 10 && is_digit(*p)) {
+      v = 10 * v + (*p++ - '0');
+      digits++;
+    }
+    int idx = neg ? (int)(nv - v) : (int)(v - 1);
+    if (digits > 9 || idx < 0 || (!is_blank(*p) && !at_end(*p)) || nc == 255) {
+      R->defer = 1;
+      return;
+    }
+    int32_t *q = vec_push(&R->corners);
+    if (!q) {
+      R->oom = 1;
+      return;
+    }
+    q[0] = idx, q[1] = -1, q[2] = -1;
+    nc++;
+  }
+  if (nc < 2) {
+    R->corners.n = at;
+    R->defer = 1;
+    return;
+  }
+  if (R->current_object < 0) create_object(R, "defaultobject", 13);
+  if (R->current_mesh < 0) create_mesh(R);
+  if (R->oom || !store_face(R, nc, 1)) return;
+  obj_mesh *m = (obj_mesh *)R->meshes.p + R->current_mesh;
+  m->faces++;
+  m->segments += (size_t)nc - 1;
+}
+
 /* A face's corners: v, v/t, v//n or v/t/n, the same form at every corner,
  * 3 or 4 of them, indices [-]N (N >= 1; negative: from the end so far). */
 static void read_face(obj_reader *R, const char *p) {
@@ -462,14 +483,7 @@ static void read_face(obj_reader *R, const char *p) {
     }
     memcpy(q, c[k], sizeof c[k]);
   }
-  uint32_t *fm = vec_push(&R->face_mesh);
-  uint8_t *fc = vec_push(&R->face_corners);
-  if (!fm || !fc) {
-    R->oom = 1;
-    return;
-  }
-  *fm = (uint32_t)R->current_mesh;
-  *fc = (uint8_t)nc;
+  if (!store_face(R, nc, 0)) return;
   m->faces++;
   if (form & 4) m->has_normals = 1;
   if (form & 2) m->uv_refs += (size_t)nc;
@@ -538,6 +552,12 @@ static void read_line(obj_reader *R, const char *p) {
     return;
   case 's':
     return; /* smoothing groups: Assimp skips them */
+  case 'l':
+    if (is_blank(p[1]))
+      read_line_element(R, p + 1);
+    else
+      R->defer = 1;
+    return;
   case 'o':
     if (!(n = one_name(p + 1, &s))) {
       R->defer = 1;
@@ -573,303 +593,8 @@ static void read_line(obj_reader *R, const char *p) {
       R->defer = 1;
     return;
   default:
-    R->defer = 1; /* lines, points, curves, indented lines, ...: Assimp */
+    R->defer = 1; /* points, curves, ...: Assimp */
   }
-}
-
-/* ---- the scene ------------------------------------------------------------------- */
-
-static void add_prop(struct aiMaterial *m, const char *key, unsigned semantic,
-                     enum aiPropertyTypeInfo type, const void *data, unsigned length, int *oom) {
-  struct aiMaterialProperty *p = calloc(1, sizeof *p);
-  if (p) p->mData = malloc(length);
-  if (!p || !p->mData || m->mNumProperties == m->mNumAllocated) {
-    if (p) free(p->mData);
-    free(p);
-    *oom = 1;
-    return;
-  }
-  p->mKey.length = (ai_uint32)strlen(key);
-  memcpy(p->mKey.data, key, p->mKey.length + 1);
-  p->mSemantic = semantic;
-  p->mType = type;
-  p->mDataLength = length;
-  memcpy(p->mData, data, length);
-  m->mProperties[m->mNumProperties++] = p;
-}
-
-/* A string property as Assimp lays it out: length (4 bytes), characters, NUL. */
-static void add_string(struct aiMaterial *m, const char *key, unsigned semantic, const char *s,
-                       int *oom) {
-  char buf[4 + NAME_MAX_LEN + 1];
-  uint32_t len = (uint32_t)strlen(s);
-  memcpy(buf, &len, 4);
-  memcpy(buf + 4, s, len + 1);
-  add_prop(m, key, semantic, aiPTI_String, buf, 4 + len + 1, oom);
-}
-
-/* The properties of Assimp's createMaterials that the conversion reads. */
-static struct aiMaterial *make_material(const obj_material *om, int *oom) {
-  struct aiMaterial *m = calloc(1, sizeof *m);
-  if (m) m->mProperties = calloc(8, sizeof *m->mProperties);
-  if (!m || !m->mProperties) {
-    free(m);
-    *oom = 1;
-    return NULL;
-  }
-  m->mNumAllocated = 8;
-  int sm = om->illum == 0   ? aiShadingMode_NoShading
-           : om->illum == 2 ? aiShadingMode_Phong
-                            : aiShadingMode_Gouraud;
-  add_string(m, "?mat.name", 0, om->name, oom);
-  add_prop(m, "$mat.shadingm", 0, aiPTI_Integer, &sm, sizeof sm, oom);
-  add_prop(m, "$clr.ambient", 0, aiPTI_Float, om->ambient, sizeof om->ambient, oom);
-  add_prop(m, "$clr.diffuse", 0, aiPTI_Float, om->diffuse, sizeof om->diffuse, oom);
-  add_prop(m, "$mat.shininess", 0, aiPTI_Float, &om->shininess, sizeof om->shininess, oom);
-  add_prop(m, "$mat.opacity", 0, aiPTI_Float, &om->alpha, sizeof om->alpha, oom);
-  if (om->texture) add_string(m, "$tex.file", aiTextureType_DIFFUSE, om->texture, oom);
-  return m;
-}
-
-void bbc__scene_material_free(struct aiMaterial *m) {
-  if (!m) return;
-  for (unsigned i = 0; i < m->mNumProperties; i++) {
-    free(m->mProperties[i]->mData);
-    free(m->mProperties[i]);
-  }
-  free(m->mProperties);
-  free(m);
-}
-
-/* Assimp's Triangulate on a quad's corners a (positions): the first corner
- * whose angles to the diagonal sum beyond pi (a concave one) starts the
- * two triangles, else the first. Single precision, as there. */
-static int quad_start(const struct aiVector3D *a) {
-  for (int i = 0; i < 4; i++) {
-    const struct aiVector3D *v0 = &a[(i + 3) % 4], *v1 = &a[(i + 2) % 4], *v2 = &a[(i + 1) % 4],
-                            *v = &a[i];
-    float d[3][3] = {{v0->x - v->x, v0->y - v->y, v0->z - v->z},
-                     {v1->x - v->x, v1->y - v->y, v1->z - v->z},
-                     {v2->x - v->x, v2->y - v->y, v2->z - v->z}};
-    for (int k = 0; k < 3; k++) {
-      float len = sqrtf(d[k][0] * d[k][0] + d[k][1] * d[k][1] + d[k][2] * d[k][2]);
-      if (len != 0.0f) {
-        float inv = 1.0f / len;
-        d[k][0] *= inv;
-        d[k][1] *= inv;
-        d[k][2] *= inv;
-      }
-    }
-    float left = d[0][0] * d[1][0] + d[0][1] * d[1][1] + d[0][2] * d[1][2];
-    float right = d[2][0] * d[1][0] + d[2][1] * d[1][1] + d[2][2] * d[1][2];
-    float angle = acosf(left) + acosf(right);
-    if (angle > (float)M_PI) return i;
-  }
-  return 0;
-}
-
-static void free_mesh(struct aiMesh *m) {
-  if (!m) return;
-  free(m->mVertices);
-  free(m->mNormals);
-  free(m->mTextureCoords[0]);
-  if (m->mFaces) free(m->mFaces[0].mIndices); /* one block for all */
-  free(m->mFaces);
-  free(m);
-}
-
-/* Mesh mi as Assimp's createTopology, createVertexArray and Triangulate
- * make it: a vertex a corner; normals when the file has some and a face of
- * the mesh refers to them, texture coordinates likewise; quads in two.
- * `faces` lists the mesh's faces in file order, `first` each face's first
- * corner. NULL with R->defer for indices out of range (Assimp's error). */
-static struct aiMesh *make_mesh(obj_reader *R, int mi, const uint32_t *faces, size_t nf,
-                                const size_t *first) {
-  const obj_mesh *om = (const obj_mesh *)R->meshes.p + mi;
-  const uint8_t *fcn = R->face_corners.p;
-  const int32_t *cr = R->corners.p;
-  const float *V = R->v.p, *T = R->vt.p, *N = R->vn.p;
-  size_t nv = 0, nt = 0;
-  for (size_t i = 0; i < nf; i++) {
-    nv += fcn[faces[i]];
-    nt += fcn[faces[i]] == 4 ? 2 : 1;
-  }
-  if (nv > UINT32_MAX / 2) {
-    R->defer = 1;
-    return NULL;
-  }
-  struct aiMesh *m = calloc(1, sizeof *m);
-  if (!m) return NULL;
-  m->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
-  m->mNumVertices = (unsigned)nv;
-  m->mNumFaces = (unsigned)nt;
-  m->mMaterialIndex = om->material == NO_MATERIAL ? 0 : (unsigned)om->material;
-  m->mVertices = malloc(nv * sizeof *m->mVertices);
-  int normals = R->vn.n && om->has_normals, uvs = R->vt.n && om->uv_refs;
-  if (normals) m->mNormals = calloc(nv, sizeof *m->mNormals);
-  if (uvs) {
-    m->mTextureCoords[0] = calloc(nv, sizeof *m->mTextureCoords[0]);
-    m->mNumUVComponents[0] = 2;
-  }
-  m->mFaces = calloc(nt ? nt : 1, sizeof *m->mFaces);
-  unsigned *ix = malloc((nt ? 3 * nt : 1) * sizeof *ix);
-  if (!m->mVertices || (normals && !m->mNormals) || (uvs && !m->mTextureCoords[0]) || !m->mFaces ||
-      !ix) {
-    free(ix);
-    free_mesh(m);
-    return NULL;
-  }
-  m->mFaces[0].mIndices = ix;
-  int normals_ok = 1, uvs_ok = 1;
-  size_t o = 0, t = 0;
-  for (size_t i = 0; i < nf; i++) {
-    size_t f = faces[i], c0 = first[f];
-    int nc = fcn[f];
-    for (int k = 0; k < nc; k++) {
-      const int32_t *c = cr + 3 * (c0 + (size_t)k);
-      if (c[0] < 0 || (size_t)c[0] >= R->v.n) {
-        R->defer = 1;
-        free_mesh(m);
-        return NULL;
-      }
-      memcpy(&m->mVertices[o + (size_t)k], V + 3 * (size_t)c[0], 3 * sizeof(float));
-      if (normals && normals_ok && c[2] >= -1) {
-        if (c[2] >= 0 && (size_t)c[2] < R->vn.n)
-          memcpy(&m->mNormals[o + (size_t)k], N + 3 * (size_t)c[2], 3 * sizeof(float));
-        else if (c[2] != -1)
-          normals_ok = 0;
-      }
-      if (uvs && uvs_ok && c[1] >= -1) {
-        if (c[1] >= 0 && (size_t)c[1] < R->vt.n)
-          memcpy(&m->mTextureCoords[0][o + (size_t)k], T + 3 * (size_t)c[1], 3 * sizeof(float));
-        else if (c[1] != -1)
-          uvs_ok = 0;
-      }
-    }
-    unsigned b = (unsigned)o;
-    if (nc == 3) {
-      m->mFaces[t].mNumIndices = 3;
-      m->mFaces[t].mIndices = ix + 3 * t;
-      ix[3 * t] = b, ix[3 * t + 1] = b + 1, ix[3 * t + 2] = b + 2;
-      t++;
-    } else {
-      unsigned s = (unsigned)quad_start(&m->mVertices[o]);
-      unsigned q[4] = {b, b + 1, b + 2, b + 3};
-      for (int h = 0; h < 2; h++) {
-        m->mFaces[t].mNumIndices = 3;
-        m->mFaces[t].mIndices = ix + 3 * t;
-        ix[3 * t] = q[s];
-        ix[3 * t + 1] = q[(s + 1 + (unsigned)h) % 4];
-        ix[3 * t + 2] = q[(s + 2 + (unsigned)h) % 4];
-        t++;
-      }
-    }
-    o += (size_t)nc;
-  }
-  if (!normals_ok) {
-    free(m->mNormals);
-    m->mNormals = NULL;
-  }
-  if (!uvs_ok) {
-    free(m->mTextureCoords[0]);
-    m->mTextureCoords[0] = NULL;
-  }
-  return m;
-}
-
-static void free_scene(struct aiScene *sc) {
-  if (!sc) return;
-  for (unsigned i = 0; i < sc->mNumMeshes; i++) free_mesh(sc->mMeshes[i]);
-  free(sc->mMeshes);
-  for (unsigned i = 0; i < sc->mNumMaterials; i++) bbc__scene_material_free(sc->mMaterials[i]);
-  free(sc->mMaterials);
-  if (sc->mRootNode) {
-    for (unsigned i = 0; i < sc->mRootNode->mNumChildren; i++) {
-      free(sc->mRootNode->mChildren[i]->mMeshes);
-      free(sc->mRootNode->mChildren[i]);
-    }
-    free(sc->mRootNode->mChildren);
-    free(sc->mRootNode);
-  }
-  free(sc);
-}
-
-/* The scene of the model read: a root node, a child node an object (its
- * meshes with faces), the materials in the library's order. NULL with
- * R->defer or R->oom. */
-static struct aiScene *make_scene(obj_reader *R) {
-  size_t nf = R->face_mesh.n, nm = R->meshes.n;
-  const uint32_t *fm = R->face_mesh.p;
-  const uint8_t *fcn = R->face_corners.p;
-  struct aiScene *sc = calloc(1, sizeof *sc);
-  size_t *first = malloc((nf ? nf : 1) * sizeof *first);
-  size_t *start = calloc(nm + 1, sizeof *start);
-  uint32_t *order = malloc((nf ? nf : 1) * sizeof *order);
-  if (sc) {
-    sc->mRootNode = calloc(1, sizeof *sc->mRootNode);
-    sc->mMeshes = calloc(nm ? nm : 1, sizeof *sc->mMeshes);
-    sc->mMaterials = calloc(R->materials.n, sizeof *sc->mMaterials);
-  }
-  if (!sc || !first || !start || !order || !sc->mRootNode || !sc->mMeshes || !sc->mMaterials)
-    goto oom;
-  /* faces by mesh, each mesh's in file order */
-  size_t c = 0;
-  for (size_t f = 0; f < nf; f++) {
-    first[f] = c;
-    c += fcn[f];
-    start[fm[f] + 1]++;
-  }
-  for (size_t i = 0; i < nm; i++) start[i + 1] += start[i];
-  for (size_t f = 0; f < nf; f++) order[start[fm[f]]++] = (uint32_t)f;
-  for (size_t i = nm; i > 0; i--) start[i] = start[i - 1];
-  start[0] = 0;
-  struct aiNode *root = sc->mRootNode;
-  root->mTransformation.a1 = root->mTransformation.b2 = root->mTransformation.c3 =
-      root->mTransformation.d4 = 1;
-  root->mChildren = calloc(R->objects.n ? R->objects.n : 1, sizeof *root->mChildren);
-  if (!root->mChildren) goto oom;
-  for (size_t oi = 0; oi < R->objects.n; oi++) {
-    const obj_object *ob = (const obj_object *)R->objects.p + oi;
-    struct aiNode *node = calloc(1, sizeof *node);
-    if (!node) goto oom;
-    root->mChildren[root->mNumChildren++] = node;
-    node->mParent = root;
-    node->mTransformation = root->mTransformation;
-    node->mName.length = (ai_uint32)strlen(ob->name);
-    memcpy(node->mName.data, ob->name, node->mName.length + 1);
-    node->mMeshes = malloc((ob->n ? ob->n : 1) * sizeof *node->mMeshes);
-    if (!node->mMeshes) goto oom;
-    for (size_t k = 0; k < ob->n; k++) {
-      int mi = (int)ob->meshes[k];
-      size_t count = start[mi + 1] - start[mi];
-      if (!count) continue; /* Assimp leaves meshes without faces out */
-      struct aiMesh *m = make_mesh(R, mi, order + start[mi], count, first);
-      if (!m) {
-        if (R->defer) goto fail;
-        goto oom;
-      }
-      node->mMeshes[node->mNumMeshes++] = sc->mNumMeshes;
-      sc->mMeshes[sc->mNumMeshes++] = m;
-    }
-  }
-  for (size_t i = 0; i < R->materials.n; i++) {
-    int oom = 0;
-    sc->mMaterials[sc->mNumMaterials] = make_material((obj_material *)R->materials.p + i, &oom);
-    if (sc->mMaterials[sc->mNumMaterials]) sc->mNumMaterials++;
-    if (oom) goto oom;
-  }
-  free(first);
-  free(start);
-  free(order);
-  return sc;
-oom:
-  R->oom = 1;
-fail:
-  free(first);
-  free(start);
-  free(order);
-  free_scene(sc);
-  return NULL;
 }
 
 static void reader_free(obj_reader *R) {
@@ -881,8 +606,9 @@ static void reader_free(obj_reader *R) {
     free(((obj_material *)R->materials.p)[i].name);
     free(((obj_material *)R->materials.p)[i].texture);
   }
-  vec *all[] = {&R->v,      &R->vt,      &R->vn,       &R->corners, &R->face_mesh, &R->face_corners,
-                &R->meshes, &R->objects, &R->materials};
+  vec *all[] = {&R->v,         &R->vt,           &R->vn,        &R->corners,
+                &R->face_mesh, &R->face_corners, &R->face_line, &R->meshes,
+                &R->objects,   &R->materials};
   for (size_t i = 0; i < sizeof all / sizeof *all; i++) free(all[i]->p);
   free(R->active_group);
 }
@@ -901,7 +627,7 @@ bbc_result bbc__parse_obj(const char *path, const char *buf, size_t size,
   R.v.elem = R.vt.elem = R.vn.elem = 3 * sizeof(float);
   R.corners.elem = 3 * sizeof(int32_t);
   R.face_mesh.elem = sizeof(uint32_t);
-  R.face_corners.elem = 1;
+  R.face_corners.elem = R.face_line.elem = 1;
   R.meshes.elem = sizeof(obj_mesh);
   R.objects.elem = sizeof(obj_object);
   R.materials.elem = sizeof(obj_material);
@@ -926,13 +652,13 @@ bbc_result bbc__parse_obj(const char *path, const char *buf, size_t size,
     }
   }
   if (!R.defer && !R.oom && R.face_mesh.n == 0) R.defer = 1; /* no faces: Assimp says so */
-  struct aiScene *sc = R.defer || R.oom ? NULL : make_scene(&R);
+  struct aiScene *sc = R.defer || R.oom ? NULL : bbc__obj_make_scene(&R);
   int defer = R.defer, oom = R.oom;
   reader_free(&R);
   if (defer) return BBC_OK;
   *deferred = 0;
   if (oom || !sc) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
   bbc_result r = bbc__assimp_convert(path, sc, options, mesh, err);
-  free_scene(sc);
+  bbc__obj_free_scene(sc);
   return r;
 }

@@ -9,9 +9,35 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int compare_float(const void *a, const void *b) {
-  float x = *(const float *)a, y = *(const float *)b;
-  return (x > y) - (x < y);
+/* The k-th smallest of a[n] (k < n; a is reordered): the value sorting
+ * would put at a[k], in linear time (quickselect, the middle element as
+ * pivot, three-way partition; the shadows of a million-vertex tree took
+ * 0.2 s to sort). */
+static float kth_smallest(float *a, size_t n, size_t k) {
+  size_t lo = 0, hi = n; /* the k-th lies in [lo, hi) */
+  while (hi - lo > 1) {
+    float p = a[lo + (hi - lo) / 2];
+    size_t lt = lo, i = lo, gt = hi; /* [lo,lt) < p, [lt,i) == p, [gt,hi) > p */
+    while (i < gt) {
+      float x = a[i];
+      if (x < p) {
+        a[i++] = a[lt];
+        a[lt++] = x;
+      } else if (x > p) {
+        a[i] = a[--gt];
+        a[gt] = x;
+      } else {
+        i++;
+      }
+    }
+    if (k < lt)
+      hi = lt;
+    else if (k >= gt)
+      lo = gt;
+    else
+      return p;
+  }
+  return a[lo];
 }
 
 /* The voxel grid of 2.3.11: per voxel the vertices in it and the shadow
@@ -91,8 +117,7 @@ static bbc_result shade_grid_build(const bbc_mesh *m, int voxels, int up_axis, s
   size_t ns = 0;
   for (size_t v = 0; v < nv; v++)
     if (g->shadow[g->cell_of[v]] > 0) sorted[ns++] = g->shadow[g->cell_of[v]];
-  qsort(sorted, ns, sizeof *sorted, compare_float);
-  g->ref = ns ? sorted[(size_t)(0.95 * (double)(ns - 1))] : 0;
+  g->ref = ns ? kth_smallest(sorted, ns, (size_t)(0.95 * (double)(ns - 1))) : 0;
   free(sorted);
   return BBC_OK;
 }

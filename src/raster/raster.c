@@ -743,11 +743,12 @@ bbc_result bbc__render_coverage(const bbc_mesh *m, const bbc_view *view, int siz
     bbc_image_free(&img);
     return r;
   }
-  double *proj = project_all(m, &cam);
-  tg.proj = proj;
+  /* Each triangle projects its corners (no project_all): on a model of a
+   * million triangles, writing and reading back every vertex's projection
+   * cost more than projecting shared corners twice (the refinement's 16
+   * coverage views of the 1.13M-triangle oak: 0.73 -> 0.59 s) */
   for (size_t t = 0; t < m->triangle_count; t++)
     if (!view->face_mask || view->face_mask[t]) draw_triangle(m, t, &tg);
-  free(proj);
   return BBC_OK;
 }
 

@@ -563,8 +563,8 @@ static void read_line(obj_reader *R, const char *p) {
       R->defer = 1;
       return;
     }
-    R->current_object = -1;
-    for (size_t i = 0; i < R->objects.n; i++) {
+    R->current_object = -1; /* the first object of that name, as Assimp looks */
+    for (size_t i = 0; i < R->objects.n && R->current_object < 0; i++) {
       const char *on = ((obj_object *)R->objects.p)[i].name;
       if (strlen(on) == n && !memcmp(on, s, n)) R->current_object = (int)i;
     }

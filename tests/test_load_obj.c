@@ -221,6 +221,10 @@ static const made k_made[] = {
     {"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 2 0\nv 3 3 0\n"
      "f 1 2 2 3\nf 1 1 2 3\nf 4 5 6 3\nf 1 3 2 4\nf 1 2 3 1\nf 1 2 3 4\n",
      NULL, 0},
+    /* a library with CRLF line ends (as Windows exporters write it) */
+    {"mtllib m.mtl\r\nv 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\nusemtl x\r\nf 1 2 3\r\nusemtl y\r\n"
+     "f 3 2 1\r\n",
+     "newmtl x\r\nKd 0.5 0.25 0.125\r\nd 0.5\r\n\r\nnewmtl y\r\nillum 0\r\nmap_Kd leaf.png\r\n", 0},
     /* left to Assimp: a pentagon, points, an indented line, texture options */
     {"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv -1 0.5 0\nf 1 2 3 4 5\n", NULL, 1},
     {"v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\np 1 2\n", NULL, 1},

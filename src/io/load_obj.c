@@ -340,7 +340,13 @@ static void load_mtllib(obj_reader *R, const char *name, size_t n) {
     R->defer = 1; /* unreadable: Assimp says what it says */
     return;
   }
-  if (memchr(buf, 0, size) || memchr(buf, '\r', size))
+  /* CRLF line ends read as Assimp reads them; a lone CR (old Mac files) or
+   * a NUL are Assimp's */
+  int lone_cr = 0;
+  for (const char *q = memchr(buf, '\r', size); q && !lone_cr;
+       q = memchr(q + 1, '\r', size - (size_t)(q + 1 - buf)))
+    lone_cr = q[1] != '\n';
+  if (memchr(buf, 0, size) || lone_cr)
     R->defer = 1;
   else
     parse_mtl(R, buf);

@@ -74,6 +74,18 @@ static void assert_whole_run(const bbc_mesh *m, const bbc_planes_options *o,
   bbc_planeset_free(&s);
 }
 
+/* The planes of m with 1 thread into a, checked the same with 2. */
+static void find_threads_alike(const bbc_mesh *m, bbc_planes_options *o, bbc_planeset *a) {
+  bbc_planeset b;
+  o->params.threads = 1;
+  find(m, o, a);
+  o->params.threads = 2;
+  find(m, o, &b);
+  assert_same_planes(a, &b);
+  assert_int_equal(a->beyond_count, b.beyond_count);
+  bbc_planeset_free(&b);
+}
+
 /* 40,000 points on a tree, every point in steps 1 and 2 (pointsample 0):
  * probed (an unsampled cloud of 16,384 points or more). Within the budget at the
  * asked epsilon or not, the search keeps a whole run at the epsilon it
@@ -119,13 +131,8 @@ static void test_point_sample(void **state) {
   bbc_planes_options_default(&o);
   o.params.min_planes = 0;
   o.params.max_planes = 0;
-  o.params.threads = 1;
   bbc_planeset a, b;
-  find(&m, &o, &a);
-  o.params.threads = 2;
-  find(&m, &o, &b);
-  assert_same_planes(&a, &b);
-  bbc_planeset_free(&b);
+  find_threads_alike(&m, &o, &a);
   double eps = a.epsilon_abs;
   size_t valid = 0, sum = 0;
   for (size_t v = 0; v < m.vertex_count; v++) {
@@ -178,14 +185,8 @@ static void test_face_sample(void **state) {
   o.params.min_planes = 0;
   o.params.max_planes = 0;
   o.params.face_sample = 800;
-  o.params.threads = 1;
   bbc_planeset a, b;
-  find(&m, &o, &a);
-  o.params.threads = 2;
-  find(&m, &o, &b);
-  assert_same_planes(&a, &b);
-  assert_int_equal(a.beyond_count, b.beyond_count);
-  bbc_planeset_free(&b);
+  find_threads_alike(&m, &o, &a);
   assert_true(a.sample_stride >= 4);
   size_t beyond = 0, placed = 0, sum = 0;
   for (size_t t = 0; t < m.triangle_count; t++) {

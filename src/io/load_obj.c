@@ -629,7 +629,6 @@ bbc_result bbc__parse_obj(const char *path, const char *buf, size_t size,
   obj_reader R;
   memset(&R, 0, sizeof R);
   R.path = path;
-  R.opt = options;
   R.v.elem = R.vt.elem = R.vn.elem = 3 * sizeof(float);
   R.corners.elem = 3 * sizeof(int32_t);
   R.face_mesh.elem = sizeof(uint32_t);

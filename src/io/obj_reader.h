@@ -38,7 +38,6 @@ typedef struct vec {
 
 typedef struct obj_reader {
   const char *path;
-  const bbc_load_options *opt;
   vec v, vt, vn;    /* floats: 3 a position, 3 a texture coordinate (z 0 when 2D), 3 a normal */
   vec corners;      /* int32: v, vt, vn (-1: none) a corner, indices 0-based */
   vec face_mesh;    /* uint32 a face: its mesh */

@@ -70,6 +70,7 @@ static void assign_faces(bbc_planeset *set, const grid_part *gp, const select_re
                          size_t base, double eps) {
   const bbc_plane *pl = sr->planes;
   size_t count = sr->plane_count;
+  double tol = eps * (1 + 1e-12); /* bbc__dual_face_valid's: valid when d <= tol */
   int nt = bbc__thread_count(gp->params->threads);
   (void)nt;
   size_t beyond = 0;
@@ -88,7 +89,7 @@ static void assign_faces(bbc_planeset *set, const grid_part *gp, const select_re
         double dv = fabs(cc + f->d[v][0] * nn[0] + f->d[v][1] * nn[1] + f->d[v][2] * nn[2]);
         if (dv > d) d = dv;
       }
-      if (bbc__dual_face_valid(f, nn, pl[k].d, eps)) best = k;
+      if (d <= tol) best = k;
       if (d < near_d) {
         near_d = d;
         near = k;

@@ -270,7 +270,9 @@ static void splats_reference(const bbc_mesh *m, const bbc_view *view, int w, int
 /* Splats drawn tile by tile give the reference's pixels, ties of depth
  * included (a flat patch seen square-on, every point at one depth, and
  * repeated points of other colours), on images whose sides are not
- * multiples of the tiles', for small, odd and large splats. */
+ * multiples of the tiles', for small, odd and large splats (each row's run
+ * of covered pixels found from the disc's chord: the same pixels as a test
+ * of each). */
 static void test_splat_tiles(void **state) {
   (void)state;
   bbc_mesh m = tree_points(300, 6000, 9);
@@ -297,8 +299,9 @@ static void test_splat_tiles(void **state) {
     img[k] = calloc(4 * n, 1);
     assert_non_null(img[k]);
   }
-  const double sizes[3] = {0.7, 3.5, 23};
-  for (int si = 0; si < 3; si++)
+  /* (whole and half sizes put pixel centres on the disc's edge) */
+  const double sizes[] = {0.7, 1, 2, 3.5, 8.25, 23, 41};
+  for (size_t si = 0; si < sizeof sizes / sizeof *sizes; si++)
     for (int smooth = 0; smooth < 2; smooth++) {
       for (int k = 0; k < 4; k++) memset(img[k], 0, 4 * n);
       bbc__bake bk;

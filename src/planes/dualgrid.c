@@ -398,10 +398,45 @@ typedef struct pair_block {
   size_t m;                    /* pairs */
   double *nx, *ny, *nz, *rad;  /* centre normals and chord radii */
   double *lo, *hi, *proj, *ok; /* one face's ranges, shares and validity */
-  double *tr;                  /* the boxes' trigonometry for points, 8 a pair */
+  double *tr;                  /* the boxes' trigonometry for points: 8 arrays of m */
   size_t *dir_a, *dir_b;       /* the pair's two directions */
   int64_t *diff;               /* 6 kink arrays of n_rho + 2 a pair */
 } pair_block;
+
+/* A point's ranges [lo, hi] over the boxes [q0, q1) of a block
+ * (dual_point_extremes' arithmetic, each choice made by selection rather
+ * than a branch so that the loop vectorises), widened by eps. tr: the
+ * boxes' trigonometry, 8 arrays of m (ct0, st0, ct1, st1, cp0, sp0, cp1,
+ * sp1). */
+static inline void point_ranges(double a, double b, double c, const double *restrict tr, size_t m,
+                                size_t q0, size_t q1, double eps, double *restrict lo,
+                                double *restrict hi) {
+  const double *restrict ct0 = tr, *restrict st0 = tr + m, *restrict ct1 = tr + 2 * m;
+  const double *restrict st1 = tr + 3 * m, *restrict cp0 = tr + 4 * m, *restrict sp0 = tr + 5 * m;
+  const double *restrict cp1 = tr + 6 * m, *restrict sp1 = tr + 7 * m;
+  double R = sqrt(a * a + b * b);
+  for (size_t q = q0; q < q1; q++) {
+    double u0 = a * ct0[q] + b * st0[q], u1 = a * ct1[q] + b * st1[q];
+    double umax = u0 > u1 ? u0 : u1, umin = u0 < u1 ? u0 : u1;
+    int peak = (ct0[q] * b - st0[q] * a >= 0) & (a * st1[q] - b * ct1[q] >= 0);
+    int dip = (st0[q] * a - ct0[q] * b >= 0) & (b * ct1[q] - a * st1[q] >= 0);
+    umax = peak ? R : umax;
+    umin = dip ? -R : umin;
+    double m0 = umax * cp0[q] + c * sp0[q], m1 = umax * cp1[q] + c * sp1[q];
+    double mx = m0 > m1 ? m0 : m1;
+    int top = (umax > 0) & (cp0[q] * c - sp0[q] * umax >= 0) & (umax * sp1[q] - c * cp1[q] >= 0);
+    double top_v = sqrt(umax * umax + c * c);
+    mx = top ? top_v : mx;
+    double n0 = umin * cp0[q] + c * sp0[q], n1 = umin * cp1[q] + c * sp1[q];
+    double mn = n0 < n1 ? n0 : n1;
+    int bottom =
+        (umin < 0) & (-cp0[q] * c + sp0[q] * umin >= 0) & (-umin * sp1[q] + c * cp1[q] >= 0);
+    double bottom_v = -sqrt(umin * umin + c * c);
+    mn = bottom ? bottom_v : mn;
+    lo[q] = mn - eps;
+    hi[q] = mx + eps;
+  }
+}
 
 /* Faces [f0, f1) of `which` (or of faces) into a block's columns: blocks
  * of directions whose columns stay in the first-level cache. */
@@ -425,11 +460,8 @@ static BBC__CLONES void add_faces(const dual_grid *g, const dual_face *faces, co
         double pa, pb, pc;
         dual_point_frame(&g->frame, fc->c, &pa, &pb, &pc);
         int oriented = fc->n[0] != 0 || fc->n[1] != 0 || fc->n[2] != 0;
+        point_ranges(pa, pb, pc, tr, m, q0, q1, eps, lo, hi);
         for (size_t q = q0; q < q1; q++) {
-          double mn, mx;
-          dual_point_extremes(pa, pb, pc, (const dual_box_trig *)(tr + 8 * q), &mn, &mx);
-          lo[q] = mn - eps;
-          hi[q] = mx + eps;
           ok[q] = 1;
           proj[q] = oriented ? parea * fabs(fc->n[0] * nx[q] + fc->n[1] * ny[q] + fc->n[2] * nz[q])
                              : parea;
@@ -488,7 +520,7 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
     if (buf && dir_a && diff) {
       double *nx = buf, *ny = buf + nb, *nz = buf + 2 * nb, *rad = buf + 3 * nb;
       double *lo = buf + 4 * nb, *hi = buf + 5 * nb, *proj = buf + 6 * nb, *ok = buf + 7 * nb;
-      double *tr = buf + 9 * nb; /* the directions' boxes for points: 8 a direction */
+      double *tr = buf + 9 * nb; /* the directions' boxes for points: 8 arrays of nb */
       size_t *dir_b = dir_a + nb;
       for (size_t k = 0; k < mine; k++) {
         size_t q = (size_t)tid + k * (size_t)tn;
@@ -512,7 +544,8 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
         bbc__dual_grid_cell_box(g, a, 0, &box);
         dual_box_trig bt;
         dual_box_trig_of(&box, &bt);
-        memcpy(tr + 8 * k, &bt, sizeof bt);
+        const double trig[8] = {bt.ct0, bt.st0, bt.ct1, bt.st1, bt.cp0, bt.sp0, bt.cp1, bt.sp1};
+        for (int t = 0; t < 8; t++) tr[(size_t)t * nb + k] = trig[t];
         dir_a[k] = a;
         dir_b[k] = b;
       }

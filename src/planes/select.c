@@ -115,7 +115,7 @@ static size_t simply_valid(ctx *c, const dual_box *b, const uint32_t *in, size_t
   int nt = thread_count(c);
   (void)nt;
 #ifdef _OPENMP
-#pragma omp parallel for schedule(static, 256) num_threads(nt) if (n > 4096)
+#pragma omp parallel for schedule(static, 256) num_threads(nt) if (n > 256)
 #endif
   for (size_t i = 0; i < n; i++) {
     size_t f = in ? in[i] : i;
@@ -161,7 +161,7 @@ static size_t count_valid(ctx *c, const uint32_t *set, size_t n, const double no
   int nt = thread_count(c);
   (void)nt;
 #ifdef _OPENMP
-#pragma omp parallel for schedule(static, 256) reduction(+ : count, area) num_threads(nt) if (total > 4096)
+#pragma omp parallel for schedule(static, 256) reduction(+ : count, area) num_threads(nt) if (total > 256)
 #endif
   for (size_t i = 0; i < total; i++) {
     if (!set && c->assigned[i]) continue;
@@ -346,7 +346,7 @@ static void refine_sums(const ctx *c, const dual_box *b, const uint32_t *set, si
   int nt = thread_count(c);
   (void)nt;
 #ifdef _OPENMP
-#pragma omp parallel num_threads(nt) if (n > (points ? 4096u : 512u))
+#pragma omp parallel num_threads(nt) if (n > (points ? 256u : 512u))
 #endif
   {
     int64_t lc[ND * ND][NR], lp[ND * ND][NR], diff[ND * ND][3 * NK], la[3] = {0, 0, 0};

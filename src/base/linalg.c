@@ -11,6 +11,12 @@ void bbc__smallest_eigenvector(double a[3][3], double v_out[3]) {
   for (int sweep = 0; sweep < 50; sweep++) {
     double off = fabs(a[0][1]) + fabs(a[0][2]) + fabs(a[1][2]);
     if (off < 1e-300) break;
+    /* A sweep that changes no bit of a and v would change none again: the
+     * result of all 50 (converged covariances get there after 10-12; their
+     * off-diagonal rounding residue never reaches 1e-300). */
+    double a0[3][3], v0[3][3];
+    memcpy(a0, a, sizeof a0);
+    memcpy(v0, v, sizeof v0);
     for (int p = 0; p < 2; p++)
       for (int q = p + 1; q < 3; q++) {
         if (a[p][q] == 0) continue;
@@ -33,6 +39,7 @@ void bbc__smallest_eigenvector(double a[3][3], double v_out[3]) {
           v[k][q] = s * vkp + c * vkq;
         }
       }
+    if (!memcmp(a0, a, sizeof a0) && !memcmp(v0, v, sizeof v0)) break;
   }
   int m = 0;
   for (int i = 1; i < 3; i++)

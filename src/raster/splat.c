@@ -69,6 +69,8 @@ static BBC__CLONES void splat_row(float *restrict df, uint8_t *restrict cf, floa
  * (the test's rounding keeps it monotonic on each side of the centre),
  * found from the circle's chord and then settled by the test itself at
  * its two ends: the pixels a test of each one would give. */
+enum { SMALL_SPLAT = 8 }; /* columns under which a row's run is not worth finding */
+
 static void draw_splat(const splat *sp, double half, int smooth, int cx0, int cy0, int cx1, int cy1,
                        bbc__bake *bake, float *depth, size_t n) {
   int rc[4];
@@ -80,6 +82,24 @@ static void draw_splat(const splat *sp, double half, int smooth, int cx0, int cy
   int ux = (int)floor(sp->x), uy = (int)floor(sp->y);
   float z = sp->z;
   size_t w = (size_t)bake->width;
+  if (xb - xa < SMALL_SPLAT) { /* a few pixels a row: each tested */
+    for (int y = ya; y <= yb; y++) {
+      double dy = y + 0.5 - sp->y, dy2 = dy * dy;
+      for (int x = xa; x <= xb; x++) {
+        if (smooth && !(x == ux && y == uy) && !in_disc(x, sp->x, dy2, r2)) continue;
+        size_t pi = (size_t)y * w + x;
+        if (z < depth[pi]) {
+          depth[pi] = z;
+          memcpy(bake->front + 4 * pi, sp->px4, 4);
+        }
+        if (bake->back && z > depth[n + pi]) {
+          depth[n + pi] = z;
+          memcpy(bake->back + 4 * pi, sp->px4, 4);
+        }
+      }
+    }
+    return;
+  }
   for (int y = ya; y <= yb; y++) {
     size_t row = (size_t)y * w;
     float *df = depth + row, *db = bake->back ? depth + n + row : NULL;

@@ -206,8 +206,13 @@ bbc_result bbc__render_splats(const bbc_mesh *m, const uint32_t *points, size_t 
       int cx1 = cx0 + TILE - 1, cy1 = cy0 + TILE - 1;
       if (cx1 >= bake->width) cx1 = bake->width - 1;
       if (cy1 >= bake->height) cy1 = bake->height - 1;
-      for (size_t k = start[t]; k < start[t + 1]; k++)
+      for (size_t k = start[t]; k < start[t + 1]; k++) {
+#if defined(__GNUC__)
+        /* a tile's points lie anywhere among millions: fetched ahead */
+        if (k + 16 < start[t + 1]) __builtin_prefetch(&sp[list[k + 16]]);
+#endif
         draw_splat(&sp[list[k]], half, smooth, cx0, cy0, cx1, cy1, bake, depth, n);
+      }
     }
     free(list);
   }

@@ -59,7 +59,7 @@ with open(sys.argv[2], 'w') as o:
         o.write('%.3f %.3f %.3f %d %d %d\n' % (500000 + x, 5400000 - z, 300 + y, r, g, b))
 PY
 list+=("forest plot scan (XYZ, UTM)|plot_utm.xyz|$in/plot_utm.xyz|--upaxis z")
-for f in adtree/house.xyz adtree/tree7.xyz lidr_tree.xyz b9_training.ply; do
+for f in adtree/house.xyz adtree/tree7.xyz adtree/tree13.xyz lidr_tree.xyz hippo1.ply b9_training.ply ball.ply; do
   [ -f "$data/points/$f" ] || continue
   up=""
   case "$f" in *.xyz | *b9_training*) up="--upaxis z" ;; esac

@@ -179,27 +179,38 @@ static size_t count_valid(ctx *c, const uint32_t *set, size_t n, const double no
  * 2-11/2-12): subcells are finer than eps, so a point gives more the closer
  * it lies to a subcell's centre plane, and penalises a plane it lies in
  * front of by eps to 2 eps. */
-static void point_subcells(const ctx *c, const dual_face *f, const dual_box *b,
-                           const dual_dir *dirs, const int *valid_dir, int64_t (*contrib)[6],
-                           int64_t (*penalty)[6]) {
-  double dr = 0.5 * (b->r1 - b->r0), base = b->r0 - 2 * dr, eps = c->eps;
+static BBC__CLONES void point_subcells(const ctx *c, const dual_face *f, const dual_box *b,
+                                       const double *nx, const double *ny, const double *nz,
+                                       const int *valid_dir, int64_t (*contrib)[6],
+                                       int64_t (*penalty)[6]) {
+  double dr = 0.5 * (b->r1 - b->r0), base = b->r0 - 2 * dr, eps = c->eps, scale = c->g->scale;
+  double e2 = 2 * eps / dr, e1 = eps / dr;
+  int oriented = f->n[0] != 0 || f->n[1] != 0 || f->n[2] != 0; /* else it counts whole */
+  /* Each sub-direction's rho, slice range and weight, all 36 at once (a
+   * sub-direction beyond a pole has n = 0 and is skipped below). */
+  double rho[36], lo[36], hi[36], w[36];
+  const double c0 = f->c[0], c1 = f->c[1], c2 = f->c[2], area = f->area;
+  const double n0 = f->n[0], n1 = f->n[1], n2 = f->n[2];
+  for (int s = 0; s < 36; s++) {
+    rho[s] = c0 * nx[s] + c1 * ny[s] + c2 * nz[s];
+    /* only slices whose centre lies within [rho - 2 eps, rho + eps] */
+    double x = (rho[s] - base) / dr - 0.5;
+    lo[s] = ceil(x - e2);
+    hi[s] = floor(x + e1);
+    double pa = area * fabs(n0 * nx[s] + n1 * ny[s] + n2 * nz[s]);
+    w[s] = (oriented ? pa : area) * scale;
+  }
   for (int s = 0; s < 36; s++) {
     if (!valid_dir[s]) continue;
-    const double *n = dirs[s].n;
-    double rho = f->c[0] * n[0] + f->c[1] * n[1] + f->c[2] * n[2];
-    /* only slices whose centre lies within [rho - 2 eps, rho + eps] */
-    double x = (rho - base) / dr - 0.5;
-    int r0 = (int)ceil(x - 2 * eps / dr), r1 = (int)floor(x + eps / dr);
+    int r0 = (int)lo[s], r1 = (int)hi[s];
     if (r0 < 0) r0 = 0;
     if (r1 > 5) r1 = 5;
-    if (r0 > r1) continue;
-    double w = dual_projected_area(f, n) * c->g->scale;
     for (int r = r0; r <= r1; r++) {
-      double mid = base + (r + 0.5) * dr, d = rho - mid, ad = fabs(d);
+      double mid = base + (r + 0.5) * dr, d = rho[s] - mid, ad = fabs(d);
       if (ad <= eps)
-        contrib[s][r] += (int64_t)(w * (1 - ad / eps) + 0.5);
+        contrib[s][r] += (int64_t)(w[s] * (1 - ad / eps) + 0.5);
       else if (d > 0 && d <= 2 * eps)
-        penalty[s][r] += (int64_t)(w * (2 * eps - d) / eps + 0.5);
+        penalty[s][r] += (int64_t)(w[s] * (2 * eps - d) / eps + 0.5);
     }
   }
 }
@@ -366,7 +377,8 @@ static void refine_sums(const ctx *c, const dual_box *b, const uint32_t *set, si
       size_t i1 = n - i0 > CHUNK ? i0 + CHUNK : n;
       if (points)
         for (size_t i = i0; i < i1; i++)
-          point_subcells(c, &c->faces[set[i]], b, rd->dirs, rd->valid, lc, lp);
+          point_subcells(c, &c->faces[set[i]], b, rd->sd.nx, rd->sd.ny, rd->sd.nz, rd->valid, lc,
+                         lp);
       else
         faces_subcells(c, set + i0, i1 - i0, b, &rd->sd, rd->valid, &rd->u, diff, lw, la);
     }

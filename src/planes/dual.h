@@ -193,24 +193,39 @@ static inline void dual_box_trig_of(const dual_box *b, dual_box_trig *t) {
  * p . n = cos(phi) (a cos(theta) + b sin(theta)) + c sin(phi). Its extremes
  * lie at the box's edges or where a partial derivative vanishes, found with
  * sign tests (no trigonometry per point). Thesis 2.4.2: a point's validity
- * domain is then [min - eps, max + eps], with no false positives. */
-static inline void dual_point_extremes(double a, double b, double c, const dual_box_trig *t,
-                                       double *lo, double *hi) {
-  double u0 = a * t->ct0 + b * t->st0, u1 = a * t->ct1 + b * t->st1;
+ * domain is then [min - eps, max + eps], with no false positives. The box's
+ * edges as cosines and sines; R = |(a, b)|, the same for every box. Each
+ * choice is made by selection, not a branch, so that a loop over boxes
+ * vectorises (add_faces). */
+static inline void dual_point_extremes_at(double a, double b, double c, double R, double ct0,
+                                          double st0, double ct1, double st1, double cp0,
+                                          double sp0, double cp1, double sp1, double *lo,
+                                          double *hi) {
+  double u0 = a * ct0 + b * st0, u1 = a * ct1 + b * st1;
   double umax = dual_max(u0, u1), umin = dual_min(u0, u1);
-  double R = sqrt(a * a + b * b);
   /* u = a cos + b sin peaks (R) towards (a, b), and dips (-R) opposite */
-  if (t->ct0 * b - t->st0 * a >= 0 && a * t->st1 - b * t->ct1 >= 0) umax = R;
-  if (t->st0 * a - t->ct0 * b >= 0 && b * t->ct1 - a * t->st1 >= 0) umin = -R;
+  int peak = (ct0 * b - st0 * a >= 0) & (a * st1 - b * ct1 >= 0);
+  int dip = (st0 * a - ct0 * b >= 0) & (b * ct1 - a * st1 >= 0);
+  umax = peak ? R : umax;
+  umin = dip ? -R : umin;
   /* over phi (cos phi >= 0): max of umax cos + c sin, min of umin cos + c sin */
-  double mx = dual_max(umax * t->cp0 + c * t->sp0, umax * t->cp1 + c * t->sp1);
-  if (umax > 0 && t->cp0 * c - t->sp0 * umax >= 0 && umax * t->sp1 - c * t->cp1 >= 0)
-    mx = sqrt(umax * umax + c * c);
-  double mn = dual_min(umin * t->cp0 + c * t->sp0, umin * t->cp1 + c * t->sp1);
-  if (umin < 0 && -t->cp0 * c + t->sp0 * umin >= 0 && -umin * t->sp1 + c * t->cp1 >= 0)
-    mn = -sqrt(umin * umin + c * c);
+  double mx = dual_max(umax * cp0 + c * sp0, umax * cp1 + c * sp1);
+  int top = (umax > 0) & (cp0 * c - sp0 * umax >= 0) & (umax * sp1 - c * cp1 >= 0);
+  double top_v = sqrt(umax * umax + c * c);
+  mx = top ? top_v : mx;
+  double mn = dual_min(umin * cp0 + c * sp0, umin * cp1 + c * sp1);
+  int bottom = (umin < 0) & (-cp0 * c + sp0 * umin >= 0) & (-umin * sp1 + c * cp1 >= 0);
+  double bottom_v = -sqrt(umin * umin + c * c);
+  mn = bottom ? bottom_v : mn;
   *lo = mn;
   *hi = mx;
+}
+
+/* The same for one box. */
+static inline void dual_point_extremes(double a, double b, double c, const dual_box_trig *t,
+                                       double *lo, double *hi) {
+  dual_point_extremes_at(a, b, c, sqrt(a * a + b * b), t->ct0, t->st0, t->ct1, t->st1, t->cp0,
+                         t->sp0, t->cp1, t->sp1, lo, hi);
 }
 
 /* A point's frame coordinates. */

@@ -404,8 +404,7 @@ typedef struct pair_block {
 } pair_block;
 
 /* A point's ranges [lo, hi] over the boxes [q0, q1) of a block
- * (dual_point_extremes' arithmetic, each choice made by selection rather
- * than a branch so that the loop vectorises), widened by eps. tr: the
+ * (dual_point_extremes_at, which vectorises), widened by eps. tr: the
  * boxes' trigonometry, 8 arrays of m (ct0, st0, ct1, st1, cp0, sp0, cp1,
  * sp1). */
 static inline void point_ranges(double a, double b, double c, const double *restrict tr, size_t m,
@@ -416,23 +415,9 @@ static inline void point_ranges(double a, double b, double c, const double *rest
   const double *restrict cp1 = tr + 6 * m, *restrict sp1 = tr + 7 * m;
   double R = sqrt(a * a + b * b);
   for (size_t q = q0; q < q1; q++) {
-    double u0 = a * ct0[q] + b * st0[q], u1 = a * ct1[q] + b * st1[q];
-    double umax = u0 > u1 ? u0 : u1, umin = u0 < u1 ? u0 : u1;
-    int peak = (ct0[q] * b - st0[q] * a >= 0) & (a * st1[q] - b * ct1[q] >= 0);
-    int dip = (st0[q] * a - ct0[q] * b >= 0) & (b * ct1[q] - a * st1[q] >= 0);
-    umax = peak ? R : umax;
-    umin = dip ? -R : umin;
-    double m0 = umax * cp0[q] + c * sp0[q], m1 = umax * cp1[q] + c * sp1[q];
-    double mx = m0 > m1 ? m0 : m1;
-    int top = (umax > 0) & (cp0[q] * c - sp0[q] * umax >= 0) & (umax * sp1[q] - c * cp1[q] >= 0);
-    double top_v = sqrt(umax * umax + c * c);
-    mx = top ? top_v : mx;
-    double n0 = umin * cp0[q] + c * sp0[q], n1 = umin * cp1[q] + c * sp1[q];
-    double mn = n0 < n1 ? n0 : n1;
-    int bottom =
-        (umin < 0) & (-cp0[q] * c + sp0[q] * umin >= 0) & (-umin * sp1[q] + c * cp1[q] >= 0);
-    double bottom_v = -sqrt(umin * umin + c * c);
-    mn = bottom ? bottom_v : mn;
+    double mn, mx;
+    dual_point_extremes_at(a, b, c, R, ct0[q], st0[q], ct1[q], st1[q], cp0[q], sp0[q], cp1[q],
+                           sp1[q], &mn, &mx);
     lo[q] = mn - eps;
     hi[q] = mx + eps;
   }

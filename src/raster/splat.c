@@ -62,6 +62,8 @@ static BBC__CLONES void splat_row(float *restrict df, uint8_t *restrict cf, floa
   }
 }
 
+enum { SMALL_SPLAT = 8 }; /* columns under which a row's run is not worth finding */
+
 /* A splat's pixels within [cx0, cx1] x [cy0, cy1] (and the image). A round
  * splat covers the pixels whose centre lies within its disc, and always the
  * pixel under the point (a small splat between pixel centres keeps one);
@@ -69,8 +71,6 @@ static BBC__CLONES void splat_row(float *restrict df, uint8_t *restrict cf, floa
  * (the test's rounding keeps it monotonic on each side of the centre),
  * found from the circle's chord and then settled by the test itself at
  * its two ends: the pixels a test of each one would give. */
-enum { SMALL_SPLAT = 8 }; /* columns under which a row's run is not worth finding */
-
 static void draw_splat(const splat *sp, double half, int smooth, int cx0, int cy0, int cx1, int cy1,
                        bbc__bake *bake, float *depth, size_t n) {
   int rc[4];

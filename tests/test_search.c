@@ -1,6 +1,6 @@
 /*
  * test_search.c — the epsilon search's probe and sampled point clouds
- * (src/planes/planes.c, issue 34): the planes a search keeps are those of
+ * (src/planes/search.c, issue 34): the planes a search keeps are those of
  * a whole run at the epsilon it lands on, byte for byte, whatever the
  * probes predicted; a point cloud larger than `pointsample` gives every
  * point a plane, the same with any number of threads, and one no larger
@@ -255,6 +255,42 @@ static void test_probe_wrong_at_asked(void **state) {
   bbc_mesh_free(&m);
 }
 
+/* 40,000 points on a box's six sides: as many planes at every epsilon,
+ * far below minplanes, so the search goes down to its floor (1/5 of the
+ * asked epsilon). Two probes find the count flat (the asked epsilon's and
+ * one 3 x smaller) and the floor's count, predicted well within maxplanes,
+ * is left to the one whole run there (a search by steps of 2 took four
+ * probes: 1, 1/2, 1/4, 1/5). */
+static void test_probe_floor(void **state) {
+  (void)state;
+  char *dir = tu_make_temp_dir();
+  const char obj[] = "v 0 0 0\nv 4 0 0\nv 4 2 0\nv 0 2 0\nv 0 0 3\nv 4 0 3\nv 4 2 3\nv 0 2 3\n"
+                     "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+  char *path = tu_write_file(dir, "box.obj", obj, sizeof obj - 1);
+  bbc_load_options lo;
+  bbc_load_options_default(&lo);
+  bbc_mesh box, m;
+  bbc_error err;
+  if (bbc_mesh_load(path, &lo, &box, &err) != BBC_OK) fail_msg("%s", err.message);
+  if (bbc_mesh_sample_points(&box, 40000, 3, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  bbc_planes_options o;
+  bbc_planes_options_default(&o);
+  o.params.point_sample = 0;
+  bbc_planeset s;
+  find(&m, &o, &s);
+  assert_true(s.plane_count < (size_t)o.params.min_planes);
+  assert_true(fabs(s.epsilon_scale - 0.2) < 1e-9);
+  assert_int_equal(s.probe_runs, 2);
+  assert_int_equal(s.attempts, 1);
+  assert_whole_run(&m, &o, &s);
+  bbc_planeset_free(&s);
+  bbc_mesh_free(&m);
+  bbc_mesh_free(&box);
+  free(path);
+  tu_remove_dir(dir);
+  free(dir);
+}
+
 /* Splats as one pass over the points draws them (what bbc__render_splats
  * drew before it went tile by tile): the reference. */
 static void splats_reference(const bbc_mesh *m, const bbc_view *view, int w, int h, double size_px,
@@ -441,6 +477,7 @@ int main(void) {
       cmocka_unit_test(test_probe_search), cmocka_unit_test(test_point_sample),
       cmocka_unit_test(test_face_sample),  cmocka_unit_test(test_splat_tiles),
       cmocka_unit_test(test_eigen_same),   cmocka_unit_test(test_probe_wrong_at_asked),
+      cmocka_unit_test(test_probe_floor),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -56,4 +56,13 @@ struct select_result;
 void bbc__assign_sampled(bbc_planeset *set, const grid_part *gp, const struct select_result *sr,
                          size_t base, double eps);
 
+/* planes.c, for search.c: a part's parameters, `breaknum` for a run on
+ * one face in `stride` of a part's faces, one whole run of step 2 at an
+ * epsilon scale (its grid built or found), and the views' level. */
+const bbc_params *bbc__part_params(const bbc_planes_options *o, const char *name);
+int bbc__sampled_break_num(const grid_part *gp, int break_num, int stride);
+bbc_result bbc__select_once(bbc_grid *g, const bbc_planes_options *o, double scale, int attempt,
+                            bbc_planeset *set, bbc_error *err);
+void bbc__show_level(bbc_grid *g, double scale);
+
 #endif

@@ -239,12 +239,17 @@ static double shrink_target(const scale_search *s) {
   return s->maxp > 0 && t > 0.5 * (s->minp + s->maxp) ? 0.5 * (s->minp + s->maxp) : t;
 }
 
-/* The exponent b of count ~ epsilon^-b between the last two tries (the
- * count rising as epsilon fell), within [0.25, 3]; 1.5 before there are
- * two (planes fall roughly with epsilon^1.5) and 0.25 where the count did
- * not rise (a flat count: on to a much smaller epsilon). */
+/* The exponent b of count ~ epsilon^-b for shrinking. A probe's: between
+ * its last two tries (the count rising as epsilon fell), within [0.25, 3];
+ * 1.0 before there are two and 0.25 where the count did not rise (a flat
+ * count: on to a much smaller epsilon). Whole runs assume 1.5 (planes fall
+ * roughly with epsilon^1.5) and step by at most 2: a measured slope's
+ * longer steps passed maxplanes where the count jumps (the H-60 at 3 % fell
+ * back to 13 planes instead of 30 at 2 %), and a whole run past it costs
+ * the fidelity of the step back. */
 static double shrink_slope(const scale_search *s) {
-  if (!(s->prev_scale > s->cur_scale * 1.001) || !s->prev_n) return s->pr ? 1.0 : 1.5;
+  if (!s->pr) return 1.5;
+  if (!(s->prev_scale > s->cur_scale * 1.001) || !s->prev_n) return 1.0;
   if (s->cur_n <= s->prev_n) return 0.25;
   double b = log((double)s->cur_n / (double)s->prev_n) / log(s->prev_scale / s->cur_scale);
   return b < 0.25 ? 0.25 : b > 3 ? 3 : b;
@@ -268,9 +273,9 @@ static double next_factor(scale_search *s, bbc_planeset *set, size_t n, int atte
   } else if (minp > 0 && n < (size_t)minp && !s->grown && scale > 0.2 + 1e-9 &&
              (maxp <= 0 || minp <= maxp)) {
     /* Few planes: a smaller epsilon buys fidelity within the budget, down
-     * to 1/5 of the asked epsilon, aimed at minplanes along the count's
-     * slope over epsilon (count ~ epsilon^-b), by 1.25 to 2 (3 for a
-     * probe). */
+     * to 1/5 of the asked epsilon, aimed at minplanes (a probe a tenth
+     * above) along the count's slope over epsilon (count ~ epsilon^-b), by
+     * 1.25 to 2 (a probe 1.1 to 3). */
     double step = pow(shrink_target(s) / (double)(n ? n : 1), 1.0 / shrink_slope(s));
     f = s->pr ? 1.0 / fmin(3.0, fmax(1.1, step)) : 1.0 / fmin(2.0, fmax(1.25, step));
     if (s->pr && s->past_scale > 0 && s->past_scale < scale) {

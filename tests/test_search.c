@@ -291,6 +291,34 @@ static void test_probe_floor(void **state) {
   free(dir);
 }
 
+/* The search on m (freed): probed or not, keeping a whole run at the
+ * epsilon it lands on. */
+static void check_probed(bbc_mesh m, const bbc_planes_options *o, int probed) {
+  bbc_planeset s;
+  find(&m, o, &s);
+  if (probed)
+    assert_true(s.probe_runs >= 1);
+  else
+    assert_int_equal(s.probe_runs, 0);
+  assert_whole_run(&m, o, &s);
+  bbc_planeset_free(&s);
+  bbc_mesh_free(&m);
+}
+
+/* Probed from a few thousand primitives: a cloud of 6,000 points (not
+ * 3,000) and a mesh of more than 16,384 faces (not one of fewer), each
+ * keeping a whole run at the epsilon its search lands on. */
+static void test_probe_small(void **state) {
+  (void)state;
+  bbc_planes_options o;
+  bbc_planes_options_default(&o);
+  o.params.point_sample = 0;
+  check_probed(tree_points(1500, 6000, 5), &o, 1);
+  check_probed(tree_points(1500, 3000, 5), &o, 0);
+  check_probed(tree_mesh(20000), &o, 1);
+  check_probed(tree_mesh(5000), &o, 0);
+}
+
 /* Splats as one pass over the points draws them (what bbc__render_splats
  * drew before it went tile by tile): the reference. */
 static void splats_reference(const bbc_mesh *m, const bbc_view *view, int w, int h, double size_px,
@@ -477,7 +505,7 @@ int main(void) {
       cmocka_unit_test(test_probe_search), cmocka_unit_test(test_point_sample),
       cmocka_unit_test(test_face_sample),  cmocka_unit_test(test_splat_tiles),
       cmocka_unit_test(test_eigen_same),   cmocka_unit_test(test_probe_wrong_at_asked),
-      cmocka_unit_test(test_probe_floor),
+      cmocka_unit_test(test_probe_floor),  cmocka_unit_test(test_probe_small),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -36,18 +36,24 @@ static double narrow_scale(double lo, size_t lo_n, double hi, size_t hi_n, int m
  * stride-th from stride / 2: the same faces at every scale), steps 1 and 2
  * at a fraction of a whole run's cost, so that the search's tries cost
  * probes and only its answer a whole run (issue 34: a building scan's four
- * runs became four probes and one run). Smaller models (a point cloud
- * that `pointsample` did not sample, of fewer than 2 x PROBE_MIN_POINTS
- * points, a mesh of fewer than PROBE_MIN_FACES faces in its largest part)
- * are searched whole, as before. The plane count of a sample follows the
- * whole's closely (a building scan of 100k points and a sample of 6,250:
- * 8/11/13/14 and 8/10/13/17 planes at 6/3/1.78/1.2 %; 1M points on the
- * Scopia pine and 62,500: 22/31 and 23/28 at 6/4.8 %); a whole run that
- * lands on another side of the budget than predicted calibrates the probe
- * by the ratio of the two counts and searches again. */
+ * runs became four probes and one run). Smaller models (a point cloud of
+ * fewer than PROBE_MIN_POINTS points, a mesh of fewer than PROBE_MIN_FACES
+ * faces in its largest part) are searched whole. The plane count of a
+ * sample follows the whole's (a building scan of 100k points and a sample
+ * of 6,250: 8/11/13/14 and 8/10/13/17 planes at 6/3/1.78/1.2 %; 1M points
+ * on the Scopia pine and 62,500: 22/31 and 23/28 at 6/4.8 %), within
+ * about 0.7-1.3 of it (a probe's slab gathers fewer, sparser faces); a
+ * whole run that lands on another side of the budget than predicted
+ * calibrates the probe by the ratio of the two counts and searches again.
+ * Since the search steps along the count's slope (below), probes pay from
+ * a few thousand faces: clouds of 4,096 points or more (12 scans and
+ * samples of 5,500-16,000 points: 1 whole run where 2-6 were, the search
+ * 1.9x a run instead of 3.0x) and meshes of 16,384 faces or more (the
+ * bunny, the eztree ash, the Scopia palm; 4,096 mispredicted the horse
+ * into 2 whole runs and 7 probes). */
 enum {
-  PROBE_MIN_POINTS = 8192,  /* a sample of half pointsample's default: a run of 0.2 s */
-  PROBE_MIN_FACES = 131072, /* a mesh's of 131k faces: a second (smaller ones run whole) */
+  PROBE_MIN_POINTS = 4096,
+  PROBE_MIN_FACES = 16384,
   PROBE_FACES = 8192,
   PROBE_MAX_STRIDE = 16,
   PROBE_CACHE = 48
@@ -82,10 +88,9 @@ static int probe_init(const bbc_grid *g, probe *pr) {
     points |= g->part[pi].nf && g->part[pi].faces[0].point;
     sampled |= g->part[pi].stride > 1;
   }
-  /* a sampled cloud's sample (8k-16k points at the default pointsample),
-   * a whole cloud from 2 x PROBE_MIN_POINTS, a mesh from PROBE_MIN_FACES */
-  if (most < (sampled ? PROBE_MIN_POINTS : !points ? PROBE_MIN_FACES : 2 * PROBE_MIN_POINTS))
-    return 0;
+  /* a sampled model's sample (8k-16k points or faces at the defaults), a
+   * whole cloud from PROBE_MIN_POINTS, a whole mesh from PROBE_MIN_FACES */
+  if (most < (points || sampled ? PROBE_MIN_POINTS : PROBE_MIN_FACES)) return 0;
   size_t stride = most / PROBE_FACES;
   if (stride < 4) stride = 4; /* a probe of 1/4 a run at most */
   pr->stride = stride > PROBE_MAX_STRIDE ? PROBE_MAX_STRIDE : (int)stride;
@@ -186,6 +191,12 @@ typedef struct scale_search {
   size_t past_n;
 } scale_search;
 
+/* What narrowing aims at: maxplanes for whole runs, 7/8 of it for a probe
+ * (whose count strays: a whole run at a probe's 31 of 32 planes gave 33). */
+static int narrow_aim(const scale_search *s) {
+  return s->pr ? s->maxp * 7 / 8 : s->maxp;
+}
+
 /* Narrowing overshot: the result (n planes) at this scale is the new lower
  * end; returns 1 when a scale between it and the best is to be tried. */
 static int narrow_overshot(scale_search *s, bbc_planeset *set, size_t n, double t0) {
@@ -194,8 +205,8 @@ static int narrow_overshot(scale_search *s, bbc_planeset *set, size_t n, double 
     return 0;
   s->over_scale = s->scale;
   s->over_n = n;
-  double next =
-      narrow_scale(s->over_scale, s->over_n, s->best.epsilon_scale, s->best.plane_count, maxp);
+  double next = narrow_scale(s->over_scale, s->over_n, s->best.epsilon_scale, s->best.plane_count,
+                             narrow_aim(s));
   if (!(next > 0)) return 0;
   s->narrow++;
   if (!s->pr)
@@ -217,7 +228,7 @@ static int narrow_within(scale_search *s, bbc_planeset *set, size_t n, double t0
   int maxp = s->maxp;
   if (!(s->grown && maxp > 0 && n <= (size_t)maxp && s->over_n && s->narrow < NARROW_TRIES))
     return 0;
-  double next = narrow_scale(s->over_scale, s->over_n, s->scale, n, maxp);
+  double next = narrow_scale(s->over_scale, s->over_n, s->scale, n, narrow_aim(s));
   if (!(next > 0)) return 0;
   s->narrow++;
   if (!s->pr)

@@ -266,6 +266,16 @@ static double shrink_slope(const scale_search *s) {
   return b < 0.25 ? 0.25 : b > 3 ? 3 : b;
 }
 
+/* A probe's scale between `below` (nb planes, fewer than minplanes) and a
+ * smaller `over` (no planes, more than maxplanes) where the count's slope
+ * between the two reaches minplanes, at least 1 % inside both. */
+static double probe_between(double below, size_t nb, double over, size_t no, int minp) {
+  double lo_n = (double)(nb ? nb : 1);
+  double b = log((double)no / lo_n) / log(below / over);
+  double next = below * pow(lo_n / minp, 1.0 / b);
+  return fmin(below / 1.01, fmax(over * 1.01, next));
+}
+
 /* The factor for the next scale after n planes at attempt `attempt`, 0
  * when the result stands. */
 static double next_factor(scale_search *s, bbc_planeset *set, size_t n, int attempt) {
@@ -294,10 +304,7 @@ static double next_factor(scale_search *s, bbc_planeset *set, size_t n, int atte
        * between the two reaches minplanes */
       if (s->narrow >= NARROW_TRIES) return 0;
       s->narrow++;
-      double b = log((double)s->past_n / (double)(n ? n : 1)) / log(scale / s->past_scale);
-      double next = scale * pow((double)(n ? n : 1) / minp, 1.0 / b);
-      next = fmin(scale / 1.01, fmax(s->past_scale * 1.01, next));
-      f = next / scale;
+      f = probe_between(scale, n, s->past_scale, s->past_n, minp) / scale;
     }
     if (scale * f < 0.2) f = 0.2 / scale;
     s->best = *set;
@@ -360,11 +367,8 @@ static bbc_result search(bbc_grid *grid, const bbc_planes_options *o, probe *pr,
        * one below minplanes where the count's slope between the two reaches
        * minplanes (the count curves up as epsilon falls: the slope's aim
        * lands above it). */
-      double sb = s.best.epsilon_scale, nb = (double)(s.best.plane_count ? s.best.plane_count : 1);
-      double b = log((double)n / nb) / log(sb / s.scale);
-      double next = sb * pow(nb / s.minp, 1.0 / b);
-      if (next < s.scale * 1.01) next = s.scale * 1.01;
-      if (next > sb / 1.01) next = sb / 1.01;
+      double sb = s.best.epsilon_scale;
+      double next = probe_between(sb, s.best.plane_count, s.scale, n, s.minp);
       if (next > s.scale && next < sb) {
         s.narrow++;
         s.past_scale = s.scale;

@@ -313,6 +313,33 @@ static double next_factor(scale_search *s, bbc_planeset *set, size_t n, int atte
   return f;
 }
 
+/* Shrinking's probe search landed within the budget (n planes) on a flat
+ * count: the slope between its last two tries under 0.5, where the count
+ * rises with epsilon^-1 to ^-1.5 on most models. There the first scale
+ * reaching minplanes is where the count's noise puts it (a ball scan's
+ * count: 23, 20, 21, 23, 23, 24 planes at 6, 4, 3, 2, 1.5, 1.2 %; the
+ * search stopped at 5.23 % for 25, billboards across the ball's faces,
+ * IoU 0.949 against 0.981 at 1.26 %). A probe at the floor (1/5 of the
+ * asked epsilon) whose count stays within maxplanes and within a quarter
+ * above n says the count is flat all the way: the floor buys the fidelity
+ * for at most a quarter more planes. Returns 1 when set now holds the
+ * floor's prediction (or *r an error). */
+static int flat_to_floor(scale_search *s, bbc_grid *grid, bbc_planeset *set, size_t n,
+                         bbc_result *r, bbc_error *err) {
+  if (s->grown || !(s->scale < 1) || !(s->scale > 0.2 + 1e-9) || s->minp <= 0 ||
+      n < (size_t)s->minp || (s->maxp > 0 && n > (size_t)s->maxp) || shrink_slope(s) >= 0.5)
+    return 0;
+  size_t raw;
+  *r = probe_count(grid, s->o, s->pr, 0.2, &raw, err);
+  if (*r != BBC_OK) return 1;
+  size_t at_floor = (size_t)floor((double)raw * s->pr->ratio + 0.5);
+  if ((s->maxp > 0 && at_floor > (size_t)s->maxp) || 4 * at_floor > 5 * n) return 0;
+  memset(set, 0, sizeof *set);
+  set->epsilon_scale = 0.2;
+  set->plane_count = at_floor;
+  return 1;
+}
+
 /* One try of the search: a whole run at `scale` into set, or the probe's
  * prediction (set->plane_count only). */
 static bbc_result search_try(bbc_grid *grid, const bbc_planes_options *o, probe *pr, double scale,
@@ -409,6 +436,12 @@ static bbc_result search(bbc_grid *grid, const bbc_planes_options *o, probe *pr,
         set->retry_s = s.retry + bbc__now_s() - t0;
         return BBC_OK;
       }
+    }
+    if (f == 0 && pr && flat_to_floor(&s, grid, set, n, &r, err)) {
+      if (r != BBC_OK) return r;
+      set->attempts = ++attempt;
+      set->retry_s = s.retry + bbc__now_s() - t0;
+      return BBC_OK;
     }
     if (f == 0) {
       if (s.maxp > 0 && n > (size_t)s.maxp && !pr)

@@ -120,6 +120,11 @@ static int probe_init(const bbc_grid *g, probe *pr) {
   return 1;
 }
 
+/* A probe's count `raw` as a whole run's, by the calibration ratio. */
+static size_t probe_calibrated(const probe *pr, size_t raw) {
+  return (size_t)floor((double)raw * pr->ratio + 0.5);
+}
+
 /* The probe's plane count at `scale` (its own, before the ratio). */
 static bbc_result probe_count(const bbc_grid *g, const bbc_planes_options *o, probe *pr,
                               double scale, size_t *count, bbc_error *err) {
@@ -197,6 +202,18 @@ static int narrow_aim(const scale_search *s) {
   return s->pr ? s->maxp * 7 / 8 : s->maxp;
 }
 
+/* A narrowing step to `next` after n planes at this scale (`side`: more
+ * than or within maxplanes), logged for whole runs. */
+static void narrow_step(scale_search *s, size_t n, const char *side, double next, double t0) {
+  s->narrow++;
+  if (!s->pr)
+    bbc__log(&s->o->callbacks, BBC_LOG_INFO, "%zu planes at epsilon %.3g %%, %s %d: trying %.3g %%",
+             n, s->o->params.epsilon_pct * s->scale, side, s->maxp,
+             s->o->params.epsilon_pct * next);
+  s->retry += bbc__now_s() - t0;
+  s->scale = next;
+}
+
 /* Narrowing overshot: the result (n planes) at this scale is the new lower
  * end; returns 1 when a scale between it and the best is to be tried. */
 static int narrow_overshot(scale_search *s, bbc_planeset *set, size_t n, double t0) {
@@ -208,15 +225,9 @@ static int narrow_overshot(scale_search *s, bbc_planeset *set, size_t n, double 
   double next = narrow_scale(s->over_scale, s->over_n, s->best.epsilon_scale, s->best.plane_count,
                              narrow_aim(s));
   if (!(next > 0)) return 0;
-  s->narrow++;
-  if (!s->pr)
-    bbc__log(&s->o->callbacks, BBC_LOG_INFO,
-             "%zu planes at epsilon %.3g %%, more than maxplanes %d: trying %.3g %%", n,
-             s->o->params.epsilon_pct * s->scale, maxp, s->o->params.epsilon_pct * next);
   bbc_planeset_free(set);
   memset(set, 0, sizeof *set);
-  s->retry += bbc__now_s() - t0;
-  s->scale = next;
+  narrow_step(s, n, "more than maxplanes", next, t0);
   return 1;
 }
 
@@ -230,16 +241,10 @@ static int narrow_within(scale_search *s, bbc_planeset *set, size_t n, double t0
     return 0;
   double next = narrow_scale(s->over_scale, s->over_n, s->scale, n, narrow_aim(s));
   if (!(next > 0)) return 0;
-  s->narrow++;
-  if (!s->pr)
-    bbc__log(&s->o->callbacks, BBC_LOG_INFO,
-             "%zu planes at epsilon %.3g %%, within maxplanes %d: trying %.3g %%", n,
-             s->o->params.epsilon_pct * s->scale, maxp, s->o->params.epsilon_pct * next);
   s->best = *set;
   s->have_best = 1;
   memset(set, 0, sizeof *set);
-  s->retry += bbc__now_s() - t0;
-  s->scale = next;
+  narrow_step(s, n, "within maxplanes", next, t0);
   return 1;
 }
 /* Shrinking's aim: minplanes for whole runs, a tenth above it for a
@@ -332,7 +337,7 @@ static int flat_to_floor(scale_search *s, bbc_grid *grid, bbc_planeset *set, siz
   size_t raw;
   *r = probe_count(grid, s->o, s->pr, 0.2, &raw, err);
   if (*r != BBC_OK) return 1;
-  size_t at_floor = (size_t)floor((double)raw * s->pr->ratio + 0.5);
+  size_t at_floor = probe_calibrated(s->pr, raw);
   if ((s->maxp > 0 && at_floor > (size_t)s->maxp) || 4 * at_floor > 5 * n) return 0;
   memset(set, 0, sizeof *set);
   set->epsilon_scale = 0.2;
@@ -348,7 +353,7 @@ static bbc_result search_try(bbc_grid *grid, const bbc_planes_options *o, probe 
   memset(set, 0, sizeof *set);
   size_t raw;
   bbc_result r = probe_count(grid, o, pr, scale, &raw, err);
-  set->plane_count = (size_t)floor((double)raw * pr->ratio + 0.5);
+  set->plane_count = probe_calibrated(pr, raw);
   return r;
 }
 
@@ -478,7 +483,7 @@ static int cached_guess(const bbc_planes_options *o, const probe *pr, double not
                         bbc_planeset *guess) {
   int found = 0;
   for (int k = 0; k < pr->cached; k++) {
-    size_t n = (size_t)floor((double)pr->counts[k] * pr->ratio + 0.5);
+    size_t n = probe_calibrated(pr, pr->counts[k]);
     double sc = pr->scales[k];
     if (sc == not || budget_side(o, sc, n) != 0 || (found && sc >= guess->epsilon_scale)) continue;
     memset(guess, 0, sizeof *guess);

@@ -260,6 +260,36 @@ static void test_probe_wrong_at_asked(void **state) {
   bbc_mesh_free(&m);
 }
 
+/* Step 1 apart (bbc_grid_build: the density at the asked epsilon, for the
+ * grid's views) and step 1 for step 2 straight after (bbc_planes_find: each
+ * density built when a whole run needs it): the same planes, whether the
+ * search lands on the asked epsilon or away from it. */
+static void test_grid_density_deferred(void **state) {
+  (void)state;
+  bbc_mesh m = tree_points(1500, 40000, 5);
+  bbc_planes_options o;
+  bbc_planes_options_default(&o);
+  o.params.point_sample = 0;
+  for (int pass = 0; pass < 2; pass++) {
+    /* pass 0: within the budget at the asked epsilon; 1: probed down */
+    o.params.min_planes = pass ? 60 : 0;
+    o.params.max_planes = pass ? 0 : 999;
+    bbc_grid *g;
+    bbc_error err;
+    if (bbc_grid_build(&m, &o, &g, &err) != BBC_OK) fail_msg("%s", err.message);
+    bbc_planeset a, b;
+    if (bbc_planes_select(g, &o, &a, &err) != BBC_OK) fail_msg("%s", err.message);
+    find(&m, &o, &b);
+    assert_true(pass ? b.epsilon_scale < 1 && b.probe_runs >= 1 : b.epsilon_scale == 1);
+    assert_true(a.epsilon_scale == b.epsilon_scale);
+    assert_same_planes(&a, &b);
+    bbc_planeset_free(&a);
+    bbc_planeset_free(&b);
+    bbc_grid_free(g);
+  }
+  bbc_mesh_free(&m);
+}
+
 /* 40,000 points on a box's six sides: as many planes at every epsilon,
  * far below minplanes, so the search goes down to its floor (1/5 of the
  * asked epsilon). Two probes find the count flat (the asked epsilon's and
@@ -507,10 +537,15 @@ static void test_eigen_same(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_probe_search), cmocka_unit_test(test_point_sample),
-      cmocka_unit_test(test_face_sample),  cmocka_unit_test(test_splat_tiles),
-      cmocka_unit_test(test_eigen_same),   cmocka_unit_test(test_probe_wrong_at_asked),
-      cmocka_unit_test(test_probe_floor),  cmocka_unit_test(test_probe_small),
+      cmocka_unit_test(test_probe_search),
+      cmocka_unit_test(test_point_sample),
+      cmocka_unit_test(test_face_sample),
+      cmocka_unit_test(test_splat_tiles),
+      cmocka_unit_test(test_eigen_same),
+      cmocka_unit_test(test_probe_wrong_at_asked),
+      cmocka_unit_test(test_probe_floor),
+      cmocka_unit_test(test_probe_small),
+      cmocka_unit_test(test_grid_density_deferred),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -155,7 +155,7 @@ bbc_result bbc_session_run(bbc_session *s, const bbc_planes_options *options, bb
   /* every step into new state first: a failure keeps the old grid, planes
    * and cloud */
   bbc_grid *g;
-  bbc_result r = bbc_grid_build(&s->model, options, &g, err);
+  bbc_result r = bbc__grid_build_to_select(&s->model, options, &g, err);
   if (r != BBC_OK) return r;
   bbc_planeset set;
   r = bbc_planes_select(g, options, &set, err);
@@ -204,7 +204,7 @@ static bbc_result run_one_level(bbc_session *s, bbc_planes_options *o, double ep
   for (size_t i = 0; i < o->part_override_count; i++) /* a part's own epsilon stays */
     if (o->part_overrides[i].params.epsilon_pct == base)
       o->part_overrides[i].params.epsilon_pct = eps;
-  bbc_result r = bbc_grid_build(&s->model, o, g, err);
+  bbc_result r = bbc__grid_build_to_select(&s->model, o, g, err);
   if (r != BBC_OK) return r;
   r = bbc_planes_select(*g, o, &L->planes, err);
   if (r == BBC_OK) {

@@ -309,6 +309,8 @@ bbc_result bbc_grid_view_build(const bbc_grid *grid, const bbc_grid_view_options
   if (o->vertex < -1 || o->vertex > gp->faces[o->face].nv - 1)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "vertex %d: -1 (the face) or 0 to %d",
                      o->vertex, gp->faces[o->face].nv - 1);
+  if (!grid->level_count)
+    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "the grid has no density yet: run step 1");
   grid_frame f;
   f.g = &grid->levels[grid->current].g[o->part];
   f.rho_max = f.g->rho_min + f.g->n_rho * f.g->rho_res;

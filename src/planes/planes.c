@@ -223,14 +223,23 @@ static bbc_result level_at(bbc_grid *g, const bbc_planes_options *o, double scal
   return BBC_OK;
 }
 
-static bbc_result grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_grid **out,
-                             bbc_error *err);
+static bbc_result grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, int density,
+                             bbc_grid **out, bbc_error *err);
 
 bbc_result bbc_grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_grid **out,
                           bbc_error *err) {
   assert(mesh && out);
   int saved = bbc__threads_use(o->params.threads);
-  bbc_result r = grid_build(mesh, o, out, err);
+  bbc_result r = grid_build(mesh, o, 1, out, err);
+  bbc__threads_restore(saved);
+  return r;
+}
+
+bbc_result bbc__grid_build_to_select(const bbc_mesh *mesh, const bbc_planes_options *o,
+                                     bbc_grid **out, bbc_error *err) {
+  assert(mesh && out);
+  int saved = bbc__threads_use(o->params.threads);
+  bbc_result r = grid_build(mesh, o, 0, out, err);
   bbc__threads_restore(saved);
   return r;
 }
@@ -354,8 +363,11 @@ static bbc_result grid_part_faces(const bbc_mesh *mesh, bbc_grid *g, size_t pi, 
   return r;
 }
 
-static bbc_result grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_grid **out,
-                             bbc_error *err) {
+/* Step 1: the parts' faces in dual form and, with `density`, the level at
+ * the asked epsilon (without, bbc_planes_select builds the levels it
+ * runs on). */
+static bbc_result grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, int density,
+                             bbc_grid **out, bbc_error *err) {
   *out = NULL;
   int points = mesh->kind == BBC_MESH_POINTS;
   if ((!points && mesh->kind != BBC_MESH_TRIANGLES) ||
@@ -380,7 +392,7 @@ static bbc_result grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, 
   for (size_t pi = 0; r == BBC_OK && pi < g->part_count; pi++)
     r = grid_part_faces(mesh, g, pi, names[pi], err);
   size_t first;
-  if (r == BBC_OK) r = level_at(g, o, 1.0, 1, &first, err);
+  if (r == BBC_OK && density) r = level_at(g, o, 1.0, 1, &first, err);
   g->current = 0;
   if (r != BBC_OK) {
     bbc_grid_free(g);
@@ -536,7 +548,7 @@ bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bb
   assert(mesh && set);
   memset(set, 0, sizeof *set);
   bbc_grid *grid;
-  bbc_result r = bbc_grid_build(mesh, o, &grid, err);
+  bbc_result r = bbc__grid_build_to_select(mesh, o, &grid, err);
   if (r != BBC_OK) return r;
   r = bbc_planes_select(grid, o, set, err);
   bbc_grid_free(grid);

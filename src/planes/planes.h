@@ -15,6 +15,12 @@ void bbc__planes_options_copy(bbc_planes_options *dst, char text[3][4096],
                               const bbc_planes_options *src);
 /* The options a grid's step 1 ran with. */
 const bbc_planes_options *bbc__grid_options(const bbc_grid *grid);
+/* bbc_grid_build for bbc_planes_select straight after: the parts' faces
+ * only, each level's density built when a whole run needs it (a search
+ * that probes and lands on another epsilon never uses the asked one's:
+ * 37 ms of a 7,706-point scan's 0.33 s). */
+bbc_result bbc__grid_build_to_select(const bbc_mesh *mesh, const bbc_planes_options *options,
+                                     bbc_grid **grid, bbc_error *err);
 
 /* bbc_points_estimate_normals for the points idx[count] only (NULL: every
  * point, count = the mesh's), each from all the cloud's points around it

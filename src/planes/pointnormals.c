@@ -13,6 +13,7 @@
 
 #include <assert.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -25,28 +26,83 @@ typedef struct cell_key {
   uint32_t point;
 } cell_key;
 
-static int key_cmp(const void *x, const void *y) {
-  const cell_key *a = x, *b = y;
-  if (a->key != b->key) return a->key < b->key ? -1 : 1;
-  return (a->point > b->point) - (a->point < b->point);
-}
-
 static uint64_t pack(int64_t i, int64_t j, int64_t k) {
   return ((uint64_t)(i & 0x1FFFFF) << 42) | ((uint64_t)(j & 0x1FFFFF) << 21) |
          (uint64_t)(k & 0x1FFFFF);
 }
 
-/* First index of `key` in the sorted keys, n when absent. */
-static size_t find_key(const cell_key *keys, size_t n, uint64_t key) {
-  size_t lo = 0, hi = n;
-  while (lo < hi) {
-    size_t mid = lo + (hi - lo) / 2;
-    if (keys[mid].key < key)
-      lo = mid + 1;
-    else
-      hi = mid;
+/* The keys sorted by key, ties in point order (they come in point order):
+ * a stable radix sort on the key's bytes, skipping the bytes all keys
+ * share (cell coordinates take far fewer than their 21 bits). Returns the
+ * sorted array (keys or tmp). */
+static cell_key *sort_keys(cell_key *keys, cell_key *tmp, size_t n) {
+  size_t(*count)[256] = calloc(8, sizeof *count);
+  if (!count) return NULL;
+  for (size_t i = 0; i < n; i++)
+    for (int b = 0; b < 8; b++) count[b][(keys[i].key >> (8 * b)) & 255]++;
+  cell_key *src = keys, *dst = tmp;
+  for (int b = 0; b < 8; b++) {
+    if (count[b][(src[0].key >> (8 * b)) & 255] == n) continue; /* one value: order stands */
+    size_t at = 0;
+    for (int d = 0; d < 256; d++) {
+      size_t c = count[b][d];
+      count[b][d] = at;
+      at += c;
+    }
+    for (size_t i = 0; i < n; i++) dst[count[b][(src[i].key >> (8 * b)) & 255]++] = src[i];
+    cell_key *t = src;
+    src = dst;
+    dst = t;
   }
-  return lo < n && keys[lo].key == key ? lo : n;
+  free(count);
+  return src;
+}
+
+/* The cells: each distinct key's run [start, end) in the sorted keys, found
+ * by an open-addressing hash of the key (keys use 63 bits: all ones marks an
+ * empty slot). */
+typedef struct cell_run {
+  uint64_t key;
+  size_t start, end;
+} cell_run;
+
+typedef struct cell_table {
+  cell_run *slot;
+  uint64_t mask;
+  int shift;
+} cell_table;
+
+static size_t cell_slot(const cell_table *t, uint64_t key) {
+  return (size_t)((key * 0x9E3779B97F4A7C15ull) >> t->shift);
+}
+
+static int cell_table_build(cell_table *t, const cell_key *keys, size_t n) {
+  size_t runs = 0;
+  for (size_t i = 0; i < n; i++) runs += !i || keys[i].key != keys[i - 1].key;
+  int bits = 4;
+  while (((size_t)1 << bits) < 2 * runs) bits++;
+  t->mask = ((uint64_t)1 << bits) - 1;
+  t->shift = 64 - bits;
+  t->slot = malloc(((size_t)1 << bits) * sizeof *t->slot);
+  if (!t->slot) return 0;
+  for (size_t s = 0; s <= t->mask; s++) t->slot[s].key = UINT64_MAX;
+  for (size_t i = 0; i < n;) {
+    size_t j = i + 1;
+    while (j < n && keys[j].key == keys[i].key) j++;
+    size_t s = cell_slot(t, keys[i].key);
+    while (t->slot[s].key != UINT64_MAX) s = (s + 1) & t->mask;
+    t->slot[s] = (cell_run){keys[i].key, i, j};
+    i = j;
+  }
+  return 1;
+}
+
+/* The run of `key` in the sorted keys: start == end when it has no points. */
+static cell_run cell_find(const cell_table *t, uint64_t key) {
+  for (size_t s = cell_slot(t, key);; s = (s + 1) & t->mask) {
+    if (t->slot[s].key == key) return t->slot[s];
+    if (t->slot[s].key == UINT64_MAX) return (cell_run){key, 0, 0};
+  }
 }
 
 bbc_result bbc_points_estimate_normals(const bbc_mesh *m, int threads, float *normals,
@@ -84,16 +140,21 @@ bbc_result bbc__points_estimate_normals_at(const bbc_mesh *m, const uint32_t *id
   double area = 2 * (e[0] * e[1] + e[0] * e[2] + e[1] * e[2]);
   double h = sqrt(12.0 * area / (double)n);
   if (!(h > 0)) h = sqrt(diag2) * 1e-3;
-  cell_key *keys = malloc(n * sizeof *keys);
-  if (!keys) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "point normals: out of memory");
+  cell_key *buf = malloc(2 * n * sizeof *buf);
+  if (!buf) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "point normals: out of memory");
   for (size_t v = 0; v < n; v++) {
     const double *p = m->positions + 3 * v;
-    keys[v].key = pack((int64_t)floor((p[0] - m->bbox_min[0]) / h),
-                       (int64_t)floor((p[1] - m->bbox_min[1]) / h),
-                       (int64_t)floor((p[2] - m->bbox_min[2]) / h));
-    keys[v].point = (uint32_t)v;
+    buf[v].key = pack((int64_t)floor((p[0] - m->bbox_min[0]) / h),
+                      (int64_t)floor((p[1] - m->bbox_min[1]) / h),
+                      (int64_t)floor((p[2] - m->bbox_min[2]) / h));
+    buf[v].point = (uint32_t)v;
   }
-  qsort(keys, n, sizeof *keys, key_cmp);
+  const cell_key *keys = sort_keys(buf, buf + n, n);
+  cell_table cells = {0};
+  if (!keys || !cell_table_build(&cells, keys, n)) {
+    free(buf);
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "point normals: out of memory");
+  }
   int nt = bbc__thread_count(threads);
   (void)nt;
 #ifdef _OPENMP
@@ -110,8 +171,8 @@ bbc_result bbc__points_estimate_normals_at(const bbc_mesh *m, const uint32_t *id
     for (int dz = -1; dz <= 1; dz++)
       for (int dy = -1; dy <= 1; dy++)
         for (int dx = -1; dx <= 1; dx++) {
-          uint64_t key = pack(c[0] + dx, c[1] + dy, c[2] + dz);
-          for (size_t j = find_key(keys, n, key); j < n && keys[j].key == key; j++) {
+          cell_run run = cell_find(&cells, pack(c[0] + dx, c[1] + dy, c[2] + dz));
+          for (size_t j = run.start; j < run.end; j++) {
             const double *q = m->positions + 3 * (size_t)keys[j].point;
             double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
             if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > h * h) continue;
@@ -135,6 +196,7 @@ bbc_result bbc__points_estimate_normals_at(const bbc_mesh *m, const uint32_t *id
     double l = sqrt(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]);
     for (int k = 0; k < 3; k++) o[k] = (float)(l > 0 ? nv[k] / l : 0);
   }
-  free(keys);
+  free(cells.slot);
+  free(buf);
   return BBC_OK;
 }

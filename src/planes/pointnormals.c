@@ -140,8 +140,12 @@ bbc_result bbc__points_estimate_normals_at(const bbc_mesh *m, const uint32_t *id
   double area = 2 * (e[0] * e[1] + e[0] * e[2] + e[1] * e[2]);
   double h = sqrt(12.0 * area / (double)n);
   if (!(h > 0)) h = sqrt(diag2) * 1e-3;
-  cell_key *buf = malloc(2 * n * sizeof *buf);
-  if (!buf) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "point normals: out of memory");
+  cell_key *buf = malloc(n * sizeof *buf), *tmp = malloc(n * sizeof *tmp);
+  if (!buf || !tmp) {
+    free(buf);
+    free(tmp);
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "point normals: out of memory");
+  }
   for (size_t v = 0; v < n; v++) {
     const double *p = m->positions + 3 * v;
     buf[v].key = pack((int64_t)floor((p[0] - m->bbox_min[0]) / h),
@@ -149,10 +153,18 @@ bbc_result bbc__points_estimate_normals_at(const bbc_mesh *m, const uint32_t *id
                       (int64_t)floor((p[2] - m->bbox_min[2]) / h));
     buf[v].point = (uint32_t)v;
   }
-  const cell_key *keys = sort_keys(buf, buf + n, n);
+  cell_key *keys = sort_keys(buf, tmp, n);
+  /* the sort's other buffer goes before the cells' table comes (10M points:
+   * 160 MB each) */
+  if (keys) free(keys == buf ? tmp : buf);
   cell_table cells = {0};
   if (!keys || !cell_table_build(&cells, keys, n)) {
-    free(buf);
+    if (keys) {
+      free(keys);
+    } else {
+      free(buf);
+      free(tmp);
+    }
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "point normals: out of memory");
   }
   int nt = bbc__thread_count(threads);
@@ -197,6 +209,6 @@ bbc_result bbc__points_estimate_normals_at(const bbc_mesh *m, const uint32_t *id
     for (int k = 0; k < 3; k++) o[k] = (float)(l > 0 ? nv[k] / l : 0);
   }
   free(cells.slot);
-  free(buf);
+  free(keys);
   return BBC_OK;
 }

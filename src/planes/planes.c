@@ -226,22 +226,24 @@ static bbc_result level_at(bbc_grid *g, const bbc_planes_options *o, double scal
 static bbc_result grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, int density,
                              bbc_grid **out, bbc_error *err);
 
-bbc_result bbc_grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_grid **out,
-                          bbc_error *err) {
+/* grid_build with the options' thread count. */
+static bbc_result grid_build_threads(const bbc_mesh *mesh, const bbc_planes_options *o, int density,
+                                     bbc_grid **out, bbc_error *err) {
   assert(mesh && out);
   int saved = bbc__threads_use(o->params.threads);
-  bbc_result r = grid_build(mesh, o, 1, out, err);
+  bbc_result r = grid_build(mesh, o, density, out, err);
   bbc__threads_restore(saved);
   return r;
 }
 
+bbc_result bbc_grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc_grid **out,
+                          bbc_error *err) {
+  return grid_build_threads(mesh, o, 1, out, err);
+}
+
 bbc_result bbc__grid_build_to_select(const bbc_mesh *mesh, const bbc_planes_options *o,
                                      bbc_grid **out, bbc_error *err) {
-  assert(mesh && out);
-  int saved = bbc__threads_use(o->params.threads);
-  bbc_result r = grid_build(mesh, o, 0, out, err);
-  bbc__threads_restore(saved);
-  return r;
+  return grid_build_threads(mesh, o, 0, out, err);
 }
 
 /* Splits the model into parts (a point cloud is one) into g->face_part,

@@ -11,6 +11,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <stb/stb_image_write.h>
 
@@ -167,6 +169,52 @@ static void test_missing_texture_is_warning(void **state) {
   assert_string_equal(m.group_names[0], "leaf");
   bbc_mesh_free(&m);
   free(p);
+  tu_remove_dir(dir);
+  free(dir);
+}
+
+/* Texture names as artists' files spell them: blanks after the name (a
+ * CRLF file with "map_Kd leaf.png \r"), and a name whose case differs from
+ * the file's (made where file systems ignore case): both found, no warning. */
+static void test_texture_name_blanks_and_case(void **state) {
+  (void)state;
+  char *dir = tu_make_temp_dir();
+  char sub[1024];
+  snprintf(sub, sizeof sub, "%s/textures", dir);
+  assert_int_equal(mkdir(sub, 0755), 0);
+  const uint8_t px[4 * 4] = {40, 200, 60, 255, 40, 200, 60, 255,
+                             40, 200, 60, 255, 40, 200, 60, 255};
+  char png[1100];
+  snprintf(png, sizeof png, "%s/Leaf.png", sub);
+  assert_true(stbi_write_png(png, 2, 2, 4, px, 8) != 0);
+  const char obj[] =
+      "mtllib a.mtl\r\nv 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nv 1 1 0\r\nvt 0 0\r\nvt 1 0\r\n"
+      "vt 0 1\r\nvt 1 1\r\no leaf\r\nusemtl a\r\nf 1/1 2/2 3/3\r\nusemtl b\r\n"
+      "f 2/2 4/4 3/3\r\n";
+  const char mtl[] = "newmtl a\r\nKd 1 1 1\r\nmap_Kd textures/leaf.png \r\n"
+                     "newmtl b\r\nKd 1 1 1\r\nmap_Kd LEAF.PNG\t\r\n";
+  char *p = tu_write_file(dir, "a.obj", obj, sizeof obj - 1);
+  free(tu_write_file(dir, "a.mtl", mtl, sizeof mtl - 1));
+  bbc_load_options opt;
+  bbc_load_options_default(&opt);
+  log_capture cap = {0, 0, ""};
+  opt.callbacks.log = capture_log;
+  opt.callbacks.user = &cap;
+  bbc_mesh m;
+  bbc_error err;
+  assert_int_equal(bbc_mesh_load(p, &opt, &m, &err), BBC_OK);
+  assert_int_equal(cap.texture_warnings, 0);
+  assert_int_equal(m.material_count, 2);
+  for (size_t i = 0; i < 2; i++) {
+    assert_true(m.materials[i].texture >= 0);
+    const bbc_image *img = &m.textures[m.materials[i].texture].image;
+    assert_int_equal(img->width, 2);
+    assert_int_equal(img->rgba[1], 200); /* the leaf's green, not the base colour */
+  }
+  bbc_mesh_free(&m);
+  free(p);
+  unlink(png);
+  rmdir(sub);
   tu_remove_dir(dir);
   free(dir);
 }
@@ -391,6 +439,7 @@ static void test_missing_mtllib(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_missing_mtllib),
+      cmocka_unit_test(test_texture_name_blanks_and_case),
       cmocka_unit_test(test_pine),
       cmocka_unit_test(test_cat_3ds),
       cmocka_unit_test(test_h60_ac3d_texture),

@@ -68,7 +68,9 @@ typedef enum bbc__texture_spelling {
  * file of: the reference as written when it is absolute; the reference
  * below the model's folder (FILE, URL: when it is relative); its base name
  * in the model's folder; its base name in textures/, Textures/,
- * ../textures/ and ../Textures/ beside the model. Writes the file's path to
+ * ../textures/ and ../Textures/ beside the model; then those places again
+ * with the base name's case ignored (when one file matches). Blanks after
+ * the reference are dropped. Writes the file's path to
  * out (n bytes) and returns 1; when there is none, returns 0 with the
  * reference as written below the model's folder (or absolute) in out, the
  * path a failed read names. */

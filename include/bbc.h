@@ -459,6 +459,10 @@ typedef struct bbc_params {
   double occlusion_min;  /* occlusionmin: the occlusion map's darkest value */
   double nm_bend;        /* nmbend: normal maps: each texel's normal plus this times the
                           * unit direction from the crown's centre, renormalised */
+  double nm_flat;        /* nmflat: normal maps: each texel's normal plus this times the
+                          * billboard's own normal, renormalised */
+  double rough_min;      /* roughmin: the billboards' material roughness at least this
+                          * (the source's mean when higher) */
   double shade_ambient;  /* shadeambient: ambient share of voxel shadowing, 0..1 */
   int dither;            /* dither: quality 2: texel opacity by coverage-preserving
                           * error diffusion (1) or by growing (0) */
@@ -908,6 +912,26 @@ typedef struct bbc_gltf_node {
  * bbc_mesh_write_gltf writes one; identical textures are stored once. */
 bbc_result bbc_scene_write_gltf(const char *path, const bbc_gltf_node *nodes, size_t node_count,
                                 const bbc_gltf_options *options, bbc_error *err);
+
+/* A mesh of bbc_scene_write_fbx and its name (may be NULL). */
+typedef struct bbc_fbx_node {
+  const bbc_mesh *mesh;
+  const char *name;
+} bbc_fbx_node;
+
+/* Writes meshes as binary FBX 7.4 (`path` ends in .fbx), for engines that
+ * build LOD groups from FBX files (Unity and Unreal: meshes named
+ * "<model>_LOD0", "_LOD1", ...): one Model per node with its name, its
+ * Geometry (triangles; normals and texture coordinates per corner; a
+ * material per triangle) and a Phong Material per material of the mesh
+ * (DiffuseColor = base colour, Opacity, Shininess from the roughness as
+ * Blender's importer reads it back), the colour texture linked as
+ * DiffuseColor and a normal map (when the mesh has tangents) as NormalMap,
+ * each a PNG beside the FBX (<stem>_fbx_<name>.png; identical images once).
+ * Y up, one unit a metre. No occlusion map: FBX's materials have no slot
+ * for one. Deterministic: the same meshes give the same bytes. */
+bbc_result bbc_scene_write_fbx(const char *path, const bbc_fbx_node *nodes, size_t node_count,
+                               bbc_error *err);
 
 /* OBJ options. Zeroed: the defaults. */
 typedef struct bbc_obj_options {

@@ -12,6 +12,7 @@
 // Options
 //   --suns LIST        comma-separated AZ:EL in degrees, or "sweep" (default):
 //                      azimuths 0,45,...,315 x elevations 15 and 50 (16 suns).
+//                      "headlight": one light at the camera, for each view.
 //   --views LIST       front,side (default both): camera at azimuth 0 / 90.
 //   --elevation DEG    camera elevation (default 10).
 //   --size PX          square canvas (default 256).
@@ -84,6 +85,10 @@
 //       about a fifth of its pixels). Any other alphaMap is kept as three
 //       reads it (what a user gets). The JSON lists what was done per
 //       material (alphaTested, droppedAlphaMap).
+//     Only faces are drawn, as bbcgen reads an OBJ: its l and p elements
+//     are left out (OBJLoader would turn the whole object holding them
+//     into lines or points: the Scopia acacia's trunk drew as white
+//     lines); the JSON counts them (strippedElements).
 //     A CLOUD .glb/.gltf is drawn exactly as GLTFLoader loads it (alphaMode
 //     MASK -> alphaTest, doubleSided, normalTexture, occlusionTexture,
 //     KHR_materials_unlit -> MeshBasicMaterial); nothing is changed.
@@ -95,7 +100,8 @@
 // mean R, G, B of the covered pixels in the 8-bit sRGB output (0-255; a
 // pixel with 0 < alpha < 255 is un-premultiplied and counted as covered, the
 // JSON says how many there were), and luminance = 0.2126 R + 0.7152 G +
-// 0.0722 B of those means. Per cloud and render: the ratio of the cloud's
+// 0.0722 B of those means; saturation = the mean over those pixels of
+// max(R, G, B) - min(R, G, B). Per cloud and render: the ratio of the cloud's
 // luminance (and of each channel) to the original's, and the coverage ratio.
 // Summary per cloud: min, max and mean luminance ratio over all renders and
 // the number of renders with a ratio outside [0.90, 1.10] (a cloud render
@@ -171,7 +177,9 @@ if (files.length < (opt.inspect ? 1 : 2))
   die(1, 'usage: threejs_sun.sh [options] ORIGINAL CLOUD [CLOUD...] | --inspect FILE...');
 
 let suns;
-if (opt.suns === 'sweep') {
+if (opt.suns === 'headlight') {
+  suns = [{ az: 'head', el: 'light', headlight: true }];
+} else if (opt.suns === 'sweep') {
   suns = [];
   for (const el of [15, 50]) for (let az = 0; az < 360; az += 45) suns.push({ az, el });
 } else {
@@ -291,7 +299,15 @@ async function loadObj(url) {
     creator.preload();
     objLoader.setMaterials(creator);
   }
-  const root = objLoader.parse(text);
+  // Faces only, as bbcgen reads an OBJ: OBJLoader makes an object holding
+  // any l (polyline) or p (point) element a LineSegments / Points of
+  // the whole object, so a trunk group with two stray polylines would be
+  // drawn as thin white lines (the Scopia acacia). The fair reference draws
+  // the faces; the JSON counts what was left out.
+  let strippedElements = 0;
+  const faceText = text.replace(/^[ \t]*[lp][ \t][^\n]*\n?/gm, () => { strippedElements++; return ''; });
+  const root = objLoader.parse(faceText);
+  root.userData.strippedElements = strippedElements;
   // Wait for every texture's image (TextureLoader sets texture.image on load).
   const textures = texturesOf(root);
   const t0 = performance.now();
@@ -435,7 +451,7 @@ window.bbc = {
     m.root.traverse((o) => { if (o.isMesh) meshes++; });
     const roots = m.root.children.map((o) => o.name);
     return { index: models.length - 1, box: boxInfo(m.root), triangles: tris, materials: m.materials,
-      roots, meshes };
+      roots, meshes, strippedElements: m.root.userData.strippedElements || 0 };
   },
 
   // Renders model i for every view and sun; returns statistics (and PNGs).
@@ -459,26 +475,29 @@ window.bbc = {
       camera.lookAt(c);
       camera.updateMatrixWorld(true);
       for (const s of suns) {
-        sun.position.copy(c).addScaledVector(dirv(s.az, s.el), d);
+        if (s.headlight) sun.position.copy(camera.position);
+        else sun.position.copy(c).addScaledVector(dirv(s.az, s.el), d);
         sun.target.position.copy(c);
         sun.updateMatrixWorld(true);
         sun.target.updateMatrixWorld(true);
         renderer.render(scene, camera);
         gl.readPixels(0, 0, size, size, gl.RGBA, gl.UNSIGNED_BYTE, buf);
-        let n = 0, partial = 0, r = 0, g = 0, b = 0;
+        let n = 0, partial = 0, r = 0, g = 0, b = 0, sat = 0;
         for (let p = 0; p < buf.length; p += 4) {
           const a = buf[p + 3];
           if (a === 0) continue;
           n++;
-          if (a === 255) { r += buf[p]; g += buf[p + 1]; b += buf[p + 2]; }
-          else {
+          let pr = buf[p], pg = buf[p + 1], pb = buf[p + 2];
+          if (a !== 255) {
             partial++;
             const k = 255 / a;
-            r += Math.min(255, buf[p] * k); g += Math.min(255, buf[p + 1] * k); b += Math.min(255, buf[p + 2] * k);
+            pr = Math.min(255, pr * k); pg = Math.min(255, pg * k); pb = Math.min(255, pb * k);
           }
+          r += pr; g += pg; b += pb;
+          sat += Math.max(pr, pg, pb) - Math.min(pr, pg, pb);
         }
         const rec = { view: v.name, az: s.az, el: s.el, covered: n, partial,
-          r: n ? r / n : null, g: n ? g / n : null, b: n ? b / n : null };
+          r: n ? r / n : null, g: n ? g / n : null, b: n ? b / n : null, sat: n ? sat / n : null };
         rec.lum = n ? 0.2126 * rec.r + 0.7152 * rec.g + 0.0722 * rec.b : null;
         if (keep) rec.png = renderer.domElement.toDataURL('image/png');
         out.push(rec);
@@ -625,7 +644,7 @@ const loadSeconds = (Date.now() - tLoad) / 1000;
 if (opt.inspect) { // what GLTFLoader makes of each file: no render
   for (let i = 0; i < files.length; i++)
     process.stdout.write(JSON.stringify({ file: files[i], roots: loaded[i].roots,
-      meshes: loaded[i].meshes, triangles: loaded[i].triangles,
+      meshes: loaded[i].meshes, triangles: loaded[i].triangles, strippedElements: loaded[i].strippedElements,
       materials: loaded[i].materials.map((m) => ({ name: m.name, alphaTest: m.alphaTest,
         map: m.map, normalMap: m.normalMap, aoMap: m.aoMap })) }) + '\n');
   await finish(0);
@@ -681,7 +700,7 @@ const combos = results[0].map((o, j) => ({
     const c = rs[j];
     return {
       ...c,
-      lumRatio: ratio(c.lum, o.lum), rRatio: ratio(c.r, o.r), gRatio: ratio(c.g, o.g), bRatio: ratio(c.b, o.b),
+      lumRatio: ratio(c.lum, o.lum), satRatio: ratio(c.sat, o.sat), rRatio: ratio(c.r, o.r), gRatio: ratio(c.g, o.g), bRatio: ratio(c.b, o.b),
       coverageRatio: ratio(c.covered, o.covered),
     };
   }),
@@ -703,6 +722,8 @@ const summary = files.slice(1).map((f, k) => {
     gRatio: stats(combos.map((c) => c.clouds[k].gRatio)),
     bRatio: stats(combos.map((c) => c.clouds[k].bRatio)),
     coverageRatio: stats(combos.map((c) => c.clouds[k].coverageRatio)),
+    satRatio: stats(combos.map((c) => c.clouds[k].satRatio)),
+    satOutside: combos.filter((c) => c.clouds[k].satRatio == null || Math.abs(c.clouds[k].satRatio - 1) > 0.15).length,
   };
 });
 
@@ -719,7 +740,8 @@ for (const c of combos) {
 console.log(`luminance ratio cloud/original over ${combos.length} renders (band ${BAND[0].toFixed(2)}-${BAND[1].toFixed(2)}):`);
 summary.forEach((s, k) => console.log(
   `cloud${k}: min ${f3(s.lumRatio.min)} max ${f3(s.lumRatio.max)} mean ${f3(s.lumRatio.mean)} ` +
-  `outside ${s.outside}/${s.renders}; coverage ratio ${f3(s.coverageRatio.min)}-${f3(s.coverageRatio.max)}` +
+  `outside ${s.outside}/${s.renders}; saturation ratio ${f3(s.satRatio.min)}-${f3(s.satRatio.max)} ` +
+  `(${s.satOutside} beyond 15 %); coverage ratio ${f3(s.coverageRatio.min)}-${f3(s.coverageRatio.max)}` +
   (s.blank ? `; ${s.blank} blank render(s)` : '')));
 const totalSeconds = (Date.now() - t0) / 1000;
 console.log(`time ${totalSeconds.toFixed(1)} s (load ${loadSeconds.toFixed(1)} s, render ${renderSeconds.toFixed(1)} s)`);
@@ -731,7 +753,7 @@ if (opt.json) {
     versions: { three: versionOf('three'), puppeteerCore: versionOf('puppeteer-core'), chromium: chromiumVersion, webgl: gpu },
     frame: { ...frame, distance: frame.radius / Math.sin(opt.fov * Math.PI / 360) },
     models: files.map((f, i) => ({ file: f, role: i === 0 ? 'original' : `cloud${i - 1}`, kind: kinds[i],
-      box: loaded[i].box, triangles: loaded[i].triangles,
+      box: loaded[i].box, triangles: loaded[i].triangles, strippedElements: loaded[i].strippedElements,
       materials: loaded[i].materials.map((m) => Object.fromEntries(Object.entries(m).map(([k, v]) =>
         [k, typeof v === 'string' && v.startsWith(base) ? localPaths(v) : v]))) })),
     combos, summary,

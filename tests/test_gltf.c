@@ -1,7 +1,9 @@
 /* test_gltf.c — glTF 2.0 output (bbc_mesh_write_gltf): .glb and .gltf read
  * back with the project's loader (Assimp), the GLB container and JSON checked
  * with cJSON, the files checked by the Khronos glTF validator
- * (scripts/gltf_validate.sh), and byte-identical repeated writes. */
+ * (scripts/gltf_validate.sh), and byte-identical repeated writes. And FBX
+ * (bbc_scene_write_fbx): a chain of levels read back through Assimp, level
+ * by level, and its records walked byte by byte. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -536,12 +538,150 @@ static void test_deterministic(void **state) {
   bbc_mesh_free(&m);
 }
 
+/* ---- FBX ------------------------------------------------------------------ */
+
+/* Walks the FBX 7.4 records from `at` to `end` (exclusive; a 13-byte zero
+ * record ends each list): every end offset inside its parent and past its
+ * header, every property of a known type and inside its record, nested
+ * lists terminated. Counts records named `name` into *found. */
+static size_t walk_fbx(const uint8_t *b, size_t at, size_t end, const char *name, int *found) {
+  while (at + 13 <= end) {
+    uint32_t eo = (uint32_t)b[at] | (uint32_t)b[at + 1] << 8 | (uint32_t)b[at + 2] << 16 |
+                  (uint32_t)b[at + 3] << 24;
+    if (eo == 0) return at + 13; /* the list's end */
+    uint32_t np = (uint32_t)b[at + 4] | (uint32_t)b[at + 5] << 8 | (uint32_t)b[at + 6] << 16 |
+                  (uint32_t)b[at + 7] << 24;
+    uint32_t pl = (uint32_t)b[at + 8] | (uint32_t)b[at + 9] << 8 | (uint32_t)b[at + 10] << 16 |
+                  (uint32_t)b[at + 11] << 24;
+    uint8_t nl = b[at + 12];
+    assert_true(eo > at && eo <= end);
+    if (strlen(name) == nl && !memcmp(b + at + 13, name, nl)) (*found)++;
+    size_t p = at + 13 + nl, pe = p + pl;
+    assert_true(pe <= eo);
+    for (uint32_t i = 0; i < np; i++) {
+      assert_true(p < pe);
+      char t = (char)b[p++];
+      size_t len = 0;
+      switch (t) {
+      case 'C':
+        len = 1;
+        break;
+      case 'Y':
+        len = 2;
+        break;
+      case 'I':
+      case 'F':
+        len = 4;
+        break;
+      case 'L':
+      case 'D':
+        len = 8;
+        break;
+      case 'S':
+      case 'R':
+        len = 4 + ((uint32_t)b[p] | (uint32_t)b[p + 1] << 8 | (uint32_t)b[p + 2] << 16 |
+                   (uint32_t)b[p + 3] << 24);
+        break;
+      case 'i':
+      case 'd':
+      case 'f':
+      case 'l':
+      case 'b':
+        len = 12 + ((uint32_t)b[p + 8] | (uint32_t)b[p + 9] << 8 | (uint32_t)b[p + 10] << 16 |
+                    (uint32_t)b[p + 11] << 24);
+        break;
+      default:
+        fail_msg("record at %zu: property type '%c'", at, t);
+      }
+      p += len;
+    }
+    assert_true(p == pe);
+    if (pe < eo) assert_true(walk_fbx(b, pe, eo, name, found) == eo);
+    at = eo;
+  }
+  fail_msg("an FBX record list without its end");
+  return end;
+}
+
+/* Three levels (different meshes, one shared atlas) as one FBX: the file's
+ * records are well formed; Assimp reads three nodes named _LOD0.._LOD2 with
+ * every triangle, the texture found beside it with its texels, and each
+ * level alone by its name (lod_node); a second write is byte-identical. */
+static void test_fbx_chain(void **state) {
+  (void)state;
+  bbc_mesh lv[3];
+  for (int k = 0; k < 3; k++) make_quads(&lv[k], (size_t)(3 - k) * 2, k == 0);
+  char *path = join(tu_dir, "tree.fbx");
+  char *png = join(tu_dir, "tree_fbx_leaf.png");
+  const bbc_fbx_node nodes[3] = {
+      {&lv[0], "tree_LOD0"}, {&lv[1], "tree_LOD1"}, {&lv[2], "tree_LOD2"}};
+  bbc_error err;
+  if (bbc_scene_write_fbx(path, nodes, 3, &err) != BBC_OK) fail_msg("%s", err.message);
+  assert_true(tu_have_file(png)); /* the three levels' identical atlases: one file */
+  size_t n;
+  uint8_t *b = tu_read_file(path, &n);
+  assert_non_null(b);
+  assert_true(n > 27 + 13);
+  assert_memory_equal(b, "Kaydara FBX Binary  \0\x1a\0", 23);
+  assert_int_equal(b[23] | b[24] << 8, 7400);
+  int models = 0;
+  size_t end = walk_fbx(b, 27, n, "Model", &models);
+  assert_int_equal(models, 3);
+  int geoms = 0;
+  walk_fbx(b, 27, n, "Geometry", &geoms);
+  assert_int_equal(geoms, 3);
+  assert_true(end < n); /* the footer follows */
+  free(b);
+
+  bbc_mesh all;
+  load_ok(path, &all);
+  assert_int_equal(all.triangle_count,
+                   lv[0].triangle_count + lv[1].triangle_count + lv[2].triangle_count);
+  for (int k = 0; k < 3; k++) {
+    char want[32];
+    snprintf(want, sizeof want, "tree_LOD%d", k);
+    int seen = 0;
+    for (size_t g = 0; g < all.group_count; g++) seen |= strstr(all.group_names[g], want) != NULL;
+    if (!seen) fail_msg("no group named %s", want);
+  }
+  bbc_mesh_free(&all);
+  for (int k = 0; k < 3; k++) {
+    bbc_load_options lo;
+    bbc_load_options_default(&lo);
+    lo.lod_node = k + 1;
+    bbc_mesh one;
+    if (bbc_mesh_load(path, &lo, &one, &err) != BBC_OK) fail_msg("level %d: %s", k, err.message);
+    assert_int_equal(one.triangle_count, lv[k].triangle_count);
+    assert_same_bbox(&lv[k], &one);
+    assert_uv_orientation(&one); /* the texture found, its texels and v the right way */
+    bbc_mesh_free(&one);
+  }
+  /* the same meshes again: the same bytes (the names inside depend on the
+   * file's, so the same name in another folder) */
+  char *sub = join(tu_dir, "again");
+  assert_int_equal(mkdir(sub, 0755), 0);
+  char *again = join(sub, "tree.fbx");
+  if (bbc_scene_write_fbx(again, nodes, 3, &err) != BBC_OK) fail_msg("%s", err.message);
+  assert_true(tu_same_file(path, again));
+  free(sub);
+  /* errors: the extension, nothing to write */
+  char *bad = join(tu_dir, "tree.fbx.txt");
+  assert_int_equal(bbc_scene_write_fbx(bad, nodes, 3, &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(bbc_scene_write_fbx(path, nodes, 0, &err), BBC_ERROR_EMPTY);
+  assert_false(tu_have_file(bad));
+  for (int k = 0; k < 3; k++) bbc_mesh_free(&lv[k]);
+  free(bad);
+  free(png);
+  free(again);
+  free(path);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_textured_quad),  cmocka_unit_test(test_two_materials),
       cmocka_unit_test(test_uint32_indices), cmocka_unit_test(test_tree),
       cmocka_unit_test(test_extras),         cmocka_unit_test(test_errors),
-      cmocka_unit_test(test_deterministic),
+      cmocka_unit_test(test_deterministic),  cmocka_unit_test(test_fbx_chain),
   };
   return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

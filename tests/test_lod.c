@@ -10,12 +10,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cjson/cJSON.h>
 #include <cmocka.h>
 #include <sys/wait.h>
 
+#include "bbc.h"
 #include "test_util.h"
 
 static int run(const char *args, char **errout) {
@@ -156,6 +158,48 @@ static void test_chain_by_epsilons_falls(void **state) {
   cJSON_Delete(r);
 }
 
+/* -o OUT.fbx: the chain in one FBX for engines' LOD groups, read back by
+ * the loader (Assimp) level by level from its _LOD<k> names, each with the
+ * triangles the glTF chain's level has and its colour atlas found beside
+ * it; the same run with 1 thread gives the same bytes. */
+static void test_chain_fbx(void **state) {
+  (void)state;
+  char model[1024], args[4096];
+  tu_data_path(model, sizeof model, "trees/quaternius/OBJ/Tree_1.obj");
+  if (!tu_have_file(model)) skip();
+  snprintf(args, sizeof args, "'%s' -o f.fbx --lod-pixels 256,64,16 --report rf.json", model);
+  assert_int_equal(run(args, NULL), 0);
+  snprintf(args, sizeof args, "'%s' -o f1/f.fbx --lod-pixels 256,64,16 --threads 1", model);
+  char dir[1100];
+  snprintf(dir, sizeof dir, "%s/f1", tu_dir);
+  assert_int_equal(mkdir(dir, 0755), 0);
+  assert_int_equal(run(args, NULL), 0);
+  char a[1100], b[1100], png[1100];
+  snprintf(a, sizeof a, "%s/f.fbx", tu_dir);
+  snprintf(b, sizeof b, "%s/f1/f.fbx", tu_dir);
+  snprintf(png, sizeof png, "%s/f_fbx_billboards_LOD0.png", tu_dir);
+  assert_true(tu_same_file(a, b));
+  assert_true(tu_have_file(png));
+  cJSON *r = read_json("rf.json");
+  const cJSON *levels = cJSON_GetObjectItemCaseSensitive(r, "lods");
+  assert_int_equal(cJSON_GetArraySize(levels), 3);
+  for (int k = 0; k < 3; k++) {
+    bbc_load_options lo;
+    bbc_load_options_default(&lo);
+    lo.lod_node = k + 1;
+    bbc_mesh m;
+    bbc_error err;
+    if (bbc_mesh_load(a, &lo, &m, &err) != BBC_OK) fail_msg("level %d: %s", k, err.message);
+    assert_int_equal((double)m.triangle_count, num(cJSON_GetArrayItem(levels, k), "triangles"));
+    int textured = 0;
+    for (size_t i = 0; i < m.material_count; i++)
+      textured |= m.materials[i].texture >= 0 && m.textures[m.materials[i].texture].has_alpha;
+    assert_true(textured);
+    bbc_mesh_free(&m);
+  }
+  cJSON_Delete(r);
+}
+
 /* Orders and mixes that make no chain are refused, naming why. */
 static void test_chain_refusals(void **state) {
   (void)state;
@@ -176,6 +220,7 @@ int main(void) {
       cmocka_unit_test(test_chain_by_pixels),
       cmocka_unit_test(test_chain_by_epsilons_falls),
       cmocka_unit_test(test_chain_refusals),
+      cmocka_unit_test(test_chain_fbx),
   };
   return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

@@ -64,7 +64,8 @@ void bbc_params_lighting(bbc_params *p, bbc_hand hand, bbc_lighting mode) {
 bbc_lighting bbc_lighting_for_output(const char *path) {
   size_t n = path ? strlen(path) : 0;
   int gltf = (n >= 4 && !strcasecmp(path + n - 4, ".glb")) ||
-             (n >= 5 && !strcasecmp(path + n - 5, ".gltf"));
+             (n >= 5 && !strcasecmp(path + n - 5, ".gltf")) ||
+             (n >= 4 && !strcasecmp(path + n - 4, ".fbx")); /* lit by engines too */
   return gltf ? BBC_LIGHTING_MATERIAL : BBC_LIGHTING_BAKED;
 }
 

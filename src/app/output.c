@@ -181,6 +181,23 @@ static bbc_result write_gltf_chain(const bbc_session *s, job_lod *const *lods, s
   return r;
 }
 
+/* The levels as one FBX file: a Model per level named <model>_LOD<k> (the
+ * model's name alone for one level), the names Unity and Unreal build LOD
+ * groups from. */
+static bbc_result write_fbx_chain(job_lod *const *lods, size_t count, const char *out,
+                                  const char *model, bbc_error *err) {
+  char names[BBC_SESSION_MAX_LEVELS][200];
+  bbc_fbx_node nodes[BBC_SESSION_MAX_LEVELS];
+  for (size_t k = 0; k < count; k++) {
+    if (count > 1)
+      snprintf(names[k], sizeof names[k], "%s_LOD%zu", model, k);
+    else
+      snprintf(names[k], sizeof names[k], "%s", model);
+    nodes[k] = (bbc_fbx_node){&lods[k]->cloud.mesh, names[k]};
+  }
+  return bbc_scene_write_fbx(out, nodes, count, err);
+}
+
 /* The levels as OBJ (`obj`) or VRML files, OUT and OUT_lod<k>.EXT, each
  * with a comment naming the model, the epsilon and the origin. */
 static bbc_result write_level_files(const bbc_session *s, job_lod *const *lods, size_t count,
@@ -222,10 +239,13 @@ static bbc_result write_levels(bbc_session *s, const char *out, const bbc_callba
   for (size_t k = 0; k < count; k++) lods[k] = bbc__session_level(s, k);
   const char *ext = extension_of(out);
   int glb = !strcasecmp(ext, ".glb"), gltf = !strcasecmp(ext, ".gltf"),
-      obj = !strcasecmp(ext, ".obj"), wrl = !strcasecmp(ext, ".wrl");
-  if (!glb && !gltf && !obj && !wrl)
+      obj = !strcasecmp(ext, ".obj"), wrl = !strcasecmp(ext, ".wrl"),
+      fbx = !strcasecmp(ext, ".fbx");
+  if (!glb && !gltf && !obj && !wrl && !fbx)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
-                     "the output must end in .glb, .gltf, .obj or .wrl, not '%s'", out);
+                     "the output must end in .glb, .gltf, .obj, .wrl or .fbx, not '%s'", out);
+  if (fbx && lods[0]->params.occlusion > 0 && !lods[0]->params.prelight)
+    bbc__log(cb, BBC_LOG_WARNING, "FBX carries no occlusion map (use .glb or .gltf)");
   if (obj && (lods[0]->params.normal_maps || lods[0]->params.occlusion > 0))
     bbc__log(cb, BBC_LOG_WARNING,
              "OBJ output carries no normal or occlusion map (use .glb or .gltf, or "
@@ -250,12 +270,14 @@ static bbc_result write_levels(bbc_session *s, const char *out, const bbc_callba
     r = write_gltf_chain(s, &lods[k], 1, path, name, glb, unlit, err);
   }
   if (r != BBC_OK) return r;
-  if ((glb || gltf) && count > 1 && !s->atlas_shared) {
+  if ((glb || gltf || fbx) && count > 1 && !s->atlas_shared) {
     r = share_chain_atlas(s, lods, count, cb, err);
     if (r != BBC_OK) return r;
   }
   if (glb || gltf)
     r = write_gltf_chain(s, lods, count, out, model, glb, unlit, err);
+  else if (fbx)
+    r = write_fbx_chain(lods, count, out, model, err);
   else
     r = write_level_files(s, lods, count, out, obj, unlit, err);
   s->write_s = bbc__now_s() - t0;

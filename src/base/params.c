@@ -165,6 +165,16 @@ static const param_row k_rows[] = {
       "(0 = the surface's own): the crown lights like a ball, brighter towards the sun "
       "(docs/lighting.md)"},
      DBL_FIELD(nm_bend)},
+    {{"nmflat", BBC_PARAM_REAL, 0, 10, 0, F3, "extension", "",
+      "normal maps: each texel's normal plus n times the billboard's own normal (0 = the "
+      "surface's own): keeps texels from facing away from a viewer at a slant "
+      "(docs/lighting.md)"},
+     DBL_FIELD(nm_flat)},
+    {{"roughmin", BBC_PARAM_REAL, 0, 1, 0, F3, "extension", "",
+      "the billboards' roughness (glTF roughnessFactor) at least this, the source's mean when "
+      "higher: a flat billboard mirrors a low sun where the leaves it shows scattered it "
+      "(docs/lighting.md)"},
+     DBL_FIELD(rough_min)},
     {{"shadeambient", BBC_PARAM_REAL, 0, 1, 0.4, F3, "extension", "",
       "voxel shadowing (shade, occlusion): brightness of the darkest voxel (ambient light)"},
      DBL_FIELD(shade_ambient)},

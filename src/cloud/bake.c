@@ -387,6 +387,7 @@ static void bake_target(const bbc__bake_inputs *in, const bake_job *job, int w, 
   bk->front_ao = out->front_ao.rgba;
   bk->outward = job->mask ? 0 : in->params->nm_bend; /* the stem's: its own normals */
   memcpy(bk->center, in->crown_center, sizeof bk->center);
+  bk->flat = job->mask ? 0 : in->params->nm_flat;
   bk->back_ao = out->back_ao.rgba;
   bk->backface = in->params->backface;
   bk->mips = in->mips;

@@ -47,8 +47,11 @@ bbc_result bbc__cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
 
 /* The cloud's materials' roughness: the mean of the source's over the
  * faces they show (the billboards': faces on a plane; the limbs': the
- * others), area-weighted, of the materials that give one (0 = none did). */
-static void set_roughness(const bbc_mesh *m, const bbc_planeset *set, bbc_mesh *cloud) {
+ * others), area-weighted, of the materials that give one (0 = none did);
+ * the billboards' at least `floor` (roughmin: one flat plane reflects a sun
+ * as one mirror where its many leaves scattered it, docs/lighting.md). */
+static void set_roughness(const bbc_mesh *m, const bbc_planeset *set, double floor,
+                          bbc_mesh *cloud) {
   double sum[2] = {0, 0}, weight[2] = {0, 0};
   for (size_t t = 0; t < m->triangle_count && m->kind == BBC_MESH_TRIANGLES; t++) {
     float r = m->materials[m->face_material[t]].roughness;
@@ -61,7 +64,9 @@ static void set_roughness(const bbc_mesh *m, const bbc_planeset *set, bbc_mesh *
   for (size_t i = 0; i < cloud->material_count; i++) {
     int limb = bbc_material_is_limbs(&cloud->materials[i]);
     if (!(weight[limb] > 0)) limb = !limb;
-    cloud->materials[i].roughness = weight[limb] > 0 ? (float)(sum[limb] / weight[limb]) : 0.0f;
+    float r = weight[limb] > 0 ? (float)(sum[limb] / weight[limb]) : 0.0f;
+    if (!bbc_material_is_limbs(&cloud->materials[i]) && r > 0 && r < floor) r = (float)floor;
+    cloud->materials[i].roughness = r;
   }
 }
 
@@ -186,7 +191,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
   for (size_t k = 0; r == BBC_OK && k < nk; k++) bbc__baked_fill_transparent(&bk[k]);
   if (r == BBC_OK)
     r = bbc__cloud_atlas_mesh(set, prm, cl, bk, swatch, &limbs, limbs_group, atlas_limit, err);
-  if (r == BBC_OK) set_roughness(m, set, &cl->mesh);
+  if (r == BBC_OK) set_roughness(m, set, prm->rough_min, &cl->mesh);
   cl->atlas_s = bbc__now_s() - t1;
   for (size_t k = 0; bk && k < nk; k++) bbc__baked_free(&bk[k]);
   free(bk);

@@ -97,7 +97,7 @@ typedef struct target {
 } target;
 
 static void put_normal(uint8_t *o, const double *n, const camera *cam, double toward,
-                       const double *out) {
+                       const double *out, double flat) {
   double x = n[0] * cam->r[0] + n[1] * cam->r[1] + n[2] * cam->r[2];
   double y = n[0] * cam->u[0] + n[1] * cam->u[1] + n[2] * cam->u[2];
   double z = -toward * (n[0] * cam->f[0] + n[1] * cam->f[1] + n[2] * cam->f[2]);
@@ -108,10 +108,13 @@ static void put_normal(uint8_t *o, const double *n, const camera *cam, double to
     y = -y;
     z = -z;
   }
-  if (out) {
-    x += out[0];
-    y += out[1];
-    z += out[2];
+  if (out || flat > 0) {
+    if (out) {
+      x += out[0];
+      y += out[1];
+      z += out[2];
+    }
+    z += flat;
     double l = sqrt(x * x + y * y + z * z);
     if (l > 1e-12) {
       x /= l;
@@ -609,8 +612,8 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
         memcpy(tg->rgba + 4 * pi, px4, 4);
         if (tg->bake && tg->bake->front_nm)
           put_normal(tg->bake->front_nm + 4 * pi, n, cam, 1,
-                     tg->bake->outward > 0 ? outward_dir(m, t, &tr, l0, l1, l2, tg, 1, odir)
-                                           : NULL);
+                     tg->bake->outward > 0 ? outward_dir(m, t, &tr, l0, l1, l2, tg, 1, odir) : NULL,
+                     tg->bake->flat);
       }
       if (back) {
         tg->depth_back[pi] = z;
@@ -618,7 +621,8 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
         if (tg->bake->back_nm)
           put_normal(tg->bake->back_nm + 4 * pi, n, cam, -1,
                      tg->bake->outward > 0 ? outward_dir(m, t, &tr, l0, l1, l2, tg, -1, odir)
-                                           : NULL);
+                                           : NULL,
+                     tg->bake->flat);
       }
     }
   }

@@ -31,6 +31,8 @@ typedef struct bbc__bake {
                                 * facing their viewer plus `outward` times away from
                                 * `center` (0: their viewer's) */
   double center[3];
+  double flat;                 /* >= 0: each normal plus `flat` times the image's own
+                                * normal (z), renormalised (nmflat) */
   uint8_t *front_ao, *back_ao; /* RGBA, may be NULL: the view's vertex_shade goes
                                 * here (grey) instead of into the colour */
   int backface;

@@ -1,4 +1,4 @@
-/* cmd_cloud.c — `bbcgen MODEL -o OUT.glb|.gltf|.obj|.wrl [options]`: the whole
+/* cmd_cloud.c — `bbcgen MODEL -o OUT.glb|.gltf|.obj|.wrl|.fbx [options]`: the whole
  * pipeline, steps 1 to 3, with levels of detail, a report and a preview. */
 #include "pipeline.h"
 
@@ -119,13 +119,13 @@ int cmd_cloud(cli *c, int argc, char **argv) {
     }
   }
   if (!out) {
-    cli_error("usage: bbcgen MODEL -o OUT.glb|OUT.gltf|OUT.obj|OUT.wrl [options]");
+    cli_error("usage: bbcgen MODEL -o OUT.glb|OUT.gltf|OUT.obj|OUT.wrl|OUT.fbx [options]");
     return EXIT_USAGE;
   }
   const char *ext = strrchr(out, '.');
   if (!ext || (strcasecmp(ext, ".glb") && strcasecmp(ext, ".gltf") && strcasecmp(ext, ".obj") &&
-               strcasecmp(ext, ".wrl"))) {
-    cli_error("the output must end in .glb, .gltf, .obj or .wrl, not '%s'", out);
+               strcasecmp(ext, ".wrl") && strcasecmp(ext, ".fbx"))) {
+    cli_error("the output must end in .glb, .gltf, .obj, .wrl or .fbx, not '%s'", out);
     return EXIT_USAGE;
   }
   size_t pn = preview ? strlen(preview) : 0, rn = report ? strlen(report) : 0;
@@ -162,6 +162,9 @@ int cmd_cloud(cli *c, int argc, char **argv) {
    * baked light, unless asked (parameters set by hand are kept). */
   if (lighting < 0) lighting = c->thesis ? BBC_LIGHTING_BAKED : (int)bbc_lighting_for_output(out);
   bbc_params_lighting(&c->params, c->hand, (bbc_lighting)lighting);
+  /* FBX's materials have no occlusion slot: none baked unless asked. */
+  if (!strcasecmp(ext, ".fbx") && !bbc_params_by_hand(c->hand, "occlusion"))
+    c->params.occlusion = 0;
   cli_info(c, "lighting: %s", bbc_params_lighting_name(&c->params));
   bbc_session *sess = bbc_session_new();
   if (!sess) {

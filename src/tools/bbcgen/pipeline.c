@@ -69,7 +69,8 @@ int session_run(const cli *c, bbc_session *s, const char *model, const bbc_lod_l
 /* "wrote ..." for each level's file. */
 static void wrote(const cli *c, const bbc_session *s, const char *out) {
   const char *ext = strrchr(out, '.');
-  int one_file = ext && (!strcasecmp(ext, ".glb") || !strcasecmp(ext, ".gltf"));
+  int one_file =
+      ext && (!strcasecmp(ext, ".glb") || !strcasecmp(ext, ".gltf") || !strcasecmp(ext, ".fbx"));
   for (size_t k = 0; k < bbc_session_get_level_count(s); k++) {
     const bbc_planeset *set;
     double eps;
@@ -84,7 +85,8 @@ static void wrote(const cli *c, const bbc_session *s, const char *out) {
     cli_info(c, "wrote %s: %zu billboards, %zu triangles, %zu texels (epsilon %.3g %%%s)", path,
              cl->billboard_count, cl->mesh.triangle_count, cl->texels, eps * set->epsilon_scale,
              at);
-    if (one_file && c->level_files && bbc_session_get_level_count(s) > 1) {
+    if (one_file && c->level_files && bbc_session_get_level_count(s) > 1 &&
+        strcasecmp(ext, ".fbx")) {
       bbc_session_get_level_file_path(out, k, path, sizeof path);
       cli_info(c, "wrote %s", path);
     }
@@ -93,7 +95,8 @@ static void wrote(const cli *c, const bbc_session *s, const char *out) {
 
 int session_write(const cli *c, bbc_session *s, const char *out) {
   const char *ext = strrchr(out, '.');
-  int one_file = ext && (!strcasecmp(ext, ".glb") || !strcasecmp(ext, ".gltf"));
+  int one_file =
+      ext && (!strcasecmp(ext, ".glb") || !strcasecmp(ext, ".gltf") || !strcasecmp(ext, ".fbx"));
   for (size_t k = 1; k < bbc_session_get_level_count(s) && !one_file; k++) {
     char path[4200];
     bbc_session_get_output_path(out, k, path, sizeof path);

@@ -219,7 +219,10 @@ typedef struct bbc_texture {
 
 typedef struct bbc_material {
   char *name;          /* never NULL ("" when the file has none) */
-  float base_color[4]; /* RGBA in [0, 1]; alpha is the material's opacity */
+  float base_color[4]; /* RGBA in [0, 1]; alpha is the material's opacity. RGB
+                        * multiplies the texture's stored (sRGB) values, as an
+                        * MTL's Kd does; glTF's linear baseColorFactor is
+                        * converted on reading and writing */
   int texture;         /* diffuse texture: index into mesh->textures, -1 none */
   char *texture_ref;   /* the texture path as the file wrote it, NULL when the
                         * material names none; kept when the file is missing */
@@ -891,7 +894,7 @@ typedef struct bbc_gltf_options {
 } bbc_gltf_options;
 
 /* Writes `mesh` as glTF 2.0: one node, one mesh, a primitive per material
- * (baseColorFactor = base_color, baseColorTexture = its texture as PNG,
+ * (baseColorFactor = base_color made linear, baseColorTexture = its texture as PNG,
  * normalTexture for a normal_map when the mesh has tangents, alphaMode MASK
  * with alphaCutoff 0.5, doubleSided unless single_sided); POSITION (float,
  * with min/max), NORMAL (renormalised) and TANGENT when present,

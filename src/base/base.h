@@ -69,6 +69,13 @@ void bbc__triangle_cross(const bbc_mesh *m, size_t t, double *c);
 /* Triangle t's area: half the length of that vector. */
 double bbc__triangle_area(const bbc_mesh *m, size_t t);
 
+/* The sRGB transfer function (IEC 61966-2-1) and its inverse, for colours
+ * in [0, 1]. A material's base_color multiplies texels as stored (sRGB),
+ * as an OBJ's Kd does in viewers; glTF's baseColorFactor is linear
+ * (glTF 2.0, 3.9.2), so its readers and writers convert. */
+double bbc__srgb_to_linear(double c);
+double bbc__linear_to_srgb(double c);
+
 /* strdup that returns NULL for a NULL input. */
 char *bbc__strdup(const char *s);
 

@@ -52,6 +52,18 @@ void bbc__triangle_cross(const bbc_mesh *m, size_t t, double *c) {
   vstore(c, vcross(e1, e2));
 }
 
+double bbc__srgb_to_linear(double c) {
+  if (!(c > 0)) return 0;
+  if (c >= 1) return 1;
+  return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
+}
+
+double bbc__linear_to_srgb(double c) {
+  if (!(c > 0)) return 0;
+  if (c >= 1) return 1;
+  return c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
+}
+
 double bbc__triangle_area(const bbc_mesh *m, size_t t) {
   double c[3];
   bbc__triangle_cross(m, t, c);

@@ -483,11 +483,16 @@ static bbc_result load_materials(loader *L) {
         bbc__strdup(aiGetMaterialString(am, AI_MATKEY_NAME, &s) == AI_SUCCESS ? s.data : "");
     if (!mat->name) return bbc__fail(L->err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", L->path);
     struct aiColor4D c;
+    char ext[16];
+    bbc__path_extension(L->path, ext, sizeof ext);
+    int gltf = !strcmp(ext, "glb") || !strcmp(ext, "gltf");
     if (aiGetMaterialColor(am, AI_MATKEY_BASE_COLOR, &c) == AI_SUCCESS ||
         aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) == AI_SUCCESS) {
-      mat->base_color[0] = c.r;
-      mat->base_color[1] = c.g;
-      mat->base_color[2] = c.b;
+      /* glTF's baseColorFactor is linear; base_color multiplies the
+       * texture's stored (sRGB) values, as other formats' colours do. */
+      mat->base_color[0] = gltf ? (float)bbc__linear_to_srgb(c.r) : c.r;
+      mat->base_color[1] = gltf ? (float)bbc__linear_to_srgb(c.g) : c.g;
+      mat->base_color[2] = gltf ? (float)bbc__linear_to_srgb(c.b) : c.b;
       mat->base_color[3] = c.a;
     }
     if (aiGetMaterialColor(am, AI_MATKEY_COLOR_AMBIENT, &c) == AI_SUCCESS) {
@@ -502,12 +507,9 @@ static bbc_result load_materials(loader *L) {
       mat->base_color[3] = opacity;
     /* glTF says whether a material is double-sided (a cloud's front and
      * back copies are not); other formats' flags mean other things. */
-    char ext[16];
-    bbc__path_extension(L->path, ext, sizeof ext);
     int two = 1;
     unsigned one_int = 1;
-    if ((!strcmp(ext, "glb") || !strcmp(ext, "gltf")) &&
-        aiGetMaterialIntegerArray(am, AI_MATKEY_TWOSIDED, &two, &one_int) == AI_SUCCESS)
+    if (gltf && aiGetMaterialIntegerArray(am, AI_MATKEY_TWOSIDED, &two, &one_int) == AI_SUCCESS)
       mat->single_sided = !two;
     /* Roughness: glTF's own, else from a Phong shininess (MTL Ns): the
      * Blinn-Phong match alpha = sqrt(2 / (Ns + 2)) is GGX's alpha, and glTF's

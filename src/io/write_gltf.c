@@ -732,6 +732,7 @@ static void put_json_materials(gltf_writer *w) {
       for (int k = 0; k < 4; k++) {
         float c = mat->base_color[k];
         c = c >= 0.0f ? (c <= 1.0f ? c : 1.0f) : (c < 0.0f ? 0.0f : 1.0f); /* NaN -> 1 */
+        if (k < 3) c = (float)bbc__srgb_to_linear(c); /* glTF's factor is linear */
         if (k) gbuf_puts(j, ",");
         gbuf_number(j, c);
       }

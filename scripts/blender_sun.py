@@ -47,7 +47,8 @@ Options (after `--`)
 What it measures
   Per file and per (sun, view): covered pixels (alpha > 0.5), the mean R, G,
   B of those pixels in 8-bit sRGB as written to the PNG, their luminance
-  0.2126 R + 0.7152 G + 0.0722 B, and for clouds the IoU of the covered
+  0.2126 R + 0.7152 G + 0.0722 B, their saturation (the mean of max - min
+  of R, G, B over them), and for clouds the IoU of the covered
   pixels with the original's (a check that the two overlap: framing and axes).
   Per cloud: luminance ratio cloud / original for every (sun, view), and
   their min / max / mean. Each file is rendered alone (the others get
@@ -512,11 +513,14 @@ def measure(px, np):
     mask = px[:, :, 3] > 0.5
     n = int(mask.sum())
     if n == 0:
-        return mask, {"covered": 0, "rgb": None, "luminance": None}
+        return mask, {"covered": 0, "rgb": None, "luminance": None,
+                      "saturation": None}
     rgb = [float(px[:, :, c][mask].mean() * 255.0) for c in range(3)]
     lum = sum(k * v for k, v in zip(LUMA, rgb))
+    cov = px[:, :, :3][mask]
+    sat = float((cov.max(axis=1) - cov.min(axis=1)).mean() * 255.0)
     return mask, {"covered": n, "rgb": [round(v, 2) for v in rgb],
-                  "luminance": round(lum, 3)}
+                  "luminance": round(lum, 3), "saturation": round(sat, 3)}
 
 
 def write_sheet(bpy, np, path, rows, size):
@@ -652,6 +656,9 @@ def run(a, bpy, mathutils, np):
             if res["role"] == "cloud":
                 m["ratio"] = (round(m["luminance"] / m0["luminance"], 4)
                               if m0["luminance"] else None)
+                m["saturation_ratio"] = (
+                    round(m["saturation"] / m0["saturation"], 4)
+                    if m0["saturation"] else None)
     for res in results:
         for m in res["renders"]:
             del m["_mask"]
@@ -661,6 +668,10 @@ def run(a, bpy, mathutils, np):
             res["ratio_min"] = round(min(rs), 4) if rs else None
             res["ratio_max"] = round(max(rs), 4) if rs else None
             res["ratio_mean"] = round(sum(rs) / len(rs), 4) if rs else None
+            ss = [m["saturation_ratio"] for m in res["renders"]
+                  if m["saturation_ratio"] is not None]
+            res["saturation_ratio_min"] = round(min(ss), 4) if ss else None
+            res["saturation_ratio_max"] = round(max(ss), 4) if ss else None
             res["iou_min"] = round(min(ious), 4)
             if min(ious) < 0.5:
                 notes.append("%s: covered pixels overlap the original's "
@@ -712,10 +723,14 @@ def print_table(rep):
     out.append("")
     for res in rep["files"]:
         if res["role"] == "cloud":
-            out.append("%-24s ratio min %.3f max %.3f mean %.3f  IoU min %.2f"
-                       "  (%d tris, %.1fs)" % (
+            out.append("%-24s ratio min %.3f max %.3f mean %.3f  saturation "
+                       "%s  IoU min %.2f  (%d tris, %.1fs)" % (
                            res["label"][:24], res["ratio_min"],
-                           res["ratio_max"], res["ratio_mean"], res["iou_min"],
+                           res["ratio_max"], res["ratio_mean"],
+                           "-" if res["saturation_ratio_min"] is None else
+                           "%.3f-%.3f" % (res["saturation_ratio_min"],
+                                          res["saturation_ratio_max"]),
+                           res["iou_min"],
                            res["triangles"],
                            res["import_s"] + res["render_s"]))
         else:

@@ -246,6 +246,9 @@ static bbc_result write_levels(bbc_session *s, const char *out, const bbc_callba
                      "the output must end in .glb, .gltf, .obj, .wrl or .fbx, not '%s'", out);
   if (fbx && lods[0]->params.occlusion > 0 && !lods[0]->params.prelight)
     bbc__log(cb, BBC_LOG_WARNING, "FBX carries no occlusion map (use .glb or .gltf)");
+  if (fbx && s->level_files && count > 1)
+    bbc__log(cb, BBC_LOG_WARNING,
+             "--lod-files makes glTF level files; the .fbx holds every level in one file");
   if (obj && (lods[0]->params.normal_maps || lods[0]->params.occlusion > 0))
     bbc__log(cb, BBC_LOG_WARNING,
              "OBJ output carries no normal or occlusion map (use .glb or .gltf, or "

@@ -226,24 +226,23 @@ static void *le_ints(const int32_t *v, size_t n) {
   return o;
 }
 
-static void a_doubles(writer *w, const double *v, size_t n) {
-  void *d = le_doubles(v, n);
+/* An array property from bytes made by le_doubles or le_ints (NULL: out
+ * of memory). */
+static void a_bytes(writer *w, char type, void *d, size_t n, size_t size) {
   if (!d) {
     w->b.oom = 1;
     return;
   }
-  p_array(w, 'd', d, n, 8);
+  p_array(w, type, d, n, size);
   free(d);
 }
 
+static void a_doubles(writer *w, const double *v, size_t n) {
+  a_bytes(w, 'd', le_doubles(v, n), n, 8);
+}
+
 static void a_ints(writer *w, const int32_t *v, size_t n) {
-  void *d = le_ints(v, n);
-  if (!d) {
-    w->b.oom = 1;
-    return;
-  }
-  p_array(w, 'i', d, n, 4);
-  free(d);
+  a_bytes(w, 'i', le_ints(v, n), n, 4);
 }
 
 /* A child record holding one value. */

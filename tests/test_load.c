@@ -143,6 +143,24 @@ static void test_quaternius_no_maps(void **state) {
   bbc_mesh_free(&m);
 }
 
+/* dir/a.obj and dir/a.mtl with these texts; returns a.obj's path. */
+static char *write_obj_mtl(const char *dir, const char *obj, size_t on, const char *mtl,
+                           size_t mn) {
+  free(tu_write_file(dir, "a.mtl", mtl, mn));
+  return tu_write_file(dir, "a.obj", obj, on);
+}
+
+/* Loads `path` with its log captured into *cap; fails the test on an error. */
+static void load_logged(const char *path, log_capture *cap, bbc_mesh *m) {
+  bbc_load_options opt;
+  bbc_load_options_default(&opt);
+  memset(cap, 0, sizeof *cap);
+  opt.callbacks.log = capture_log;
+  opt.callbacks.user = cap;
+  bbc_error err;
+  assert_int_equal(bbc_mesh_load(path, &opt, m, &err), BBC_OK);
+}
+
 /* A texture named by the MTL but absent: a warning and the base colour. */
 static void test_missing_texture_is_warning(void **state) {
   (void)state;
@@ -150,16 +168,10 @@ static void test_missing_texture_is_warning(void **state) {
   const char obj[] = "mtllib a.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
                      "o leaf\nusemtl green\nf 1/1 2/2 3/3\n";
   const char mtl[] = "newmtl green\nKd 0.1 0.8 0.2\nmap_Kd nowhere/leaf.png\n";
-  char *p = tu_write_file(dir, "a.obj", obj, sizeof obj - 1);
-  free(tu_write_file(dir, "a.mtl", mtl, sizeof mtl - 1));
-  bbc_load_options opt;
-  bbc_load_options_default(&opt);
-  log_capture cap = {0, 0, ""};
-  opt.callbacks.log = capture_log;
-  opt.callbacks.user = &cap;
+  char *p = write_obj_mtl(dir, obj, sizeof obj - 1, mtl, sizeof mtl - 1);
+  log_capture cap;
   bbc_mesh m;
-  bbc_error err;
-  assert_int_equal(bbc_mesh_load(p, &opt, &m, &err), BBC_OK);
+  load_logged(p, &cap, &m);
   assert_int_equal(cap.warnings, 1);
   assert_non_null(strstr(cap.last, "leaf.png"));
   assert_int_equal(m.materials[0].texture, -1);
@@ -193,16 +205,10 @@ static void test_texture_name_blanks_and_case(void **state) {
       "f 2/2 4/4 3/3\r\n";
   const char mtl[] = "newmtl a\r\nKd 1 1 1\r\nmap_Kd textures/leaf.png \r\n"
                      "newmtl b\r\nKd 1 1 1\r\nmap_Kd LEAF.PNG\t\r\n";
-  char *p = tu_write_file(dir, "a.obj", obj, sizeof obj - 1);
-  free(tu_write_file(dir, "a.mtl", mtl, sizeof mtl - 1));
-  bbc_load_options opt;
-  bbc_load_options_default(&opt);
-  log_capture cap = {0, 0, ""};
-  opt.callbacks.log = capture_log;
-  opt.callbacks.user = &cap;
+  char *p = write_obj_mtl(dir, obj, sizeof obj - 1, mtl, sizeof mtl - 1);
+  log_capture cap;
   bbc_mesh m;
-  bbc_error err;
-  assert_int_equal(bbc_mesh_load(p, &opt, &m, &err), BBC_OK);
+  load_logged(p, &cap, &m);
   assert_int_equal(cap.texture_warnings, 0);
   assert_int_equal(m.material_count, 2);
   for (size_t i = 0; i < 2; i++) {

@@ -245,6 +245,19 @@ static void a_ints(writer *w, const int32_t *v, size_t n) {
   a_bytes(w, 'i', le_ints(v, n), n, 4);
 }
 
+/* A child record holding one array. */
+static void kv_doubles(writer *w, const char *k, const double *v, size_t n) {
+  begin(w, k);
+  a_doubles(w, v, n);
+  end(w);
+}
+
+static void kv_ints(writer *w, const char *k, const int32_t *v, size_t n) {
+  begin(w, k);
+  a_ints(w, v, n);
+  end(w);
+}
+
 /* A child record holding one value. */
 static void kv_int(writer *w, const char *k, int32_t v) {
   begin(w, k);
@@ -371,15 +384,25 @@ static int tex_index(const doc *d, const bbc_mesh *m, int t) {
   return -1;
 }
 
+/* A Geometry's layer element, its header written; the caller writes its
+ * arrays and ends it. */
+static void layer_element(writer *w, const char *type, const char *name, const char *mapping,
+                          const char *reference) {
+  begin(w, type);
+  p_int(w, 0);
+  kv_int(w, "Version", 101);
+  kv_str(w, "Name", name);
+  kv_str(w, "MappingInformationType", mapping);
+  kv_str(w, "ReferenceInformationType", reference);
+}
+
 static void geometry(writer *w, const bbc_mesh *m, const char *name, int64_t id) {
   size_t nt = m->triangle_count, nc = 3 * nt;
   begin(w, "Geometry");
   p_long(w, id);
   p_name(w, name, "Geometry");
   p_str(w, "Mesh");
-  begin(w, "Vertices");
-  a_doubles(w, m->positions, 3 * m->vertex_count);
-  end(w);
+  kv_doubles(w, "Vertices", m->positions, 3 * m->vertex_count);
   int32_t *pvi = malloc((nc ? nc : 1) * sizeof *pvi);
   double *nrm = malloc((nc ? nc : 1) * 3 * sizeof *nrm);
   double *uv = m->uvs ? malloc((m->vertex_count ? m->vertex_count : 1) * 2 * sizeof *uv) : NULL;
@@ -395,45 +418,20 @@ static void geometry(writer *w, const bbc_mesh *m, const char *name, int64_t id)
     }
     for (size_t v = 0; uv && v < 2 * m->vertex_count; v++) uv[v] = m->uvs[v];
     for (size_t t = 0; t < nt; t++) mat[t] = (int32_t)m->face_material[t];
-    begin(w, "PolygonVertexIndex");
-    a_ints(w, pvi, nc);
-    end(w);
+    kv_ints(w, "PolygonVertexIndex", pvi, nc);
     kv_int(w, "GeometryVersion", 124);
-    begin(w, "LayerElementNormal");
-    p_int(w, 0);
-    kv_int(w, "Version", 101);
-    kv_str(w, "Name", "");
-    kv_str(w, "MappingInformationType", "ByPolygonVertex");
-    kv_str(w, "ReferenceInformationType", "Direct");
-    begin(w, "Normals");
-    a_doubles(w, nrm, 3 * nc);
-    end(w);
+    layer_element(w, "LayerElementNormal", "", "ByPolygonVertex", "Direct");
+    kv_doubles(w, "Normals", nrm, 3 * nc);
     end(w);
     if (uv) {
-      begin(w, "LayerElementUV");
-      p_int(w, 0);
-      kv_int(w, "Version", 101);
-      kv_str(w, "Name", "UVMap");
-      kv_str(w, "MappingInformationType", "ByPolygonVertex");
-      kv_str(w, "ReferenceInformationType", "IndexToDirect");
-      begin(w, "UV");
-      a_doubles(w, uv, 2 * m->vertex_count);
-      end(w);
+      layer_element(w, "LayerElementUV", "UVMap", "ByPolygonVertex", "IndexToDirect");
+      kv_doubles(w, "UV", uv, 2 * m->vertex_count);
       for (size_t c = 0; c < nc; c++) pvi[c] = (int32_t)m->indices[c];
-      begin(w, "UVIndex");
-      a_ints(w, pvi, nc);
-      end(w);
+      kv_ints(w, "UVIndex", pvi, nc);
       end(w);
     }
-    begin(w, "LayerElementMaterial");
-    p_int(w, 0);
-    kv_int(w, "Version", 101);
-    kv_str(w, "Name", "");
-    kv_str(w, "MappingInformationType", "ByPolygon");
-    kv_str(w, "ReferenceInformationType", "IndexToDirect");
-    begin(w, "Materials");
-    a_ints(w, mat, nt);
-    end(w);
+    layer_element(w, "LayerElementMaterial", "", "ByPolygon", "IndexToDirect");
+    kv_ints(w, "Materials", mat, nt);
     end(w);
     begin(w, "Layer");
     p_int(w, 0);

@@ -36,6 +36,10 @@
 //                      do to alpha-tested foliage and texture atlases (the
 //                      colour of transparent texels and of neighbouring atlas
 //                      regions bleeds into leaves; alpha thins) — docs/lighting.md.
+//   --show-normals     draws every model's shading normal (view space, after
+//                      its normal map and the two-sided flip) as its colour,
+//                      rgb = (n + 1) / 2, instead of lighting it: with --keep,
+//                      shows whether a cloud's normals are its original's.
 //
 // Conventions
 //   * Models are Y-up. Azimuth is measured around +Y: azimuth 0 is on the +Z
@@ -159,6 +163,7 @@ const files = [];
       case '--ambient': opt.ambient = num(name, value(), 0, 1e6); break;
       case '--sun-intensity': opt.sunIntensity = num(name, value(), 0, 1e6); break;
       case '--no-mipmaps': opt.noMipmaps = true; break;
+      case '--show-normals': opt.showNormals = true; break;
       case '--original-material': opt.originalMaterial = str();
         if (!['standard', 'phong'].includes(opt.originalMaterial)) die(1, '--original-material: standard or phong');
         break;
@@ -436,6 +441,19 @@ window.bbc = {
         t.minFilter = THREE.LinearFilter;
         t.needsUpdate = true;
       }
+    if (initOpt.showNormals)
+      m.root.traverse((o) => {
+        if (!o.material) return;
+        for (const mat of Array.isArray(o.material) ? o.material : [o.material]) {
+          if (mat.userData.bbcNormals) continue;
+          mat.userData.bbcNormals = true;
+          mat.onBeforeCompile = (sh) => {
+            sh.fragmentShader = sh.fragmentShader.replace('#include <dithering_fragment>',
+              'gl_FragColor = vec4( normalize( normal ) * 0.5 + 0.5, 1.0 );');
+          };
+          mat.needsUpdate = true;
+        }
+      });
     m.root.updateMatrixWorld(true);
     let tris = 0;
     m.root.traverse((o) => {
@@ -499,6 +517,23 @@ window.bbc = {
         const rec = { view: v.name, az: s.az, el: s.el, covered: n, partial,
           r: n ? r / n : null, g: n ? g / n : null, b: n ? b / n : null, sat: n ? sat / n : null };
         rec.lum = n ? 0.2126 * rec.r + 0.7152 * rec.g + 0.0722 * rec.b : null;
+        if (initOpt.showNormals && n) {
+          // The normals drawn: their mean (view space: x right, y up, z
+          // towards the camera) and the shares facing away from the
+          // camera (z < 0), up (y > 0.5) and down (y < -0.5).
+          const mean = [0, 0, 0];
+          let away = 0, up = 0, down = 0;
+          for (let p = 0; p < buf.length; p += 4) {
+            if (buf[p + 3] === 0) continue;
+            const v = [0, 1, 2].map((k) => buf[p + k] / 127.5 - 1);
+            const l = Math.hypot(v[0], v[1], v[2]) || 1;
+            for (let k = 0; k < 3; k++) mean[k] += v[k] / l / n;
+            if (v[2] < 0) away++;
+            if (v[1] / l > 0.5) up++;
+            if (v[1] / l < -0.5) down++;
+          }
+          rec.normals = { mean, away: away / n, up: up / n, down: down / n };
+        }
         if (keep) rec.png = renderer.domElement.toDataURL('image/png');
         out.push(rec);
       }
@@ -617,7 +652,8 @@ let gpu;
 try {
   gpu = await page.evaluate((o) => window.bbc.init(o),
     { size: opt.size, fov: opt.fov, ambient: opt.ambient, sunIntensity: opt.sunIntensity,
-      originalMaterial: opt.originalMaterial, noMipmaps: !!opt.noMipmaps });
+      originalMaterial: opt.originalMaterial, noMipmaps: !!opt.noMipmaps,
+      showNormals: !!opt.showNormals });
 } catch (e) {
   await finish(3, `no WebGL in Chromium: ${e.message}`);
 }
@@ -743,6 +779,18 @@ summary.forEach((s, k) => console.log(
   `outside ${s.outside}/${s.renders}; saturation ratio ${f3(s.satRatio.min)}-${f3(s.satRatio.max)} ` +
   `(${s.satOutside} beyond 15 %); coverage ratio ${f3(s.coverageRatio.min)}-${f3(s.coverageRatio.max)}` +
   (s.blank ? `; ${s.blank} blank render(s)` : '')));
+if (opt.showNormals) {
+  // --show-normals: the colours are normals; what they say, per render.
+  console.log('normals drawn (view space): mean x y z, shares facing away / up / down');
+  for (const c of combos)
+    [c.original, ...c.clouds].forEach((x, k) => {
+      if (!x.normals) return;
+      const nm = x.normals;
+      console.log([c.view.padEnd(5), `${c.sun.az}:${c.sun.el}`.padEnd(8), (k ? `cloud${k - 1}` : 'orig').padEnd(7),
+        nm.mean.map((v) => v.toFixed(3).padStart(6)).join(' '),
+        [nm.away, nm.up, nm.down].map((v) => v.toFixed(3)).join(' / ')].join('  '));
+    });
+}
 const totalSeconds = (Date.now() - t0) / 1000;
 console.log(`time ${totalSeconds.toFixed(1)} s (load ${loadSeconds.toFixed(1)} s, render ${renderSeconds.toFixed(1)} s)`);
 

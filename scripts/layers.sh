@@ -51,6 +51,13 @@ for l in app forest gl tools/bbcgen tools/forest tools/paramdoc; do public[$l]="
 public[gl]="${public[gl]} forest"
 public[tools/forest]="${public[tools/forest]} forest"
 
+# object_source BUILD OBJECT: the object's source path in the tree
+# (src/...c.o), from where CMake puts it: BUILD/CMakeFiles/TARGET.dir/src/...
+# (the checkout's own path may hold a folder named src, spaces or any letter).
+object_source() {
+  local rel=${2#"$1"/CMakeFiles/}
+  echo "${rel#*.dir/}"
+}
 # layer_of FILE (a path under src/): its layer's folder.
 layer_of() {
   local rel=${1#src/}
@@ -115,23 +122,23 @@ case "$mode" in
       # the objects of the current targets (a build folder may hold stale ones)
       find "$build"/CMakeFiles/bbc_*.dir "$build"/CMakeFiles/{bbcgl,bbcgen,forest,bbc_paramdoc}.dir \
         -path '*/src/*' -name '*.c.o' 2> /dev/null | while read -r o; do
-        rel=src/${o#*/src/}
+        rel=$(object_source "$build" "$o")
         [ -f "$root/${rel%.o}" ] || continue # the object of a source that is gone
-        printf '%s\n' "$(layer_of "${rel%.o}") $o"
+        printf '%s\n' "$(layer_of "${rel%.o}") $rel ${o#"$build"/}"
       done | sort > "$tmp/objects"
       [ -s "$tmp/objects" ] || { echo "layers: no object files in $build" >&2; exit 1; }
-      while read -r layer o; do
-        nm --defined-only -g "$o" | awk -v l="$layer" '$2 ~ /[TDBRC]/ { print $3, l }'
+      while read -r layer rel o; do
+        nm --defined-only -g "$build/$o" | awk -v l="$layer" '$2 ~ /[TDBRC]/ { print $3, l }'
       done < "$tmp/objects" | sort -u > "$tmp/defined"
-      while read -r layer o; do
-        nm -u "$o" | awk -v l="$layer" -v o="$o" '{ print $2, l, o }'
+      while read -r layer rel o; do
+        nm -u "$build/$o" | awk -v l="$layer" -v o="$rel" '{ print $2, l, o }'
       done < "$tmp/objects" | sort > "$tmp/needed"
       join "$tmp/needed" "$tmp/defined" | while read -r sym from obj to; do
         [ "$from" = "$to" ] && continue
         can=${allowed[$from]:-}
         [[ $sym == bbc__* ]] || can=${public[$from]:-}
         if ! grep -qw -- "$to" <<<"$can"; then
-          echo "layers: ${obj#*/src/} (layer $from) calls $sym of layer $to: upwards or sideways" >&2
+          echo "layers: ${obj#src/} (layer $from) calls $sym of layer $to: upwards or sideways" >&2
           echo bad >> "$tmp/bad"
         fi
       done
@@ -208,7 +215,7 @@ case "$mode" in
     tmp=$(mktemp -d)
     trap 'rm -rf "$tmp"' EXIT
     find "$build/CMakeFiles" -path '*/src/*' -name '*.c.o' | while read -r o; do
-      rel=src/${o#*/src/}
+      rel=$(object_source "$build" "$o")
       echo "$(layer_of "${rel%.o}") $o"
     done | sort -u -k2 > "$tmp/objects"
     while read -r layer o; do

@@ -308,6 +308,10 @@ typedef struct bbc_load_options {
   int lod_node;
   /* 1 = mark the mesh no_mipmaps. */
   int no_mipmaps;
+  /* 0 = an OBJ whose vertices run on after its last face, at least 100 of
+   * them and 1 % of its vertices, none used by a face, is refused as cut
+   * short (BBC_ERROR_CORRUPT); 1 = loaded (the unused vertices dropped). */
+  int accept_unused;
   bbc_callbacks callbacks;
 } bbc_load_options;
 
@@ -412,6 +416,7 @@ typedef struct bbc_params {
   int debug;          /* debug: debug events up to this level, 0..3 */
   int res_deg;        /* res: dual grid theta/phi resolution, degrees a cell */
   int vertex_normals; /* vn: smooth vertex normals on load where the file has none */
+  int accept_unused;  /* acceptunused: load an OBJ that looks cut short (bbc_load_options) */
   /* plane */
   int cardboard;             /* cardboard: cardboard plane finding (2.3.7) */
   double cb_coverage_pct;    /* cbcoverage: minimum cardboard coverage, % of the mother */

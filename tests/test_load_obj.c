@@ -264,6 +264,65 @@ static void test_made_files(void **state) {
   free(dir);
 }
 
+/* An OBJ cut short where it held only vertices: a trunk's quads (n_faces)
+ * with their vertices, then `trailing` more vertices and no face (the
+ * leaves' block the cut fell in). */
+static char *cut_obj(int trailing, int tail_face, size_t *len) {
+  size_t cap = 64 * (size_t)(trailing + 64), n = 0;
+  char *b = malloc(cap);
+  assert_non_null(b);
+  for (int i = 0; i < 20; i++) n += (size_t)snprintf(b + n, cap - n, "v %d 0 0\nv %d 1 0\n", i, i);
+  for (int i = 0; i < 19; i++)
+    n += (size_t)snprintf(b + n, cap - n, "f %d %d %d %d\n", 2 * i + 1, 2 * i + 3, 2 * i + 4,
+                          2 * i + 2);
+  n += (size_t)snprintf(b + n, cap - n, "o leaves\n");
+  for (int i = 0; i < trailing; i++)
+    n += (size_t)snprintf(b + n, cap - n, "v %d.5 2 0.25\n", i % 19);
+  if (tail_face) n += (size_t)snprintf(b + n, cap - n, "f 41 42 43\n");
+  *len = n;
+  return b;
+}
+
+/* A file cut short is refused (BBC_ERROR_CORRUPT, naming the vertices
+ * after its last face) unless accept_unused says otherwise; a whole file
+ * of the same lines, or a few stray vertices at the end, loads. */
+static void test_cut_short(void **state) {
+  (void)state;
+  bbc_load_options o;
+  bbc_load_options_default(&o);
+  bbc_mesh m;
+  bbc_error err;
+  size_t len;
+  char *b = cut_obj(5000, 0, &len);
+  assert_int_equal(bbc_mesh_load_memory("cut.obj", b, len, &o, &m, &err), BBC_ERROR_CORRUPT);
+  assert_non_null(strstr(err.message, "5000 of its 5040 vertices follow its last face"));
+  char *dir = tu_make_temp_dir();
+  char *path = tu_write_file(dir, "cut.obj", b, len);
+  assert_int_equal(bbc_mesh_load(path, &o, &m, &err), BBC_ERROR_CORRUPT);
+  o.accept_unused = 1;
+  assert_int_equal(bbc_mesh_load(path, &o, &m, &err), BBC_OK);
+  assert_int_equal(m.triangle_count, 38);
+  assert_int_equal(m.vertex_count, 40); /* the unused vertices dropped */
+  bbc_mesh_free(&m);
+  free(path);
+  tu_remove_dir(dir);
+  free(dir);
+  free(b);
+  o.accept_unused = 0;
+  /* the same vertices with a face after them: whole */
+  b = cut_obj(5000, 1, &len);
+  if (bbc_mesh_load_memory("whole.obj", b, len, &o, &m, &err) != BBC_OK)
+    fail_msg("%s", err.message);
+  bbc_mesh_free(&m);
+  free(b);
+  /* 99 stray vertices at the end: loaded */
+  b = cut_obj(99, 0, &len);
+  if (bbc_mesh_load_memory("stray.obj", b, len, &o, &m, &err) != BBC_OK)
+    fail_msg("%s", err.message);
+  bbc_mesh_free(&m);
+  free(b);
+}
+
 /* Random files of the subset (LCG, seed fixed): numbers in several forms,
  * triangles, quads and lines in every index form, relative indices,
  * objects, groups and materials switched at random (names reused), a
@@ -354,10 +413,9 @@ static void test_random_files(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_data_set),
-      cmocka_unit_test(test_generated_tree),
-      cmocka_unit_test(test_made_files),
-      cmocka_unit_test(test_random_files),
+      cmocka_unit_test(test_data_set),   cmocka_unit_test(test_generated_tree),
+      cmocka_unit_test(test_made_files), cmocka_unit_test(test_random_files),
+      cmocka_unit_test(test_cut_short),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

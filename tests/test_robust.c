@@ -247,6 +247,17 @@ static void test_cut_short(void **state) {
     n += (size_t)snprintf(big + n, sizeof big - n, "v %d %d 0\nv %d %d 1\n", i, i % 7, i, i % 5);
   n += (size_t)snprintf(big + n, sizeof big - n, "f 1 2 3\nf 2 3 4\n");
   info_on("tail.obj", big, n, 0, "used by no face");
+  /* an OBJ cut where only vertices followed its last face: refused, exit 4,
+   * nothing written (parameter acceptunused 1 loads it) */
+  n = (size_t)snprintf(big, sizeof big, "%s", quad);
+  for (int i = 0; i < 200; i++) n += (size_t)snprintf(big + n, sizeof big - n, "v %d 2 0\n", i);
+  info_on("leaves.obj", big, n, 4, "leaves.obj: cut short? 200 of its 204 vertices follow");
+  char *err = NULL;
+  assert_int_equal(run_tool("bbcgen", "leaves.obj -o leaves.glb -q", &err), 4);
+  assert_false(file_exists(tu_dir, "leaves.glb"));
+  free(err);
+  assert_int_equal(run_tool("bbcgen", "info leaves.obj --acceptunused 1 -q", &err), 0);
+  free(err);
 }
 
 /* glTF: a GLB cut short, accessors and buffers claiming more than is there. */

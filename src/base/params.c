@@ -45,6 +45,10 @@ static const param_row k_rows[] = {
     {{"vn", BBC_PARAM_BOOL, 0, 1, 1, 0, "performance", "",
       "compute smooth vertex normals on load where the model has none"},
      INT_FIELD(vertex_normals)},
+    {{"acceptunused", BBC_PARAM_BOOL, 0, 1, 0, 0, "extension", "",
+      "load an OBJ whose vertices run on after its last face, unused (else refused as a file "
+      "cut short, exit 4)"},
+     INT_FIELD(accept_unused)},
     {{"cardboard", BBC_PARAM_BOOL, 0, 1, 0, F1, "plane", "",
       "cardboard plane finding (thesis 2.3.7)"},
      INT_FIELD(cardboard)},

@@ -68,6 +68,45 @@ static void check_mtllib(const char *path, const bbc_load_options *options) {
   }
 }
 
+/* An OBJ's line at p (its start) begins with keyword c and a blank. */
+static int obj_line_is(const char *p, const char *end, char c) {
+  return p + 1 < end && p[0] == c && (p[1] == ' ' || p[1] == '\t');
+}
+
+/* An OBJ cut short where it held only vertices (a tree's leaves after its
+ * trunk's faces) still parses, and gives a model without them: refused when
+ * at least 100 vertex lines, and 1 % of the file's, follow its last face
+ * (f, l or p line; a vertex is referred to after it is given, so none of
+ * them is used). From the end backwards: a whole file is read only then. */
+static bbc_result obj_cut_short(const char *name, const char *buf, size_t size, bbc_error *err) {
+  const char *end = buf + size, *p = end;
+  size_t trailing = 0;
+  int face = 0;
+  while (p > buf && !face) {
+    const char *e = p; /* the line [start, e) */
+    while (e > buf && (e[-1] == '\n' || e[-1] == '\r')) e--;
+    const char *start = e;
+    while (start > buf && start[-1] != '\n') start--;
+    if (obj_line_is(start, e, 'v'))
+      trailing++;
+    else if (obj_line_is(start, e, 'f') || obj_line_is(start, e, 'l') || obj_line_is(start, e, 'p'))
+      face = 1;
+    p = start;
+  }
+  if (!face || trailing < 100) return BBC_OK;
+  size_t all = 0;
+  for (const char *q = buf; q < end;) {
+    if (obj_line_is(q, end, 'v')) all++;
+    const char *nl = memchr(q, '\n', (size_t)(end - q));
+    q = nl ? nl + 1 : end;
+  }
+  if (trailing * 100 < all) return BBC_OK;
+  return bbc__fail(err, BBC_ERROR_CORRUPT,
+                   "%s: cut short? %zu of its %zu vertices follow its last face, which no face "
+                   "uses (parameter acceptunused 1 loads it anyway)",
+                   name, trailing, all);
+}
+
 /* The readers we own (PLY, XYZ/PTS/TXT, VRML) parse a NUL-terminated buffer
  * (the whole file read at once, or a copy of the caller's bytes); the rest
  * goes to Assimp. Either way the mesh is then finished alike. */
@@ -95,6 +134,9 @@ static bbc_result load_any(const char *name, const void *data, size_t size, int 
     return r;
   r = obj ? bbc__sniff_input(name, obj, obj_size, 1, options, err)
           : bbc__sniff_input(name, data, size, from_memory, options, err);
+  if (r == BBC_OK && !strcmp(ext, "obj") && !options->accept_unused && (obj || from_memory))
+    r = obj ? obj_cut_short(name, obj, obj_size, err)
+            : obj_cut_short(name, (const char *)data, size, err);
   if (r != BBC_OK) {
     free(obj);
     return r;

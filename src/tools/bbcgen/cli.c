@@ -353,5 +353,6 @@ int cli_fail_in(const char *path, const bbc_error *err, int output) {
 void cli_load_options(const cli *c, bbc_load_options *o) {
   bbc_load_options_default(o);
   o->flat_normals = !c->params.vertex_normals;
+  o->accept_unused = c->params.accept_unused;
   o->callbacks = c->callbacks;
 }

@@ -24,7 +24,7 @@
 
 static int run(const char *args) {
   char cmd[8192];
-  snprintf(cmd, sizeof cmd, "%s/bbcgen %s -q < /dev/null", BBC_BIN_DIR, args);
+  snprintf(cmd, sizeof cmd, "'%s/bbcgen' %s -q < /dev/null", BBC_BIN_DIR, args);
   fflush(stdout);
   int st = system(cmd);
   return WIFEXITED(st) ? WEXITSTATUS(st) : 128;

@@ -25,7 +25,7 @@ static int run(const char *args, char **out, char **errout) {
   char cmd[4096], o[1024], e[1024];
   snprintf(o, sizeof o, "%s/stdout.txt", tu_dir);
   snprintf(e, sizeof e, "%s/stderr.txt", tu_dir);
-  snprintf(cmd, sizeof cmd, "%s/bbcgen %s > '%s' 2> '%s' < /dev/null", BBC_BIN_DIR, args, o, e);
+  snprintf(cmd, sizeof cmd, "'%s/bbcgen' %s > '%s' 2> '%s' < /dev/null", BBC_BIN_DIR, args, o, e);
   int st = system(cmd);
   if (out) *out = (char *)tu_read_file(o, NULL);
   if (errout) *errout = (char *)tu_read_file(e, NULL);
@@ -38,7 +38,7 @@ static int run_in(const char *args, const char *input, char **out, char **errout
   char *in = tu_write_file(tu_dir, "stdin.txt", input, strlen(input));
   snprintf(o, sizeof o, "%s/stdout.txt", tu_dir);
   snprintf(e, sizeof e, "%s/stderr.txt", tu_dir);
-  snprintf(cmd, sizeof cmd, "cd '%s' && %s/bbcgen %s > '%s' 2> '%s' < '%s'", tu_dir, BBC_BIN_DIR,
+  snprintf(cmd, sizeof cmd, "cd '%s' && '%s/bbcgen' %s > '%s' 2> '%s' < '%s'", tu_dir, BBC_BIN_DIR,
            args, o, e, in);
   free(in);
   int st = system(cmd);
@@ -372,8 +372,8 @@ static void test_exec_batch(void **state) {
   tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
   if (!tu_have_file(path)) skip();
   snprintf(text, sizeof text,
-           "# a comment\nload %s\nset epsilon 8\nset trunk.cardboard 1\nsplit auto\n"
-           "planes %s/batch.json\n",
+           "# a comment\nload \"%s\"\nset epsilon 8\nset trunk.cardboard 1\nsplit auto\n"
+           "planes \"%s/batch.json\"\n",
            path, tu_dir);
   char *bf = tu_write_file(tu_dir, "job.bbc", text, strlen(text));
   snprintf(args, sizeof args, "exec '%s' -q", bf);
@@ -430,7 +430,8 @@ static void test_exec_state(void **state) {
   tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
   if (!tu_have_file(path)) skip();
   char *out, *err;
-  snprintf(text, sizeof text, "load %s\nbbc\nset texres 32\nset quality 0\nbbc3\nsave a\n", path);
+  snprintf(text, sizeof text, "load \"%s\"\nbbc\nset texres 32\nset quality 0\nbbc3\nsave a\n",
+           path);
   char *bf = tu_write_file(tu_dir, "keep.bbc", text, strlen(text));
   snprintf(cmd, sizeof cmd, "cd '%s' && '%s/bbcgen' exec '%s' 2>&1", tu_dir, BBC_BIN_DIR, bf);
   FILE *pp = popen(cmd, "r");
@@ -442,7 +443,7 @@ static void test_exec_state(void **state) {
   if (!(WIFEXITED(st) && WEXITSTATUS(st) == 0)) fail_msg("%s", buf);
   assert_non_null(strstr(buf, "steps 1+2 kept"));
   free(bf);
-  snprintf(text, sizeof text, "load %s\nset texres 32\nset quality 0\nbbc\nsave b\n", path);
+  snprintf(text, sizeof text, "load \"%s\"\nset texres 32\nset quality 0\nbbc\nsave b\n", path);
   bf = tu_write_file(tu_dir, "full.bbc", text, strlen(text));
   snprintf(cmd, sizeof cmd, "cd '%s' && '%s/bbcgen' exec '%s' -q > /dev/null 2>&1", tu_dir,
            BBC_BIN_DIR, bf);
@@ -456,7 +457,7 @@ static void test_exec_state(void **state) {
        "bbc1\nset punishval 0.5\nset maxplanes 20\nbbc2\nset texres 32\nset quality 0\nbbc3\n"},
       {"d", "set punishval 0.5\nset maxplanes 20\nset texres 32\nset quality 0\nbbc\n"}};
   for (int k = 0; k < 2; k++) {
-    snprintf(text, sizeof text, "load %s\n%ssave %s\n", path, pairs[k][1], pairs[k][0]);
+    snprintf(text, sizeof text, "load \"%s\"\n%ssave %s\n", path, pairs[k][1], pairs[k][0]);
     bf = tu_write_file(tu_dir, "kept.bbc", text, strlen(text));
     snprintf(cmd, sizeof cmd, "cd '%s' && '%s/bbcgen' exec '%s' -q > /dev/null 2>&1", tu_dir,
              BBC_BIN_DIR, bf);
@@ -480,7 +481,7 @@ static void test_exec_state(void **state) {
       {"bbc1\nset res 10\nbbc2\n", "res changed since bbc1", ":4:"},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-    snprintf(text, sizeof text, "load %s\n%s", path, cases[i][0]);
+    snprintf(text, sizeof text, "load \"%s\"\n%s", path, cases[i][0]);
     bf = tu_write_file(tu_dir, "state.bbc", text, strlen(text));
     snprintf(args, sizeof args, "exec '%s' -q", bf);
     assert_int_equal(run(args, &out, &err), 1);
@@ -493,7 +494,7 @@ static void test_exec_state(void **state) {
    * nothing, a part's texturing parameter needs step 3 only: bbc3 goes on;
    * format and dds set after the steps act on the next save */
   snprintf(text, sizeof text,
-           "load %s\nset texres 16\nbbc\nset threads 1\nset format 1\nset dds 0\nsplit auto\n"
+           "load \"%s\"\nset texres 16\nbbc\nset threads 1\nset format 1\nset dds 0\nsplit auto\n"
            "set trunk.quality 0\nbbc3\nset format 0\nsave free\n",
            path);
   bf = tu_write_file(tu_dir, "free.bbc", text, strlen(text));
@@ -524,7 +525,7 @@ static void test_prompt(void **state) {
   if (!tu_have_file(path)) skip();
   char *out, *err;
   snprintf(text, sizeof text,
-           "help bbc3\nload %s\nbogus\nbbc3\nset texres 16\nbbc\nset quality 0\nbbc3\nsave p\n"
+           "help bbc3\nload \"%s\"\nbogus\nbbc3\nset texres 16\nbbc\nset quality 0\nbbc3\nsave p\n"
            "bbcload x.wrl\nquit\nsetup\n",
            path);
   /* the session went on after each error; the status is the last failure's
@@ -542,7 +543,7 @@ static void test_prompt(void **state) {
   snprintf(wrl, sizeof wrl, "%s/vrml97models/p/Tree_1/Tree_1_e6.00_tex16_pl/Tree_1.wrl", tu_dir);
   assert_true(tu_have_file(wrl));
   /* -x: the batch, then the prompt (unless the batch quits) */
-  snprintf(text, sizeof text, "load %s\nset texres 16\n", path);
+  snprintf(text, sizeof text, "load \"%s\"\nset texres 16\n", path);
   char *bf = tu_write_file(tu_dir, "x.bbc", text, strlen(text));
   snprintf(args, sizeof args, "-x '%s'", bf);
   assert_int_equal(run_in(args, "setup\n", &out, &err), 0);
@@ -567,8 +568,8 @@ static void test_prompt(void **state) {
   snprintf(o, sizeof o, "%s/pty.txt", tu_dir);
   snprintf(cmd, sizeof cmd,
            "(sleep 1; printf 'hel\\t\\n'; sleep 0.5; printf 'set texr\\t 64\\n'; sleep 0.5; "
-           "printf 'setup\\n'; sleep 0.5; printf 'quit\\n') | timeout 30 script -qec '%s/bbcgen' "
-           "/dev/null > '%s' 2>&1",
+           "printf 'setup\\n'; sleep 0.5; printf 'quit\\n') | BBCGEN_BIN='%s/bbcgen' timeout 30 "
+           "script -qec '\"$BBCGEN_BIN\"' /dev/null > '%s' 2>&1",
            BBC_BIN_DIR, o);
   int st = system(cmd);
   assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
@@ -690,7 +691,7 @@ static void test_viewer(void **state) {
     skip();
   }
   snprintf(text, sizeof text,
-           "load %s\nset texres 32\nbbc\nsave s\nshow model shot:s0.png,left,shot:s1.png,right,"
+           "load \"%s\"\nset texres 32\nbbc\nsave s\nshow model shot:s0.png,left,shot:s1.png,right,"
            "right,shot:s2.png,right,shot:s3.png,esc\n"
            "show bbc shot:s4.png,down,shot:s5.png,f6,shot:s6.png,down,shot:s7.png,down,"
            "shot:s8.png,right,shot:s9.png,down,esc\n"
@@ -717,10 +718,12 @@ static void test_viewer(void **state) {
    * exit status is written by the shell inside xvfb-run, so that
    * xvfb-run's own troubles (it can fail to clean up its temporary folder
    * when other tests run it at the same time) are told apart */
-  snprintf(cmd, sizeof cmd,
-           "cd '%s' && timeout 180 xvfb-run -a -s '-screen 0 1024x768x24' sh -c \"script -qec "
-           "'%s/bbcgen' /dev/null < '%s' > '%s' 2> '%s'; echo \\$? > '%s'\" 2> xvfb_err.txt",
-           tu_dir, BBC_BIN_DIR, in, o, e, sf);
+  snprintf(
+      cmd, sizeof cmd,
+      "cd '%s' && BBCGEN_BIN='%s/bbcgen' timeout 180 xvfb-run -a -s '-screen 0 1024x768x24' sh "
+      "-c \"script -qec '\\\"\\$BBCGEN_BIN\\\"' /dev/null < '%s' > '%s' 2> '%s'; echo \\$? > "
+      "'%s'\" 2> xvfb_err.txt",
+      tu_dir, BBC_BIN_DIR, in, o, e, sf);
   free(in);
   int xst = system(cmd);
   char *so = (char *)tu_read_file(o, NULL);
@@ -858,7 +861,7 @@ static void test_exec_errors(void **state) {
       snprintf(body, sizeof body, "%s", cases[i][0]);
     int line = cases[i][2][0] ? 2 : 1;
     if (cases[i][2][0])
-      snprintf(text, sizeof text, "load %s\n%snext\n", path, body);
+      snprintf(text, sizeof text, "load \"%s\"\n%snext\n", path, body);
     else
       snprintf(text, sizeof text, "%snext\n", body);
     char *bf = tu_write_file(tu_dir, "err.bbc", text, strlen(text));
@@ -923,7 +926,8 @@ static void test_debug_views(void **state) {
     if (getenv("CI")) fail_msg("xvfb-run is missing (scripts/setup.sh test installs it)");
     skip();
   }
-  snprintf(text, sizeof text, "load %s\nset debug 1\nbbc1\nbbc2\nset debug 2\nbbc\nquit\n", path);
+  snprintf(text, sizeof text, "load \"%s\"\nset debug 1\nbbc1\nbbc2\nset debug 2\nbbc\nquit\n",
+           path);
   char *bf = tu_write_file(tu_dir, "debug.bbc", text, strlen(text));
   snprintf(o, sizeof o, "%s/debug_out.txt", tu_dir);
   /* bbc2 shows every pick (a picture each); bbc's first window ends them */
@@ -1077,7 +1081,7 @@ static void test_cloud_command(void **state) {
   cJSON_Delete(e);
   free(etext);
   /* Batch: bbc3 needs bbc2; bbc then save writes the Appendix A folder. */
-  snprintf(text, sizeof text, "load %s\nbbc3\n", path);
+  snprintf(text, sizeof text, "load \"%s\"\nbbc3\n", path);
   char *bf = tu_write_file(tu_dir, "c3.bbc", text, strlen(text));
   snprintf(args, sizeof args, "exec '%s'", bf);
   assert_int_equal(run(args, &out, &err), 1);
@@ -1093,7 +1097,7 @@ static void test_cloud_command(void **state) {
   free(out);
   free(err);
   free(bf);
-  snprintf(text, sizeof text, "load %s\nset texres 32\nshade 20 0.5\nbbc\nsave forest\n", path);
+  snprintf(text, sizeof text, "load \"%s\"\nset texres 32\nshade 20 0.5\nbbc\nsave forest\n", path);
   bf = tu_write_file(tu_dir, "save.bbc", text, strlen(text));
   char cmd[4096];
   snprintf(cmd, sizeof cmd, "cd '%s' && '%s/bbcgen' exec '%s' -q > /dev/null 2>&1", tu_dir,

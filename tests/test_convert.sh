@@ -53,7 +53,7 @@ log=$tmp/bbcgen.log
 : >"$log"
 wrapper=$tmp/bbcgen
 {
-  echo '#!/bin/sh'
+  echo '#!/bin/bash' # %q quotes as bash reads (a path with non-ASCII letters: $'...')
   printf 'printf "%%s\\n" "$1" >>%q\n' "$log"
   printf 'exec %q "$@"\n' "$real"
 } >"$wrapper"

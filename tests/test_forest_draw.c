@@ -254,7 +254,7 @@ static void test_no_cracks(void **state) {
   char keys[4096] = "F5";
   for (int i = 0; i < 6; i++) {
     size_t n = strlen(keys);
-    snprintf(keys + n, sizeof keys - n, " F2 shot:%s/c%d.png", dir, i);
+    snprintf(keys + n, sizeof keys - n, " F2 shot:\"%s/c%d.png\"", dir, i);
   }
   char *out;
   int rc = sh(&out, "'%s/forest' '%s/crack.txt' --size 240x160 --log '%s/log.txt' --keys '%s'",
@@ -400,7 +400,7 @@ static void test_sun_levels_alike(void **state) {
     for (int c = 0; c < 4; c++) {
       int n = 0;
       for (int a = 0; a < 8; a++) {
-        n += snprintf(keys + n, sizeof keys - (size_t)n, "%sshot:%s/sun_%d_%d_%d.png",
+        n += snprintf(keys + n, sizeof keys - (size_t)n, "%sshot:\"%s/sun_%d_%d_%d.png\"",
                       a ? " right right right " : "", dir, m, c, a);
         assert_true((size_t)n < sizeof keys); /* the script whole */
       }
@@ -548,11 +548,12 @@ static void test_keys(void **state) {
   (void)state;
   if (!have_gl) skip();
   char *out;
-  int rc = sh(&out,
-              "'%s/forest' '%s/hills.txt' --size 200x150 --camera 30,50,30,135,-10 "
-              "--log '%s/log.txt' --print-camera --keys 'shot:%s/k0.png F10 shot:%s/k1.png s s s "
-              "s s d 60f space F3 s s 10f space F2 shot:%s/k2.png'",
-              BBC_BIN_DIR, dir, dir, dir, dir, dir);
+  int rc = sh(
+      &out,
+      "'%s/forest' '%s/hills.txt' --size 200x150 --camera 30,50,30,135,-10 "
+      "--log '%s/log.txt' --print-camera --keys 'shot:\"%s/k0.png\" F10 shot:\"%s/k1.png\" s s s "
+      "s s d 60f space F3 s s 10f space F2 shot:\"%s/k2.png\"'",
+      BBC_BIN_DIR, dir, dir, dir, dir, dir);
   if (rc) fail_msg("%s", out);
   /* F2 loads the position F3 stored */
   char p[700];
@@ -699,11 +700,12 @@ static void test_window(void **state) {
     skip();
   }
   free(out);
-  int rc = sh(&out,
-              "xvfb-run -a -s '-screen 0 640x480x24' '%s/forest' '%s/hills.txt' --window "
-              "--size 200x150 --camera 30,50,30,135,-10 --log '%s/log.txt' "
-              "--print-camera --keys 'shot:%s/w0.png s s s 20f F10 shot:%s/w1.png F3 s s 10f F2'",
-              BBC_BIN_DIR, dir, dir, dir, dir);
+  int rc = sh(
+      &out,
+      "xvfb-run -a -s '-screen 0 640x480x24' '%s/forest' '%s/hills.txt' --window "
+      "--size 200x150 --camera 30,50,30,135,-10 --log '%s/log.txt' "
+      "--print-camera --keys 'shot:\"%s/w0.png\" s s s 20f F10 shot:\"%s/w1.png\" F3 s s 10f F2'",
+      BBC_BIN_DIR, dir, dir, dir, dir);
   if (rc) fail_msg("%s", out);
   /* F2 brought back what F3 stored (the last line of the positions) */
   char p[700];

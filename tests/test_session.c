@@ -328,8 +328,34 @@ static void test_outputs(void **state) {
   bbc_session_free(s);
 }
 
+/* A batch line's words in quotes hold blanks ("my trees/oak.obj"), the
+ * quotes dropped; unquoted words are as before. */
+static void test_quoted_words(void **state) {
+  (void)state;
+  bbc_command k;
+  bbc_error err;
+  const char *t1 = "load \"my trees/b\xc3\xa4ume.obj\" nomip";
+  memset(&k, 0, sizeof k);
+  assert_int_equal(bbc_command_parse(t1, strlen(t1), &k, &err), BBC_OK);
+  assert_int_equal(k.kind, BBC_COMMAND_LOAD);
+  assert_string_equal(k.arg, "my trees/b\xc3\xa4ume.obj");
+  assert_int_equal(k.nomip, 1);
+  const char *t2 = "load 'a, b.obj'";
+  memset(&k, 0, sizeof k);
+  assert_int_equal(bbc_command_parse(t2, strlen(t2), &k, &err), BBC_OK);
+  assert_string_equal(k.arg, "a, b.obj");
+  const char *t3 = "load plain.obj";
+  memset(&k, 0, sizeof k);
+  assert_int_equal(bbc_command_parse(t3, strlen(t3), &k, &err), BBC_OK);
+  assert_string_equal(k.arg, "plain.obj");
+  const char *t4 = "load my trees/oak.obj"; /* unquoted: "trees/oak.obj" is no flag */
+  memset(&k, 0, sizeof k);
+  assert_int_equal(bbc_command_parse(t4, strlen(t4), &k, &err), BBC_ERROR_INVALID_ARGUMENT);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {cmocka_unit_test(test_session), cmocka_unit_test(test_steps),
-                                     cmocka_unit_test(test_views), cmocka_unit_test(test_outputs)};
+                                     cmocka_unit_test(test_views), cmocka_unit_test(test_outputs),
+                                     cmocka_unit_test(test_quoted_words)};
   return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

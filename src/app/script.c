@@ -57,9 +57,23 @@ static int blank(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
 }
 
-/* The word at s[*i] (blanks before it skipped) into out; 0 when none. */
+/* The word at s[*i] (blanks before it skipped) into out; 0 when none. A
+ * word in double or single quotes ("my trees/oak.obj") runs to the closing
+ * quote, blanks included, the quotes left out (to the line's end when it
+ * has none). */
 static int next_word(const char *s, size_t n, size_t *i, char *out, size_t cap) {
   while (*i < n && blank(s[*i])) (*i)++;
+  if (*i < n && (s[*i] == '"' || s[*i] == '\'')) {
+    char q = s[(*i)++];
+    size_t b = *i;
+    while (*i < n && s[*i] != q) (*i)++;
+    size_t len = *i - b;
+    if (*i < n) (*i)++; /* the closing quote */
+    if (len >= cap) len = cap - 1;
+    memcpy(out, s + b, len);
+    out[len] = 0;
+    return 1;
+  }
   size_t b = *i;
   while (*i < n && !blank(s[*i])) (*i)++;
   size_t len = *i - b;

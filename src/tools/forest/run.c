@@ -563,14 +563,39 @@ static void records_free(frame_records *rec) {
   free(rec->calls);
 }
 
+/* The next step of a --keys script at *p (blanks and commas before it
+ * skipped), cut in place; NULL at the end. shot:"FILE" or shot:'FILE' may
+ * hold blanks and commas (the quotes dropped). */
+static char *next_step(char **p) {
+  char *s = *p;
+  while (*s == ' ' || *s == ',') s++;
+  if (!*s) return NULL;
+  char *tok = s;
+  if (!strncmp(s, "shot:", 5) && (s[5] == '"' || s[5] == '\'')) {
+    char q = s[5];
+    memmove(s + 5, s + 6, strlen(s + 6) + 1); /* the opening quote */
+    char *e = strchr(s + 5, q);
+    if (e) {
+      *e = 0;
+      *p = e + 1;
+    } else {
+      *p = s + strlen(s);
+    }
+    return tok;
+  }
+  while (*s && *s != ' ' && *s != ',') s++;
+  if (*s) *s++ = 0;
+  *p = s;
+  return tok;
+}
+
 /* --keys: names, numbers of frames to run, shot:FILE. The exit status: 2
  * for a bad step (the script stops there), 1 when a screenshot failed. */
 static int run_keys(runner *u) {
   const double script_dt = 1.0 / 30;
   int status = 0;
-  char *copy = strdup(u->o->keys), *save = NULL;
-  for (char *tok = copy ? strtok_r(copy, " ,", &save) : NULL; tok && !u->st.quit;
-       tok = strtok_r(NULL, " ,", &save)) {
+  char *copy = strdup(u->o->keys), *save = copy;
+  for (char *tok = copy ? next_step(&save) : NULL; tok && !u->st.quit; tok = next_step(&save)) {
     char *end;
     long nframes = strtol(tok, &end, 10);
     if (!strncmp(tok, "shot:", 5) && !tok[5]) {

@@ -718,12 +718,12 @@ static void test_viewer(void **state) {
    * exit status is written by the shell inside xvfb-run, so that
    * xvfb-run's own troubles (it can fail to clean up its temporary folder
    * when other tests run it at the same time) are told apart */
-  snprintf(
-      cmd, sizeof cmd,
-      "cd '%s' && BBCGEN_BIN='%s/bbcgen' timeout 180 xvfb-run -a -s '-screen 0 1024x768x24' sh "
-      "-c \"script -qec '\\\"\\$BBCGEN_BIN\\\"' /dev/null < '%s' > '%s' 2> '%s'; echo \\$? > "
-      "'%s'\" 2> xvfb_err.txt",
-      tu_dir, BBC_BIN_DIR, in, o, e, sf);
+  snprintf(cmd, sizeof cmd,
+           "cd '%s' && BBCGEN_BIN='%s/bbcgen' TMPDIR=/tmp timeout 180 xvfb-run -a -s '-screen 0 "
+           "1024x768x24' sh "
+           "-c \"script -qec '\\\"\\$BBCGEN_BIN\\\"' /dev/null < '%s' > '%s' 2> '%s'; echo \\$? > "
+           "'%s'\" 2> xvfb_err.txt",
+           tu_dir, BBC_BIN_DIR, in, o, e, sf);
   free(in);
   int xst = system(cmd);
   char *so = (char *)tu_read_file(o, NULL);
@@ -856,7 +856,8 @@ static void test_exec_errors(void **state) {
     char body[2048]; /* @ = the model */
     const char *at = strchr(cases[i][0], '@');
     if (at)
-      snprintf(body, sizeof body, "%.*s%s%s", (int)(at - cases[i][0]), cases[i][0], path, at + 1);
+      snprintf(body, sizeof body, "%.*s\"%s\"%s", (int)(at - cases[i][0]), cases[i][0], path,
+               at + 1);
     else
       snprintf(body, sizeof body, "%s", cases[i][0]);
     int line = cases[i][2][0] ? 2 : 1;
@@ -932,7 +933,8 @@ static void test_debug_views(void **state) {
   snprintf(o, sizeof o, "%s/debug_out.txt", tu_dir);
   /* bbc2 shows every pick (a picture each); bbc's first window ends them */
   snprintf(cmd, sizeof cmd,
-           "cd '%s' && BBCGEN_DEBUG_KEYS='shot:dbg%%d.png,esc' timeout 180 xvfb-run -a -s '-screen "
+           "cd '%s' && BBCGEN_DEBUG_KEYS='shot:dbg%%d.png,esc' TMPDIR=/tmp timeout 180 xvfb-run -a "
+           "-s '-screen "
            "0 800x600x24' '%s/bbcgen' -x '%s' > '%s' 2>&1",
            tu_dir, BBC_BIN_DIR, bf, o);
   int st = system(cmd);
@@ -950,7 +952,8 @@ static void test_debug_views(void **state) {
   free(so);
   /* End: the first window of a step is its last */
   snprintf(cmd, sizeof cmd,
-           "cd '%s' && BBCGEN_DEBUG_KEYS='end' timeout 180 xvfb-run -a '%s/bbcgen' -x '%s' > '%s' "
+           "cd '%s' && BBCGEN_DEBUG_KEYS='end' TMPDIR=/tmp timeout 180 xvfb-run -a '%s/bbcgen' -x "
+           "'%s' > '%s' "
            "2>&1",
            tu_dir, BBC_BIN_DIR, bf, o);
   st = system(cmd);

@@ -702,7 +702,7 @@ static void test_window(void **state) {
   free(out);
   int rc = sh(
       &out,
-      "xvfb-run -a -s '-screen 0 640x480x24' '%s/forest' '%s/hills.txt' --window "
+      "TMPDIR=/tmp xvfb-run -a -s '-screen 0 640x480x24' '%s/forest' '%s/hills.txt' --window "
       "--size 200x150 --camera 30,50,30,135,-10 --log '%s/log.txt' "
       "--print-camera --keys 'shot:\"%s/w0.png\" s s s 20f F10 shot:\"%s/w1.png\" F3 s s 10f F2'",
       BBC_BIN_DIR, dir, dir, dir, dir);

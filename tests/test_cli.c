@@ -883,7 +883,8 @@ static void test_exec_errors(void **state) {
   if (tu_have_file(tex)) {
     const char *flags[2] = {"", " nocg nomip"};
     for (int k = 0; k < 2; k++) {
-      snprintf(text, sizeof text, "load %s%s\nset texres 32\nbbc\nsave m%d\n", tex, flags[k], k);
+      snprintf(text, sizeof text, "load \"%s\"%s\nset texres 32\nbbc\nsave m%d\n", tex, flags[k],
+               k);
       char *mf = tu_write_file(tu_dir, "mip.bbc", text, strlen(text));
       snprintf(args, sizeof args, "exec '%s' -q", mf);
       char *o2, *e2;
@@ -905,7 +906,7 @@ static void test_exec_errors(void **state) {
     free(tb);
   }
   /* exec of itself: the depth limit */
-  snprintf(text, sizeof text, "exec %s/self.bbc\n", tu_dir);
+  snprintf(text, sizeof text, "exec \"%s/self.bbc\"\n", tu_dir);
   char *bf = tu_write_file(tu_dir, "self.bbc", text, strlen(text));
   snprintf(args, sizeof args, "exec '%s' -q", bf);
   char *out, *err;

@@ -41,6 +41,7 @@
 #include <dirent.h>
 #include <signal.h>
 #include <editline/readline.h>
+#include <locale.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -496,6 +497,11 @@ int cmd_prompt(cli *c, const char *batch_file) {
   }
   int tty = isatty(0) && isatty(1);
   if (tty) {
+    /* The line editor keeps only the characters its LC_CTYPE knows: the
+     * user's, else UTF-8 (main sets "C" for every category, which would
+     * drop a path's non-ASCII letters); numbers stay LC_NUMERIC "C". */
+    const char *ct = setlocale(LC_CTYPE, "");
+    if (!ct || !strcmp(ct, "C") || !strcmp(ct, "POSIX")) setlocale(LC_CTYPE, "C.UTF-8");
     rl_readline_name = "bbcgen";
     rl_attempted_completion_function = complete;
     using_history();

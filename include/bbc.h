@@ -665,11 +665,14 @@ typedef struct bbc_planeset {
   double probe_s; /* their wall-clock seconds (part of retry_s) */
   /* `pointsample`/`facesample`: steps 1 and 2 ran on one face or point in
    * sample_stride (1: every one); beyond_count faces or points were valid
-   * for none of the sample's planes and went to the nearest, the farthest
-   * beyond_max epsilon away */
+   * for none of the sample's planes (the farthest beyond_max epsilon from
+   * its nearest) and got leftover_planes planes of their own, the greedy
+   * select's on them alone: every face or point lies within epsilon of its
+   * plane, sampled or not */
   size_t sample_stride;
   size_t beyond_count;
   double beyond_max;
+  size_t leftover_planes;
 } bbc_planeset;
 
 /* Releases what the set owns and zeroes it (NULL: nothing). */

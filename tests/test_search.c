@@ -134,8 +134,10 @@ static void test_point_sample(void **state) {
   o.params.max_planes = 0;
   bbc_planeset a, b;
   find_threads_alike(&m, &o, &a);
-  double eps = a.epsilon_abs;
-  size_t valid = 0, sum = 0;
+  /* every point within epsilon of its plane (the steps ran on the points'
+   * floats about the centre: 1e-6 of the radius more) */
+  double tol = a.epsilon_abs + 1e-6 * m.radius;
+  size_t sum = 0;
   for (size_t v = 0; v < m.vertex_count; v++) {
     uint32_t k = a.face_plane[v];
     assert_true(k < a.plane_count);
@@ -143,12 +145,12 @@ static void test_point_sample(void **state) {
     assert_int_not_equal(p->kind, BBC_PLANE_CARDBOARD);
     const double *x = m.positions + 3 * v;
     double d = fabs(p->normal[0] * x[0] + p->normal[1] * x[1] + p->normal[2] * x[2] - p->d);
-    valid += d <= eps * (1 + 1e-9);
-    assert_true(d <= 2 * eps); /* the few that miss every plane: at a slab's edge */
+    if (d > tol) fail_msg("point %zu: %g from its plane (eps %g)", v, d, a.epsilon_abs);
   }
   for (size_t k = 0; k < a.plane_count; k++) sum += a.planes[k].face_count;
   assert_int_equal(sum, m.vertex_count);
-  assert_true(valid >= m.vertex_count - m.vertex_count / 100);
+  print_message("sampled cloud: %zu points beyond the sample's planes, %zu planes of their own\n",
+                a.beyond_count, a.leftover_planes);
   bbc_planeset_free(&a);
 
   o.params.point_sample = 17500;
@@ -189,7 +191,7 @@ static void test_face_sample(void **state) {
   bbc_planeset a, b;
   find_threads_alike(&m, &o, &a);
   assert_true(a.sample_stride >= 4);
-  size_t beyond = 0, placed = 0, sum = 0;
+  size_t placed = 0, sum = 0;
   for (size_t t = 0; t < m.triangle_count; t++) {
     uint32_t k = a.face_plane[t];
     if (k == BBC_NO_PLANE) continue; /* limbs */
@@ -197,19 +199,18 @@ static void test_face_sample(void **state) {
     const bbc_plane *p = &a.planes[k];
     assert_int_not_equal(p->kind, BBC_PLANE_CARDBOARD);
     double eps = a.parts[a.face_part[t]].epsilon_abs, d = tri_distance(&m, t, p);
-    beyond += d > eps * (1 + 1e-9);
-    assert_true(d <= 2 * eps);
+    if (d > eps * (1 + 1e-9)) fail_msg("triangle %zu: %g from its plane (eps %g)", t, d, eps);
     placed++;
   }
   for (size_t k = 0; k < a.plane_count; k++)
     if (a.planes[k].kind != BBC_PLANE_CARDBOARD) sum += a.planes[k].face_count;
   assert_int_equal(sum, placed);
   assert_true(placed > 4000);
-  /* the set counts both triangles of a quad beyond epsilon, its nearest
-   * plane may hold one of them */
-  assert_true(beyond <= a.beyond_count);
-  /* 3 % here, 1 face in 5 of 3,500; 0.1 % on the default's 32k faces of
-   * a 1.13M-triangle oak */
+  /* the sample's planes miss some faces (3 % here, 1 face in 5 of 3,500),
+   * which get planes of their own */
+  print_message("beyond the sample's planes: %zu triangles, %zu planes of their own\n",
+                a.beyond_count, a.leftover_planes);
+  assert_true(a.beyond_count > 0 && a.leftover_planes > 0);
   assert_true(a.beyond_count <= placed / 20);
   bbc_planeset_free(&a);
 

@@ -82,6 +82,7 @@ static cJSON *lod_json(const job_lod *L, int detailed) {
                           (double)(L->planes.sample_stride ? L->planes.sample_stride : 1));
   cJSON_AddNumberToObject(o, "plane_beyond_epsilon", (double)L->planes.beyond_count);
   cJSON_AddNumberToObject(o, "plane_beyond_max_epsilons", L->planes.beyond_max);
+  cJSON_AddNumberToObject(o, "plane_leftover_planes", (double)L->planes.leftover_planes);
   cJSON *atlas = cJSON_AddArrayToObject(o, "atlas");
   cJSON_AddItemToArray(atlas, cJSON_CreateNumber(m->textures[0].image.width));
   cJSON_AddItemToArray(atlas, cJSON_CreateNumber(m->textures[0].image.height));

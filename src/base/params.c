@@ -95,13 +95,14 @@ static const param_row k_rows[] = {
      INT_FIELD(point_normals)},
     {{"pointsample", BBC_PARAM_INT, 0, 1e9, 16384, 0, "extension", "points",
       "point clouds of more than 4n points: planes chosen on a sample of about n points "
-      "(1 in k), every point then given to the first plane it is valid for, else (a few at "
-      "the slabs' edges) the nearest; 0 = every point in steps 1 and 2"},
+      "(1 in k), every point then given to the first plane it is valid for, else to planes "
+      "found for the few left (every point within epsilon); 0 = every point in steps 1 and 2"},
      INT_FIELD(point_sample)},
     {{"facesample", BBC_PARAM_INT, 0, 1e9, 16384, 0, "extension", "faces",
       "meshes whose part has more than 4n faces (a triangle, or two coplanar ones): planes "
       "chosen on a sample of about n faces (1 in k), every face then given to the first plane "
-      "it is valid for, else the nearest; 0 = every face in steps 1 and 2"},
+      "it is valid for, else to planes found for the few left (every face within epsilon); "
+      "0 = every face in steps 1 and 2"},
      INT_FIELD(face_sample)},
     {{"polyskip", BBC_PARAM_REAL, 0, 99, 0, F3, "billboard", "%",
       "skip planes whose coverage is below n% of the largest plane's (2.3.5)"},

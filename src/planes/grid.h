@@ -53,8 +53,16 @@ struct bbc_grid {
  * sample's planes sr (the first in the set at index base). */
 bbc_result bbc__sample_faces(grid_part *gp, bbc_error *err);
 struct select_result;
-void bbc__assign_sampled(bbc_planeset *set, const grid_part *gp, const struct select_result *sr,
-                         size_t base, double eps);
+/* A sampled part's faces or points (gp->stride > 1, part pi) to planes:
+ * the sample's (sr, the grid's frame, at `base` in the set, which counts
+ * them already), else planes of the leftovers' own, appended. */
+bbc_result bbc__assign_sampled(bbc_planeset *set, const grid_part *gp, size_t pi,
+                               const struct select_result *sr, size_t base, double eps,
+                               bbc_error *err);
+/* planes.c: plane `pl` of part pi's select (the grid's frame, its mother
+ * an index among the select's) as plane of the set, whose first of that
+ * select is at `base`. */
+bbc_plane bbc__plane_to_model(const bbc_plane *pl, const grid_part *gp, size_t pi, size_t base);
 
 /* planes.c, for search.c: a part's parameters, `breaknum` for a run on
  * one face in `stride` of a part's faces, one whole run of step 2 at an

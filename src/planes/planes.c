@@ -431,6 +431,15 @@ static bbc_result planeset_start(const bbc_grid *g, bbc_planeset *set, bbc_error
   return BBC_OK;
 }
 
+bbc_plane bbc__plane_to_model(const bbc_plane *in, const grid_part *gp, size_t pi, size_t base) {
+  bbc_plane pl = *in;
+  pl.d +=
+      pl.normal[0] * gp->center[0] + pl.normal[1] * gp->center[1] + pl.normal[2] * gp->center[2];
+  pl.part = (uint32_t)pi;
+  if (pl.mother >= 0) pl.mother += (int32_t)base;
+  return pl;
+}
+
 /* Part pi's planes (sr) into the set: the model's frame and global plane
  * indices; faces to mesh triangles (a face of four vertices is two), a
  * plane's face count its triangles'. */
@@ -440,21 +449,14 @@ static bbc_result add_part_planes(bbc_planeset *set, const grid_part *gp, size_t
   if (!planes) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
   set->planes = planes;
   size_t base = set->plane_count;
-  for (size_t k = 0; k < sr->plane_count; k++) {
-    bbc_plane pl = sr->planes[k];
-    pl.d +=
-        pl.normal[0] * gp->center[0] + pl.normal[1] * gp->center[1] + pl.normal[2] * gp->center[2];
-    pl.part = (uint32_t)pi;
-    if (pl.mother >= 0) pl.mother += (int32_t)base;
-    planes[base + k] = pl;
-  }
+  for (size_t k = 0; k < sr->plane_count; k++)
+    planes[base + k] = bbc__plane_to_model(&sr->planes[k], gp, pi, base);
   for (size_t k = 0; k < sr->plane_count; k++)
     if (planes[base + k].kind != BBC_PLANE_CARDBOARD) planes[base + k].face_count = 0;
   if (gp->stride > 1) {
-    bbc__assign_sampled(set, gp, sr, base, eps);
     set->plane_count += sr->plane_count;
     set->parts[pi].plane_count = sr->plane_count;
-    return BBC_OK;
+    return bbc__assign_sampled(set, gp, pi, sr, base, eps, err);
   }
   for (size_t i = 0; i < gp->nf; i++) {
     const dual_face *f = &gp->faces[i];

@@ -212,7 +212,25 @@ static void test_face_sample(void **state) {
                 a.beyond_count, a.leftover_planes);
   assert_true(a.beyond_count > 0 && a.leftover_planes > 0);
   assert_true(a.beyond_count <= placed / 20);
+  size_t step2 = a.plane_count - a.leftover_planes;
+  double eps_free = a.epsilon_abs;
   bbc_planeset_free(&a);
+
+  /* the budget counts step 2's planes, not the leftovers': maxplanes at
+   * today's count keeps the epsilon and the planes, every face within it */
+  o.params.max_planes = (int)step2;
+  find(&m, &o, &a);
+  assert_true(a.plane_count - a.leftover_planes <= step2);
+  assert_true(a.leftover_planes > 0);
+  assert_true(a.epsilon_abs == eps_free);
+  for (size_t t = 0; t < m.triangle_count; t++) {
+    uint32_t k = a.face_plane[t];
+    if (k == BBC_NO_PLANE) continue;
+    double eps = a.parts[a.face_part[t]].epsilon_abs;
+    assert_true(tri_distance(&m, t, &a.planes[k]) <= eps * (1 + 1e-9));
+  }
+  bbc_planeset_free(&a);
+  o.params.max_planes = 0;
 
   o.params.face_sample = 1000000;
   find(&m, &o, &a);

@@ -209,7 +209,7 @@ static const param_row k_rows[] = {
      INT_FIELD(grow_min)},
     {{"maxplanes", BBC_PARAM_INT, 0, 100000, 32, F1, "extension", "planes",
       "at most n planes: epsilon grows until steps 1-2 give no more, then narrows back "
-      "toward n (0 = off, as the thesis)"},
+      "toward n (0 = off, as the thesis); a sampled model's leftovers' planes come on top"},
      INT_FIELD(max_planes)},
     {{"minplanes", BBC_PARAM_INT, 0, 100000, 24, F1, "extension", "planes",
       "fewer planes: epsilon shrinks (to 1/5 at most) while within maxplanes (0 = off)"},

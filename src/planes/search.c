@@ -13,6 +13,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The planes the budget (maxplanes, minplanes) counts: step 2's, not those
+ * the leftovers of a sampled part got (a few small billboards, on top). */
+static size_t budget_count(const bbc_planeset *set) {
+  return set->plane_count - set->leftover_planes;
+}
+
 /* Narrowing the growth of epsilon: the scale between lo (more than maxp
  * planes, lo_n of them) and hi (hi_n <= maxp) where the count, interpolated
  * as a power of epsilon through both ends, reaches maxp; 0 when the two are
@@ -222,8 +228,8 @@ static int narrow_overshot(scale_search *s, bbc_planeset *set, size_t n, double 
     return 0;
   s->over_scale = s->scale;
   s->over_n = n;
-  double next = narrow_scale(s->over_scale, s->over_n, s->best.epsilon_scale, s->best.plane_count,
-                             narrow_aim(s));
+  double next = narrow_scale(s->over_scale, s->over_n, s->best.epsilon_scale,
+                             budget_count(&s->best), narrow_aim(s));
   if (!(next > 0)) return 0;
   bbc_planeset_free(set);
   memset(set, 0, sizeof *set);
@@ -387,20 +393,20 @@ static bbc_result search(bbc_grid *grid, const bbc_planes_options *o, probe *pr,
     set->epsilon_scale = s.scale;
     set->attempts = attempt;
     set->retry_s = s.retry;
-    size_t n = set->plane_count;
+    size_t n = budget_count(set);
     s.prev_scale = s.cur_scale;
     s.prev_n = s.cur_n;
     s.cur_scale = s.scale;
     s.cur_n = n;
     if (narrow_overshot(&s, set, n, t0)) continue;
     if (pr && !s.grown && s.have_best && s.maxp > 0 && n > (size_t)s.maxp &&
-        s.narrow < NARROW_TRIES && s.best.plane_count < n) {
+        s.narrow < NARROW_TRIES && budget_count(&s.best) < n) {
       /* A probe shrinking past maxplanes: a scale between it and the last
        * one below minplanes where the count's slope between the two reaches
        * minplanes (the count curves up as epsilon falls: the slope's aim
        * lands above it). */
       double sb = s.best.epsilon_scale;
-      double next = probe_between(sb, s.best.plane_count, s.scale, n, s.minp);
+      double next = probe_between(sb, budget_count(&s.best), s.scale, n, s.minp);
       if (next > s.scale && next < sb) {
         s.narrow++;
         s.past_scale = s.scale;
@@ -524,7 +530,7 @@ bbc_result bbc_planes_select(bbc_grid *grid, const bbc_planes_options *o, bbc_pl
     r = bbc__select_once(grid, o, scale, ++attempts, &got, err);
     if (r != BBC_OK) break;
     got.epsilon_scale = scale;
-    size_t n = got.plane_count;
+    size_t n = budget_count(&got);
     int side = budget_side(o, scale, n);
     if (side == 0 || side == budget_side(o, scale, predicted)) {
       bbc__log(&o->callbacks, BBC_LOG_INFO,

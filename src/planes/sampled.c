@@ -188,6 +188,49 @@ static size_t absorb(bbc_planeset *set, const grid_part *gp, const select_result
   return left;
 }
 
+/* Every item of a sampled part (n: its faces or points) to the first plane
+ * of the sample's (not a cardboard one) it is valid for, in the planes'
+ * order like the greedy select that found them; miss[i] set for those
+ * valid for none, counted (and their triangles, the farthest's distance)
+ * into the set. Returns how many items missed. */
+static size_t first_valid(bbc_planeset *set, const grid_part *gp, const select_result *sr,
+                          size_t base, double eps, uint8_t *miss, size_t n) {
+  const bbc_plane *pl = sr->planes;
+  size_t count = sr->plane_count;
+  double tol = eps * (1 + 1e-12); /* bbc__dual_face_valid's: valid when d <= tol */
+  int nt = bbc__thread_count(gp->params->threads);
+  (void)nt;
+  size_t beyond = 0, nl = 0;
+  double far = 0;
+#pragma omp parallel for schedule(static, 4096) num_threads(nt) if (n > 65536) \
+    reduction(+ : beyond, nl) reduction(max : far)
+  for (size_t i = 0; i < n; i++) {
+    size_t best = SIZE_MAX;
+    double near_d = HUGE_VAL;
+    for (size_t k = 0; k < count && best == SIZE_MAX; k++) {
+      if (pl[k].kind == BBC_PLANE_CARDBOARD) continue;
+      double lo, hi;
+      item_range(gp, i, &pl[k], &lo, &hi);
+      double d = fmax(-lo, hi);
+      if (d <= tol) best = k;
+      if (d < near_d) near_d = d;
+    }
+    int two = gp->all && gp->all[i].mesh_index2 != UINT32_MAX;
+    if (best == SIZE_MAX) {
+      miss[i] = 1;
+      nl++;
+      beyond += two ? 2 : 1;
+      if (near_d > far) far = near_d;
+      continue;
+    }
+    uint32_t k = (uint32_t)(base + best);
+    set->face_plane[item_index(gp, i)] = k;
+    if (two) set->face_plane[gp->all[i].mesh_index2] = k;
+  }
+  note_beyond(set, gp, beyond, far / eps);
+  return nl;
+}
+
 /* A sampled mesh's faces (gp->stride > 1) to the part's planes (sr, the
  * grid's frame; base: the first one's index in the set): a face to the
  * first plane (not a cardboard one) it is valid for, in the planes' order
@@ -197,43 +240,9 @@ static size_t absorb(bbc_planeset *set, const grid_part *gp, const select_result
  * counts its triangles, areas projected, from every face. */
 static bbc_result assign_faces(bbc_planeset *set, const grid_part *gp, size_t pi,
                                const select_result *sr, size_t base, double eps, bbc_error *err) {
-  const bbc_plane *pl = sr->planes;
-  size_t count = sr->plane_count;
-  double tol = eps * (1 + 1e-12); /* bbc__dual_face_valid's: valid when d <= tol */
-  int nt = bbc__thread_count(gp->params->threads);
-  (void)nt;
   uint8_t *miss = calloc(gp->all_nf ? gp->all_nf : 1, 1);
   if (!miss) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
-  size_t beyond = 0, nl = 0;
-  double far = 0;
-#pragma omp parallel for schedule(static, 4096) num_threads(nt) if (gp->all_nf > 65536) \
-    reduction(+ : beyond, nl) reduction(max : far)
-  for (size_t i = 0; i < gp->all_nf; i++) {
-    const dual_face *f = &gp->all[i];
-    size_t best = SIZE_MAX;
-    double near_d = HUGE_VAL;
-    for (size_t k = 0; k < count && best == SIZE_MAX; k++) {
-      if (pl[k].kind == BBC_PLANE_CARDBOARD) continue;
-      const double *nn = pl[k].normal;
-      double cc = f->c[0] * nn[0] + f->c[1] * nn[1] + f->c[2] * nn[2] - pl[k].d, d = 0;
-      for (int v = 0; v < f->nv; v++) {
-        double dv = fabs(cc + f->d[v][0] * nn[0] + f->d[v][1] * nn[1] + f->d[v][2] * nn[2]);
-        if (dv > d) d = dv;
-      }
-      if (d <= tol) best = k;
-      if (d < near_d) near_d = d;
-    }
-    if (best == SIZE_MAX) {
-      miss[i] = 1;
-      nl++;
-      beyond += f->mesh_index2 != UINT32_MAX ? 2 : 1;
-      if (near_d > far) far = near_d;
-      continue;
-    }
-    uint32_t k = (uint32_t)(base + best);
-    set->face_plane[f->mesh_index] = k;
-    if (f->mesh_index2 != UINT32_MAX) set->face_plane[f->mesh_index2] = k;
-  }
+  size_t count = sr->plane_count, nl = first_valid(set, gp, sr, base, eps, miss, gp->all_nf);
   nl = absorb(set, gp, sr, base, eps, miss, gp->all_nf, nl);
   for (size_t k = base; k < base + count; k++)
     if (set->planes[k].kind != BBC_PLANE_CARDBOARD) {
@@ -247,7 +256,6 @@ static bbc_result assign_faces(bbc_planeset *set, const grid_part *gp, size_t pi
     p->face_count += f->mesh_index2 != UINT32_MAX ? 2 : 1;
     p->area += dual_projected_area(f, p->normal);
   }
-  note_beyond(set, gp, beyond, far / eps);
   dual_face *left = nl ? malloc(nl * sizeof *left) : NULL;
   bbc_result r = nl && !left
                      ? bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory")
@@ -266,38 +274,10 @@ static bbc_result assign_faces(bbc_planeset *set, const grid_part *gp, size_t pi
  * sample's scaled up. */
 static bbc_result assign_points(bbc_planeset *set, const grid_part *gp, size_t pi,
                                 const select_result *sr, size_t base, double eps, bbc_error *err) {
-  const bbc_plane *pl = sr->planes;
-  size_t count = sr->plane_count;
-  double tol = eps * (1 + 1e-12);
-  int nt = bbc__thread_count(gp->params->threads);
-  (void)nt;
   uint8_t *miss = calloc(gp->n ? gp->n : 1, 1);
   if (!miss) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
-  size_t beyond = 0;
-  double far = 0;
-#pragma omp parallel for schedule(static, 4096) num_threads(nt) if (gp->n > 65536) \
-    reduction(+ : beyond) reduction(max : far)
-  for (size_t i = 0; i < gp->n; i++) {
-    const float *x = gp->points + 3 * i;
-    size_t best = SIZE_MAX;
-    double near_d = HUGE_VAL;
-    for (size_t k = 0; k < count && best == SIZE_MAX; k++) {
-      if (pl[k].kind == BBC_PLANE_CARDBOARD) continue;
-      double d =
-          fabs(pl[k].normal[0] * x[0] + pl[k].normal[1] * x[1] + pl[k].normal[2] * x[2] - pl[k].d);
-      if (d <= tol) best = k;
-      if (d < near_d) near_d = d;
-    }
-    if (best == SIZE_MAX) {
-      miss[i] = 1;
-      beyond++;
-      if (near_d > far) far = near_d;
-      continue;
-    }
-    set->face_plane[gp->tris[i]] = (uint32_t)(base + best);
-  }
-  note_beyond(set, gp, beyond, far / eps);
-  size_t nl = absorb(set, gp, sr, base, eps, miss, gp->n, beyond);
+  size_t count = sr->plane_count, nl = first_valid(set, gp, sr, base, eps, miss, gp->n);
+  nl = absorb(set, gp, sr, base, eps, miss, gp->n, nl);
   double up = (double)gp->n / (double)gp->nf;
   for (size_t k = base; k < base + count; k++) {
     set->planes[k].area *= up;

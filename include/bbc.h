@@ -483,13 +483,16 @@ typedef struct bbc_params {
   int refine_size;       /* refinesize: pixels across the renders refine judges
                           * against (the screen size the cloud is made for) */
   int grow_min;          /* growmin: quality 2: a texel is opaque when at least this
-                          * many of its 16 samples are (1 = the thesis's growing) */
+                          * many of its samples are (1 = the thesis's growing) */
   int max_planes;        /* maxplanes: > 0: more planes than this runs steps 1-2
                           * again with every epsilon 1.25-2x larger */
   int min_planes;        /* minplanes: > 0: fewer (and never too many) runs them again
                           * with epsilon 1.25-2x smaller, down to 1/5 */
   int atlas_max;         /* atlasmax: > 0: texres becomes the largest power of two
                           * whose cloud fits one atlas_max x atlas_max atlas */
+  int samples;           /* samples: quality 2: samples per texel side, 1-4 (0: 2
+                          * from texres 128 up, each colour the mean of 4 texture
+                          * points; else 4) */
 } bbc_params;
 
 /* One row of the parameter table. */

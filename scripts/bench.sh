@@ -214,3 +214,6 @@ cat "$res/latest.md"
 # against the binary before issue 34, in the same run
 # (bench/results/classes.md, .json).
 "$root/scripts/bench_classes.sh" "$build"
+# The small inputs' whole runs and fidelity against the binary before the
+# bake's 2x2 samples (bench/results/small.md).
+"$root/scripts/bench_small.sh" "$build"

@@ -178,15 +178,16 @@ static void test_texel_centres_quality0(void **state) {
   scene_free(&sc);
 }
 
-static void test_small_leaf_survives_quality2(void **state) {
-  (void)state;
+/* A leaf 0.2 texels across around a sample position of texel (5, 9) of a
+ * 16-texel grid, away from the texel centre, at `samples` a texel side:
+ * quality 0 loses it, quality 2 grows it into its texel. */
+static void small_leaf_survives(int samples) {
   scene sc;
   scene_begin(&sc, 8);
   scene_frame(&sc);
-  /* A leaf 0.2 texels across around a 4x4 sample position of texel (5, 9)
-   * of a 16-texel grid, away from the texel centre. */
   const int N = 16;
-  double cx = (5 + 0.375) / N, cy = (9 + 0.375) / N, r = 0.1 / N;
+  double off = samples == 4 ? 0.375 : 0.25; /* a sample's centre, not the texel's */
+  double cx = (5 + off) / N, cy = (9 + off) / N, r = 0.1 / N;
   const double a[3] = {cx - r, cy - r, 0.002}, b[3] = {cx + r, cy - r, 0.002},
                c[3] = {cx, cy + r, 0.002};
   scene_tri(&sc, a, b, c, 2);
@@ -195,6 +196,7 @@ static void test_small_leaf_survives_quality2(void **state) {
   for (int quality = 0; quality <= 2; quality += 2) {
     bbc_params p;
     params_for(&p, N, quality);
+    p.samples = samples;
     p.dither = 0; /* the thesis's growing */
     p.refine = 0; /* the mask as baked */
     bbc_cloud cl;
@@ -206,7 +208,7 @@ static void test_small_leaf_survives_quality2(void **state) {
     if (quality == 0) {
       assert_int_equal(t[3], 0); /* lost: it covers no texel centre */
     } else {
-      assert_int_equal(t[3], 255); /* grown: one of its 16 samples is opaque */
+      assert_int_equal(t[3], 255); /* grown: one of its samples is opaque */
       assert_true(t[2] == 255 && t[0] == 0);
     }
     /* Alpha stays binary in the whole atlas. */
@@ -224,20 +226,27 @@ static void test_small_leaf_survives_quality2(void **state) {
   scene_free(&sc);
 }
 
-/* 256 leaves, each 0.2 texels across on one of the 16 samples of its own
- * texel of a 16 x 16 grid (1/16 of the texel's samples), and one solid
- * 4 x 4-texel leaf. Growing makes every small leaf a full texel (16x the
- * density); dithering keeps about 1/16 of them, and the solid leaf whole. */
-static void test_dither_keeps_density(void **state) {
+static void test_small_leaf_survives_quality2(void **state) {
   (void)state;
+  small_leaf_survives(4);
+  small_leaf_survives(2);
+}
+
+/* 256 leaves, each 0.2 texels across on one of the samples of its own
+ * texel of a 16 x 16 grid (1/16 of the texel's samples at 4 a side, 1/4 at
+ * 2), and one solid 4 x 4-texel leaf. Growing makes every small leaf a full
+ * texel (16x or 4x the density); dithering keeps about 1/16 or 1/4 of them,
+ * and the solid leaf whole. */
+static void dither_keeps_density(int samples) {
   const int N = 16;
+  double off = samples == 4 ? 0.375 : 0.25;
   scene sc;
   scene_begin(&sc, 2 + (size_t)N * N + 2);
   scene_frame(&sc);
   for (int ty = 0; ty < N; ty++)
     for (int tx = 0; tx < N; tx++) {
       if (tx >= 2 && tx < 6 && ty >= 2 && ty < 6) continue; /* the solid leaf's texels */
-      double cx = (tx + 0.375) / N, cy = (ty + 0.375) / N, r = 0.1 / N;
+      double cx = (tx + off) / N, cy = (ty + off) / N, r = 0.1 / N;
       const double a[3] = {cx - r, cy - r, 0.002}, b[3] = {cx + r, cy - r, 0.002},
                    c[3] = {cx, cy + r, 0.002};
       scene_tri(&sc, a, b, c, 2);
@@ -251,6 +260,7 @@ static void test_dither_keeps_density(void **state) {
   for (int dither = 0; dither < 2; dither++) {
     bbc_params p;
     params_for(&p, N, 2);
+    p.samples = samples;
     p.dither = dither;
     p.refine = 0; /* the mask as baked */
     p.back_images = 0;
@@ -272,13 +282,74 @@ static void test_dither_keeps_density(void **state) {
       }
     bbc_cloud_free(&cl);
   }
-  printf("small leaves %zu: opaque texels growing %zu, dithering %zu; solid %zu, %zu of 16\n",
-         small_leaves, opaque[0], opaque[1], solid[0], solid[1]);
+  size_t share = (size_t)(samples * samples);
+  printf("%d samples a side: small leaves %zu: opaque texels growing %zu, dithering %zu; solid "
+         "%zu, %zu of 16\n",
+         samples, small_leaves, opaque[0], opaque[1], solid[0], solid[1]);
   assert_int_equal(opaque[0], small_leaves);
-  assert_true(opaque[1] >= small_leaves / 16 - 4 && opaque[1] <= small_leaves / 16 + 4);
+  assert_true(opaque[1] >= small_leaves / share - 4 && opaque[1] <= small_leaves / share + 4);
   assert_int_equal(solid[0], 16);
   assert_int_equal(solid[1], 16);
   scene_free(&sc);
+}
+
+static void test_dither_keeps_density(void **state) {
+  (void)state;
+  dither_keeps_density(4);
+  dither_keeps_density(2);
+}
+
+/* A quad textured with a checker of one texture pixel, 4 x 4 cells a
+ * cloud texel (red and blue): at 4 samples a texel side the texel's 16
+ * samples average it (purple); at 2, each sample's colour is the mean of 4
+ * texture points (at 4 x 4 points a texel in all), so the texel averages
+ * it too, where 4 point samples would all fall on one colour. */
+static void test_samples_average_texture(void **state) {
+  (void)state;
+  const int N = 16, T = 4 * N;
+  for (int samples = 4; samples >= 2; samples -= 2) {
+    scene sc;
+    scene_begin(&sc, 4);
+    scene_frame(&sc);
+    const double q0[3] = {0, 0, 0.001}, q1[3] = {1, 0, 0.001}, q2[3] = {1, 1, 0.001},
+                 q3[3] = {0, 1, 0.001};
+    scene_tri(&sc, q0, q1, q2, 1);
+    scene_tri(&sc, q0, q2, q3, 1);
+    bbc_mesh *m = &sc.m;
+    m->uvs = calloc(2 * m->vertex_count, sizeof *m->uvs);
+    for (size_t v = 6; v < m->vertex_count; v++)
+      for (int k = 0; k < 2; k++) m->uvs[2 * v + k] = (float)m->positions[3 * v + k];
+    m->textures = calloc(1, sizeof *m->textures);
+    m->texture_count = 1;
+    assert_int_equal(bbc_image_alloc(&m->textures[0].image, T, T), BBC_OK);
+    for (int y = 0; y < T; y++)
+      for (int x = 0; x < T; x++) {
+        uint8_t *px = m->textures[0].image.rgba + 4 * ((size_t)y * T + x);
+        int red = (x + y) % 2 == 0;
+        px[0] = red ? 255 : 0;
+        px[2] = red ? 0 : 255;
+        px[3] = 255;
+      }
+    m->materials[1].texture = 0;
+    const float white[4] = {1, 1, 1, 1};
+    memcpy(m->materials[1].base_color, white, sizeof white);
+    scene_end(&sc, 0.01);
+    bbc_params p;
+    params_for(&p, N, 2);
+    p.samples = samples;
+    p.refine = 0;
+    bbc_cloud cl;
+    bbc_error err;
+    if (bbc_cloud_build(&sc.m, &sc.s, &p, NULL, &cl, &err) != BBC_OK) fail_msg("%s", err.message);
+    const bbc_cloud_billboard *bb = &cl.billboards[0];
+    const double q[3] = {3.5 / N, 11.5 / N, 0}; /* away from the quad's diagonal */
+    const uint8_t *t = texel_at(&cl, bb, 0, q);
+    printf("%d samples a side: the checker's texel %d %d %d\n", samples, t[0], t[1], t[2]);
+    assert_int_equal(t[3], 255);
+    assert_true(abs((int)t[0] - 128) <= 16 && abs((int)t[2] - 128) <= 16);
+    bbc_cloud_free(&cl);
+    scene_free(&sc);
+  }
 }
 
 static void test_front_and_back(void **state) {
@@ -1106,6 +1177,7 @@ int main(void) {
       cmocka_unit_test(test_texel_centres_quality0),
       cmocka_unit_test(test_small_leaf_survives_quality2),
       cmocka_unit_test(test_dither_keeps_density),
+      cmocka_unit_test(test_samples_average_texture),
       cmocka_unit_test(test_refine_keeps_density),
       cmocka_unit_test(test_pure_split),
       cmocka_unit_test(test_cancel),

@@ -184,7 +184,7 @@ static const param_row k_rows[] = {
       "voxel shadowing (shade, occlusion): brightness of the darkest voxel (ambient light)"},
      DBL_FIELD(shade_ambient)},
     {{"dither", BBC_PARAM_BOOL, 0, 1, 1, F3, "extension", "",
-      "quality 2: texel opacity by error diffusion of its 16 samples' coverage, keeping the "
+      "quality 2: texel opacity by error diffusion of its samples' coverage, keeping the "
       "original's density (0 = growing: opaque when >= growmin samples are)"},
      INT_FIELD(dither)},
     {{"limbs", BBC_PARAM_INT, 0, 100000, 512, 0, "extension", "triangles",
@@ -205,8 +205,12 @@ static const param_row k_rows[] = {
       "the cloud is made for (a --lod-pixels chain: each level its own, at most 256)"},
      INT_FIELD(refine_size)},
     {{"growmin", BBC_PARAM_INT, 1, 16, 1, F3, "extension", "samples",
-      "quality 2: opaque texel when >= n of its 16 samples are (1 = thesis 2.3.9)"},
+      "quality 2: opaque texel when >= n of its samples are (1 = thesis 2.3.9)"},
      INT_FIELD(grow_min)},
+    {{"samples", BBC_PARAM_INT, 0, 4, 0, F3, "extension", "samples",
+      "quality 2: samples per texel side; 0 = 2 from texres 128 up (4 a texel, each colour "
+      "the mean of 4 texture points, about 1/3 of the bake's time), else 4 (16 a texel)"},
+     INT_FIELD(samples)},
     {{"maxplanes", BBC_PARAM_INT, 0, 100000, 32, F1, "extension", "planes",
       "at most n planes: epsilon grows until steps 1-2 give no more, then narrows back "
       "toward n (0 = off, as the thesis); a sampled model's leftovers' planes come on top"},

@@ -391,7 +391,9 @@ static void bake_target(const bbc__bake_inputs *in, const bake_job *job, int w, 
   bk->back_ao = out->back_ao.rgba;
   bk->backface = in->params->backface;
   bk->mips = in->mips;
-  bk->mip_bias = ss == 4 ? 2 : 0;
+  bk->alpha_bits = in->alpha_bits;
+  bk->mip_bias = ss >= 4 ? 2 : ss >= 2 ? 1 : 0;
+  bk->colour_taps = !in->mips && in->params->quality == BBC_QUALITY_SQUASHED && ss < 4;
   bk->face_alpha = job->mask ? NULL : job->share; /* a stem billboard draws its faces whole */
 }
 
@@ -406,6 +408,7 @@ static bbc_result coverage_alpha(const bbc_params *prm, const bbc_cloud_billboar
   bbc_image *col[2] = {&out->front, &out->back}, *nm[2] = {&out->front_nm, &out->back_nm};
   bbc_image *ao[2] = {&out->front_ao, &out->back_ao};
   unsigned grow = (unsigned)(prm->grow_min > 0 ? prm->grow_min : 1);
+  if (grow > (unsigned)(ss * ss)) grow = (unsigned)(ss * ss); /* every sample at most */
   for (int i = 0; i < 2 && r == BBC_OK; i++) {
     if (!col[i]->rgba) continue;
     out->mask[i] = malloc(nx);
@@ -429,7 +432,7 @@ static void bake_one(const bbc__bake_inputs *in, const bake_job *job, bbc_cloud_
   const bbc_billboard *b = &cb->rect;
   int points = m->kind == BBC_MESH_POINTS;
   bake_faces(in, job, cb, faces);
-  int ss = prm->quality >= BBC_QUALITY_SQUASHED ? 4 : 1;
+  int ss = bbc__bake_samples(prm);
   int w = cb->tex_width * ss, h = cb->tex_height * ss;
   bbc_result r = bake_images(prm, points, w, h, out);
   if (r != BBC_OK) {
@@ -453,6 +456,15 @@ static void bake_one(const bbc__bake_inputs *in, const bake_job *job, bbc_cloud_
   }
   if (r == BBC_OK && prm->quality == BBC_QUALITY_SQUASHED) r = coverage_alpha(prm, cb, ss, out);
   out->r = r;
+}
+
+int bbc__bake_samples(const bbc_params *prm) {
+  if (prm->quality == BBC_QUALITY_SUPERSAMPLED) return 4;
+  if (prm->quality != BBC_QUALITY_SQUASHED) return 1;
+  if (prm->samples >= 1 && prm->samples <= 4) return prm->samples;
+  /* auto: a small texture's coverage needs every sample (a far level's few
+   * texels a leaf), a large one's bake the time */
+  return prm->texres >= 128 ? 2 : 4;
 }
 
 void bbc__baked_clear_transparent(baked *b) {
@@ -598,6 +610,7 @@ bbc_result bbc__bake_lighting(bbc__bake_inputs *in, const size_t *order, size_t 
    * the colours of other parts of a texture atlas. */
   if (r == BBC_OK && prm->prelight && !m->no_mipmaps && !points)
     r = bbc__mips_build(m, &in->mips, err);
+  if (r == BBC_OK && !points) r = bbc__alpha_bits_build(m, &in->alpha_bits, err);
   /* pure 2: each face's coverage split between the slabs it crosses (only
    * dithering sums shares; otherwise it acts as pure 0). */
   if (r == BBC_OK && prm->pure == BBC_PURE_SHARED && prm->quality == BBC_QUALITY_SQUASHED &&
@@ -610,6 +623,7 @@ void bbc__bake_inputs_free(bbc__bake_inputs *in) {
   free(in->vshade);
   free(in->share);
   bbc__mips_free(in->mips, in->mesh->texture_count);
+  bbc__alpha_bits_free(in->alpha_bits, in->mesh->texture_count);
 }
 
 /* Billboard k's job: a kept plane's (order[k]) below kept_planes, else the

@@ -86,13 +86,14 @@ typedef struct bbc__bake_inputs {
   const bbc_mesh *mesh;
   const bbc_planeset *set;
   const bbc_params *params;
-  float *vshade;          /* per vertex: voxel shadowing's light (2.3.11), or NULL;
-                           * with `occlusion` it goes to the occlusion images */
-  struct bbc__mips *mips; /* the mesh's textures' mipmaps, or NULL */
-  uint8_t *share;         /* pure 2: per triangle, its alpha share, or NULL */
-  double light[3];        /* the prelight's direction */
-  double light_gain;      /* prelight: its brightness as a lit viewer's */
-  double crown_center[3]; /* nmbend: what normals bend away from */
+  float *vshade;                      /* per vertex: voxel shadowing's light (2.3.11), or NULL;
+                                       * with `occlusion` it goes to the occlusion images */
+  struct bbc__mips *mips;             /* the mesh's textures' mipmaps, or NULL */
+  struct bbc__alpha_bits *alpha_bits; /* the mesh's textures' alpha tests, or NULL */
+  uint8_t *share;                     /* pure 2: per triangle, its alpha share, or NULL */
+  double light[3];                    /* the prelight's direction */
+  double light_gain;                  /* prelight: its brightness as a lit viewer's */
+  double crown_center[3];             /* nmbend: what normals bend away from */
 } bbc__bake_inputs;
 
 /* The images of one billboard before packing. */
@@ -116,6 +117,9 @@ bbc_result bbc__bake_lighting(bbc__bake_inputs *in, const size_t *order, size_t 
 bbc_result bbc__bake_all(const bbc__bake_inputs *in, const size_t *order, size_t kept_planes,
                          const bbc__stem *stem, const bbc_callbacks *callbacks, bbc_cloud *cloud,
                          bbc__baked *bk, bbc_error *err);
+/* Samples per texel side the bake draws: quality 2 `samples`, quality 3 4,
+ * else 1. */
+int bbc__bake_samples(const bbc_params *prm);
 /* quality 2: texels left transparent by the masks become (0, 0, 0, 0),
  * opaque ones alpha 255. */
 void bbc__baked_clear_transparent(bbc__baked *b);

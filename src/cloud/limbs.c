@@ -155,6 +155,7 @@ static void limb_colour(const bbc__bake_inputs *in, uint8_t rgba[4]) {
     bk.width = bk.height = SIDE;
     bk.front = img;
     bk.mips = in->mips;
+    bk.alpha_bits = in->alpha_bits;
     memset(img, 0, 4 * SIDE * SIDE);
     bbc_error quiet;
     if (bbc__render_bake(m, faces, n, &v, &bk, &quiet) != BBC_OK) continue;

@@ -1,7 +1,8 @@
 /* mips.c — the mipmaps of a model's textures that step 3 reads a baked
  * light's colours from: as a GPU makes them (glGenerateMipmap), each level
  * the 2x2 box average of the one before, every channel on its own, so that
- * the colour of transparent texels bleeds in as it does on screen. */
+ * the colour of transparent texels bleeds in as it does on screen; and the
+ * textures' alpha tests as bits. */
 #include "raster.h"
 
 #include <stdlib.h>
@@ -58,4 +59,34 @@ void bbc__mips_free(bbc__mips *mips, size_t count) {
     free(mips[t].level);
   }
   free(mips);
+}
+
+bbc_result bbc__alpha_bits_build(const bbc_mesh *m, bbc__alpha_bits **out, bbc_error *err) {
+  *out = NULL;
+  if (!m->texture_count) return BBC_OK;
+  bbc__alpha_bits *ab = calloc(m->texture_count, sizeof *ab);
+  if (!ab) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "alpha bits: out of memory");
+  for (size_t t = 0; t < m->texture_count; t++) {
+    const bbc_image *img = &m->textures[t].image;
+    if (!img->rgba || img->width < 1 || img->height < 1) continue;
+    int tx = (img->width + 7) / 8, ty = (img->height + 7) / 8;
+    ab[t].bits = calloc((size_t)tx * ty, sizeof *ab[t].bits);
+    if (!ab[t].bits) {
+      bbc__alpha_bits_free(ab, m->texture_count);
+      return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "alpha bits: out of memory");
+    }
+    ab[t].tiles_x = tx;
+    for (int y = 0; y < img->height; y++)
+      for (int x = 0; x < img->width; x++)
+        if (img->rgba[4 * ((size_t)y * img->width + x) + 3] >= 128)
+          ab[t].bits[(size_t)(y / 8) * tx + x / 8] |= (uint64_t)1 << ((y % 8) * 8 + x % 8);
+  }
+  *out = ab;
+  return BBC_OK;
+}
+
+void bbc__alpha_bits_free(bbc__alpha_bits *ab, size_t count) {
+  if (!ab) return;
+  for (size_t t = 0; t < count; t++) free(ab[t].bits);
+  free(ab);
 }

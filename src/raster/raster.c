@@ -47,7 +47,9 @@ static int is_top_left(double ax, double ay, double bx, double by) {
   return (ey == 0 && ex > 0) || ey < 0;
 }
 
-static const uint8_t *sample(const bbc_image *img, float u, float v) {
+/* The texel (x, y) that texture coordinate (u, v) samples (wrapped,
+ * nearest). */
+static inline void texel_at(const bbc_image *img, float u, float v, int *tx, int *ty) {
   double fu = u - floor(u), fv = v - floor(v);
   int x = (int)(fu * img->width);
   int y = (int)((1.0 - fv) * img->height);
@@ -55,7 +57,23 @@ static const uint8_t *sample(const bbc_image *img, float u, float v) {
   if (y >= img->height) y = img->height - 1;
   if (x < 0) x = 0;
   if (y < 0) y = 0;
+  *tx = x;
+  *ty = y;
+}
+
+static const uint8_t *sample(const bbc_image *img, float u, float v) {
+  int x, y;
+  texel_at(img, u, v, &x, &y);
   return img->rgba + 4 * ((size_t)y * img->width + x);
+}
+
+/* The alpha test of a material of opacity 1 at (u, v), from its texture's
+ * bits: what base_color[3] x alpha / 255 >= 0.5 answers from the texel. */
+static inline int alpha_bit(const bbc_image *img, const bbc__alpha_bits *ab, float u, float v) {
+  int x, y;
+  texel_at(img, u, v, &x, &y);
+  return (int)((ab->bits[(size_t)(y >> 3) * ab->tiles_x + (x >> 3)] >> (((y & 7) << 3) | (x & 7))) &
+               1);
 }
 
 /* k / 255.0 for every byte k, folded by the compiler (correctly rounded,
@@ -504,6 +522,67 @@ static const double *outward_dir(const bbc_mesh *m, size_t t, const tri *tr, dou
   return d;
 }
 
+/* The alpha test at (u, v) of a textured material: from the texture's
+ * bits when given (a material of opacity 1), else from its texel. */
+static inline int alpha_passes(const bbc_image *tex, const bbc__alpha_bits *bits,
+                               const bbc_material *mat, float u, float v) {
+  if (bits) return alpha_bit(tex, bits, u, v);
+  return mat->base_color[3] * k_unit[sample(tex, u, v)[3]] >= 0.5;
+}
+
+/* bbc__bake.colour_taps: how the edge functions and the texture
+ * coordinates change along the screen's x and y. */
+typedef struct taps_grad {
+  double wx[3], wy[3]; /* edge function k (w0 opposite a, ...) */
+  double ux, uy, vx, vy;
+} taps_grad;
+
+static ALWAYS_INLINE void taps_setup(const tri *tr, const float *uv[3], double inv_area,
+                                     taps_grad *g) {
+  const double *a = tr->a, *b = tr->b, *c = tr->c;
+  g->wx[0] = -(c[1] - b[1]);
+  g->wy[0] = c[0] - b[0];
+  g->wx[1] = -(a[1] - c[1]);
+  g->wy[1] = a[0] - c[0];
+  g->wx[2] = -(b[1] - a[1]);
+  g->wy[2] = b[0] - a[0];
+  g->ux = g->uy = g->vx = g->vy = 0;
+  for (int k = 0; k < 3; k++) {
+    g->ux += g->wx[k] * inv_area * uv[k][0];
+    g->uy += g->wy[k] * inv_area * uv[k][0];
+    g->vx += g->wx[k] * inv_area * uv[k][1];
+    g->vy += g->wy[k] * inv_area * uv[k][1];
+  }
+}
+
+/* col[0..2] times the mean texel colour at the taps of bbc__bake.colour_taps
+ * (the pixel's edge functions w and weights l): those inside the triangle
+ * whose alpha test passes; none: the texel at the pixel's centre. */
+static void tap_colour(const bbc_image *tex, const bbc_image *tex_rgb, const bbc__alpha_bits *bits,
+                       const bbc_material *mat, const taps_grad *g, double w0, double w1, double w2,
+                       double l0, double l1, double l2, const float *uv[3], double col[4]) {
+  double u0 = l0 * uv[0][0] + l1 * uv[1][0] + l2 * uv[2][0];
+  double v0 = l0 * uv[0][1] + l1 * uv[1][1] + l2 * uv[2][1];
+  unsigned sum[3] = {0, 0, 0}, n = 0;
+  for (int k = 0; k < 4; k++) {
+    double ox = k & 1 ? 0.25 : -0.25, oy = k & 2 ? 0.25 : -0.25;
+    if (w0 + g->wx[0] * ox + g->wy[0] * oy < 0 || w1 + g->wx[1] * ox + g->wy[1] * oy < 0 ||
+        w2 + g->wx[2] * ox + g->wy[2] * oy < 0)
+      continue;
+    float tu = (float)(u0 + g->ux * ox + g->uy * oy), tv = (float)(v0 + g->vx * ox + g->vy * oy);
+    if (!alpha_passes(tex, bits, mat, tu, tv)) continue;
+    const uint8_t *t = sample(tex_rgb, tu, tv);
+    for (int c = 0; c < 3; c++) sum[c] += t[c];
+    n++;
+  }
+  if (!n) {
+    const uint8_t *t = sample(tex_rgb, (float)u0, (float)v0);
+    for (int c = 0; c < 3; c++) col[c] *= k_unit[t[c]];
+    return;
+  }
+  for (int c = 0; c < 3; c++) col[c] *= (double)sum[c] / (255.0 * n);
+}
+
 static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
   const camera *cam = tg->cam;
   const bbc_view *view = tg->view;
@@ -521,6 +600,15 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
   const bbc_material *mat = tr.mat;
   int want_front = tr.want_front, want_back = tr.want_back, slab = tr.slab;
   int tl0 = ed.tl[0], tl1 = ed.tl[1], tl2 = ed.tl[2], need_normal = tr.need_normal;
+  /* The alpha test from the texture's bits where they answer it: a
+   * material of opacity 1. */
+  const bbc__alpha_bits *bits = NULL;
+  if (tex && tg->bake && tg->bake->alpha_bits && mat->base_color[3] == 1.0f &&
+      tg->bake->alpha_bits[mat->texture].bits)
+    bits = &tg->bake->alpha_bits[mat->texture];
+  int taps = tex && tg->bake && tg->bake->colour_taps;
+  taps_grad tp;
+  if (taps) taps_setup(&tr, uv, inv_area, &tp);
   double odir[3];
   for (int y = tr.y0; y <= tr.y1; y++) {
     double py = y + 0.5;
@@ -563,10 +651,13 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
         v = (float)(l0 * uv[0][1] + l1 * uv[1][1] + l2 * uv[2][1]);
       }
       if (tex) { /* the alpha test first (the base level), then the colour */
-        col[3] *= k_unit[sample(tex, u, v)[3]];
-        if (col[3] < 0.5) continue;
-        const uint8_t *tx = sample(tex_rgb, u, v);
-        for (int k = 0; k < 3; k++) col[k] *= k_unit[tx[k]];
+        if (!alpha_passes(tex, bits, mat, u, v)) continue;
+        if (taps) {
+          tap_colour(tex, tex_rgb, bits, mat, &tp, w0, w1, w2, l0, l1, l2, uv, col);
+        } else {
+          const uint8_t *tx = sample(tex_rgb, u, v);
+          for (int k = 0; k < 3; k++) col[k] *= k_unit[tx[k]];
+        }
       }
       if (col[3] < 0.5) continue; /* alpha test */
       double n[3] = {0, 0, 1};
@@ -783,54 +874,6 @@ bbc_result bbc__render_bake(const bbc_mesh *m, const uint32_t *faces, size_t fac
   for (size_t i = 0; i < count; i++) draw_triangle(m, faces ? faces[i] : i, &tg);
   free(depth);
   return BBC_OK;
-}
-
-int bbc_view_project(const bbc_view *view, int width, int height, const double p[3],
-                     double out[2]) {
-  assert(view && p && out);
-  camera cam;
-  if (width <= 0 || height <= 0 || !(view->half_extent > 0) ||
-      !bbc__camera_setup(&cam, view, width, height))
-    return 0;
-  double s[3];
-  bbc__camera_project(&cam, p, s);
-  out[0] = s[0];
-  out[1] = s[1];
-  return 1;
-}
-
-void bbc__view_frame_box(const double lo[3], const double hi[3], const double direction[3],
-                         const double up[3], double margin, bbc_view *v) {
-  memset(v, 0, sizeof *v);
-  memcpy(v->direction, direction, sizeof v->direction);
-  memcpy(v->up, up, sizeof v->up);
-  /* Frame the box as seen along the view: the largest extent of its
-   * corners on the image axes, times the margin. */
-  for (int k = 0; k < 3; k++) v->center[k] = 0.5 * (lo[k] + hi[k]);
-  double f[3] = {direction[0], direction[1], direction[2]}, r[3], u[3];
-  vstore(f, vnormalize(vload(f)));
-  vstore(r, vcross(vload(f), vload(up)));
-  vstore(r, vnormalize(vload(r)));
-  vstore(u, vcross(vload(r), vload(f)));
-  double half = 0;
-  for (int c = 0; c < 8; c++) {
-    double d[3];
-    for (int k = 0; k < 3; k++) d[k] = ((c >> k) & 1 ? hi[k] : lo[k]) - v->center[k];
-    double x = fabs(d[0] * r[0] + d[1] * r[1] + d[2] * r[2]);
-    double y = fabs(d[0] * u[0] + d[1] * u[1] + d[2] * u[2]);
-    half = fmax(half, fmax(x, y));
-  }
-  v->half_extent = half > 0 ? margin * half : 1.0;
-}
-
-void bbc_view_frame_mesh(const bbc_mesh *m, const double direction[3], const double up[3],
-                         bbc_view *v) {
-  assert(m && direction && up && v);
-  bbc__view_frame_box(m->bbox_min, m->bbox_max, direction, up, 1.04, v);
-  v->lighting = 1;
-  v->point_size_px = 2.0f;
-  v->background[0] = v->background[1] = v->background[2] = 255;
-  v->background[3] = 255;
 }
 
 /* Luminance (Rec. 709) summed over the covered pixels of an image whose

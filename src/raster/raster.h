@@ -23,6 +23,23 @@ typedef struct bbc__mips {
 bbc_result bbc__mips_build(const bbc_mesh *mesh, bbc__mips **mips, bbc_error *err);
 void bbc__mips_free(bbc__mips *mips, size_t count);
 
+/* A texture's alpha test as bits (src/raster/mips.c): bit set where the
+ * texel's alpha is at least 128, the test a material of opacity 1 makes
+ * (base_color[3] x alpha / 255 >= 0.5), in tiles of 8 x 8 texels a word
+ * (tile (x / 8, y / 8) at word y / 8 x tiles_x + x / 8, bit (y % 8) x 8 +
+ * x % 8): the same answers as the texels' alpha bytes from 1/32 of their
+ * memory, so that the alpha tests of a bake's many small leaves stay in
+ * the cache. */
+typedef struct bbc__alpha_bits {
+  uint64_t *bits; /* NULL: the texture has none (no image) */
+  int tiles_x;
+} bbc__alpha_bits;
+
+/* bits[t] for each of the mesh's textures (NULL when it has none); free
+ * with bbc__alpha_bits_free. */
+bbc_result bbc__alpha_bits_build(const bbc_mesh *mesh, bbc__alpha_bits **bits, bbc_error *err);
+void bbc__alpha_bits_free(bbc__alpha_bits *bits, size_t count);
+
 typedef struct bbc__bake {
   int width, height;
   uint8_t *front, *back;       /* RGBA */
@@ -41,8 +58,17 @@ typedef struct bbc__bake {
    * the texture from that distance), alpha from the base image (coverage
    * is the supersampling's business). */
   const bbc__mips *mips;
-  int mip_bias; /* levels added: log2 of the pixels per cloud texel (4 samples
-                 * per side: 2), so that colours are those of one texel */
+  /* Optional, per texture of the mesh: its alpha test as bits (the same
+   * answers, faster). */
+  const bbc__alpha_bits *alpha_bits;
+  int mip_bias; /* levels added: log2 of the samples per cloud texel side (4:
+                 * 2), so that colours are those of one texel */
+  /* Colours without mipmaps (a material's albedo), fewer samples than 4 a
+   * texel side: each sample's colour the mean of the texels at 4 points
+   * +-1/4 of a sample from its centre (those inside the triangle whose
+   * alpha test passes; at 2 samples a side, the points of 4 x 4 samples a
+   * texel), so that a texel's colour averages as many points as before. */
+  int colour_taps;
   /* Optional, per triangle of the mesh: the alpha its samples get (255 when
    * NULL): `pure 2` gives a face crossing n slabs 255 / n in each. */
   const uint8_t *face_alpha;

@@ -556,13 +556,12 @@ static ALWAYS_INLINE void taps_setup(const tri *tr, const float *uv[3], double i
 }
 
 /* col[0..2] times the mean texel colour at the taps of bbc__bake.colour_taps
- * (the pixel's edge functions w and weights l): those inside the triangle
- * whose alpha test passes; none: the texel at the pixel's centre. */
+ * around the pixel (its edge functions w, its texture coordinate (u0, v0)):
+ * those inside the triangle whose alpha test passes; none: the texel at the
+ * pixel's centre. */
 static void tap_colour(const bbc_image *tex, const bbc_image *tex_rgb, const bbc__alpha_bits *bits,
                        const bbc_material *mat, const taps_grad *g, double w0, double w1, double w2,
-                       double l0, double l1, double l2, const float *uv[3], double col[4]) {
-  double u0 = l0 * uv[0][0] + l1 * uv[1][0] + l2 * uv[2][0];
-  double v0 = l0 * uv[0][1] + l1 * uv[1][1] + l2 * uv[2][1];
+                       double u0, double v0, double col[4]) {
   unsigned sum[3] = {0, 0, 0}, n = 0;
   for (int k = 0; k < 4; k++) {
     double ox = k & 1 ? 0.25 : -0.25, oy = k & 2 ? 0.25 : -0.25;
@@ -631,7 +630,7 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
         if (tex) {
           float u = (float)(l0 * uv[0][0] + l1 * uv[1][0] + l2 * uv[2][0]);
           float v = (float)(l0 * uv[0][1] + l1 * uv[1][1] + l2 * uv[2][1]);
-          if (mat->base_color[3] * k_unit[sample(tex, u, v)[3]] < 0.5) continue;
+          if (!alpha_passes(tex, NULL, mat, u, v)) continue;
         } else if (mat->base_color[3] < 0.5) {
           continue;
         }
@@ -645,15 +644,16 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
         continue; /* outside the slab: the triangle is clipped there */
       double col[4] = {mat->base_color[0], mat->base_color[1], mat->base_color[2],
                        mat->base_color[3]};
-      float u = 0, v = 0;
+      double ud = 0, vd = 0;
       if (uv[0]) {
-        u = (float)(l0 * uv[0][0] + l1 * uv[1][0] + l2 * uv[2][0]);
-        v = (float)(l0 * uv[0][1] + l1 * uv[1][1] + l2 * uv[2][1]);
+        ud = l0 * uv[0][0] + l1 * uv[1][0] + l2 * uv[2][0];
+        vd = l0 * uv[0][1] + l1 * uv[1][1] + l2 * uv[2][1];
       }
+      float u = (float)ud, v = (float)vd;
       if (tex) { /* the alpha test first (the base level), then the colour */
         if (!alpha_passes(tex, bits, mat, u, v)) continue;
         if (taps) {
-          tap_colour(tex, tex_rgb, bits, mat, &tp, w0, w1, w2, l0, l1, l2, uv, col);
+          tap_colour(tex, tex_rgb, bits, mat, &tp, w0, w1, w2, ud, vd, col);
         } else {
           const uint8_t *tx = sample(tex_rgb, u, v);
           for (int k = 0; k < 3; k++) col[k] *= k_unit[tx[k]];

@@ -623,6 +623,9 @@ typedef struct bbc_plane {
   double area;         /* the sum of those faces' areas projected onto it */
   int32_t mother;      /* cardboard: index of the mother plane, else -1 */
   double coverage_pct; /* cardboard: area / the mother's area * 100, else 100 */
+  int leftover;        /* 1: a plane of a sampled part's leftovers (the faces or points
+                        * its sample's planes missed): its billboard draws only its
+                        * own faces, whatever `pure` says */
 } bbc_plane;
 
 /* A part of a model simplified on its own (thesis 2.2.4, 3.1.1). */

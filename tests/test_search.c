@@ -212,7 +212,30 @@ static void test_face_sample(void **state) {
                 a.beyond_count, a.leftover_planes);
   assert_true(a.beyond_count > 0 && a.leftover_planes > 0);
   assert_true(a.beyond_count <= placed / 20);
-  size_t step2 = a.plane_count - a.leftover_planes;
+  size_t step2 = a.plane_count - a.leftover_planes, flagged = 0;
+  for (size_t k = 0; k < a.plane_count; k++) flagged += a.planes[k].leftover != 0;
+  assert_int_equal(flagged, a.leftover_planes);
+  /* a leftovers' billboard draws its own faces only (its slab crosses the
+   * crown, whose faces other billboards show) */
+  bbc_params cp;
+  bbc_params_default(&cp);
+  cp.texres = 32;
+  cp.refine = 0;
+  bbc_cloud cl;
+  bbc_error err;
+  if (bbc_cloud_build(&m, &a, &cp, NULL, &cl, &err) != BBC_OK) fail_msg("%s", err.message);
+  size_t seen = 0;
+  for (size_t i = 0; i < cl.billboard_count; i++)
+    for (size_t k = 0; k < a.plane_count; k++) {
+      const bbc_plane *p = &a.planes[k];
+      if (!p->leftover || p->d != cl.billboards[i].d ||
+          memcmp(p->normal, cl.billboards[i].normal, sizeof p->normal) != 0)
+        continue;
+      assert_int_equal(cl.billboards[i].face_count, p->face_count);
+      seen++;
+    }
+  assert_true(seen > 0);
+  bbc_cloud_free(&cl);
   double eps_free = a.epsilon_abs;
   bbc_planeset_free(&a);
 

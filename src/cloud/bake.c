@@ -303,9 +303,11 @@ static void bake_faces(const bbc__bake_inputs *in, const bake_job *job, bbc_clou
   const bbc_billboard *b = &cb->rect;
   double lo[3], hi[3];
   int points = m->kind == BBC_MESH_POINTS;
-  cb->face_count = points
-                       ? slab_points(m, in->set, p, job->owner, eps, prm->pure, faces, lo, hi)
-                       : slab_faces(m, in->set, p, job->owner, eps, prm->pure, mask, faces, lo, hi);
+  /* A leftovers' plane: its own faces only (its slab crosses the crown
+   * where other planes' billboards show the faces already). */
+  bbc_pure pure = p->leftover && !mask ? BBC_PURE_OWN : prm->pure;
+  cb->face_count = points ? slab_points(m, in->set, p, job->owner, eps, pure, faces, lo, hi)
+                          : slab_faces(m, in->set, p, job->owner, eps, pure, mask, faces, lo, hi);
   if (cb->face_count) {
     /* Never beyond the model's own bounds (+- epsilon; a stem billboard,
      * whose slab may be thicker, within its faces' bounds). */

@@ -88,6 +88,7 @@ static bbc_result cover_leftovers(bbc_planeset *set, const grid_part *gp, size_t
   size_t base = set->plane_count;
   for (size_t k = 0; k < sr.plane_count; k++) {
     planes[base + k] = bbc__plane_to_model(&sr.planes[k], gp, pi, base);
+    planes[base + k].leftover = 1;
     if (planes[base + k].kind == BBC_PLANE_CARDBOARD) continue;
     planes[base + k].face_count = 0;
     if (!left[0].point) planes[base + k].area = 0; /* projected below; a point's: the select's */

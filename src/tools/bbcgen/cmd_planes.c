@@ -38,6 +38,7 @@ static cJSON *planes_json(const bbc_planeset *s) {
     cJSON_AddNumberToObject(o, "faces", (double)p->face_count);
     cJSON_AddNumberToObject(o, "area", p->area);
     cJSON_AddStringToObject(o, "part", s->parts[p->part].name);
+    if (p->leftover) cJSON_AddBoolToObject(o, "leftover", 1);
     if (p->kind == BBC_PLANE_CARDBOARD) {
       cJSON_AddNumberToObject(o, "mother", p->mother);
       cJSON_AddNumberToObject(o, "coverage_pct", p->coverage_pct);

@@ -225,6 +225,7 @@ static void test_face_sample(void **state) {
   bbc_error err;
   if (bbc_cloud_build(&m, &a, &cp, NULL, &cl, &err) != BBC_OK) fail_msg("%s", err.message);
   size_t seen = 0;
+  uint8_t *is_left = calloc(cl.billboard_count, 1);
   for (size_t i = 0; i < cl.billboard_count; i++)
     for (size_t k = 0; k < a.plane_count; k++) {
       const bbc_plane *p = &a.planes[k];
@@ -232,9 +233,24 @@ static void test_face_sample(void **state) {
           memcmp(p->normal, cl.billboards[i].normal, sizeof p->normal) != 0)
         continue;
       assert_int_equal(cl.billboards[i].face_count, p->face_count);
+      is_left[i] = 1;
       seen++;
     }
   assert_true(seen > 0);
+  /* and has half the texels a model unit of the others, whose longest
+   * side alone sets texres */
+  double longest = 0;
+  for (size_t i = 0; i < cl.billboard_count; i++)
+    if (!is_left[i])
+      longest = fmax(longest, fmax(cl.billboards[i].rect.width, cl.billboards[i].rect.height));
+  double texel = longest / cl.texres;
+  for (size_t i = 0; i < cl.billboard_count; i++) {
+    double x = cl.billboards[i].rect.width / (is_left[i] ? 2 * texel : texel);
+    int w = 1;
+    while (2 * w <= x) w *= 2;
+    assert_int_equal(cl.billboards[i].tex_width, w < 4 ? 4 : w);
+  }
+  free(is_left);
   bbc_cloud_free(&cl);
   double eps_free = a.epsilon_abs;
   bbc_planeset_free(&a);

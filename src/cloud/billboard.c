@@ -122,7 +122,7 @@ size_t bbc__billboards_keep(const bbc_mesh *m, const bbc_planeset *set, const bb
   for (size_t i = 0; i < set->plane_count; i++)
     if (bbc__plane_kept(m, set, i, prm)) {
       order[nk++] = i;
-      lg = fmax(lg, fmax(bb[i].width, bb[i].height));
+      if (bbc__rect_density(set, &bb[i]) == 1.0) lg = fmax(lg, fmax(bb[i].width, bb[i].height));
     }
   *np_kept = nk;
   for (size_t i = 0; i < stem->count; i++) {

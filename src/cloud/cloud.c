@@ -112,7 +112,7 @@ static bbc_result cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
   for (size_t i = 0; r == BBC_OK && i < stem.count; i++) kept[nk++] = stem.rects[i];
   int texres = 4, sides = prm->back_images ? 2 : 1,
       scale = prm->quality == BBC_QUALITY_SUPERSAMPLED ? 4 : 1;
-  if (r == BBC_OK) texres = bbc__texres_fitting(kept, nk, sides, scale, limit);
+  if (r == BBC_OK) texres = bbc__texres_fitting(set, kept, nk, sides, scale, limit);
   bbc_params p2 = *prm;
   while (r == BBC_OK) {
     p2.texres = texres;

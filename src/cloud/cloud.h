@@ -15,8 +15,14 @@
 bbc_result bbc__cloud_build_rects(const bbc_mesh *mesh, const bbc_planeset *set,
                                   const bbc_billboard *rects, const bbc_params *params,
                                   const bbc_callbacks *callbacks, bbc_cloud *cloud, bbc_error *err);
-/* Texels of all images for rectangles rects[n] at resolution texres. */
-size_t bbc__cloud_texels(const bbc_billboard *rects, size_t n, int texres, int sides);
+/* Texels of all images for rectangles rects[n] of set's planes (NULL: none
+ * is a leftovers') at resolution texres. */
+size_t bbc__cloud_texels(const bbc_planeset *set, const bbc_billboard *rects, size_t n, int texres,
+                         int sides);
+/* A billboard's texels a model unit against the others': 1/2 for a plane of
+ * a sampled part's leftovers (few faces scattered over a large rectangle),
+ * which the longest side that sets `texres` leaves out; else 1. */
+double bbc__rect_density(const bbc_planeset *set, const bbc_billboard *rect);
 
 /* ---- the trunk part as a mesh (src/cloud/limbs.c) ----------------------------- */
 /* The faces no plane simplifies (set->face_plane BBC_NO_PLANE: the trunk
@@ -72,7 +78,8 @@ int bbc__floor_pow2(double x);
 /* atlasmax: the largest texres (8192 down to 8, else 4) whose images of
  * rectangles rects[n] (`sides` each, `scale` times the texels a side) the
  * packer fits in one limit x limit atlas. */
-int bbc__texres_fitting(const bbc_billboard *rects, size_t n, int sides, int scale, int limit);
+int bbc__texres_fitting(const bbc_planeset *set, const bbc_billboard *rects, size_t n, int sides,
+                        int scale, int limit);
 /* The cloud's billboards 0..kept_planes-1 from the kept planes (order[]),
  * then the stem's (count billboards in all, allocated): plane, rectangle
  * and texture size at `texres` for the longest side `longest`. */

@@ -1,6 +1,8 @@
 /* texsize.c — step 3, the billboards' texture sizes (thesis 2.1.9): the
  * longest side of all gets `texres` texels and every side the same texels
- * a model unit, rounded down to a power of two (at least 4); with
+ * a model unit (a sampled part's leftovers' billboards left out of the
+ * longest and given half as many), rounded down to a power of two (at
+ * least 4); with
  * `atlasmax`, the largest texres whose images fit one atlas of that size. */
 #include "cloud.h"
 
@@ -17,6 +19,10 @@ int bbc__floor_pow2(double x) {
 /* A billboard's texture at `texel` model units a texel: powers of two, at
  * least 4 (the sizes bbc__cloud_billboards_init gives, which the atlas
  * budget predicts). */
+double bbc__rect_density(const bbc_planeset *set, const bbc_billboard *r) {
+  return set && r->plane < set->plane_count && set->planes[r->plane].leftover ? 0.5 : 1.0;
+}
+
 static void tex_size(const bbc_billboard *r, double texel, int *w, int *h) {
   *w = bbc__floor_pow2(texel > 0 ? r->width / texel : 1);
   *h = bbc__floor_pow2(texel > 0 ? r->height / texel : 1);
@@ -26,18 +32,23 @@ static void tex_size(const bbc_billboard *r, double texel, int *w, int *h) {
 
 /* Model units a texel at `texres` for billboards `rects`: the longest side
  * gets texres texels. */
-static double texel_of(const bbc_billboard *rects, size_t n, int texres) {
+static double texel_of(const bbc_planeset *set, const bbc_billboard *rects, size_t n, int texres) {
   double longest = 0;
-  for (size_t i = 0; i < n; i++) longest = fmax(longest, fmax(rects[i].width, rects[i].height));
+  for (size_t i = 0; i < n; i++)
+    if (bbc__rect_density(set, &rects[i]) == 1.0)
+      longest = fmax(longest, fmax(rects[i].width, rects[i].height));
+  for (size_t i = 0; longest == 0 && i < n; i++) /* leftovers' alone */
+    longest = fmax(longest, fmax(rects[i].width, rects[i].height));
   return longest / texres;
 }
 
-size_t bbc__cloud_texels(const bbc_billboard *rects, size_t n, int texres, int sides) {
-  double texel = texel_of(rects, n, texres);
+size_t bbc__cloud_texels(const bbc_planeset *set, const bbc_billboard *rects, size_t n, int texres,
+                         int sides) {
+  double texel = texel_of(set, rects, n, texres);
   size_t total = 0;
   for (size_t i = 0; i < n; i++) {
     int w, h;
-    tex_size(&rects[i], texel, &w, &h);
+    tex_size(&rects[i], texel / bbc__rect_density(set, &rects[i]), &w, &h);
     total += (size_t)w * (size_t)h;
   }
   return total * (size_t)sides;
@@ -47,16 +58,16 @@ size_t bbc__cloud_texels(const bbc_billboard *rects, size_t n, int texres, int s
  * bbc__cloud_billboards_init sizes them: quality 3 keeps its samples,
  * `scale` 4) pack into one limit x limit atlas; blank images stand in for
  * them. */
-static int atlas_fits(const bbc_billboard *rects, size_t n, int texres, int sides, int scale,
-                      int limit) {
-  double texel = texel_of(rects, n, texres);
+static int atlas_fits(const bbc_planeset *set, const bbc_billboard *rects, size_t n, int texres,
+                      int sides, int scale, int limit) {
+  double texel = texel_of(set, rects, n, texres);
   size_t count = (size_t)sides * n, biggest = 0;
   bbc_image *imgs = calloc(count ? count : 1, sizeof *imgs);
   bbc_atlas_rect *where = calloc(count ? count : 1, sizeof *where);
   int ok = imgs && where;
   for (size_t i = 0; ok && i < n; i++) {
     int w, h;
-    tex_size(&rects[i], texel, &w, &h);
+    tex_size(&rects[i], texel / bbc__rect_density(set, &rects[i]), &w, &h);
     w *= scale;
     h *= scale;
     for (int s = 0; s < sides; s++) {
@@ -78,12 +89,13 @@ static int atlas_fits(const bbc_billboard *rects, size_t n, int texres, int side
   return ok;
 }
 
-int bbc__texres_fitting(const bbc_billboard *rects, size_t n, int sides, int scale, int limit) {
+int bbc__texres_fitting(const bbc_planeset *set, const bbc_billboard *rects, size_t n, int sides,
+                        int scale, int limit) {
   int texres = 4;
   size_t per = (size_t)sides * (size_t)(scale * scale);
   for (int t = 8192; n && t > 4; t /= 2)
-    if ((double)bbc__cloud_texels(rects, n, t, 1) * (double)per <= (double)limit * limit &&
-        atlas_fits(rects, n, t, sides, scale, limit)) {
+    if ((double)bbc__cloud_texels(set, rects, n, t, 1) * (double)per <= (double)limit * limit &&
+        atlas_fits(set, rects, n, t, sides, scale, limit)) {
       texres = t;
       break;
     }
@@ -105,6 +117,6 @@ void bbc__cloud_billboards_init(bbc_cloud *cl, const bbc_planeset *set, const bb
     cb->part = p->part;
     memcpy(cb->normal, p->normal, sizeof cb->normal);
     cb->d = p->d;
-    tex_size(&cb->rect, texel, &cb->tex_width, &cb->tex_height);
+    tex_size(&cb->rect, texel / bbc__rect_density(set, &cb->rect), &cb->tex_width, &cb->tex_height);
   }
 }

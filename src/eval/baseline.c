@@ -82,7 +82,7 @@ static int crossed_texres(const bbc_billboard *rects, size_t n, int sides, size_
   int best = 4;
   double best_d = INFINITY;
   for (int t = 4; t <= 8192; t *= 2) {
-    size_t tx = bbc__cloud_texels(rects, n, t, sides);
+    size_t tx = bbc__cloud_texels(NULL, rects, n, t, sides);
     double d = fabs(log((double)tx / (double)(texel_budget ? texel_budget : 1)));
     if (d < best_d - 1e-12) {
       best_d = d;

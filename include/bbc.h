@@ -493,6 +493,13 @@ typedef struct bbc_params {
   int samples;           /* samples: quality 2: samples per texel side, 1-4 (0: 2
                           * from texres 128 up, each colour the mean of 4 texture
                           * points; else 4) */
+  int outline;           /* outline: 3-10: each billboard's outline the convex hull of
+                          * its opaque texels grown by a texel, at most this many
+                          * corners; 0: the rectangle clipped to its faces' bounds;
+                          * -1 (auto): 8 for a chain's level made for 384 pixels or
+                          * more (bbc_session_run_chain), else 0 */
+  int max_tris;          /* maxtris: > 0: outlines get fewer corners (4 at least) so
+                          * that the cloud's triangles stay within this */
 } bbc_params;
 
 /* One row of the parameter table. */

@@ -884,14 +884,20 @@ static int rects_overlap(const bbc_atlas_rect *a, const bbc_atlas_rect *b) {
          b->y < a->y + a->height;
 }
 
-static void test_cloud_of_a_tree(void **state) {
-  (void)state;
+/* The data tree the cloud tests build on (skips when absent). */
+static void load_aspen(bbc_mesh *m) {
   char path[1024];
   tu_data_path(path, sizeof path, "trees/eztree/aspen_small.obj");
   if (!tu_have_file(path)) skip();
-  bbc_mesh m;
   bbc_error err;
-  if (bbc_mesh_load(path, NULL, &m, &err) != BBC_OK) fail_msg("%s", err.message);
+  if (bbc_mesh_load(path, NULL, m, &err) != BBC_OK) fail_msg("%s", err.message);
+}
+
+static void test_cloud_of_a_tree(void **state) {
+  (void)state;
+  bbc_mesh m;
+  load_aspen(&m);
+  bbc_error err;
   for (int quality = 0; quality <= 2; quality += 2) {
     bbc_planeset s;
     bbc_cloud cl;
@@ -1003,6 +1009,86 @@ static void render_views(const bbc_mesh *cm, const bbc_mesh *frame, bbc_image ou
 /* Levels of detail in one atlas: every level looks exactly as it did with
  * its own atlas; the shared atlas holds every level's images; a budget too
  * small changes nothing. */
+/* The outline's inside test at (s, t): the polygon is convex and
+ * counter-clockwise, so inside means left of (or on) every edge. */
+static int inside_outline(const bbc_cloud_billboard *b, double s, double t) {
+  for (int c = 0; c < b->corner_count; c++) {
+    const double *P = b->corners[c], *Q = b->corners[(c + 1) % b->corner_count];
+    if ((Q[0] - P[0]) * (t - P[1]) - (Q[1] - P[1]) * (s - P[0]) < -1e-12) return 0;
+  }
+  return 1;
+}
+
+static double outline_area(const bbc_cloud_billboard *b) {
+  double a = 0;
+  for (int c = 0; c < b->corner_count; c++) {
+    const double *P = b->corners[c], *Q = b->corners[(c + 1) % b->corner_count];
+    a += P[0] * Q[1] - Q[0] * P[1];
+  }
+  return 0.5 * a;
+}
+
+/* outline: each billboard's outline a convex polygon of at most `outline`
+ * corners inside its rectangle that holds every opaque texel of its images
+ * (so nothing drawn is lost), smaller in all than the clipped rectangles
+ * of outline 0; maxtris cuts the corners to fit. */
+static void test_tight_outlines(void **state) {
+  (void)state;
+  bbc_mesh m;
+  load_aspen(&m);
+  bbc_error err;
+  bbc_planes_options o;
+  bbc_planes_options_default(&o);
+  o.params.texres = 64;
+  o.params.atlas_max = 0;
+  bbc_planeset s;
+  if (bbc_planes_find(&m, &o, &s, &err) != BBC_OK) fail_msg("%s", err.message);
+  double area[2] = {0, 0};
+  size_t tris[3];
+  for (int run = 0; run < 3; run++) {
+    bbc_params p = o.params;
+    p.outline = run == 1 ? 0 : 6;
+    if (run == 2) p.max_tris = 1; /* quads at least */
+    bbc_cloud cl;
+    if (bbc_cloud_build(&m, &s, &p, NULL, &cl, &err) != BBC_OK) fail_msg("%s", err.message);
+    tris[run] = cl.mesh.triangle_count - cl.limb_triangles;
+    const bbc_image *a = &cl.mesh.textures[0].image;
+    for (size_t k = 0; k < cl.billboard_count; k++) {
+      const bbc_cloud_billboard *b = &cl.billboards[k];
+      if (run == 0) assert_true(b->corner_count >= 3 && b->corner_count <= 6);
+      if (run == 2) assert_true(b->corner_count <= 4);
+      for (int c = 0; c < b->corner_count; c++) {
+        assert_true(b->corners[c][0] >= 0 && b->corners[c][0] <= 1);
+        assert_true(b->corners[c][1] >= 0 && b->corners[c][1] <= 1);
+        const double *P = b->corners[c], *Q = b->corners[(c + 1) % b->corner_count];
+        const double *R = b->corners[(c + 2) % b->corner_count];
+        assert_true((Q[0] - P[0]) * (R[1] - Q[1]) - (Q[1] - P[1]) * (R[0] - Q[0]) > 0);
+      }
+      if (run < 2) area[run] += outline_area(b) * b->rect.width * b->rect.height;
+      /* every opaque texel's centre inside, front and back */
+      const bbc_atlas_rect *r[2] = {&b->front, &b->back};
+      for (int i = 0; i < 2; i++)
+        for (int y = 0; y < r[i]->height; y++)
+          for (int x = 0; x < r[i]->width; x++) {
+            size_t at = (size_t)(r[i]->y + y) * a->width + (size_t)(r[i]->x + x);
+            if (!a->rgba[4 * at + 3]) continue;
+            double ts = (x + 0.5) / r[i]->width, tt = 1 - (y + 0.5) / r[i]->height;
+            if (!inside_outline(b, ts, tt))
+              fail_msg("run %d billboard %zu: opaque texel (%d, %d) outside", run, k, x, y);
+          }
+    }
+    bbc_cloud_free(&cl);
+  }
+  print_message("outline 6: %.4g model units^2 of billboards, %zu triangles; outline 0: %.4g, "
+                "%zu; maxtris: %zu\n",
+                area[0], tris[0], area[1], tris[1], tris[2]);
+  assert_true(area[0] < 0.97 * area[1]); /* the empty corners gone */
+  assert_true(tris[0] > tris[1]);        /* for a few more corners */
+  assert_true(tris[2] <= tris[1]);
+  bbc_planeset_free(&s);
+  bbc_mesh_free(&m);
+}
+
 static void test_shared_atlas(void **state) {
   (void)state;
   bbc_tree_options to;
@@ -1188,6 +1274,7 @@ int main(void) {
       cmocka_unit_test(test_material_maps),
       cmocka_unit_test(test_voxel_shading),
       cmocka_unit_test(test_cloud_of_a_tree),
+      cmocka_unit_test(test_tight_outlines),
       cmocka_unit_test(test_shared_atlas),
       cmocka_unit_test(test_prelight_for_a_lit_viewer),
   };

@@ -59,7 +59,8 @@ static double num(const cJSON *o, const char *key) {
 }
 
 /* --lod-pixels: screen sizes where the levels start; texels and triangles
- * fall; the sizes in the report, the nodes' extras and MSFT_screencoverage;
+ * fall, within a level's budget; the sizes in the report, the nodes' extras and
+ * MSFT_screencoverage;
  * --lod-files: a file a level, one node each, valid; eval: a level each at
  * its own size, keeping the original's density there. */
 static void test_chain_by_pixels(void **state) {
@@ -78,6 +79,10 @@ static void test_chain_by_pixels(void **state) {
     const cJSON *l = cJSON_GetArrayItem(levels, k);
     assert_true(num(l, "screen_px") == want_px[k]);
     assert_true(num(l, "texres_used") <= want_px[k]); /* at most a texel a pixel */
+    /* at most max(32, P^2 / 64) triangles (without the rule: 562, 530, 350) */
+    double budget = fmax(32, want_px[k] * want_px[k] / 64);
+    if (num(l, "triangles") > budget)
+      fail_msg("level %d: %g triangles, budget %g", k, num(l, "triangles"), budget);
     if (k) {
       const cJSON *p = cJSON_GetArrayItem(levels, k - 1);
       assert_true(num(l, "texels") < num(p, "texels"));

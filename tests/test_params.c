@@ -71,6 +71,7 @@ static void test_defaults_match_appendix_a(void **state) {
   d.quality = 0;
   d.max_planes = 0;
   d.atlas_max = 0;
+  d.outline = 0;
   assert_memory_equal(&d, &p, sizeof p);
   p = d;
   bbc_params_default(&p);

@@ -82,6 +82,13 @@ char *bbc__strdup(const char *s);
 /* Seconds from a monotonic clock (stage timings). */
 double bbc__now_s(void);
 
+/* A point in a plane. */
+typedef struct bbc__pt2 {
+  double x, y;
+} bbc__pt2;
+/* The convex hull of p[0..n) (reordered here) into h (room for n + 1),
+ * counter-clockwise, collinear points left out; its corner count. */
+size_t bbc__convex_hull_2d(bbc__pt2 *p, size_t n, bbc__pt2 *h);
 /* The eigenvector of the smallest eigenvalue of a symmetric 3 x 3 matrix
  * (cyclic Jacobi; `a` is overwritten): the normal of least spread. */
 void bbc__smallest_eigenvector(double a[3][3], double out[3]);

@@ -226,6 +226,16 @@ static const param_row k_rows[] = {
       "VRML output: the atlas also as DDS with binary-alpha mip levels that keep its coverage, "
       "named first in each url (readers without DDS take the PNG)"},
      INT_FIELD(dds)},
+    {{"outline", BBC_PARAM_INT, -1, 10, -1, F3, "extension", "corners",
+      "each billboard's outline: the convex hull of its opaque texels (grown by a texel), cut "
+      "to at most n corners (3-10), so that a GPU shades fewer empty fragments; 0 = the "
+      "rectangle clipped to its faces' bounds (the thesis); -1 = 8 for a --lod-pixels level "
+      "of 384 px or more, else 0 (smaller trees shade more fragments with the extra corners)"},
+     INT_FIELD(outline)},
+    {{"maxtris", BBC_PARAM_INT, 0, 10000000, 0, F3, "extension", "triangles",
+      "the outlines get fewer corners so that the cloud's triangles stay within n, quads at "
+      "least (0 = off; a --lod-pixels level of P pixels: max(32, P^2/64))"},
+     INT_FIELD(max_tris)},
 };
 
 #define ROW_COUNT (sizeof k_rows / sizeof k_rows[0])
@@ -249,6 +259,7 @@ void bbc_params_thesis(bbc_params *p) {
   p->prelight = 1;     /* the thesis bakes its light (2.1.9) */
   p->normal_maps = 0;
   p->occlusion = 0;
+  p->outline = 0; /* the thesis's rectangles */
 }
 
 int bbc_params_stale_step(const bbc_params *a, const bbc_params *b, const char **which) {

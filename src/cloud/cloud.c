@@ -186,6 +186,10 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
    * colour of texels left transparent cleared. */
   if (r == BBC_OK && prm->quality == BBC_QUALITY_SQUASHED)
     r = bbc__refine_baked(m, prm, cl, bk, &limbs, cbk, err);
+  if (r == BBC_OK && (prm->outline >= 3 || prm->max_tris > 0) &&
+      bbc__tight_outlines(cl, bk, prm->outline, prm->max_tris, limbs.triangle_count,
+                          prm->back_images ? 2 : 1) != BBC_OK)
+    r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
   double t1 = bbc__now_s();
   cl->bake_s = t1 - t0;
   for (size_t k = 0; r == BBC_OK && k < nk; k++) bbc__baked_fill_transparent(&bk[k]);

@@ -150,6 +150,13 @@ bbc_result bbc__limbs_stage(const bbc__bake_inputs *in, const bbc_cloud *cloud, 
 /* -- refinement (src/cloud/refine.c) -- */
 /* quality 2: the baked masks refined against renders of the original (the
  * limbs drawn with the cloud), then the transparent texels cleared. */
+/* Each billboard's outline tightened around its images' opaque texels (at
+ * most `most` corners, most >= 3), fewer where max_tris > 0 asks (the
+ * cloud's other triangles other_tris, `sides` fans a billboard; without
+ * `most` the outlines as they are, cut to what the budget leaves);
+ * src/cloud/outline.c. */
+bbc_result bbc__tight_outlines(bbc_cloud *cloud, const bbc__baked *bk, int most, int max_tris,
+                               size_t other_tris, int sides);
 bbc_result bbc__refine_baked(const bbc_mesh *mesh, const bbc_params *params, bbc_cloud *cloud,
                              bbc__baked *bk, const bbc_mesh *limbs, const bbc_callbacks *callbacks,
                              bbc_error *err);

@@ -125,6 +125,7 @@ bbc_result bbc_baseline_crossed(const bbc_mesh *m, int planes, int horizontal,
     prm.poly_skip_pct = 0;
     prm.texres = crossed_texres(rects, n, prm.back_images ? 2 : 1, texel_budget);
     prm.atlas_max = 0; /* the texel budget decides */
+    prm.outline = 0;   /* whole quads, as engines make crossed billboards */
     r = bbc__cloud_build_rects(m, &set, rects, &prm, callbacks, cloud, err);
   }
   free(rects);

@@ -58,7 +58,8 @@ int scene_is_model_file(const char *name) {
 }
 
 /* Distinct planes of a mesh's triangles when it looks like a Billboard
- * Cloud (few triangles per plane), else 0. */
+ * Cloud (few triangles per plane: a fan of at most 10 corners a side,
+ * bbc_cloud_billboard), else 0. */
 static size_t count_billboards(const bbc_mesh *m) {
   enum { MAX = 1024 };
   double pl[MAX][4];
@@ -91,7 +92,7 @@ static size_t count_billboards(const bbc_mesh *m) {
     memcpy(pl[n], c, sizeof c);
     pl[n++][3] = d;
   }
-  return m->triangle_count - limbs <= 8 * n ? n : 0;
+  return m->triangle_count - limbs <= 16 * n ? n : 0;
 }
 
 static long find_mesh(scene *s, const char *path, int lod_node, FILE *log, int progress,

@@ -256,6 +256,13 @@ typedef struct bbc_forest_cull {
    * by tree, trees whose first component is in a range or a record (cells in
    * view: some may be just outside the frustum) */
   size_t cells_visible, cells_tested_per_tree, trees_visible;
+  /* Occlusion (set by the caller before a frame; NULL: none): cells (and
+   * blocks of them) that `occluder` finds hidden behind the terrain as
+   * `occluder_terrain` draws it this frame are not drawn; cells_occluded:
+   * the last frame's cells in the frustum left out so (not in cells_visible) */
+  struct bbc_forest_occluder *occluder;
+  const struct bbc_forest_terrain *occluder_terrain;
+  size_t cells_occluded;
 } bbc_forest_cull;
 
 /* Prepares the culling of `world`'s trees: models[model_count] are the
@@ -344,6 +351,40 @@ void bbc_forest_terrain_select(bbc_forest_terrain *t, const bbc_forest_world *wo
                                const float viewproj[16], const double eye[3], double detail);
 /* Releases what the terrain owns and zeroes it (NULL: nothing). */
 void bbc_forest_terrain_free(bbc_forest_terrain *t);
+
+/* Occlusion by the terrain (src/forest/occlude.c): the minima of the
+ * heightmap's aligned blocks of 2^k squares, below the terrain as drawn. */
+#define BBC_FOREST_OCCLUDER_BINS 1024 /* azimuths around the eye */
+typedef struct bbc_forest_occluder {
+  int squares, levels; /* squares along the map; min[k]: (squares >> k)^2 minima */
+  float **min;
+  const float *height;    /* the world's heights (not owned) */
+  double spacing;         /* world units a square */
+  double lowest, highest; /* the map's */
+  /* per frame: distance steps, and per azimuth bin and step the steepest
+   * rise from the eye the terrain blocks so far (bin-major; a bin's column
+   * made when first asked, bin_done) */
+  int steps;
+  double *step, *bin_dir;
+  uint8_t *bin_done;
+  int *step_lod; /* per step: the terrain's coarsest grid level there */
+  float *horizon;
+  double eye[3];
+  int ready; /* this frame's table holds (0: the eye is not above the terrain) */
+} bbc_forest_occluder;
+
+bbc_result bbc_forest_occluder_init(bbc_forest_occluder *occluder, const bbc_forest_world *world,
+                                    bbc_error *err);
+/* This frame's table for `eye`, the terrain drawn as `terrain` says (its
+ * ranges, chosen for this eye by bbc_forest_terrain_select). */
+void bbc_forest_occluder_begin(bbc_forest_occluder *occluder, const bbc_forest_terrain *terrain,
+                               const double eye[3]);
+/* 1 when the terrain as drawn this frame hides every point of `box` (min
+ * xyz, max xyz, grown here by a tenth of its height for the wind) from the
+ * frame's eye; 0 when it may not (conservative). */
+int bbc_forest_occluder_hides(bbc_forest_occluder *occluder, const float box[6]);
+/* Releases the minima and zeroes it (NULL: nothing). */
+void bbc_forest_occluder_free(bbc_forest_occluder *occluder);
 
 /* The terrain's colour texture with the `light` direction's lighting baked
  * in (thesis 3.2.1; NULL: none, for a renderer that lights it per pixel as

@@ -618,7 +618,10 @@ static void test_bench_line(void **state) {
   (void)state;
   if (!have_gl) skip();
   char *out;
-  int rc = sh(&out, "'%s/forest' '%s/hills.txt' --size 96x64 --frames 4 --bench --log '%s/log.txt'",
+  /* --reference: no occlusion, so the cells' trees hold every one the flat way draws */
+  int rc = sh(&out,
+              "'%s/forest' '%s/hills.txt' --size 96x64 --frames 4 --bench --reference --log "
+              "'%s/log.txt'",
               BBC_BIN_DIR, dir, dir);
   if (rc) fail_msg("%s", out);
   bench_line b = parse_bench(out);
@@ -669,8 +672,17 @@ static void test_bench_line(void **state) {
   if (!(n.calls >= n.billboards && n.calls > 10 * b.calls))
     fail_msg("naive calls %zu billboards %zu, instanced calls %zu", n.calls, n.billboards, b.calls);
   free(out);
+  /* the default (occlusion by the terrain): no more trees than --reference */
+  rc = sh(&out, "'%s/forest' '%s/hills.txt' --size 96x64 --frames 4 --bench --log '%s/log.txt'",
+          BBC_BIN_DIR, dir, dir);
+  if (rc) fail_msg("%s", out);
+  bench_line o = parse_bench(out);
+  fprintf(stderr, "trees drawn: %zu, %zu without occlusion\n", o.trees, b.trees);
+  assert_true(o.trees > 0 && o.trees <= b.trees);
+  free(out);
   /* --gpu-cull: the compute shader picks the same trees and levels, and the
-   * picture is the same, pixel for pixel */
+   * picture is the same, pixel for pixel (as the CPU's cells draw it, with
+   * occlusion by the terrain) */
   rc = sh(&out,
           "'%s/forest' '%s/hills.txt' --size 96x64 --frames 4 --bench --gpu-cull --log "
           "'%s/log.txt' --screenshot '%s/gpu.png' && '%s/forest' '%s/hills.txt' --size 96x64 "

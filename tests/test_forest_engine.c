@@ -387,6 +387,96 @@ static void test_terrain_select(void **state) {
   bbc_forest_world_free(&w);
 }
 
+/* Whether the ray from e to p goes below the terrain (bilinear over the
+ * heightmap: the finest the terrain is drawn) anywhere short of p. */
+static int ray_blocked(const bbc_forest_world *w, const double e[3], const double p[3]) {
+  double dx = p[0] - e[0], dz = p[2] - e[2], len = sqrt(dx * dx + dz * dz);
+  int n = (int)(len / (0.25 * w->spacing)) + 2;
+  for (int i = 1; i < n; i++) {
+    double t = (double)i / n;
+    if (bbc_forest_world_get_height(w, e[0] + t * dx, e[2] + t * dz) > e[1] + t * (p[1] - e[1]))
+      return 1;
+  }
+  return 0;
+}
+
+/* Occlusion by the terrain: a box behind a ridge is hidden, one above it
+ * or beside it is not; and on hills, every box found hidden has every ray
+ * to it (a grid of its points) going below the terrain somewhere, while
+ * many are found hidden. */
+static void test_terrain_occlusion(void **state) {
+  (void)state;
+  bbc_forest_world w;
+  make_world(&w, 256, 4, 0); /* flat, 1024 units */
+  /* a ridge 40 high across x = 400..460 (the test steps 12 % of the
+   * distance: a thinner occluder may be missed, never one wrongly found) */
+  for (int z = 0; z <= 256; z++)
+    for (int x = 100; x <= 115; x++) w.height[(size_t)z * 257 + x] = 40;
+  bbc_forest_terrain t;
+  bbc_forest_occluder o;
+  bbc_error err;
+  assert_int_equal(bbc_forest_terrain_init(&t, &w, &err), BBC_OK);
+  assert_int_equal(bbc_forest_occluder_init(&o, &w, &err), BBC_OK);
+  bbc_forest_camera cam;
+  float vp[16];
+  look(&cam, 200, 10, 512, 90, 0);
+  bbc_forest_camera_get_viewproj(&cam, 1.5, 1, 3000, vp);
+  bbc_forest_terrain_select(&t, &w, vp, cam.pos, 10);
+  bbc_forest_occluder_begin(&o, &t, cam.pos);
+  const float behind[6] = {600, 0, 500, 620, 15, 520}, tall[6] = {600, 0, 500, 620, 200, 520};
+  const float before[6] = {300, 0, 500, 320, 15, 520}, aside[6] = {100, 0, 500, 120, 15, 520};
+  assert_true(bbc_forest_occluder_hides(&o, behind));
+  assert_false(bbc_forest_occluder_hides(&o, tall));   /* rises above the ridge */
+  assert_false(bbc_forest_occluder_hides(&o, before)); /* in front of it */
+  assert_false(bbc_forest_occluder_hides(&o, aside));  /* behind the eye, nothing between */
+  /* the eye below the ground: nothing is hidden */
+  double under[3] = {200, -5, 512};
+  bbc_forest_occluder_begin(&o, &t, under);
+  assert_false(bbc_forest_occluder_hides(&o, behind));
+  bbc_forest_occluder_free(&o);
+  bbc_forest_terrain_free(&t);
+  bbc_forest_world_free(&w);
+  /* hills: conservative, and not empty */
+  make_world(&w, 256, 4, 1);
+  assert_int_equal(bbc_forest_terrain_init(&t, &w, &err), BBC_OK);
+  assert_int_equal(bbc_forest_occluder_init(&o, &w, &err), BBC_OK);
+  size_t tried = 0, hidden = 0;
+  uint32_t rs = 11;
+  for (int view = 0; view < 6; view++) {
+    double ex = 100 + 150 * view, ez = 900 - 130 * view;
+    look(&cam, ex, bbc_forest_world_get_height(&w, ex, ez) + 3 + 4 * view, ez, 40 + 50 * view, -5);
+    bbc_forest_camera_get_viewproj(&cam, 1.5, 1, 3000, vp);
+    bbc_forest_terrain_select(&t, &w, vp, cam.pos, 6 + 2 * view);
+    bbc_forest_occluder_begin(&o, &t, cam.pos);
+    for (int b = 0; b < 400; b++) {
+      rs = rs * 1664525u + 1013904223u;
+      double x = (rs >> 8) / (double)(1u << 24) * 1000 + 12;
+      rs = rs * 1664525u + 1013904223u;
+      double z = (rs >> 8) / (double)(1u << 24) * 1000 + 12;
+      double g = bbc_forest_world_get_height(&w, x, z);
+      float box[6] = {(float)(x - 10), (float)g,        (float)(z - 10),
+                      (float)(x + 10), (float)(g + 12), (float)(z + 10)};
+      tried++;
+      if (!bbc_forest_occluder_hides(&o, box)) continue;
+      hidden++;
+      for (int i = 0; i <= 4; i++)
+        for (int j = 0; j <= 4; j++)
+          for (int k = 0; k <= 2; k++) {
+            double p[3] = {box[0] + (box[3] - box[0]) * i / 4, box[1] + (box[4] - box[1]) * k / 2,
+                           box[2] + (box[5] - box[2]) * j / 4};
+            if (!ray_blocked(&w, cam.pos, p))
+              fail_msg("view %d: box at %.1f, %.1f found hidden, its point %.1f %.1f %.1f seen",
+                       view, x, z, p[0], p[1], p[2]);
+          }
+    }
+  }
+  print_message("terrain occlusion on hills: %zu of %zu boxes hidden\n", hidden, tried);
+  assert_true(hidden * 10 > tried);
+  bbc_forest_occluder_free(&o);
+  bbc_forest_terrain_free(&t);
+  bbc_forest_world_free(&w);
+}
+
 static void test_terrain_colour(void **state) {
   (void)state;
   bbc_forest_world w;
@@ -684,17 +774,12 @@ static void test_bmp_rle(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_frustum),
-      cmocka_unit_test(test_lod_weights),
-      cmocka_unit_test(test_cull),
-      cmocka_unit_test(test_cull_matches_flat),
-      cmocka_unit_test(test_terrain_select),
-      cmocka_unit_test(test_terrain_colour),
-      cmocka_unit_test(test_mipmaps),
-      cmocka_unit_test(test_positions),
-      cmocka_unit_test(test_demo_terrain),
-      cmocka_unit_test(test_bmp_rle),
-      cmocka_unit_test(test_sun),
+      cmocka_unit_test(test_frustum),        cmocka_unit_test(test_lod_weights),
+      cmocka_unit_test(test_cull),           cmocka_unit_test(test_cull_matches_flat),
+      cmocka_unit_test(test_terrain_select), cmocka_unit_test(test_terrain_occlusion),
+      cmocka_unit_test(test_terrain_colour), cmocka_unit_test(test_mipmaps),
+      cmocka_unit_test(test_positions),      cmocka_unit_test(test_demo_terrain),
+      cmocka_unit_test(test_bmp_rle),        cmocka_unit_test(test_sun),
       cmocka_unit_test(test_wind),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -437,7 +437,7 @@ static void sort_by_bucket(bbc_forest_cull *c, size_t n, size_t nr) {
  * planes; returns the zoom (1 when not positive). */
 static double frame_begin(bbc_forest_cull *c, const float viewproj[16], double zoom,
                           double planes[6][4]) {
-  c->cells_visible = c->cells_tested_per_tree = c->trees_visible = 0;
+  c->cells_visible = c->cells_tested_per_tree = c->trees_visible = c->cells_occluded = 0;
   for (size_t b = 0; b < 2 * c->bucket_count; b++) c->range_last[b] = SIZE_MAX;
   bbc_forest_frustum_from_matrix(viewproj, planes);
   zoom = zoom <= 0 ? 1 : zoom;
@@ -452,17 +452,29 @@ void bbc_forest_cull_run(bbc_forest_cull *c, const float viewproj[16], const dou
   zoom = frame_begin(c, viewproj, zoom, planes);
   memcpy(c->eye, eye, sizeof c->eye);
   size_t n = 0, nr = 0, ncell = c->cell_count, nblock = (size_t)c->blocks_x * c->blocks_z;
+  int occ = c->occluder && c->occluder_terrain;
+  if (occ) bbc_forest_occluder_begin(c->occluder, c->occluder_terrain, eye);
   for (size_t blk = 0; blk < nblock; blk++) {
     const float *bb = c->block_box[blk];
     if (bb[0] > bb[3]) continue;
     unsigned bvis = box_planes(planes, bb, 63);
     if (!bvis) continue;
+    if (occ && bbc_forest_occluder_hides(c->occluder, bb)) {
+      for (size_t cell = blk * 64; cell < blk * 64 + 64; cell++)
+        c->cells_occluded += c->cell_box[cell][0] <= c->cell_box[cell][3] &&
+                             box_planes(planes, c->cell_box[cell], bvis & 63 ? bvis & 63 : 0);
+      continue;
+    }
     for (size_t cell = blk * 64; cell < blk * 64 + 64; cell++) {
       const float *b = c->cell_box[cell];
       if (b[0] > b[3]) continue;
       /* only the planes that cross the block can cross its cells */
       unsigned vis = bvis & 63 ? box_planes(planes, b, bvis & 63) : bvis;
       if (!vis) continue;
+      if (occ && bbc_forest_occluder_hides(c->occluder, b)) {
+        c->cells_occluded++;
+        continue;
+      }
       int crossing = (vis & 63) != 0; /* the frustum's boundary crosses the cell */
       c->cells_visible++;
       /* the nearest and farthest tree origin the cell can hold */

@@ -88,6 +88,9 @@ static void usage(FILE *f) {
           "  --gpu-cull           culling and levels of detail in a compute shader over every\n"
           "                       tree, drawn by indirect draws it fills in (off by default:\n"
           "                       on llvmpipe the CPU's cell culling is faster; docs/forest.md)\n"
+          "  --reference          every tree at its own level, nothing left out but what\n"
+          "                       is outside the view (no occlusion by the terrain): the\n"
+          "                       picture to compare the default's with\n"
           "  --coverage           per frame, print how many pixels the objects cover\n"
           "                       (drawn again white on black: LOD transition checks)\n"
           "  --log FILE           the log (default: log.txt beside the map)\n"
@@ -393,6 +396,8 @@ static int set_flag(settings *st, const char *a) {
     o->uncompressed = 1;
   else if (!strcmp(a, "--gpu-cull"))
     o->gpu_cull = 1;
+  else if (!strcmp(a, "--reference"))
+    o->reference = 1;
   else if (!strcmp(a, "--coverage"))
     o->coverage = 1;
   else if (!strcmp(a, "--print-camera"))
@@ -511,29 +516,13 @@ static int set_value(settings *st, const char *a, const char *v) {
 }
 
 static void unknown_option(const char *a) {
-  static const char *const known[] = {"--help",
-                                      "--version",
-                                      "--check",
-                                      "--window",
-                                      "--stats",
-                                      "--naive",
-                                      "--uncompressed",
-                                      "--gpu-cull",
-                                      "--coverage",
-                                      "--print-camera",
-                                      "--size",
-                                      "--camera",
-                                      "--frames",
-                                      "--path",
-                                      "--screenshot",
-                                      "--keys",
-                                      "--demo-terrain",
-                                      "--terrain-kind",
-                                      "--terrain-size",
-                                      "--seed",
-                                      "--log",
-                                      "--bench",
-                                      NULL};
+  static const char *const known[] = {
+      "--help",      "--version",      "--check",        "--window",
+      "--stats",     "--naive",        "--uncompressed", "--gpu-cull",
+      "--reference", "--coverage",     "--print-camera", "--size",
+      "--camera",    "--frames",       "--path",         "--screenshot",
+      "--keys",      "--demo-terrain", "--terrain-kind", "--terrain-size",
+      "--seed",      "--log",          "--bench",        NULL};
   const char *near = cli_closest(a, known);
   if (near)
     fprintf(stderr, "forest: unknown option '%s' (did you mean %s?)\n", a, near);

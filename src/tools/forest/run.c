@@ -298,6 +298,10 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
                             st->detail);
   res->terrain_ms = (now_s() - c0) * 1000;
   c0 = now_s();
+  /* occlusion by the terrain where it is drawn, solid, for this eye */
+  int occlude = !st->o->reference && !st->no_terrain && !st->wireframe && !st->locked;
+  st->s->cull.occluder = occlude ? &st->s->occluder : NULL;
+  st->s->cull.occluder_terrain = occlude ? &st->s->terrain : NULL;
   if (st->o->naive)
     bbc_forest_cull_run_flat(&st->s->cull, fr.viewproj, fr.eye, st->cam.zoom);
   else if (!st->o->gpu_cull)

@@ -21,6 +21,7 @@ typedef struct run_options {
   int naive;              /* --naive: draw the thesis's way (to measure against) */
   int uncompressed;       /* --uncompressed: RGBA8 textures where BC1 would do */
   int gpu_cull;           /* --gpu-cull: culling and levels of detail in a compute shader */
+  int reference;          /* --reference: no occlusion (every tree at its own level) */
   int has_sun;            /* --sun given (else the map's light) */
   double sun_azimuth, sun_elevation; /* --sun AZ,EL (degrees) */
   double time;                       /* --time: the wind's clock at the first frame (s) */

@@ -323,6 +323,7 @@ void scene_free(scene *s) {
   for (int i = 0; i < 6; i++) bbc_image_free(&s->sky[i]);
   bbc_forest_cull_free(&s->cull);
   bbc_forest_terrain_free(&s->terrain);
+  bbc_forest_occluder_free(&s->occluder);
   bbc_forest_world_free(&s->world);
   bbc_forest_map_free(&s->map);
   memset(s, 0, sizeof *s);
@@ -389,7 +390,8 @@ int scene_load(scene *s, const char *map_path, FILE *log, int progress) {
   r = bbc_forest_cull_init(&s->cull, &s->world, lm, s->model_count,
                            (const uint32_t(*)[2])s->placement_models, s->map.placement_count, &err);
   free(lm);
-  if (r != BBC_OK || bbc_forest_terrain_init(&s->terrain, &s->world, &err) != BBC_OK) {
+  if (r != BBC_OK || bbc_forest_terrain_init(&s->terrain, &s->world, &err) != BBC_OK ||
+      bbc_forest_occluder_init(&s->occluder, &s->world, &err) != BBC_OK) {
     fprintf(stderr, "forest: %s\n", err.message);
     return 0;
   }

@@ -55,8 +55,9 @@ typedef struct scene {
   int has_sky;
   bbc_forest_cull cull;
   bbc_forest_terrain terrain;
-  double extent;   /* map size, world units */
-  double far_clip; /* world units */
+  bbc_forest_occluder occluder; /* the terrain's occlusion of cells of trees */
+  double extent;                /* map size, world units */
+  double far_clip;              /* world units */
   size_t triangles_loaded;
 } scene;
 

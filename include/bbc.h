@@ -1248,6 +1248,22 @@ bbc_result bbc_mesh_sample_points(const bbc_mesh *mesh, size_t count, uint64_t s
 bbc_result bbc_points_estimate_normals(const bbc_mesh *mesh, int threads, float *normals,
                                        bbc_error *err);
 
+/* ---- Octahedral impostors' mapping (docs/impostors.md) ----------------------
+ * A unit direction (up = +y) and its place on the square [0, 1]^2 of an
+ * octahedral impostor (the whole sphere) or, with `hemi`, a hemi-octahedral
+ * one (the upper half; a direction below the horizon goes onto it); frames
+ * on an n x n grid of the square's points, frame (i, j) at (i, j) / (n - 1). */
+void bbc_octahedral_encode(const double dir[3], int hemi, double uv[2]);
+/* The unit direction at uv (the inverse of bbc_octahedral_encode). */
+void bbc_octahedral_decode(const double uv[2], int hemi, double dir[3]);
+/* The direction frame (i, j) of an n x n grid shows (n >= 2). */
+void bbc_octahedral_frame_dir(int n, int i, int j, int hemi, double dir[3]);
+/* The three frames a view along `dir` blends (frame[k] = {i, j}: the grid
+ * square's corners on either side of its diagonal) and their weights
+ * (barycentric: >= 0, summing to 1; 1 on a frame seen along its own
+ * direction). */
+void bbc_octahedral_blend(const double dir[3], int n, int hemi, int frame[3][2], double weight[3]);
+
 #ifdef __cplusplus
 }
 #endif

@@ -185,7 +185,7 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
   /* quality 2: alpha refined against renders of the original, then the
    * colour of texels left transparent cleared. */
   if (r == BBC_OK && prm->quality == BBC_QUALITY_SQUASHED)
-    r = bbc__refine_baked(m, prm, cl, bk, &limbs, cbk, err);
+    r = bbc__refine_baked(m, prm, cl, bk, &limbs, in.alpha_bits, cbk, err);
   if (r == BBC_OK && (prm->outline >= 3 || prm->max_tris > 0) &&
       bbc__tight_outlines(cl, bk, prm->outline, prm->max_tris, limbs.triangle_count,
                           prm->back_images ? 2 : 1) != BBC_OK)

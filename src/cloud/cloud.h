@@ -49,6 +49,8 @@ typedef struct bbc__refine_options {
   int up_axis;           /* 0 = x, 1 = y, 2 = z */
   int threads;           /* 0 = all cores; never changes the result */
   const bbc_mesh *solid; /* opaque geometry drawn with the cloud (the limbs), or NULL */
+  const struct bbc__alpha_bits *alpha_bits; /* per texture of the mesh: its alpha
+                                             * test as bits, or NULL */
 } bbc__refine_options;
 
 /* Refines the alpha of the billboards cb[n] (images im[n]) of a cloud of
@@ -149,17 +151,20 @@ bbc_result bbc__limbs_stage(const bbc__bake_inputs *in, const bbc_cloud *cloud, 
 
 /* -- refinement (src/cloud/refine.c) -- */
 /* quality 2: the baked masks refined against renders of the original (the
- * limbs drawn with the cloud), then the transparent texels cleared. */
+ * limbs drawn with the cloud; alpha_bits: the mesh's textures' alpha tests
+ * as bits, or NULL), then the transparent texels cleared. */
+bbc_result bbc__refine_baked(const bbc_mesh *mesh, const bbc_params *params, bbc_cloud *cloud,
+                             bbc__baked *bk, const bbc_mesh *limbs,
+                             const struct bbc__alpha_bits *alpha_bits,
+                             const bbc_callbacks *callbacks, bbc_error *err);
+
+/* -- tight outlines (src/cloud/outline.c) -- */
 /* Each billboard's outline tightened around its images' opaque texels (at
  * most `most` corners, most >= 3), fewer where max_tris > 0 asks (the
  * cloud's other triangles other_tris, `sides` fans a billboard; without
- * `most` the outlines as they are, cut to what the budget leaves);
- * src/cloud/outline.c. */
+ * `most` the outlines as they are, cut to what the budget leaves). */
 bbc_result bbc__tight_outlines(bbc_cloud *cloud, const bbc__baked *bk, int most, int max_tris,
                                size_t other_tris, int sides);
-bbc_result bbc__refine_baked(const bbc_mesh *mesh, const bbc_params *params, bbc_cloud *cloud,
-                             bbc__baked *bk, const bbc_mesh *limbs, const bbc_callbacks *callbacks,
-                             bbc_error *err);
 
 /* -- the atlas and the mesh (src/cloud/cloud_mesh.c) -- */
 /* The baked images packed into the atlas (and the normal atlas, 2.3.1, and

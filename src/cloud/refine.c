@@ -289,9 +289,10 @@ static void render_originals(refine *rf) {
     bbc__view_frame_box(m->bbox_min, m->bbox_max, dir, upv, 1.02, &view);
     bbc__camera_setup(&cams[v], &view, size, size);
     bbc_error e;
-    if (bbc__render_coverage(m, &view, size, orig + (size_t)v * np, &e) != BBC_OK ||
-        (solid &&
-         bbc__render_coverage(opt->solid, &view, size, solid + (size_t)v * np, &e) != BBC_OK)) {
+    if (bbc__render_coverage(m, &view, size, orig + (size_t)v * np, opt->alpha_bits, &e) !=
+            BBC_OK ||
+        (solid && bbc__render_coverage(opt->solid, &view, size, solid + (size_t)v * np, NULL, &e) !=
+                      BBC_OK)) {
 #pragma omp critical(bbc_refine_fail)
       {
         if (!rf->failed) rf->first = e;
@@ -450,7 +451,8 @@ bbc_result bbc__refine_alpha(const bbc_mesh *m, const bbc_cloud_billboard *cb,
 }
 
 bbc_result bbc__refine_baked(const bbc_mesh *m, const bbc_params *prm, bbc_cloud *cl,
-                             bbc__baked *bk, const bbc_mesh *limbs, const bbc_callbacks *cbk,
+                             bbc__baked *bk, const bbc_mesh *limbs,
+                             const struct bbc__alpha_bits *alpha_bits, const bbc_callbacks *cbk,
                              bbc_error *err) {
   size_t nk = cl->billboard_count;
   int points = m->kind == BBC_MESH_POINTS;
@@ -468,8 +470,9 @@ bbc_result bbc__refine_baked(const bbc_mesh *m, const bbc_params *prm, bbc_cloud
   if (r == BBC_OK && prm->refine > 0 && !points) { /* renders of triangles */
     if (cbk) bbc__progress(cbk, "refining", 0.0);
     int size = prm->refine_size >= 16 ? prm->refine_size : 256;
-    bbc__refine_options ro = {prm->refine, size, 3, prm->up_axis, prm->threads, NULL};
+    bbc__refine_options ro = {prm->refine, size, 3, prm->up_axis, prm->threads, NULL, NULL};
     ro.solid = limbs->triangle_count ? limbs : NULL;
+    ro.alpha_bits = alpha_bits;
     r = bbc__refine_alpha(m, cl->billboards, ri, nk, &ro, err);
     if (cbk) bbc__progress(cbk, "refining", 1.0);
   }

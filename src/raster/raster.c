@@ -112,6 +112,8 @@ typedef struct target {
   /* Optional: every vertex already projected (x, y, depth), for renders
    * of the whole mesh (each vertex serves about six triangles). */
   const double *proj;
+  /* bbc__render_coverage, optional: per texture, its alpha test as bits */
+  const bbc__alpha_bits *cover_bits;
 } target;
 
 static void put_normal(uint8_t *o, const double *n, const camera *cam, double toward,
@@ -601,10 +603,8 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
   int tl0 = ed.tl[0], tl1 = ed.tl[1], tl2 = ed.tl[2], need_normal = tr.need_normal;
   /* The alpha test from the texture's bits where they answer it: a
    * material of opacity 1. */
-  const bbc__alpha_bits *bits = NULL;
-  if (tex && tg->bake && tg->bake->alpha_bits && mat->base_color[3] == 1.0f &&
-      tg->bake->alpha_bits[mat->texture].bits)
-    bits = &tg->bake->alpha_bits[mat->texture];
+  const bbc__alpha_bits *bits = NULL, *all = tg->bake ? tg->bake->alpha_bits : tg->cover_bits;
+  if (tex && all && mat->base_color[3] == 1.0f && all[mat->texture].bits) bits = &all[mat->texture];
   int taps = tex && tg->bake && tg->bake->colour_taps;
   taps_grad tp;
   if (taps) taps_setup(&tr, uv, inv_area, &tp);
@@ -630,7 +630,7 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
         if (tex) {
           float u = (float)(l0 * uv[0][0] + l1 * uv[1][0] + l2 * uv[2][0]);
           float v = (float)(l0 * uv[0][1] + l1 * uv[1][1] + l2 * uv[2][1]);
-          if (!alpha_passes(tex, NULL, mat, u, v)) continue;
+          if (!alpha_passes(tex, bits, mat, u, v)) continue;
         } else if (mat->base_color[3] < 0.5) {
           continue;
         }
@@ -793,7 +793,7 @@ static bbc_result render(const bbc_mesh *m, const bbc_view *view, bbc_image *img
     memcpy(img->rgba + 4 * i, view->background, 4);
   }
   target tg = {&cam, view, {0, 0, 0}, img->width, img->height, img->rgba, depth,
-               NULL, NULL, sun_lum,   {0, 0, 0},  NULL,        NULL};
+               NULL, NULL, sun_lum,   {0, 0, 0},  NULL,        NULL,      NULL};
   if (sun) memcpy(tg.sun, sun, sizeof tg.sun);
   setup_light(&cam, view, tg.light);
   if (m->kind == BBC_MESH_POINTS) {
@@ -816,7 +816,7 @@ bbc_result bbc_render_ortho(const bbc_mesh *m, const bbc_view *view, bbc_image *
 }
 
 bbc_result bbc__render_coverage(const bbc_mesh *m, const bbc_view *view, int size, uint8_t *cover,
-                                bbc_error *err) {
+                                const bbc__alpha_bits *alpha_bits, bbc_error *err) {
   camera cam;
   bbc_result r = bbc__check_view(view, size, size, &cam, err);
   if (r != BBC_OK) return r;
@@ -827,6 +827,7 @@ bbc_result bbc__render_coverage(const bbc_mesh *m, const bbc_view *view, int siz
   tg.view = view;
   tg.width = tg.height = size;
   tg.cover = cover;
+  tg.cover_bits = alpha_bits;
   setup_light(&cam, view, tg.light);
   if (m->kind == BBC_MESH_POINTS) { /* points: the full render's alpha */
     bbc_image img;
@@ -868,7 +869,7 @@ bbc_result bbc__render_bake(const bbc_mesh *m, const uint32_t *faces, size_t fac
   float *depth = bbc__depth_front_back(n);
   if (!depth) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "bake: out of memory");
   target tg = {&cam, view,      {0, 0, 0}, bake->width, bake->height, bake->front, depth,
-               bake, depth + n, NULL,      {0, 0, 0},   NULL,         NULL};
+               bake, depth + n, NULL,      {0, 0, 0},   NULL,         NULL,        NULL};
   setup_light(&cam, view, tg.light);
   size_t count = faces ? face_count : m->triangle_count;
   for (size_t i = 0; i < count; i++) draw_triangle(m, faces ? faces[i] : i, &tg);

@@ -75,9 +75,11 @@ typedef struct bbc__bake {
 } bbc__bake;
 
 /* What bbc_render_ortho's alpha would show (alpha >= 128) on a size x
- * size image, 0 or 1 a pixel, without colours or depths: faster. */
+ * size image, 0 or 1 a pixel, without colours or depths: faster.
+ * alpha_bits (or NULL): the mesh's textures' alpha tests as bits
+ * (bbc__alpha_bits_build), the same answers from less memory. */
 bbc_result bbc__render_coverage(const bbc_mesh *mesh, const bbc_view *view, int size,
-                                uint8_t *cover, bbc_error *err);
+                                uint8_t *cover, const bbc__alpha_bits *alpha_bits, bbc_error *err);
 /* One rasterization of `faces` (indices into mesh triangles; all when NULL)
  * for a billboard seen along view->direction (= minus the plane's normal),
  * filling the front image (the nearest surface seen from the front, along

@@ -9,7 +9,7 @@ set -euo pipefail
 what=${1:-all}
 # (each list on one line: scripts/fresh_machine.sh reads them)
 build_pkgs=(build-essential cmake pkg-config libassimp-dev libstb-dev zlib1g-dev libcjson-dev libmeshoptimizer-dev libepoxy-dev libglfw3-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libedit-dev)
-test_pkgs=(libcmocka-dev clang-format nodejs chromium gltfpack assimp-utils parallel xvfb xauth time universal-ctags)
+test_pkgs=(libcmocka-dev clang-format nodejs chromium gltfpack assimp-utils parallel xvfb xauth time universal-ctags locales)
 fuzz_pkgs=(clang libclang-rt-14-dev libomp-14-dev)
 
 case "$what" in
@@ -26,7 +26,20 @@ for p in "${pkgs[@]}"; do
 done
 # npm: part of some nodejs builds (NodeSource), a package of its own in Debian.
 if { [ "$what" = test ] || [ "$what" = all ]; } && ! command -v npm > /dev/null; then missing+=(npm); fi
-[ ${#missing[@]} -eq 0 ] && exit 0
+# A locale with a decimal comma, for the writers' locale test (test_load):
+# made from the locales package's definitions when missing (as root).
+comma_locale() {
+  { [ "$what" = test ] || [ "$what" = all ]; } || return 0
+  locale -a 2> /dev/null | grep -qi '^de_DE\.utf-\?8$' && return 0
+  if [ "$(id -u)" -ne 0 ]; then
+    echo "setup.sh: no de_DE.UTF-8 locale (test_load's locale test skips without it);" \
+      "make it with:  sudo localedef -i de_DE -f UTF-8 de_DE.UTF-8" >&2
+    return 0
+  fi
+  localedef -i de_DE -f UTF-8 de_DE.UTF-8 2> /dev/null ||
+    echo "setup.sh: localedef de_DE.UTF-8 failed (test_load's locale test skips)" >&2
+}
+[ ${#missing[@]} -eq 0 ] && { comma_locale; exit 0; }
 
 cmd="apt-get install -y --no-install-recommends ${missing[*]}"
 if [ "$(id -u)" -ne 0 ]; then
@@ -69,3 +82,4 @@ if ! apt_get install -y --no-install-recommends -qq "${missing[@]}"; then
   fi
 fi
 echo "setup.sh: installed ${missing[*]}" >&2
+comma_locale

@@ -7,6 +7,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <locale.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -360,6 +361,70 @@ static void test_obj_round_trip(void **state) {
   free(dir);
 }
 
+/* A library caller may call setlocale: under a locale with a decimal comma
+ * the writers still spell their numbers with '.' (OBJ, its MTL, glTF's
+ * JSON; VRML's writer shares the same formatter). Skipped only where no
+ * such locale is installed (scripts/setup.sh makes de_DE.UTF-8). */
+static void test_writers_decimal_comma(void **state) {
+  (void)state;
+  static const char *const names[] = {"de_DE.UTF-8", "de_DE.utf8", "fr_FR.UTF-8",
+                                      "fr_FR.utf8",  "de_DE",      NULL};
+  char *dir = tu_make_temp_dir();
+  static const char obj[] = "v 0.5 0 0\nv 1.25 0 0\nv 0 0.75 0\nvt 0.25 0.5\nvt 1 0\nvt 0 1\n"
+                            "vn 0 0 1\nf 1/1/1 2/2/1 3/3/1\n";
+  char *in = tu_write_file(dir, "in.obj", obj, sizeof obj - 1);
+  bbc_mesh m;
+  bbc_error err;
+  assert_int_equal(bbc_mesh_load(in, NULL, &m, &err), BBC_OK);
+  m.materials[0].base_color[0] = 0.5f;
+  m.materials[0].base_color[3] = 0.25f;
+  const char *got = NULL;
+  for (int i = 0; names[i] && !got; i++)
+    if (setlocale(LC_NUMERIC, names[i])) got = names[i];
+  if (!got) {
+    fprintf(stderr, "no locale with a decimal comma installed: test skipped\n");
+    bbc_mesh_free(&m);
+    free(in);
+    tu_remove_dir(dir);
+    free(dir);
+    skip();
+  }
+  char probe[16];
+  snprintf(probe, sizeof probe, "%.2f", 0.5);
+  int comma = !strcmp(probe, "0,50"); /* the locale does write a comma */
+  char path[1024];
+  snprintf(path, sizeof path, "%s/out.obj", dir);
+  assert_int_equal(bbc_mesh_write_obj(path, &m, NULL, &err), BBC_OK);
+  char *o = (char *)tu_read_file(path, NULL);
+  snprintf(path, sizeof path, "%s/out.mtl", dir);
+  char *mtl = (char *)tu_read_file(path, NULL);
+  snprintf(path, sizeof path, "%s/out.gltf", dir);
+  assert_int_equal(bbc_mesh_write_gltf(path, &m, NULL, &err), BBC_OK);
+  char *g = (char *)tu_read_file(path, NULL);
+  setlocale(LC_NUMERIC, "C");
+  fprintf(stderr, "locale %s (decimal comma: %s)\n", got, comma ? "yes" : "no");
+  assert_true(comma);
+  assert_non_null(o);
+  assert_non_null(mtl);
+  assert_non_null(g);
+  assert_non_null(strstr(o, "v 1.25 0 0\n"));
+  assert_non_null(strstr(o, "vt 0.25 0.5\n"));
+  assert_null(strstr(o, "0,5"));
+  assert_null(strstr(o, "1,25"));
+  assert_non_null(strstr(mtl, "Kd 0.5 "));
+  assert_non_null(strstr(mtl, "d 0.25\n"));
+  assert_null(strstr(mtl, "0,5"));
+  assert_non_null(strstr(g, "1.25"));
+  assert_null(strstr(g, "1,25"));
+  free(o);
+  free(mtl);
+  free(g);
+  bbc_mesh_free(&m);
+  free(in);
+  tu_remove_dir(dir);
+  free(dir);
+}
+
 /* ---- rasterizer --------------------------------------------------------- */
 
 /* A square of two triangles covering exactly the pixel centres inside it:
@@ -454,6 +519,7 @@ int main(void) {
       cmocka_unit_test(test_missing_texture_is_warning),
       cmocka_unit_test(test_glb_embedded_texture_and_transform),
       cmocka_unit_test(test_obj_round_trip),
+      cmocka_unit_test(test_writers_decimal_comma),
       cmocka_unit_test(test_raster_coverage),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -11,6 +11,11 @@
 /* A name safe in file names and OBJ statements: [A-Za-z0-9_.-], others
  * '_'; "unnamed" when empty. */
 void bbc__safe_name(const char *in, char *out, size_t n);
+/* v as "%.*g" with `digits` significant digits, spelt as in the C locale
+ * whatever the process's locale (src/io/number.c); out: n bytes, at least
+ * BBC__NUMBER_TEXT for any double. */
+#define BBC__NUMBER_TEXT 64
+void bbc__number_text(char *out, size_t n, int digits, double v);
 
 /* The stem of the files an output writes beside it (its textures): the
  * output's whole file name with the extension's dot as '_' ("u.gltf" ->

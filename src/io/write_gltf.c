@@ -86,13 +86,11 @@ static void gbuf_printf(gbuf *b, const char *fmt, ...) {
   free(big);
 }
 
-/* A float as a JSON number that reads back as the same float ("%.9g"). A
- * locale with a decimal comma cannot leak into the JSON: ',' becomes '.'. */
+/* A float as a JSON number that reads back as the same float ("%.9g"),
+ * spelt as in the C locale whatever the process's. */
 static void gbuf_number(gbuf *b, double v) {
-  char s[64];
-  snprintf(s, sizeof s, "%.9g", v);
-  for (char *p = s; *p; p++)
-    if (*p == ',') *p = '.';
+  char s[BBC__NUMBER_TEXT];
+  bbc__number_text(s, sizeof s, 9, v);
   gbuf_puts(b, s);
 }
 

@@ -8,6 +8,19 @@
 #include <strings.h>
 
 /* Base name of a path without folder and extension, into out. */
+/* "TAG x y ..." (count numbers of `digits` significant digits, spelt as in
+ * the C locale) and a line end. */
+static void put_numbers(FILE *f, const char *tag, int digits, const double *v, int count) {
+  fputs(tag, f);
+  for (int k = 0; k < count; k++) {
+    char s[BBC__NUMBER_TEXT];
+    bbc__number_text(s, sizeof s, digits, v[k]);
+    fputc(' ', f);
+    fputs(s, f);
+  }
+  fputc('\n', f);
+}
+
 static void path_stem(const char *path, char *out, size_t n) {
   const char *s = strrchr(path, '/');
   s = s ? s + 1 : path;
@@ -59,9 +72,11 @@ static bbc_result write_mtl(const char *mtl_path, const bbc_mesh *m, char (*tex_
     const bbc_material *mat = &m->materials[i];
     char safe[128];
     bbc__safe_name(mat->name, safe, sizeof safe);
-    fprintf(af.fp, "\nnewmtl %s\nKd %.6g %.6g %.6g\n", safe, mat->base_color[0], mat->base_color[1],
-            mat->base_color[2]);
-    if (mat->base_color[3] < 1.0f) fprintf(af.fp, "d %.6g\n", mat->base_color[3]);
+    fprintf(af.fp, "\nnewmtl %s\n", safe);
+    const double kd[4] = {mat->base_color[0], mat->base_color[1], mat->base_color[2],
+                          mat->base_color[3]};
+    put_numbers(af.fp, "Kd", 6, kd, 3);
+    if (mat->base_color[3] < 1.0f) put_numbers(af.fp, "d", 6, kd + 3, 1);
     if (unlit) fprintf(af.fp, "illum 0\n"); /* colour only, no lighting */
     if (mat->texture >= 0 && tex_names[mat->texture][0]) {
       fprintf(af.fp, "map_Kd %s\n", tex_names[mat->texture]);
@@ -119,17 +134,17 @@ static bbc_result write_obj_file(const char *obj_path, const bbc_mesh *m, const 
   fprintf(f, "# written by bbcgen %s: %zu vertices, %zu triangles\nmtllib %s.mtl\n",
           BBC_VERSION_STRING, m->vertex_count, m->triangle_count, stem);
   put_comment(f, comment);
-  for (size_t v = 0; v < m->vertex_count; v++) {
-    const double *p = m->positions + 3 * v;
-    fprintf(f, "v %.9g %.9g %.9g\n", p[0], p[1], p[2]);
-  }
+  for (size_t v = 0; v < m->vertex_count; v++) put_numbers(f, "v", 9, m->positions + 3 * v, 3);
   if (m->uvs)
-    for (size_t v = 0; v < m->vertex_count; v++)
-      fprintf(f, "vt %.7g %.7g\n", m->uvs[2 * v], m->uvs[2 * v + 1]);
+    for (size_t v = 0; v < m->vertex_count; v++) {
+      const double uv[2] = {m->uvs[2 * v], m->uvs[2 * v + 1]};
+      put_numbers(f, "vt", 7, uv, 2);
+    }
   if (m->normals)
-    for (size_t v = 0; v < m->vertex_count; v++)
-      fprintf(f, "vn %.6g %.6g %.6g\n", m->normals[3 * v], m->normals[3 * v + 1],
-              m->normals[3 * v + 2]);
+    for (size_t v = 0; v < m->vertex_count; v++) {
+      const double nv[3] = {m->normals[3 * v], m->normals[3 * v + 1], m->normals[3 * v + 2]};
+      put_numbers(f, "vn", 6, nv, 3);
+    }
   put_faces(f, m);
   return bbc__atomic_commit(&af, err);
 }

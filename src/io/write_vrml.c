@@ -44,22 +44,10 @@ static void put(text *t, const char *fmt, ...) {
   }
 }
 
-/* A number with `digits` significant digits ("%.*g") spelt as in the C
- * locale whatever the process's locale: a decimal separator other than '.'
- * (',' or a multibyte one) becomes '.'. */
+/* A number with `digits` significant digits, spelt as in the C locale. */
 static void put_number(text *t, int digits, double v) {
-  char s[64], out[64];
-  snprintf(s, sizeof s, "%.*g", digits, v);
-  size_t o = 0;
-  for (size_t i = 0; s[i] && o + 1 < sizeof out; i++) {
-    char c = s[i];
-    int plain = (c >= '0' && c <= '9') || c == '-' || c == '+' || c == 'e' || c == 'E';
-    if (plain)
-      out[o++] = c;
-    else if (o == 0 || out[o - 1] != '.')
-      out[o++] = '.';
-  }
-  out[o] = 0;
+  char out[BBC__NUMBER_TEXT];
+  bbc__number_text(out, sizeof out, digits, v);
   put(t, "%s", out);
 }
 

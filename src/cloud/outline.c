@@ -26,6 +26,19 @@ static double poly_area(const pt *p, size_t n) {
   return 0.5 * a;
 }
 
+/* A billboard's outline as points, and points as its outline. */
+static void outline_points(const bbc_cloud_billboard *cb, pt *h) {
+  for (int c = 0; c < cb->corner_count; c++) h[c] = (pt){cb->corners[c][0], cb->corners[c][1]};
+}
+
+static void set_outline(bbc_cloud_billboard *cb, const pt *h, size_t n) {
+  cb->corner_count = (int)n;
+  for (size_t c = 0; c < n; c++) {
+    cb->corners[c][0] = h[c].x;
+    cb->corners[c][1] = h[c].y;
+  }
+}
+
 /* Removing edge i (p[i] to p[i+1]) of a convex polygon: where its two
  * neighbouring edges, extended, meet (*x) and the area that adds; -1 when
  * they do not meet beyond it or meet outside the unit square. */
@@ -105,6 +118,16 @@ static size_t opaque_points(const bbc_image *const im[2], int margin, pt *out) {
   return n;
 }
 
+/* An outline of more than `most` corners (a rectangle clipped to its faces'
+ * bounds) cut down to `most`, growing inside the rectangle. */
+static void cut_corners(bbc_cloud_billboard *cb, int most) {
+  if (cb->corner_count <= most) return;
+  pt h[10];
+  outline_points(cb, h);
+  size_t n = reduce(h, (size_t)cb->corner_count, most);
+  if (n) set_outline(cb, h, n);
+}
+
 /* One billboard's outline from its images, at most `most` corners; kept
  * as it is when the images have no opaque texel or the new one is no
  * smaller. */
@@ -138,42 +161,18 @@ static bbc_result tighten(bbc_cloud_billboard *cb, const bbc__baked *b, int most
       nh = 4;
     }
   }
-  double old_area = 0;
-  for (int c = 0; c < cb->corner_count; c++) {
-    int d = (c + 1) % cb->corner_count;
-    old_area += cb->corners[c][0] * cb->corners[d][1] - cb->corners[d][0] * cb->corners[c][1];
-  }
-  old_area *= 0.5;
-  if (nh < 3 && cb->corner_count > most) { /* no opaque texel: the outline itself, cut */
-    for (int c = 0; c < cb->corner_count; c++) h[c] = (pt){cb->corners[c][0], cb->corners[c][1]};
-    nh = reduce(h, (size_t)cb->corner_count, most);
-  }
-  if (nh >= 3 && (int)nh <= most &&
-      (poly_area(h, nh) < old_area - 1e-12 || cb->corner_count > most)) {
-    cb->corner_count = (int)nh;
-    for (size_t c = 0; c < nh; c++) {
-      cb->corners[c][0] = h[c].x;
-      cb->corners[c][1] = h[c].y;
-    }
+  if (nh < 3) { /* no opaque texel: the outline itself, cut */
+    cut_corners(cb, most);
+  } else if ((int)nh <= most) {
+    pt old[10];
+    outline_points(cb, old);
+    if (poly_area(h, nh) < poly_area(old, (size_t)cb->corner_count) - 1e-12 ||
+        cb->corner_count > most)
+      set_outline(cb, h, nh);
   }
   free(p);
   free(h);
   return BBC_OK;
-}
-
-/* An outline of more than `most` corners (a rectangle clipped to its faces'
- * bounds) cut down to `most`, growing inside the rectangle. */
-static void cut_corners(bbc_cloud_billboard *cb, int most) {
-  if (cb->corner_count <= most) return;
-  pt h[10];
-  for (int c = 0; c < cb->corner_count; c++) h[c] = (pt){cb->corners[c][0], cb->corners[c][1]};
-  size_t n = reduce(h, (size_t)cb->corner_count, most);
-  if (!n) return;
-  cb->corner_count = (int)n;
-  for (size_t c = 0; c < n; c++) {
-    cb->corners[c][0] = h[c].x;
-    cb->corners[c][1] = h[c].y;
-  }
 }
 
 bbc_result bbc__tight_outlines(bbc_cloud *cl, const bbc__baked *bk, int most, int max_tris,

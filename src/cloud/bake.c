@@ -24,8 +24,8 @@ typedef bbc__baked baked;
  * that over any small area the fraction of opaque texels is the fraction
  * the original covers, and a texel none of whose samples is covered never
  * turns opaque (its share of the error moves on to covered neighbours). */
-static bbc_result alpha_mask(const bbc_image *img, int k, int dither, unsigned min_opaque,
-                             uint8_t *mask, uint8_t *cand) {
+static bbc_result alpha_mask(const bbc_image *img, const uint8_t *taps, int k, int dither,
+                             unsigned min_opaque, uint8_t *mask, uint8_t *cand) {
   int w = img->width / k, h = img->height / k;
   float *err = dither ? calloc(2 * ((size_t)w + 2), sizeof *err) : NULL;
   if (dither && !err) return BBC_ERROR_OUT_OF_MEMORY;
@@ -39,9 +39,13 @@ static bbc_result alpha_mask(const bbc_image *img, int k, int dither, unsigned m
       unsigned n = 0, shares = 0; /* covered samples, their alphas (pure 2: shares) */
       for (int j = 0; j < k; j++)
         for (int q = 0; q < k; q++) {
-          unsigned a = img->rgba[4 * ((size_t)(y * k + j) * img->width + (x * k + q)) + 3];
+          size_t si = (size_t)(y * k + j) * img->width + (x * k + q);
+          unsigned a = img->rgba[4 * si + 3];
           n += a > 0;
-          shares += a;
+          /* bbc__bake.taps: a sample drawn by a face passing its alpha test
+           * at a tap only makes the texel a candidate, its coverage the
+           * samples' centres' */
+          shares += !taps || taps[si] ? a : 0;
         }
       uint8_t on;
       if (!dither) {
@@ -404,7 +408,7 @@ static void bake_target(const bbc__bake_inputs *in, const bake_job *job, int w, 
  * colour and normal images; kept until refinement (bbc__refine_alpha) has
  * used it. */
 static bbc_result coverage_alpha(const bbc_params *prm, const bbc_cloud_billboard *cb, int ss,
-                                 baked *out) {
+                                 uint8_t *const taps[2], baked *out) {
   bbc_result r = BBC_OK;
   size_t nx = (size_t)cb->tex_width * cb->tex_height;
   bbc_image *col[2] = {&out->front, &out->back}, *nm[2] = {&out->front_nm, &out->back_nm};
@@ -416,7 +420,8 @@ static bbc_result coverage_alpha(const bbc_params *prm, const bbc_cloud_billboar
     out->mask[i] = malloc(nx);
     out->cand[i] = malloc(nx);
     if (!out->mask[i] || !out->cand[i]) r = BBC_ERROR_OUT_OF_MEMORY;
-    if (r == BBC_OK) r = alpha_mask(col[i], ss, prm->dither, grow, out->mask[i], out->cand[i]);
+    if (r == BBC_OK)
+      r = alpha_mask(col[i], taps[i], ss, prm->dither, grow, out->mask[i], out->cand[i]);
     if (r == BBC_OK && nm[i]->rgba) r = downsample_masked(nm[i], ss, 1, out->mask[i]);
     if (r == BBC_OK && ao[i]->rgba) r = downsample_masked(ao[i], ss, 0, out->mask[i]);
     if (r == BBC_OK) r = downsample_masked(col[i], ss, 0, out->mask[i]);
@@ -445,6 +450,16 @@ static void bake_one(const bbc__bake_inputs *in, const bake_job *job, bbc_cloud_
   bake_view(in, job, cb, &v);
   bbc__bake bk;
   bake_target(in, job, w, h, ss, out, &bk);
+  if (bk.colour_taps && !points) {
+    bk.taps[0] = calloc((size_t)w * h, 1);
+    bk.taps[1] = bk.back ? calloc((size_t)w * h, 1) : NULL;
+    if (!bk.taps[0] || (bk.back && !bk.taps[1])) {
+      free(bk.taps[0]);
+      free(bk.taps[1]);
+      out->r = bbc__fail(&out->err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
+      return;
+    }
+  }
   if (points) {
     /* 2.4: splats `pointsize` pixels wide on a 256-pixel picture of the
      * whole model (its bounding sphere), in this billboard's texels (adapted
@@ -456,7 +471,10 @@ static void bake_one(const bbc__bake_inputs *in, const bake_job *job, bbc_cloud_
   } else {
     r = bbc__render_bake(m, faces, cb->face_count, &v, &bk, &out->err);
   }
-  if (r == BBC_OK && prm->quality == BBC_QUALITY_SQUASHED) r = coverage_alpha(prm, cb, ss, out);
+  if (r == BBC_OK && prm->quality == BBC_QUALITY_SQUASHED)
+    r = coverage_alpha(prm, cb, ss, bk.taps, out);
+  free(bk.taps[0]);
+  free(bk.taps[1]);
   out->r = r;
 }
 

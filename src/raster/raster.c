@@ -270,6 +270,7 @@ typedef struct tri {
   int x0, x1, y0, y1;        /* the pixels it may cover */
   int want_front, want_back; /* the images it may draw into */
   int slab, need_normal;     /* the view has a slab; the pixels need the normal */
+  int wide;                  /* bbc__bake.taps: the pixels a tap of which it covers */
   int faces_camera;          /* its front (counter-clockwise side) faces the camera */
   const bbc_material *mat;
 } tri;
@@ -330,7 +331,22 @@ static ALWAYS_INLINE int triangle_setup(const bbc_mesh *m, size_t t, const targe
   if (view->depth_max > view->depth_min && !inside &&
       !slab_bounds(a, b, c, view->depth_min, view->depth_max, &minx, &maxx, &miny, &maxy))
     return 0; /* no part of it inside the slab */
-  if (!whole && !pixel_bounds(minx, maxx, miny, maxy, tg->width, tg->height, &x0, &x1, &y0, &y1))
+  /* bbc__bake.taps: a thin face (under 2 pixels across) draws the pixels
+   * a tap of which (+-1/4 pixel) can lie in it too, not only those whose
+   * centre does (a thicker one's neighbours have those) */
+  tr->wide = 0;
+  if (tg->bake && tg->bake->colour_taps) {
+    double e2 = 0;
+    for (int k = 0; k < 3; k++) {
+      const double *p = s[k], *q = s[(k + 1) % 3];
+      double dx = q[0] - p[0], dy = q[1] - p[1];
+      e2 = fmax(e2, dx * dx + dy * dy);
+    }
+    tr->wide = area * area < 4.0 * e2; /* area / longest edge: its least height */
+  }
+  double tm = tr->wide ? 0.25 : 0.0;
+  if (!whole && !pixel_bounds(minx - tm, maxx + tm, miny - tm, maxy + tm, tg->width, tg->height,
+                              &x0, &x1, &y0, &y1))
     return 0;
   tr->a = a;
   tr->b = b;
@@ -437,8 +453,10 @@ static ALWAYS_INLINE void edge_setup(const tri *tr, edges *ed) {
 
 /* The row's span where every edge function can be >= 0, widened for
  * rounding (PIXEL_MARGIN, and the error of eb over the slope: a nearly
- * horizontal edge); the exact test decides each pixel. 0 when empty. */
-static ALWAYS_INLINE int row_span(const edges *ed, double py, int x0, int x1, int *xs, int *xe) {
+ * horizontal edge) and by `grow` pixels to either side; the exact test
+ * decides each pixel. 0 when empty. */
+static ALWAYS_INLINE int row_span(const edges *ed, double py, double grow, int x0, int x1, int *xs,
+                                  int *xe) {
   const double *const *E0 = ed->E0;
   const double *edx = ed->edx, *ea = ed->ea, *inv_ea = ed->inv_ea, *t2 = ed->t2;
   double lo = x0, hi = x1;
@@ -446,9 +464,9 @@ static ALWAYS_INLINE int row_span(const edges *ed, double py, int x0, int x1, in
     double t1 = edx[k] * (py - E0[k][1]), eb = t1 + t2[k];
     double err = 1e-13 * (fabs(t1) + fabs(t2[k])) * inv_ea[k];
     if (ea[k] > 1e-12)
-      lo = max2(lo, ceil(-eb * inv_ea[k] - 0.5 - PIXEL_MARGIN - err));
+      lo = max2(lo, ceil(-eb * inv_ea[k] - 0.5 - grow - PIXEL_MARGIN - err));
     else if (ea[k] < -1e-12)
-      hi = min2(hi, floor(-eb * inv_ea[k] - 0.5 + PIXEL_MARGIN - err));
+      hi = min2(hi, floor(-eb * inv_ea[k] - 0.5 + grow + PIXEL_MARGIN - err));
   }
   if (!(lo <= hi)) return 0;
   *xs = (int)lo;
@@ -549,7 +567,7 @@ static ALWAYS_INLINE void taps_setup(const tri *tr, const float *uv[3], double i
   g->wx[2] = -(b[1] - a[1]);
   g->wy[2] = b[0] - a[0];
   g->ux = g->uy = g->vx = g->vy = 0;
-  for (int k = 0; k < 3; k++) {
+  for (int k = 0; k < 3 && uv[0]; k++) {
     g->ux += g->wx[k] * inv_area * uv[k][0];
     g->uy += g->wy[k] * inv_area * uv[k][0];
     g->vx += g->wx[k] * inv_area * uv[k][1];
@@ -557,31 +575,86 @@ static ALWAYS_INLINE void taps_setup(const tri *tr, const float *uv[3], double i
   }
 }
 
-/* col[0..2] times the mean texel colour at the taps of bbc__bake.colour_taps
- * around the pixel (its edge functions w, its texture coordinate (u0, v0)):
- * those inside the triangle whose alpha test passes; none: the texel at the
- * pixel's centre. */
-static void tap_colour(const bbc_image *tex, const bbc_image *tex_rgb, const bbc__alpha_bits *bits,
-                       const bbc_material *mat, const taps_grad *g, double w0, double w1, double w2,
-                       double u0, double v0, double col[4]) {
-  unsigned sum[3] = {0, 0, 0}, n = 0;
+/* The taps of bbc__bake.colour_taps around the pixel (its edge functions
+ * w, its texture coordinate (u0, v0)) that fall inside the triangle and
+ * pass its alpha test (an untextured material's: its opacity), as bits
+ * 0-3. */
+static ALWAYS_INLINE unsigned tap_bits(const bbc_image *tex, const bbc__alpha_bits *bits,
+                                       const bbc_material *mat, const taps_grad *g, double w0,
+                                       double w1, double w2, double u0, double v0) {
+  if (!tex && mat->base_color[3] < 0.5) return 0;
+  unsigned mask = 0;
   for (int k = 0; k < 4; k++) {
     double ox = k & 1 ? 0.25 : -0.25, oy = k & 2 ? 0.25 : -0.25;
     if (w0 + g->wx[0] * ox + g->wy[0] * oy < 0 || w1 + g->wx[1] * ox + g->wy[1] * oy < 0 ||
         w2 + g->wx[2] * ox + g->wy[2] * oy < 0)
       continue;
+    if (tex) {
+      float tu = (float)(u0 + g->ux * ox + g->uy * oy), tv = (float)(v0 + g->vx * ox + g->vy * oy);
+      if (!alpha_passes(tex, bits, mat, tu, tv)) continue;
+    }
+    mask |= 1u << k;
+  }
+  return mask;
+}
+
+/* col[0..2] times the mean texel colour at the taps `mask` (not 0). */
+static void tap_colour(const bbc_image *tex_rgb, const taps_grad *g, unsigned mask, double u0,
+                       double v0, double col[4]) {
+  unsigned sum[3] = {0, 0, 0}, n = 0;
+  for (int k = 0; k < 4; k++) {
+    if (!(mask >> k & 1u)) continue;
+    double ox = k & 1 ? 0.25 : -0.25, oy = k & 2 ? 0.25 : -0.25;
     float tu = (float)(u0 + g->ux * ox + g->uy * oy), tv = (float)(v0 + g->vx * ox + g->vy * oy);
-    if (!alpha_passes(tex, bits, mat, tu, tv)) continue;
     const uint8_t *t = sample(tex_rgb, tu, tv);
     for (int c = 0; c < 3; c++) sum[c] += t[c];
     n++;
   }
-  if (!n) {
+  for (int c = 0; c < 3; c++) col[c] *= (double)sum[c] / (255.0 * n);
+}
+
+/* bbc__bake.taps: whether the pixel (edge functions w, texture coordinate
+ * (u0, v0), its centre in the triangle, passing the alpha test there,
+ * winning the front and back depth tests) draws into the front image
+ * (*front; tf its taps byte, NULL when it may not) and the back (tb), and
+ * col times its texture colour. A face passing at the centre draws over one
+ * that passes at taps only whatever their depths; one passing at taps only
+ * draws where none passing at the centre has. */
+static ALWAYS_INLINE int taps_draw(const bbc_image *tex, const bbc_image *tex_rgb,
+                                   const bbc__alpha_bits *bits, const bbc_material *mat,
+                                   const taps_grad *g, double w0, double w1, double w2, double u0,
+                                   double v0, int in, int centre, int df, int db, uint8_t *tf,
+                                   uint8_t *tb, int *front, int *back, double col[4]) {
+  *front = tf && (centre ? df || !*tf : df && !*tf);
+  *back = tb && (centre ? db || !*tb : db && !*tb);
+  if (!*front && !*back) return 0;
+  unsigned mask = tex || !in ? tap_bits(tex, bits, mat, g, w0, w1, w2, u0, v0) : 0;
+  if (!mask && !centre) return 0;
+  if (centre && *front) *tf = 1;
+  if (centre && *back) *tb = 1;
+  if (tex && mask) {
+    tap_colour(tex_rgb, g, mask, u0, v0, col);
+  } else if (tex) { /* no tap passes: the centre's texel */
     const uint8_t *t = sample(tex_rgb, (float)u0, (float)v0);
     for (int c = 0; c < 3; c++) col[c] *= k_unit[t[c]];
-    return;
   }
-  for (int c = 0; c < 3; c++) col[c] *= (double)sum[c] / (255.0 * n);
+  return 1;
+}
+
+/* The pixels of row py the triangle may draw: those whose centre it may
+ * cover, and when tr->wide those a tap of which (rows py +- 1/4, 1/4 pixel
+ * to either side) it may cover. 0 when none. */
+static ALWAYS_INLINE int draw_span(const edges *ed, const tri *tr, double py, int *xs, int *xe) {
+  if (!tr->wide) return row_span(ed, py, 0.0, tr->x0, tr->x1, xs, xe);
+  int s0, s1, any = 0;
+  *xs = tr->x1, *xe = tr->x0;
+  for (int k = -1; k <= 1; k++)
+    if (row_span(ed, py + 0.25 * k, k ? 0.25 : 0.0, tr->x0, tr->x1, &s0, &s1)) {
+      *xs = s0 < *xs ? s0 : *xs;
+      *xe = s1 > *xe ? s1 : *xe;
+      any = 1;
+    }
+  return any;
 }
 
 static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
@@ -605,22 +678,26 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
    * material of opacity 1. */
   const bbc__alpha_bits *bits = NULL, *all = tg->bake ? tg->bake->alpha_bits : tg->cover_bits;
   if (tex && all && mat->base_color[3] == 1.0f && all[mat->texture].bits) bits = &all[mat->texture];
-  int taps = tex && tg->bake && tg->bake->colour_taps;
+  uint8_t *tap_f = tg->bake && tg->bake->colour_taps ? tg->bake->taps[0] : NULL;
+  uint8_t *tap_b = tap_f ? tg->bake->taps[1] : NULL;
   taps_grad tp;
-  if (taps) taps_setup(&tr, uv, inv_area, &tp);
+  if (tap_f) taps_setup(&tr, uv, inv_area, &tp);
   double odir[3];
   for (int y = tr.y0; y <= tr.y1; y++) {
     double py = y + 0.5;
     int xs, xe;
-    if (!row_span(&ed, py, tr.x0, tr.x1, &xs, &xe)) continue;
+    if (!draw_span(&ed, &tr, py, &xs, &xe)) continue;
     for (int x = xs; x <= xe; x++) {
       double px = x + 0.5;
       /* Edge functions: w0 opposite a, etc. */
       double w0 = (c[0] - b[0]) * (py - b[1]) - (c[1] - b[1]) * (px - b[0]);
       double w1 = (a[0] - c[0]) * (py - c[1]) - (a[1] - c[1]) * (px - c[0]);
       double w2 = (b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0]);
-      if (w0 < 0 || w1 < 0 || w2 < 0) continue;
-      if ((w0 == 0 && !tl0) || (w1 == 0 && !tl1) || (w2 == 0 && !tl2)) continue;
+      /* in: the triangle covers the pixel's centre (with taps, a pixel only
+       * a tap of which it covers is drawn too) */
+      int in = !(w0 < 0 || w1 < 0 || w2 < 0) &&
+               !((w0 == 0 && !tl0) || (w1 == 0 && !tl1) || (w2 == 0 && !tl2));
+      if (!in && !tr.wide) continue;
       double l0 = w0 * inv_area, l1 = w1 * inv_area, l2 = w2 * inv_area;
       float z = (float)(l0 * a[2] + l1 * b[2] + l2 * c[2]);
       size_t pi = (size_t)y * tg->width + x;
@@ -637,9 +714,12 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
         tg->cover[pi] = 1;
         continue;
       }
-      int front = want_front && z < tg->depth[pi];
-      int back = want_back && z > tg->depth_back[pi];
-      if (!front && !back) continue;
+      int df = want_front && z < tg->depth[pi];
+      int db = want_back && z > tg->depth_back[pi];
+      /* bbc__bake.taps: !sf, !sb: no face passing at its centre drew the sample */
+      uint8_t *tf = tap_f ? tap_f + pi : NULL, *tbk = tap_b ? tap_b + pi : NULL;
+      int sf = !tf || *tf, sb = !tbk || *tbk;
+      if (!df && !db && (!want_front || sf) && (!want_back || sb)) continue;
       if (slab && (z < view->depth_min || z > view->depth_max))
         continue; /* outside the slab: the triangle is clipped there */
       double col[4] = {mat->base_color[0], mat->base_color[1], mat->base_color[2],
@@ -650,16 +730,24 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
         vd = l0 * uv[0][1] + l1 * uv[1][1] + l2 * uv[2][1];
       }
       float u = (float)ud, v = (float)vd;
-      if (tex) { /* the alpha test first (the base level), then the colour */
-        if (!alpha_passes(tex, bits, mat, u, v)) continue;
-        if (taps) {
-          tap_colour(tex, tex_rgb, bits, mat, &tp, w0, w1, w2, ud, vd, col);
-        } else {
+      /* centre: the pixel's centre is in the triangle and passes the alpha
+       * test (the base level's), before the colour */
+      int centre = in && (tex ? alpha_passes(tex, bits, mat, u, v) : col[3] >= 0.5);
+      int front, back;
+      if (tf) {
+        if (!taps_draw(tex, tex_rgb, bits, mat, &tp, w0, w1, w2, ud, vd, in, centre, df, db,
+                       want_front ? tf : NULL, want_back ? tbk : NULL, &front, &back, col))
+          continue;
+      } else {
+        front = df;
+        back = db;
+        if (!front && !back) continue;
+        if (!centre) continue;
+        if (tex) {
           const uint8_t *tx = sample(tex_rgb, u, v);
           for (int k = 0; k < 3; k++) col[k] *= k_unit[tx[k]];
         }
       }
-      if (col[3] < 0.5) continue; /* alpha test */
       double n[3] = {0, 0, 1};
       if (need_normal) {
         for (int k = 0; k < 3; k++) n[k] = l0 * nv[0][k] + l1 * nv[1][k] + l2 * nv[2][k];
@@ -779,8 +867,8 @@ static double *project_all(const bbc_mesh *m, const camera *cam) {
 }
 
 /* bbc_render_ortho; with sun_lum, also the luminance lit by `sun`. */
-static bbc_result render(const bbc_mesh *m, const bbc_view *view, bbc_image *img, const double *sun,
-                         float *sun_lum, bbc_error *err) {
+bbc_result bbc__render_lit(const bbc_mesh *m, const bbc_view *view, bbc_image *img,
+                           const double *sun, float *sun_lum, bbc_error *err) {
   if (!img->rgba) return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "render: image not allocated");
   camera cam;
   bbc_result r = bbc__check_view(view, img->width, img->height, &cam, err);
@@ -812,7 +900,7 @@ static bbc_result render(const bbc_mesh *m, const bbc_view *view, bbc_image *img
 bbc_result bbc_render_ortho(const bbc_mesh *m, const bbc_view *view, bbc_image *img,
                             bbc_error *err) {
   assert(m && view && img);
-  return render(m, view, img, NULL, NULL, err);
+  return bbc__render_lit(m, view, img, NULL, NULL, err);
 }
 
 bbc_result bbc__render_coverage(const bbc_mesh *m, const bbc_view *view, int size, uint8_t *cover,
@@ -833,7 +921,7 @@ bbc_result bbc__render_coverage(const bbc_mesh *m, const bbc_view *view, int siz
     bbc_image img;
     if (bbc_image_alloc(&img, size, size) != BBC_OK)
       return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "render: out of memory");
-    r = render(m, view, &img, NULL, NULL, err);
+    r = bbc__render_lit(m, view, &img, NULL, NULL, err);
     for (size_t i = 0; r == BBC_OK && i < (size_t)size * size; i++)
       cover[i] = img.rgba[4 * i + 3] >= 128;
     bbc_image_free(&img);
@@ -874,84 +962,5 @@ bbc_result bbc__render_bake(const bbc_mesh *m, const uint32_t *faces, size_t fac
   size_t count = faces ? face_count : m->triangle_count;
   for (size_t i = 0; i < count; i++) draw_triangle(m, faces ? faces[i] : i, &tg);
   free(depth);
-  return BBC_OK;
-}
-
-/* Luminance (Rec. 709) summed over the covered pixels of an image whose
- * background alpha is 0. */
-static double covered_luminance(const bbc_image *img) {
-  double sum = 0;
-  size_t n = (size_t)img->width * img->height;
-  for (size_t i = 0; i < n; i++) {
-    const uint8_t *p = img->rgba + 4 * i;
-    if (p[3]) sum += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
-  }
-  return sum;
-}
-
-/* The views that stand for "seen from the side": 8 azimuths around up_axis,
- * 45 degrees apart, at elevations 0 and 20 degrees in turn (unit vectors,
- * towards the model). */
-enum { SIDE_VIEWS = 8 };
-static void side_views(int up, double views[SIDE_VIEWS][3]) {
-  int ea = (up + 1) % 3, eb = (up + 2) % 3;
-  for (int v = 0; v < SIDE_VIEWS; v++) {
-    double el = 20.0 * (v % 2) * M_PI / 180.0, az = 2.0 * M_PI * v / SIDE_VIEWS;
-    views[v][up] = -sin(el);
-    views[v][ea] = -cos(el) * cos(az);
-    views[v][eb] = -cos(el) * sin(az);
-  }
-}
-
-bbc_result bbc_light_gain_measure(const bbc_mesh *m, const double light[3], bbc_axis up_axis,
-                                  double *gain, bbc_error *err) {
-  assert(m && light && gain);
-  *gain = 1.0;
-  if (m->kind != BBC_MESH_TRIANGLES || !m->indices || !m->triangle_count) return BBC_OK;
-  /* Views: side_views (a viewer near the ground, 10 degrees on average);
-   * 96 pixels. */
-  enum { NV = SIDE_VIEWS, SIZE = 96 };
-  int up = up_axis >= 0 && up_axis <= 2 ? up_axis : 1;
-  double views[NV][3], head[NV], sun[NV];
-  side_views(up, views);
-  int failed = 0;
-#pragma omp parallel for schedule(dynamic, 1)
-  for (int v = 0; v < NV; v++) {
-    double upv[3] = {0, 0, 0};
-    upv[up] = 1;
-    const double *dir = views[v];
-    bbc_view view;
-    bbc_view_frame_mesh(m, dir, upv, &view);
-    view.lighting = 1;
-    view.background[3] = 0;
-    bbc_image img = {0};
-    float *lum = malloc((size_t)SIZE * SIZE * sizeof *lum);
-    head[v] = sun[v] = 0;
-    if (!lum || bbc_image_alloc(&img, SIZE, SIZE) != BBC_OK) {
-      free(lum);
-#pragma omp atomic write
-      failed = 1;
-      continue;
-    }
-    /* One pass: the headlight into the image, the sun into lum. */
-    view.headlight = 1;
-    int ok = render(m, &view, &img, light, lum, NULL) == BBC_OK;
-    head[v] = covered_luminance(&img);
-    for (size_t i = 0; i < (size_t)SIZE * SIZE; i++)
-      if (img.rgba[4 * i + 3]) sun[v] += lum[i];
-    free(lum);
-    bbc_image_free(&img);
-    if (!ok) {
-#pragma omp atomic write
-      failed = 1;
-    }
-  }
-  if (failed) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "light gain: out of memory");
-  double h = 0, s = 0;
-  for (int v = 0; v < NV; v++) {
-    h += head[v];
-    s += sun[v];
-  }
-  if (s > 0 && h > 0) *gain = h / s;
   return BBC_OK;
 }

@@ -69,6 +69,16 @@ typedef struct bbc__bake {
    * alpha test passes; at 2 samples a side, the points of 4 x 4 samples a
    * texel), so that a texel's colour averages as many points as before. */
   int colour_taps;
+  /* With colour_taps, per sample of the front and back images (zeroed by
+   * the caller; taps[1] NULL without a back image): 1 when a face passing
+   * its alpha test at the sample's centre drew it. A face passing at one of
+   * the sample's taps only draws it too (a thin face, under 2 pixels
+   * across, also where only a tap lies in it), where no face passing at the
+   * centre has, so that a texel whose coverage lies between its samples'
+   * centres (a larch's needles) is a candidate with a colour: the dithering
+   * can put there the coverage of the samples' centres around it (the
+   * coverage alpha_mask counts: samples marked here). */
+  uint8_t *taps[2];
   /* Optional, per triangle of the mesh: the alpha its samples get (255 when
    * NULL): `pure 2` gives a face crossing n slabs 255 / n in each. */
   const uint8_t *face_alpha;
@@ -80,6 +90,11 @@ typedef struct bbc__bake {
  * (bbc__alpha_bits_build), the same answers from less memory. */
 bbc_result bbc__render_coverage(const bbc_mesh *mesh, const bbc_view *view, int size,
                                 uint8_t *cover, const bbc__alpha_bits *alpha_bits, bbc_error *err);
+/* bbc_render_ortho, and with `sun` (or NULL) the luminance a sun from
+ * there gives each pixel into sun_lum (width x height, or NULL), in the
+ * same pass. */
+bbc_result bbc__render_lit(const bbc_mesh *mesh, const bbc_view *view, bbc_image *img,
+                           const double *sun, float *sun_lum, bbc_error *err);
 /* One rasterization of `faces` (indices into mesh triangles; all when NULL)
  * for a billboard seen along view->direction (= minus the plane's normal),
  * filling the front image (the nearest surface seen from the front, along

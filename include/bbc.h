@@ -202,6 +202,11 @@ bbc_result bbc_bc1_decode(const uint8_t *blocks, int width, int height, bbc_imag
                           bbc_error *err);
 /* 1 when every texel's alpha is 0 or 255 (BC1 keeps such an alpha). */
 int bbc_image_alpha_is_binary(const bbc_image *image);
+/* 1 when the alpha is a mask with softened edges, as bbcgen's `softalpha`
+ * writes atlases: every texel's alpha at most 64 or at least 192, and some
+ * neither 0 nor 255. bbc_image_alpha_binarise makes it 0 (< 128) or 255. */
+int bbc_image_alpha_is_soft_mask(const bbc_image *image);
+void bbc_image_alpha_binarise(bbc_image *image);
 /* Writes `image` with its bbc_image_mipmaps chain as an uncompressed RGBA8
  * DDS (Microsoft's DirectDraw Surface layout, every level down to 1 x 1),
  * atomically. */
@@ -474,6 +479,10 @@ typedef struct bbc_params {
   double shade_ambient;  /* shadeambient: ambient share of voxel shadowing, 0..1 */
   int dither;            /* dither: quality 2: texel opacity by coverage-preserving
                           * error diffusion (1) or by growing (0) */
+  int soft_alpha;        /* softalpha: the colour atlas's alpha softened next to the
+                          * opaque/transparent edge (still >= 128 where opaque, < 128
+                          * where not) so that a client's bilinear alpha test keeps
+                          * each texel's area (1), or alpha 0/255 only (0) */
   int stem;              /* stem: billboards through the trunk part's axis, 180/n
                           * degrees apart, each showing the whole stem (0 = off) */
   int limbs;             /* limbs: > 0: the trunk part kept as a mesh of at most this

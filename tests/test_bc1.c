@@ -114,10 +114,31 @@ static void test_special_blocks(void **state) {
   bbc_image_free(&im);
 }
 
+/* A mask with softened edges (softalpha) is told from a real alpha ramp
+ * and made binary again at 128. */
+static void test_soft_mask(void **state) {
+  (void)state;
+  bbc_image im;
+  assert_int_equal(bbc_image_alloc(&im, 4, 1), BBC_OK);
+  const uint8_t a[4] = {0, 50, 205, 255};
+  for (int i = 0; i < 4; i++) im.rgba[4 * i + 3] = a[i];
+  assert_int_equal(bbc_image_alpha_is_soft_mask(&im), 1);
+  assert_int_equal(bbc_image_alpha_is_binary(&im), 0);
+  im.rgba[4 * 1 + 3] = 128; /* a ramp's middle */
+  assert_int_equal(bbc_image_alpha_is_soft_mask(&im), 0);
+  im.rgba[4 * 1 + 3] = 50;
+  bbc_image_alpha_binarise(&im);
+  const uint8_t b[4] = {0, 0, 255, 255};
+  for (int i = 0; i < 4; i++) assert_int_equal(im.rgba[4 * i + 3], b[i]);
+  assert_int_equal(bbc_image_alpha_is_soft_mask(&im), 0); /* binary: nothing soft */
+  bbc_image_free(&im);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_round_trips),
       cmocka_unit_test(test_special_blocks),
+      cmocka_unit_test(test_soft_mask),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

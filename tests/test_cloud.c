@@ -111,6 +111,7 @@ static void params_for(bbc_params *p, int texres, int quality) {
   p->nm_bend = 0;
   p->normal_maps = 0;
   p->threads = 1;
+  p->soft_alpha = 0; /* masks as baked: alpha 0 or 255 (test_soft_alpha) */
 }
 
 /* The atlas texel showing model point q on billboard b (front or back). */
@@ -350,6 +351,85 @@ static void test_samples_average_texture(void **state) {
     bbc_cloud_free(&cl);
     scene_free(&sc);
   }
+}
+
+/* The share of billboard 0's front image (N x N texels over [0, 1]^2)
+ * that a client's bilinear filter and alpha test at 0.5 shows (8 x 8
+ * points a texel), against the texels opaque to nearest sampling. */
+static double bilinear_share(const bbc_cloud *cl, int N, size_t *nearest) {
+  const bbc_image *at = &cl->mesh.textures[0].image;
+  const bbc_atlas_rect *rc = &cl->billboards[0].front;
+  size_t shown = 0;
+  *nearest = 0;
+  for (int y = 0; y < rc->height; y++)
+    for (int x = 0; x < rc->width; x++)
+      *nearest += at->rgba[4 * ((size_t)(rc->y + y) * at->width + rc->x + x) + 3] >= 128;
+  for (int y = 0; y < 8 * rc->height; y++)
+    for (int x = 0; x < 8 * rc->width; x++) {
+      double fx = (x + 0.5) / 8 - 0.5, fy = (y + 0.5) / 8 - 0.5;
+      int x0 = (int)floor(fx), y0 = (int)floor(fy);
+      double tx = fx - x0, ty = fy - y0, al = 0;
+      for (int j = 0; j < 2; j++)
+        for (int i = 0; i < 2; i++) {
+          int xx = rc->x + x0 + i, yy = rc->y + y0 + j; /* the atlas's gutter is transparent */
+          double wgt = (i ? tx : 1 - tx) * (j ? ty : 1 - ty);
+          al += wgt * at->rgba[4 * ((size_t)yy * at->width + xx) + 3];
+        }
+      shown += al >= 127.5;
+    }
+  (void)N;
+  return (double)shown / 64.0 / (double)(*nearest ? *nearest : 1);
+}
+
+/* softalpha: isolated opaque texels (every other texel of every other row:
+ * a sparse, dithered crown) keep their area under a client's bilinear alpha
+ * test (0.61 of it with alpha 0 and 255), and the mask nearest sampling
+ * sees is the same. */
+static void test_soft_alpha(void **state) {
+  (void)state;
+  const int N = 32;
+  scene sc;
+  scene_begin(&sc, 2 + (size_t)N * N / 2);
+  scene_frame(&sc);
+  for (int ty = 1; ty < N - 1; ty += 2)
+    for (int tx = 1; tx < N - 1; tx += 2) {
+      const double a[3] = {(double)tx / N, (double)ty / N, 0.002},
+                   b[3] = {(tx + 1.0) / N, (double)ty / N, 0.002},
+                   c[3] = {(tx + 1.0) / N, (ty + 1.0) / N, 0.002},
+                   d[3] = {(double)tx / N, (ty + 1.0) / N, 0.002};
+      scene_tri(&sc, a, b, c, 2);
+      scene_tri(&sc, a, c, d, 2);
+    }
+  scene_end(&sc, 0.01);
+  double share[2];
+  size_t nearest[2];
+  uint8_t *mask[2];
+  for (int k = 0; k < 2; k++) {
+    bbc_params p;
+    params_for(&p, N, 2);
+    p.samples = 4;
+    p.refine = 0;
+    p.back_images = 0;
+    p.soft_alpha = k;
+    bbc_cloud cl;
+    bbc_error err;
+    if (bbc_cloud_build(&sc.m, &sc.s, &p, NULL, &cl, &err) != BBC_OK) fail_msg("%s", err.message);
+    share[k] = bilinear_share(&cl, N, &nearest[k]);
+    const bbc_image *at = &cl.mesh.textures[0].image;
+    mask[k] = malloc((size_t)at->width * at->height);
+    for (size_t i = 0; i < (size_t)at->width * at->height; i++)
+      mask[k][i] = at->rgba[4 * i + 3] >= 128;
+    if (k) assert_memory_equal(mask[0], mask[1], (size_t)at->width * at->height);
+    bbc_cloud_free(&cl);
+  }
+  printf("isolated texels %zu: bilinear alpha test shows %.3f of them at 0/255, %.3f softened\n",
+         nearest[0], share[0], share[1]);
+  assert_true(nearest[0] >= 150 && nearest[0] == nearest[1]);
+  assert_true(share[0] < 0.7);
+  assert_true(share[1] > 0.9 && share[1] < 1.1);
+  free(mask[0]);
+  free(mask[1]);
+  scene_free(&sc);
 }
 
 static void test_front_and_back(void **state) {
@@ -983,17 +1063,20 @@ static void test_cloud_of_a_tree(void **state) {
       assert_true(cm->bbox_min[k] >= m.bbox_min[k] - s.epsilon_abs * (1 + 1e-6));
       assert_true(cm->bbox_max[k] <= m.bbox_max[k] + s.epsilon_abs * (1 + 1e-6));
     }
-    /* The atlas has real transparency, alpha 0 and 255 only at quality 2. */
+    /* The atlas has real transparency, a mask at quality 2: alpha at most
+     * 50 or at least 205, softened at its edges (softalpha). */
     const bbc_image *a = &cm->textures[0].image;
-    size_t zero = 0, full = 0, other = 0;
+    size_t zero = 0, full = 0, soft = 0, mid = 0;
     for (size_t i = 0; i < (size_t)a->width * a->height; i++) {
       uint8_t al = a->rgba[4 * i + 3];
       zero += al == 0;
       full += al == 255;
-      other += al != 0 && al != 255;
+      soft += (al > 0 && al <= 50) || (al >= 205 && al < 255);
+      mid += al > 50 && al < 205;
     }
     assert_true(zero > 0 && full > 0);
-    assert_int_equal(other, 0);
+    if (quality == 2) assert_true(soft > 0);
+    assert_int_equal(mid, 0);
     assert_true(cl.atlas_fill > 0.2 && cl.atlas_fill <= 1.0);
     /* Deterministic, with any number of threads. */
     bbc_planeset s2;
@@ -1302,6 +1385,7 @@ int main(void) {
       cmocka_unit_test(test_dither_keeps_density),
       cmocka_unit_test(test_samples_average_texture),
       cmocka_unit_test(test_larch_samples_keep_coverage),
+      cmocka_unit_test(test_soft_alpha),
       cmocka_unit_test(test_refine_keeps_density),
       cmocka_unit_test(test_pure_split),
       cmocka_unit_test(test_cancel),

@@ -185,3 +185,18 @@ int bbc_image_alpha_is_binary(const bbc_image *im) {
     if (im->rgba[4 * i + 3] != 0 && im->rgba[4 * i + 3] != 255) return 0;
   return 1;
 }
+
+int bbc_image_alpha_is_soft_mask(const bbc_image *im) {
+  int soft = 0;
+  for (size_t i = 0; im && im->rgba && i < (size_t)im->width * im->height; i++) {
+    uint8_t a = im->rgba[4 * i + 3];
+    if (a > 64 && a < 192) return 0;
+    soft |= a != 0 && a != 255;
+  }
+  return soft;
+}
+
+void bbc_image_alpha_binarise(bbc_image *im) {
+  for (size_t i = 0; im && im->rgba && i < (size_t)im->width * im->height; i++)
+    im->rgba[4 * i + 3] = im->rgba[4 * i + 3] >= 128 ? 255 : 0;
+}

@@ -187,6 +187,13 @@ static const param_row k_rows[] = {
       "quality 2: texel opacity by error diffusion of its samples' coverage, keeping the "
       "original's density (0 = growing: opaque when >= growmin samples are)"},
      INT_FIELD(dither)},
+    {{"softalpha", BBC_PARAM_BOOL, 0, 1, 1, F3, "extension", "",
+      "the atlas's alpha softened next to each edge between opaque and transparent texels "
+      "(opaque stays >= 128, transparent < 128), so that a viewer's bilinear alpha test keeps "
+      "each texel's area, as nearest sampling does (0 = alpha 0 or 255); bbcgen: on for glTF "
+      "outputs (alpha mode MASK), off for OBJ, VRML and FBX, whose readers may blend it "
+      "(docs/lighting.md)"},
+     INT_FIELD(soft_alpha)},
     {{"limbs", BBC_PARAM_INT, 0, 100000, 512, 0, "extension", "triangles",
       "the trunk part (stem and limbs) kept as a mesh of at most n triangles inside the "
       "cloud instead of billboards, when there is a foliage part; its branches too thin "

@@ -58,7 +58,16 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_image *src, int mipmap, int
   f->textures = t2;
   bbc_image opaque = {0};
   if (map && !opaque_copy(src, &opaque, err)) return 0;
-  const bbc_image *im = map ? &opaque : src;
+  /* An atlas with softened alpha edges (softalpha, for clients' bilinear
+   * alpha tests) as the binary mask it is: BC1 and the coverage-keeping
+   * levels take it whole. */
+  int soft = !map && bbc_image_alpha_is_soft_mask(src);
+  if (soft) {
+    if (!opaque_copy(src, &opaque, err)) return 0;
+    memcpy(opaque.rgba, src->rgba, 4 * (size_t)src->width * src->height);
+    bbc_image_alpha_binarise(&opaque);
+  }
+  const bbc_image *im = map || soft ? &opaque : src;
   bbc_image *all = NULL;
   int nm = 0;
   bbc_error e;

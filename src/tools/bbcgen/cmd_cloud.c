@@ -165,6 +165,11 @@ int cmd_cloud(cli *c, int argc, char **argv) {
   /* FBX's materials have no occlusion slot: none baked unless asked. */
   if (!strcasecmp(ext, ".fbx") && !bbc_params_by_hand(c->hand, "occlusion"))
     c->params.occlusion = 0;
+  /* Softened alpha edges for glTF, whose MASK mode makes every client
+   * alpha-test; OBJ, VRML and FBX readers may blend such an alpha instead
+   * (halos), so theirs stays 0 or 255 unless asked. */
+  if (!bbc_params_by_hand(c->hand, "softalpha"))
+    c->params.soft_alpha = !strcasecmp(ext, ".glb") || !strcasecmp(ext, ".gltf");
   cli_info(c, "lighting: %s", bbc_params_lighting_name(&c->params));
   bbc_session *sess = bbc_session_new();
   if (!sess) {

@@ -416,7 +416,8 @@ int cmd_exec(cli *c, int argc, char **argv) {
     cli_error("exec: usage: bbcgen exec BATCHFILE");
     return EXIT_USAGE;
   }
-  bbc_params_lighting(&c->params, c->hand, BBC_LIGHTING_BAKED); /* as cmd_prompt */
+  bbc_params_lighting(&c->params, c->hand, BBC_LIGHTING_BAKED);            /* as cmd_prompt */
+  if (!bbc_params_by_hand(c->hand, "softalpha")) c->params.soft_alpha = 0; /* VRML */
   batch *b = calloc(1, sizeof *b);
   if (b) b->sess = bbc_session_new();
   if (!b || !b->sess) {
@@ -476,8 +477,10 @@ static void on_interrupt(int sig) {
 }
 
 int cmd_prompt(cli *c, const char *batch_file) {
-  /* The thesis's workflow, whose `save` writes VRML: a baked light. */
+  /* The thesis's workflow, whose `save` writes VRML: a baked light, alpha
+   * 0 or 255 (VRML readers may blend a softened one). */
   bbc_params_lighting(&c->params, c->hand, BBC_LIGHTING_BAKED);
+  if (!bbc_params_by_hand(c->hand, "softalpha")) c->params.soft_alpha = 0;
   batch *b = calloc(1, sizeof *b);
   if (b) b->sess = bbc_session_new();
   if (!b || !b->sess) {

@@ -89,6 +89,9 @@ typedef struct bbc__pt2 {
 /* The convex hull of p[0..n) (reordered here) into h (room for n + 1),
  * counter-clockwise, collinear points left out; its corner count. */
 size_t bbc__convex_hull_2d(bbc__pt2 *p, size_t n, bbc__pt2 *h);
+/* The signed area of polygon p[0..n) (the shoelace formula; > 0
+ * counter-clockwise). */
+double bbc__polygon_area_2d(const bbc__pt2 *p, size_t n);
 /* The eigenvector of the smallest eigenvalue of a symmetric 3 x 3 matrix
  * (cyclic Jacobi; `a` is overwritten): the normal of least spread. */
 void bbc__smallest_eigenvector(double a[3][3], double out[3]);

@@ -77,3 +77,12 @@ size_t bbc__convex_hull_2d(bbc__pt2 *p, size_t n, bbc__pt2 *h) {
   }
   return k > 1 ? k - 1 : k;
 }
+
+double bbc__polygon_area_2d(const bbc__pt2 *p, size_t n) {
+  double a = 0;
+  for (size_t i = 0; i < n; i++) {
+    const bbc__pt2 *q = &p[(i + 1) % n];
+    a += p[i].x * q->y - q->x * p[i].y;
+  }
+  return 0.5 * a;
+}

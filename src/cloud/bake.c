@@ -154,9 +154,9 @@ static int clip_half(double p[][2], int n, double a, double b, double c) {
 }
 
 static double polygon_area(double p[][2], int n) {
-  double a = 0;
-  for (int i = 0; i < n; i++) a += p[i][0] * p[(i + 1) % n][1] - p[(i + 1) % n][0] * p[i][1];
-  return 0.5 * a;
+  bbc__pt2 q[16];
+  for (int i = 0; i < n && i < 16; i++) q[i] = (bbc__pt2){p[i][0], p[i][1]};
+  return bbc__polygon_area_2d(q, (size_t)(n < 16 ? n : 16));
 }
 
 /* The rectangle clipped to the box lo..hi (model units): in (s, t) of the

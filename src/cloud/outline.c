@@ -17,15 +17,6 @@ static double cross3(pt o, pt a, pt b) {
   return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
 }
 
-static double poly_area(const pt *p, size_t n) {
-  double a = 0;
-  for (size_t i = 0; i < n; i++) {
-    const pt *q = &p[(i + 1) % n];
-    a += p[i].x * q->y - q->x * p[i].y;
-  }
-  return 0.5 * a;
-}
-
 /* A billboard's outline as points, and points as its outline. */
 static void outline_points(const bbc_cloud_billboard *cb, pt *h) {
   for (int c = 0; c < cb->corner_count; c++) h[c] = (pt){cb->corners[c][0], cb->corners[c][1]};
@@ -166,7 +157,7 @@ static bbc_result tighten(bbc_cloud_billboard *cb, const bbc__baked *b, int most
   } else if ((int)nh <= most) {
     pt old[10];
     outline_points(cb, old);
-    if (poly_area(h, nh) < poly_area(old, (size_t)cb->corner_count) - 1e-12 ||
+    if (bbc__polygon_area_2d(h, nh) < bbc__polygon_area_2d(old, (size_t)cb->corner_count) - 1e-12 ||
         cb->corner_count > most)
       set_outline(cb, h, nh);
   }

@@ -42,6 +42,11 @@ void bbc_forest_occluder_free(bbc_forest_occluder *o) {
   memset(o, 0, sizeof *o);
 }
 
+/* The distance step after r: 12 % farther, plus a heightmap spacing. */
+static double next_step(double r, double spacing) {
+  return r * 1.12 + spacing;
+}
+
 bbc_result bbc_forest_occluder_init(bbc_forest_occluder *o, const bbc_forest_world *w,
                                     bbc_error *err) {
   assert(o && w);
@@ -84,7 +89,7 @@ bbc_result bbc_forest_occluder_init(bbc_forest_occluder *o, const bbc_forest_wor
   /* the distance steps, out to the map's diagonal */
   double far = 1.5 * n * w->spacing;
   int steps = 0;
-  for (double r = 2 * w->spacing; r < far; r = r * 1.12 + w->spacing) steps++;
+  for (double r = 2 * w->spacing; r < far; r = next_step(r, w->spacing)) steps++;
   o->steps = steps;
   o->step = malloc((size_t)(steps ? steps : 1) * sizeof *o->step);
   o->step_lod = malloc((size_t)(steps ? steps : 1) * sizeof *o->step_lod);
@@ -93,7 +98,7 @@ bbc_result bbc_forest_occluder_init(bbc_forest_occluder *o, const bbc_forest_wor
   o->bin_done = calloc(BBC_FOREST_OCCLUDER_BINS, 1);
   if (!o->step || !o->step_lod || !o->horizon || !o->bin_dir || !o->bin_done) goto oom;
   steps = 0;
-  for (double r = 2 * w->spacing; r < far; r = r * 1.12 + w->spacing) o->step[steps++] = r;
+  for (double r = 2 * w->spacing; r < far; r = next_step(r, w->spacing)) o->step[steps++] = r;
   for (int b = 0; b <= BBC_FOREST_OCCLUDER_BINS; b++) {
     double a = -M_PI + 2 * M_PI * b / BBC_FOREST_OCCLUDER_BINS;
     o->bin_dir[2 * b] = cos(a);

@@ -718,8 +718,9 @@ typedef struct bbc_planes_options {
  * default split. */
 void bbc_planes_options_default(bbc_planes_options *options);
 /* bbc_params_stale_step over whole options: the parameters, the per-part
- * overrides (`which` then names e.g. "trunk.epsilon", in a static buffer)
- * and the split (`which` = "split": step 1). */
+ * overrides (`which` then names e.g. "trunk.epsilon", in a buffer of the
+ * calling thread's own, valid until that thread's next call) and the split
+ * (`which` = "split": step 1). */
 int bbc_planes_options_stale_step(const bbc_planes_options *before, const bbc_planes_options *after,
                                   const char **which);
 

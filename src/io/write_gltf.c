@@ -1,12 +1,11 @@
 /* write_gltf.c — glTF 2.0 output (.glb, or .gltf + .bin + .png files), every
- * file atomic, the JSON written by hand (the library does not link a JSON
- * library). Layout of the binary buffer, per mesh in node order, every
- * bufferView 4-byte aligned: POSITION (float VEC3), NORMAL (float VEC3, when
- * present), TEXCOORD_0 (float VEC2, when present), TANGENT (float VEC4, when
- * present), then the indices of each primitive (one per material used, in
- * material order), then (.glb only) the mesh's PNG images. Accessors follow
- * the non-image bufferViews one to one.
- * The same mesh and options give byte-identical files. */
+ * file atomic, the JSON written by hand (cJSON, which the readers use, builds
+ * a tree first; this writes in one pass). Layout of the binary buffer, per mesh in node order,
+ * every bufferView 4-byte aligned: POSITION (float VEC3), NORMAL (float VEC3, when present),
+ * TEXCOORD_0 (float VEC2, when present), TANGENT (float VEC4, when present), then the indices of
+ * each primitive (one per material used, in material order), then (.glb only) the mesh's PNG
+ * images. Accessors follow the non-image bufferViews one to one. The same mesh and options give
+ * byte-identical files. */
 #include "io.h"
 
 #include <assert.h>

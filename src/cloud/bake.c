@@ -7,6 +7,7 @@
 #include "cloud.h"
 #include "raster.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -153,10 +154,11 @@ static int clip_half(double p[][2], int n, double a, double b, double c) {
   return m;
 }
 
-static double polygon_area(double p[][2], int n) {
-  bbc__pt2 q[16];
-  for (int i = 0; i < n && i < 16; i++) q[i] = (bbc__pt2){p[i][0], p[i][1]};
-  return bbc__polygon_area_2d(q, (size_t)(n < 16 ? n : 16));
+static double polygon_area(double p[][2], int n) { /* an outline: at most 10 corners */
+  bbc__pt2 q[10];
+  assert(n >= 0 && n <= 10);
+  for (int i = 0; i < n; i++) q[i] = (bbc__pt2){p[i][0], p[i][1]};
+  return bbc__polygon_area_2d(q, (size_t)n);
 }
 
 /* The rectangle clipped to the box lo..hi (model units): in (s, t) of the

@@ -182,8 +182,9 @@ static bbc_result build_mesh(const bbc_planeset *set, const bbc_params *prm, bbc
  * alpha test at 0.5 keeps an isolated texel's area (it keeps 0.61 of it at
  * 0 and 255: the dithered, sparse parts of a crown thinned by 40 %) while
  * the test itself, and every nearest-sampling reader, sees the same mask.
- * Measured over dithered masks of 5-90 % coverage: 0.96-1.04 of their
- * coverage kept by bilinear alpha testing against 0.63-1.04 at 0/255. */
+ * Simulated over Floyd-Steinberg masks of 5-90 % coverage: 0.96-1.04 of
+ * their coverage kept by bilinear alpha testing against 0.63-1.04 at 0/255
+ * (test_soft_alpha measures isolated texels). */
 static bbc_result soften_alpha(bbc_image *atlas, const bbc_atlas_rect *rects, size_t n) {
   for (size_t i = 0; i < n; i++) {
     const bbc_atlas_rect *rc = &rects[i];

@@ -26,17 +26,23 @@ static int use_bc1(const bbcgl_forest *f, const bbc_image *im, const bbc_image *
   return 1;
 }
 
-/* A normal or occlusion map as the shaders read it: its colour channels,
- * opaque (the colour map's alpha decides what is drawn), so that its mip
- * levels are plain averages and BC1 holds it. */
-static int opaque_copy(const bbc_image *im, bbc_image *out, char *err) {
+/* The image as the shaders read it, into out: a normal or occlusion map
+ * (`map`) its colour channels, opaque (the colour map's alpha decides what
+ * is drawn), so that its mip levels are plain averages and BC1 holds it; an
+ * atlas with softened alpha edges (softalpha, for clients' bilinear alpha
+ * tests) the binary mask it is, which BC1 and the coverage-keeping levels
+ * take whole. */
+static int shader_copy(const bbc_image *im, int map, bbc_image *out, char *err) {
   if (bbc_image_alloc(out, im->width, im->height) != BBC_OK) {
     snprintf(err, BBCGL_ERR, "out of memory");
     return 0;
   }
   size_t n = (size_t)im->width * im->height;
   memcpy(out->rgba, im->rgba, 4 * n);
-  for (size_t i = 0; i < n; i++) out->rgba[4 * i + 3] = 255;
+  if (map)
+    for (size_t i = 0; i < n; i++) out->rgba[4 * i + 3] = 255;
+  else
+    bbc_image_alpha_binarise(out);
   return 1;
 }
 
@@ -57,17 +63,9 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_image *src, int mipmap, int
   }
   f->textures = t2;
   bbc_image opaque = {0};
-  if (map && !opaque_copy(src, &opaque, err)) return 0;
-  /* An atlas with softened alpha edges (softalpha, for clients' bilinear
-   * alpha tests) as the binary mask it is: BC1 and the coverage-keeping
-   * levels take it whole. */
-  int soft = !map && bbc_image_alpha_is_soft_mask(src);
-  if (soft) {
-    if (!opaque_copy(src, &opaque, err)) return 0;
-    memcpy(opaque.rgba, src->rgba, 4 * (size_t)src->width * src->height);
-    bbc_image_alpha_binarise(&opaque);
-  }
-  const bbc_image *im = map || soft ? &opaque : src;
+  int copy = map || bbc_image_alpha_is_soft_mask(src);
+  if (copy && !shader_copy(src, map, &opaque, err)) return 0;
+  const bbc_image *im = copy ? &opaque : src;
   bbc_image *all = NULL;
   int nm = 0;
   bbc_error e;

@@ -474,6 +474,8 @@ typedef struct bbc_params {
                           * unit direction from the crown's centre, renormalised */
   double nm_flat;        /* nmflat: normal maps: each texel's normal plus this times the
                           * billboard's own normal, renormalised */
+  double nm_up;          /* nmup: normal maps: a two-sided face shows the side that turns
+                          * to its billboard's viewer tilted this much towards up */
   double rough_min;      /* roughmin: the billboards' material roughness at least this
                           * (the source's mean when higher) */
   double shade_ambient;  /* shadeambient: ambient share of voxel shadowing, 0..1 */

@@ -40,6 +40,11 @@
 //                      its normal map and the two-sided flip) as its colour,
 //                      rgb = (n + 1) / 2, instead of lighting it: with --keep,
 //                      shows whether a cloud's normals are its original's.
+//   --lobe diffuse|specular
+//                      every model (original and clouds alike) drawn with one
+//                      term of three.js's lighting only: the diffuse (direct +
+//                      ambient) or the specular (direct + ambient) reflection;
+//                      shows which of the two a cloud gets wrong.
 //
 // Conventions
 //   * Models are Y-up. Azimuth is measured around +Y: azimuth 0 is on the +Z
@@ -164,6 +169,9 @@ const files = [];
       case '--sun-intensity': opt.sunIntensity = num(name, value(), 0, 1e6); break;
       case '--no-mipmaps': opt.noMipmaps = true; break;
       case '--show-normals': opt.showNormals = true; break;
+      case '--lobe': opt.lobe = str();
+        if (!['diffuse', 'specular'].includes(opt.lobe)) die(1, '--lobe: diffuse or specular');
+        break;
       case '--original-material': opt.originalMaterial = str();
         if (!['standard', 'phong'].includes(opt.originalMaterial)) die(1, '--original-material: standard or phong');
         break;
@@ -441,6 +449,20 @@ window.bbc = {
         t.minFilter = THREE.LinearFilter;
         t.needsUpdate = true;
       }
+    if (initOpt.lobe)
+      m.root.traverse((o) => {
+        if (!o.material) return;
+        for (const mat of Array.isArray(o.material) ? o.material : [o.material]) {
+          if (mat.userData.bbcLobe) continue;
+          mat.userData.bbcLobe = true;
+          const keep = initOpt.lobe === 'diffuse' ? 'totalSpecular' : 'totalDiffuse';
+          mat.onBeforeCompile = (sh) => {
+            sh.fragmentShader = sh.fragmentShader.replace(/vec3 (totalSpecular|totalDiffuse) = [^;]*;/g,
+              (all, name) => (name === keep ? 'vec3 ' + name + ' = vec3( 0.0 );' : all));
+          };
+          mat.needsUpdate = true;
+        }
+      });
     if (initOpt.showNormals)
       m.root.traverse((o) => {
         if (!o.material) return;
@@ -653,7 +675,7 @@ try {
   gpu = await page.evaluate((o) => window.bbc.init(o),
     { size: opt.size, fov: opt.fov, ambient: opt.ambient, sunIntensity: opt.sunIntensity,
       originalMaterial: opt.originalMaterial, noMipmaps: !!opt.noMipmaps,
-      showNormals: !!opt.showNormals });
+      showNormals: !!opt.showNormals, lobe: opt.lobe || null });
 } catch (e) {
   await finish(3, `no WebGL in Chromium: ${e.message}`);
 }

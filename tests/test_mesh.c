@@ -80,6 +80,32 @@ static void test_cube(void **state) {
   bbc_mesh_free(&m);
 }
 
+/* A two-sided leaf: a square made of two triangles, and its other side,
+ * the same corners wound the other way (on the same vertices, and on
+ * vertices of their own at the same positions). Summed as they are, the
+ * two sides cancel at every corner and the normal left is noise; each
+ * corner's normal must stay +-z (either side: the bake turns a two-sided
+ * surface's normal to its face's side). */
+static void test_two_sided_sheet_keeps_its_normal(void **state) {
+  (void)state;
+  const double pos[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0,  /* 0-3: the leaf */
+                        0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}; /* 4-7: its copy */
+  const uint32_t shared[] = {0, 1, 2, 0, 2, 3, 0, 2, 1, 0, 3, 2};
+  const uint32_t apart[] = {0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6};
+  for (int smooth = 0; smooth <= 1; smooth++)
+    for (int k = 0; k < 2; k++) {
+      bbc_mesh m;
+      make_mesh(&m, pos, 8, k ? apart : shared, 4);
+      bbc_error err;
+      assert_int_equal(bbc_mesh_finalize(&m, smooth, "leaf", &err), BBC_OK);
+      for (int v = 0; v < (k ? 8 : 4); v++) {
+        const float *n = m.normals + 3 * v;
+        assert_true(fabsf(n[0]) < 1e-6f && fabsf(n[1]) < 1e-6f && fabsf(fabsf(n[2]) - 1) < 1e-6f);
+      }
+      bbc_mesh_free(&m);
+    }
+}
+
 static void test_degenerates_dropped_and_counted(void **state) {
   (void)state;
   /* Triangle 1 repeats an index, triangle 2 is collinear: both dropped. */
@@ -153,6 +179,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_center_is_area_weighted),
       cmocka_unit_test(test_cube),
+      cmocka_unit_test(test_two_sided_sheet_keeps_its_normal),
       cmocka_unit_test(test_degenerates_dropped_and_counted),
       cmocka_unit_test(test_invalid_geometry_refused),
       cmocka_unit_test(test_points_frame),

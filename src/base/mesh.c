@@ -125,11 +125,18 @@ static int same_position_first(const bbc_mesh *m, uint32_t *first) {
 /* Computes unit normals for vertices whose normal is missing or unusable.
  * smooth = 1 accumulates area-weighted face normals over all vertices that
  * share a position (files often split vertices at UV seams); smooth = 0 only
- * over the vertex index itself. */
+ * over the vertex index itself. Faces nearly back to back with a vertex's
+ * largest face (the two sides of a thin sheet, a two-sided leaf or needle
+ * made of two faces on the same corners) are added turned over: summed as
+ * they are, the two sides cancel, and the normal left is noise. */
 static int normal_usable(const float *n) {
   double l2 = (double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2];
   return isfinite(l2) && l2 > 1e-12;
 }
+
+/* cos of the angle between two faces' normals below which the second is
+ * the other side of the first's sheet: 150 degrees apart or more. */
+#define BBC_SHEET_COS (-0.866)
 
 static bbc_result compute_normals(bbc_mesh *m, int smooth, int only_missing) {
   size_t nv = m->vertex_count;
@@ -146,34 +153,47 @@ static bbc_result compute_normals(bbc_mesh *m, int smooth, int only_missing) {
       return BBC_OK;
     }
   }
-  double *acc = calloc(nv * 3, sizeof *acc);
-  if (!acc) return BBC_ERROR_OUT_OF_MEMORY;
+  /* first[v]: the vertex whose sum v shares (the lowest index at v's
+   * position with smooth, else v); ref: per such vertex, its largest
+   * face's cross product (the lowest face index among equals). */
+  double *acc = calloc(nv * 3, sizeof *acc), *ref = calloc(nv * 4, sizeof *ref);
+  uint32_t *first = malloc(nv * sizeof *first);
+  if (!acc || !ref || !first || (smooth && nv > 1 && !same_position_first(m, first))) {
+    free(acc);
+    free(ref);
+    free(first);
+    return BBC_ERROR_OUT_OF_MEMORY;
+  }
+  if (!(smooth && nv > 1))
+    for (size_t v = 0; v < nv; v++) first[v] = (uint32_t)v;
   for (size_t t = 0; t < m->triangle_count; t++) {
     double c[3];
     bbc__triangle_cross(m, t, c);
+    double q = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
     for (int k = 0; k < 3; k++) {
-      double *a = acc + 3 * m->indices[3 * t + k];
-      a[0] += c[0];
-      a[1] += c[1];
-      a[2] += c[2];
+      double *r = ref + 4 * (size_t)first[m->indices[3 * t + k]];
+      if (q > r[3]) {
+        memcpy(r, c, 3 * sizeof *c);
+        r[3] = q;
+      }
     }
   }
-  if (smooth && nv > 1) {
-    /* Sums over the vertices at one position, in increasing index order
-     * (into the first one's, then copied to the others). */
-    uint32_t *first = malloc(nv * sizeof *first);
-    if (!first || !same_position_first(m, first)) {
-      free(first);
-      free(acc);
-      return BBC_ERROR_OUT_OF_MEMORY;
+  for (size_t t = 0; t < m->triangle_count; t++) {
+    double c[3];
+    bbc__triangle_cross(m, t, c);
+    double q = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+    for (int k = 0; k < 3; k++) {
+      size_t g = first[m->indices[3 * t + k]];
+      const double *r = ref + 4 * g;
+      double d = c[0] * r[0] + c[1] * r[1] + c[2] * r[2];
+      double sign = d < BBC_SHEET_COS * sqrt(q * r[3]) ? -1.0 : 1.0;
+      for (int j = 0; j < 3; j++) acc[3 * g + j] += sign * c[j];
     }
-    for (size_t v = 0; v < nv; v++)
-      if (first[v] != v)
-        for (int d = 0; d < 3; d++) acc[3 * (size_t)first[v] + d] += acc[3 * v + d];
-    for (size_t v = 0; v < nv; v++)
-      if (first[v] != v) memcpy(acc + 3 * v, acc + 3 * (size_t)first[v], 3 * sizeof *acc);
-    free(first);
   }
+  for (size_t v = 0; v < nv; v++)
+    if (first[v] != v) memcpy(acc + 3 * v, acc + 3 * (size_t)first[v], 3 * sizeof *acc);
+  free(first);
+  free(ref);
   if (!m->normals) {
     m->normals = malloc(nv * 3 * sizeof *m->normals);
     if (!m->normals) {

@@ -175,6 +175,11 @@ static const param_row k_rows[] = {
       "surface's own): keeps texels from facing away from a viewer at a slant "
       "(docs/lighting.md)"},
      DBL_FIELD(nm_flat)},
+    {{"nmup", BBC_PARAM_REAL, 0, 10, 0.5, F3, "extension", "",
+      "normal maps: a two-sided surface shows the side of its face that turns to its "
+      "billboard's viewer tilted n towards up (tan of the tilt; 0 = the viewer's): the side "
+      "a viewer above the horizon sees of leaves the billboard sees edge-on (docs/lighting.md)"},
+     DBL_FIELD(nm_up)},
     {{"roughmin", BBC_PARAM_REAL, 0, 1, 0, F3, "extension", "",
       "the billboards' roughness (glTF roughnessFactor) at least this, the source's mean when "
       "higher: a flat billboard mirrors a low sun where the leaves it shows scattered it "

@@ -396,6 +396,8 @@ static void bake_target(const bbc__bake_inputs *in, const bake_job *job, int w, 
   bk->outward = job->mask ? 0 : in->params->nm_bend; /* the stem's: its own normals */
   memcpy(bk->center, in->crown_center, sizeof bk->center);
   bk->flat = job->mask ? 0 : in->params->nm_flat;
+  bk->up[in->params->up_axis >= 0 && in->params->up_axis <= 2 ? in->params->up_axis : 1] = 1;
+  bk->up_tilt = in->params->nm_up;
   bk->back_ao = out->back_ao.rgba;
   bk->backface = in->params->backface;
   bk->mips = in->mips;

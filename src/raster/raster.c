@@ -116,14 +116,30 @@ typedef struct target {
   const bbc__alpha_bits *cover_bits;
 } target;
 
-static void put_normal(uint8_t *o, const double *n, const camera *cam, double toward,
-                       const double *out, double flat) {
-  double x = n[0] * cam->r[0] + n[1] * cam->r[1] + n[2] * cam->r[2];
-  double y = n[0] * cam->u[0] + n[1] * cam->u[1] + n[2] * cam->u[2];
-  double z = -toward * (n[0] * cam->f[0] + n[1] * cam->f[1] + n[2] * cam->f[2]);
-  /* Two-sided surfaces: the normal faces this image's viewer; with `out`
-   * (in the image's frame) it is then bent by it. */
-  if (z < 0) {
+/* A vector in an image's frame: x right, y up, z towards the image's
+ * viewer (toward = 1 for the front image, -1 for the back). */
+static inline vec3 in_image(const double *w, const camera *cam, double toward) {
+  return v3(vdot(vload(w), vload(cam->r)), vdot(vload(w), vload(cam->u)),
+            -toward * vdot(vload(w), vload(cam->f)));
+}
+
+/* Writes normal n (model space, unit) of a pixel of face `face` into a
+ * normal map. Two-sided surfaces show a client the side whose face turns
+ * to its viewer (gl_FrontFacing), with the normal on that side: so n is
+ * turned to the face's side (a normal against its own face, the two
+ * sides of a sheet, counts as the face's), then to the side of the face
+ * that turns to this image's viewer tilted `up_tilt` towards up (the
+ * side a viewer above the horizon sees of a face seen edge-on); with
+ * `out` (in the image's frame) it is then bent by it. */
+static void put_normal(uint8_t *o, const double *n, const double *face, const target *tg,
+                       double toward, const double *out) {
+  const bbc__bake *bk = tg->bake;
+  const camera *cam = tg->cam;
+  vec3 ni = in_image(n, cam, toward), fi = in_image(face, cam, toward);
+  vec3 look = vadd(v3(0, 0, 1), vscale(in_image(bk->up, cam, toward), bk->up_tilt));
+  int against = vdot(ni, fi) < 0, away = vdot(fi, look) < 0;
+  double x = ni.x, y = ni.y, z = ni.z, flat = bk->flat;
+  if (against != away) {
     x = -x;
     y = -y;
     z = -z;
@@ -272,6 +288,7 @@ typedef struct tri {
   int slab, need_normal;     /* the view has a slab; the pixels need the normal */
   int wide;                  /* bbc__bake.taps: the pixels a tap of which it covers */
   int faces_camera;          /* its front (counter-clockwise side) faces the camera */
+  double face[3];            /* baking normal maps: its unit normal (model space) */
   const bbc_material *mat;
 } tri;
 
@@ -361,6 +378,10 @@ static ALWAYS_INLINE int triangle_setup(const bbc_mesh *m, size_t t, const targe
   tr->slab = view->depth_max > view->depth_min;
   tr->need_normal = view->lighting || (tg->bake && (tg->bake->front_nm || tg->bake->back_nm));
   tr->faces_camera = faces_camera;
+  if (tg->bake && (tg->bake->front_nm || tg->bake->back_nm)) {
+    bbc__triangle_cross(m, t, tr->face);
+    vstore(tr->face, vnorm_or(vload(tr->face), v3(0, 0, 1)));
+  }
   tr->mat = mat;
   return 1;
 }
@@ -658,7 +679,6 @@ static ALWAYS_INLINE int draw_span(const edges *ed, const tri *tr, double py, in
 }
 
 static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target *tg) {
-  const camera *cam = tg->cam;
   const bbc_view *view = tg->view;
   double s[3][3];
   tri tr;
@@ -790,18 +810,17 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
         tg->depth[pi] = z;
         memcpy(tg->rgba + 4 * pi, px4, 4);
         if (tg->bake && tg->bake->front_nm)
-          put_normal(tg->bake->front_nm + 4 * pi, n, cam, 1,
-                     tg->bake->outward > 0 ? outward_dir(m, t, &tr, l0, l1, l2, tg, 1, odir) : NULL,
-                     tg->bake->flat);
+          put_normal(tg->bake->front_nm + 4 * pi, n, tr.face, tg, 1,
+                     tg->bake->outward > 0 ? outward_dir(m, t, &tr, l0, l1, l2, tg, 1, odir)
+                                           : NULL);
       }
       if (back) {
         tg->depth_back[pi] = z;
         memcpy(tg->bake->back + 4 * pi, px4, 4);
         if (tg->bake->back_nm)
-          put_normal(tg->bake->back_nm + 4 * pi, n, cam, -1,
+          put_normal(tg->bake->back_nm + 4 * pi, n, tr.face, tg, -1,
                      tg->bake->outward > 0 ? outward_dir(m, t, &tr, l0, l1, l2, tg, -1, odir)
-                                           : NULL,
-                     tg->bake->flat);
+                                           : NULL);
       }
     }
   }

@@ -50,6 +50,10 @@ typedef struct bbc__bake {
   double center[3];
   double flat;                 /* >= 0: each normal plus `flat` times the image's own
                                 * normal (z), renormalised (nmflat) */
+  double up[3];                /* the model's up axis (unit) */
+  double up_tilt;              /* >= 0: a two-sided surface's normal is turned to the
+                                * side of its face that turns to the image's viewer
+                                * plus this times up (nmup) */
   uint8_t *front_ao, *back_ao; /* RGBA, may be NULL: the view's vertex_shade goes
                                 * here (grey) instead of into the colour */
   int backface;

@@ -73,6 +73,7 @@ fuzz:
 
 docs: build
 	$(BUILD)/bin/bbc_paramdoc > docs/parameters.md
+	scripts/code_size.sh --write-doc
 
 install: build
 	cmake --install $(BUILD) --prefix $(PREFIX)

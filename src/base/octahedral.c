@@ -1,5 +1,5 @@
 /* octahedral.c — the direction <-> frame mapping of octahedral impostors
- * (issue 49; docs/impostors.md): a unit direction folded onto the
+ * (docs/impostors.md): a unit direction folded onto the
  * octahedron |x| + |y| + |z| = 1 and unfolded onto the square [0, 1]^2
  * (Engelhardt and Dachsbacher 2008; the survey of Cigolle et al. 2014,
  * "A Survey of Efficient Representations for Independent Unit Vectors"),

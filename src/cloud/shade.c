@@ -11,8 +11,8 @@
 
 /* The k-th smallest of a[n] (k < n; a is reordered): the value sorting
  * would put at a[k], in linear time (quickselect, the middle element as
- * pivot, three-way partition; the shadows of a million-vertex tree took
- * 0.2 s to sort). */
+ * pivot, three-way partition): linear where a sort of a million-vertex
+ * tree's shadows is n log n. */
 static float kth_smallest(float *a, size_t n, size_t k) {
   size_t lo = 0, hi = n; /* the k-th lies in [lo, hi) */
   while (hi - lo > 1) {

@@ -1,4 +1,4 @@
-/* occlude.c — cells of trees hidden behind the terrain (issue 48),
+/* occlude.c — cells of trees hidden behind the terrain,
  * GL-free and conservative: a cell is hidden only when the terrain *as
  * drawn this frame* stands above every ray from the eye to its box.
  *

@@ -1,8 +1,8 @@
 /* load_obj.c — Wavefront OBJ (and its MTL) read by us into the scene Assimp's
  * OBJ importer would hand over (built by obj_scene.c), then converted as
  * every Assimp scene is (load_assimp.c): the same mesh, bit for bit, at a
- * fraction of the time and memory (issue 34: Assimp took 3.8 s and 600 MB
- * over the 227 MB file of a 1.13M-triangle oak).
+ * fraction of Assimp's time and memory on large files (docs/design.md,
+ * "Speed").
  *
  * The scene follows Assimp 5's importer (its behaviour, observed and read
  * in its documentation and sources): an object (`o`, and a new one at every

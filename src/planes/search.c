@@ -41,22 +41,16 @@ static double narrow_scale(double lo, size_t lo_n, double hi, size_t hi_n, int m
  * a scale gives. A probe answers on one face in `stride` of each part (every
  * stride-th from stride / 2: the same faces at every scale), steps 1 and 2
  * at a fraction of a whole run's cost, so that the search's tries cost
- * probes and only its answer a whole run (issue 34: a building scan's four
- * runs became four probes and one run). Smaller models (a point cloud of
+ * probes and only its answer a whole run. Smaller models (a point cloud of
  * fewer than PROBE_MIN_POINTS points, a mesh of fewer than PROBE_MIN_FACES
  * faces in its largest part) are searched whole. The plane count of a
- * sample follows the whole's (a building scan of 100k points and a sample
- * of 6,250: 8/11/13/14 and 8/10/13/17 planes at 6/3/1.78/1.2 %; 1M points
- * on the Scopia pine and 62,500: 22/31 and 23/28 at 6/4.8 %), within
- * about 0.7-1.3 of it (a probe's slab gathers fewer, sparser faces); a
- * whole run that lands on another side of the budget than predicted
- * calibrates the probe by the ratio of the two counts and searches again.
- * Since the search steps along the count's slope (below), probes pay from
- * a few thousand faces: clouds of 4,096 points or more (12 scans and
- * samples of 5,500-16,000 points: 1 whole run where 2-6 were, the search
- * 1.9x a run instead of 3.0x) and meshes of 16,384 faces or more (the
- * bunny, the eztree ash, the Scopia palm; 4,096 mispredicted the horse
- * into 2 whole runs and 7 probes). */
+ * sample follows the whole's within about 0.7-1.3 of it (a probe's slab
+ * gathers fewer, sparser faces); a whole run that lands on another side of
+ * the budget than predicted calibrates the probe by the ratio of the two
+ * counts and searches again. Since the search steps along the count's
+ * slope (below), probes pay from a few thousand points or faces; below the
+ * two bounds they mispredict more often than they save (the figures behind
+ * both: docs/design.md, "The epsilon search's probes"). */
 enum {
   PROBE_MIN_POINTS = 4096,
   PROBE_MIN_FACES = 16384,
@@ -266,9 +260,8 @@ static double shrink_target(const scale_search *s) {
  * 1.0 before there are two and 0.25 where the count did not rise (a flat
  * count: on to a much smaller epsilon). Whole runs assume 1.5 (planes fall
  * roughly with epsilon^1.5) and step by at most 2: a measured slope's
- * longer steps passed maxplanes where the count jumps (the H-60 at 3 % fell
- * back to 13 planes instead of 30 at 2 %), and a whole run past it costs
- * the fidelity of the step back. */
+ * longer steps pass maxplanes where the count jumps, and a whole run past
+ * it costs the fidelity of the step back. */
 static double shrink_slope(const scale_search *s) {
   if (!s->pr) return 1.5;
   if (!(s->prev_scale > s->cur_scale * 1.001) || !s->prev_n) return 1.0;

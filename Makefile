@@ -23,14 +23,14 @@ fresh_cache = if [ -f $(1)/CMakeCache.txt ] && [ ! -f $(1)/Makefile ]; then \
 all: build
 
 setup:
-	@scripts/setup.sh all
+	@scripts/dev/setup.sh all
 
 # Configure every time (a second run takes about a second): an interrupted
 # configure (a CMakeCache.txt without a Makefile) or packages installed since
 # then never leave the build stuck. The tools and the demo need only the
 # build packages; the unit tests are added when cmocka is present.
 configure:
-	@scripts/setup.sh build
+	@scripts/dev/setup.sh build
 	@$(call fresh_cache,$(BUILD))
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DBBC_REQUIRE_TESTS=OFF $(CMAKE_FLAGS) \
 	  > /dev/null
@@ -43,7 +43,7 @@ test: setup
 	@$(MAKE) --no-print-directory test-asan
 
 test-release:
-	@scripts/setup.sh all
+	@scripts/dev/setup.sh all
 	@$(call fresh_cache,$(BUILD))
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DBBC_REQUIRE_TESTS=ON $(CMAKE_FLAGS) \
 	  > /dev/null
@@ -51,7 +51,7 @@ test-release:
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 test-asan:
-	@scripts/setup.sh all
+	@scripts/dev/setup.sh all
 	@$(call fresh_cache,$(ASAN_BUILD))
 	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DBBC_SANITIZE=ON \
 	      -DBBC_BUILD_BENCH=OFF -DBBC_REQUIRE_TESTS=ON $(CMAKE_FLAGS) > /dev/null
@@ -62,18 +62,18 @@ test-asan:
 	  ctest --output-on-failure -j $(JOBS)
 
 demo: build
-	@scripts/demo.sh $(BUILD)
+	@scripts/dev/demo.sh $(BUILD)
 
 bench: build
-	@scripts/bench.sh $(BUILD)
+	@scripts/bench/bench.sh $(BUILD)
 
 fuzz:
-	@scripts/setup.sh fuzz
-	@scripts/fuzz.sh
+	@scripts/dev/setup.sh fuzz
+	@scripts/dev/fuzz.sh
 
 docs: build
 	$(BUILD)/bin/bbc_paramdoc > docs/parameters.md
-	scripts/code_size.sh --write-doc
+	scripts/dev/code_size.sh --write-doc
 
 install: build
 	cmake --install $(BUILD) --prefix $(PREFIX)

@@ -2,8 +2,8 @@
 # checkout_path.sh SOURCE_DIR — a checkout in a folder whose path holds a
 # folder named src, spaces and non-ASCII letters (~/src/my trees/bäume)
 # configures, builds two layers of the library, and passes the checks that
-# read paths (scripts/layers.sh on that build's object files,
-# scripts/code_size.sh). The tracked and untracked files of SOURCE_DIR's
+# read paths (scripts/dev/layers.sh on that build's object files,
+# scripts/dev/code_size.sh). The tracked and untracked files of SOURCE_DIR's
 # working tree are copied (git ls-files); exit 77 (skipped) without git.
 set -euo pipefail
 src=$(cd "$1" && pwd)
@@ -21,6 +21,6 @@ cmake --build "$build" --target bbc_base bbc_raster -j 2 > "$tmp/build.log" 2>&1
   { tail -30 "$tmp/build.log"; exit 1; }
 n=$(find "$build/CMakeFiles" -name '*.c.o' | wc -l)
 [ "$n" -gt 0 ] || { echo "checkout_path: no object files built under $build"; exit 1; }
-bash "$dir/p/scripts/layers.sh" check "$build"
-bash "$dir/p/scripts/code_size.sh" > /dev/null
+bash "$dir/p/scripts/dev/layers.sh" check "$build"
+bash "$dir/p/scripts/dev/code_size.sh" > /dev/null
 echo "checkout_path: $n objects built and checked under $dir"

@@ -686,7 +686,7 @@ static void test_viewer(void **state) {
   free(err);
   /* show model in a window, driven from the prompt */
   if (system("command -v xvfb-run > /dev/null 2>&1") != 0) {
-    if (getenv("CI")) fail_msg("xvfb-run is missing (scripts/setup.sh test installs it)");
+    if (getenv("CI")) fail_msg("xvfb-run is missing (scripts/dev/setup.sh test installs it)");
     fprintf(stderr, "xvfb-run is not installed: window test skipped\n");
     skip();
   }
@@ -925,7 +925,7 @@ static void test_debug_views(void **state) {
   tu_data_path(path, sizeof path, "trees/quaternius/OBJ/Tree_1.obj");
   if (!tu_have_file(path)) skip();
   if (system("command -v xvfb-run > /dev/null 2>&1") != 0) {
-    if (getenv("CI")) fail_msg("xvfb-run is missing (scripts/setup.sh test installs it)");
+    if (getenv("CI")) fail_msg("xvfb-run is missing (scripts/dev/setup.sh test installs it)");
     skip();
   }
   snprintf(text, sizeof text, "load \"%s\"\nset debug 1\nbbc1\nbbc2\nset debug 2\nbbc\nquit\n",

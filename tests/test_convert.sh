@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # test_convert.sh BBCGEN — batch conversion of a folder (docs/batch.md):
-# scripts/convert.mk (make -j2), scripts/convert_parallel.sh (GNU parallel,
+# scripts/tools/convert.mk (make -j2), scripts/tools/convert_parallel.sh (GNU parallel,
 # skipped when it is not installed; also its SSHLOGIN path through a fake
-# ssh that runs here) and scripts/convert_slurm.sbatch (run by hand, one
+# ssh that runs here) and scripts/tools/convert_slurm.sbatch (run by hand, one
 # array task at a time) on three small generated trees: valid outputs, a
 # second run converts nothing, a touched model or .mtl is the only one
 # redone, a damaged model stops the run naming it and leaves no output.
@@ -101,9 +101,9 @@ printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n' >"$bad"
 
 
 # ---------------------------------------------------------------- make
-echo "== make -f scripts/convert.mk -j2"
+echo "== make -f scripts/tools/convert.mk -j2"
 o=$tmp/out_make
-mk() { make -f "$scripts/convert.mk" IN="$m/" OUT="$o" BBCGEN="$wrapper" -j2 "$@" 2>&1; }
+mk() { make -f "$scripts/tools/convert.mk" IN="$m/" OUT="$o" BBCGEN="$wrapper" -j2 "$@" 2>&1; }
 three="$m/oak.obj $m/pine.obj $m/sub/birch.obj"
 n0=$(runs)
 rc=0; out=$(mk) || rc=$?
@@ -155,9 +155,9 @@ rm "$m/two words.obj"
 
 # ------------------------------------------------------------ parallel
 if command -v parallel >/dev/null 2>&1; then
-  echo "== scripts/convert_parallel.sh (JOBS=2)"
+  echo "== scripts/tools/convert_parallel.sh (JOBS=2)"
   o=$tmp/out_parallel
-  par() { JOBS=2 "$scripts/convert_parallel.sh" "$m" "$o" "$@" </dev/null 2>&1; }
+  par() { JOBS=2 "$scripts/tools/convert_parallel.sh" "$m" "$o" "$@" </dev/null 2>&1; }
   n0=$(runs)
   rc=0; out=$(par) || rc=$?
   check "parallel: first run succeeds" '[ $rc = 0 ]'
@@ -228,14 +228,14 @@ if command -v parallel >/dev/null 2>&1; then
   check "parallel: damaged model: the other outputs untouched" '[ "$(snapshot "$o")" = "$snap" ]'
   rm "$m/bad.obj"
 else
-  echo "== SKIPPED: the scripts/convert_parallel.sh checks: GNU parallel is not installed (apt-get install parallel)"
+  echo "== SKIPPED: the scripts/tools/convert_parallel.sh checks: GNU parallel is not installed (apt-get install parallel)"
 fi
 
 # --------------------------------------------------------------- slurm
-echo "== scripts/convert_slurm.sbatch, run by hand for each array task"
+echo "== scripts/tools/convert_slurm.sbatch, run by hand for each array task"
 o=$tmp/out_slurm
 list() { (cd "$tmp" && find models -type f -iname '*.obj' | LC_ALL=C sort >models.txt); }
-task() { (cd "$tmp" && SLURM_ARRAY_TASK_ID=$1 bash "$scripts/convert_slurm.sbatch" models.txt models "$o" 2>&1); }
+task() { (cd "$tmp" && SLURM_ARRAY_TASK_ID=$1 bash "$scripts/tools/convert_slurm.sbatch" models.txt models "$o" 2>&1); }
 list
 n0=$(runs)
 ok=1 all=""
@@ -287,7 +287,7 @@ check "slurm: damaged model: no output, no report, no temporary file" \
   '[ ! -e "$o/bad.glb" ] && [ ! -e "$o/bad.json" ] && no_leftovers "$o"'
 rm "$m/bad.obj"
 
-rc=0; out=$(cd "$tmp" && bash "$scripts/convert_slurm.sbatch" models.txt models "$o" 2>&1) || rc=$?
+rc=0; out=$(cd "$tmp" && bash "$scripts/tools/convert_slurm.sbatch" models.txt models "$o" 2>&1) || rc=$?
 check "slurm: without SLURM_ARRAY_TASK_ID: exit 1 with a message" \
   '[ $rc = 1 ] && grep -q SLURM_ARRAY_TASK_ID <<<"$out"'
 

@@ -149,7 +149,7 @@ static int group_setup(void **state) {
       return -1;
     }
     fprintf(stderr, "no headless OpenGL 4.5 (EGL): %s\n", out);
-    /* CI installs Mesa (scripts/setup.sh): there, no OpenGL is a failure */
+    /* CI installs Mesa (scripts/dev/setup.sh): there, no OpenGL is a failure */
     if (getenv("CI") && !strcmp(getenv("CI"), "true")) {
       free(out);
       return -1;

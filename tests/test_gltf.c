@@ -1,7 +1,7 @@
 /* test_gltf.c — glTF 2.0 output (bbc_mesh_write_gltf): .glb and .gltf read
  * back with the project's loader (Assimp), the GLB container and JSON checked
  * with cJSON, the files checked by the Khronos glTF validator
- * (scripts/gltf_validate.sh), and byte-identical repeated writes. And FBX
+ * (scripts/tools/gltf_validate.sh), and byte-identical repeated writes. And FBX
  * (bbc_scene_write_fbx): a chain of levels read back through Assimp, level
  * by level, and its records walked byte by byte. */
 #include <setjmp.h>

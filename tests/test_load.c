@@ -364,7 +364,7 @@ static void test_obj_round_trip(void **state) {
 /* A library caller may call setlocale: under a locale with a decimal comma
  * the writers still spell their numbers with '.' (OBJ, its MTL, glTF's
  * JSON; VRML's writer shares the same formatter). Skipped only where no
- * such locale is installed (scripts/setup.sh makes de_DE.UTF-8). */
+ * such locale is installed (scripts/dev/setup.sh makes de_DE.UTF-8). */
 static void test_writers_decimal_comma(void **state) {
   (void)state;
   static const char *const names[] = {"de_DE.UTF-8", "de_DE.utf8", "fr_FR.UTF-8",

@@ -2,7 +2,7 @@
 # test_threejs.sh BBCGEN — a material cloud relit in three.js: the Quaternius
 # Tree_1 made into a cloud twice (the default material and --lighting baked),
 # both drawn beside the original in headless Chromium under ambient 0.4 and
-# a sun from 4 directions, front and side (scripts/threejs_sun.sh). The
+# a sun from 4 directions, front and side (scripts/studies/threejs_sun.sh). The
 # material cloud's luminance must stay within 0.90-1.10 of the original's on
 # every render; the baked one, drawn unlit, must not (it is 1.6-2.9x there).
 # Exit 77 (skipped) without chromium, node or the npm packages.
@@ -18,7 +18,7 @@ trap 'rm -rf "$tmp"' EXIT
 "$bbcgen" "$orig" -o "$tmp/material.glb" --texres 128 -q
 "$bbcgen" "$orig" -o "$tmp/baked.glb" --texres 128 --lighting baked -q
 rc=0
-"$here/../scripts/threejs_sun.sh" --suns 0:50,90:15,180:15,270:50 --size 192 \
+"$here/../scripts/studies/threejs_sun.sh" --suns 0:50,90:15,180:15,270:50 --size 192 \
   --json "$tmp/r.json" "$orig" "$tmp/material.glb" "$tmp/baked.glb" > "$tmp/out.txt" 2>&1 || rc=$?
 cat "$tmp/out.txt"
 [ "$rc" -ne 3 ] || { echo "skipped: three.js harness unavailable"; exit 77; }

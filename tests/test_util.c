@@ -119,7 +119,7 @@ int tu_group_teardown(void **state) {
 }
 
 int tu_gltf_validate(const char *path) {
-  /* scripts/gltf_validate.sh, found from this file's path (CMake compiles it
+  /* scripts/tools/gltf_validate.sh, found from this file's path (CMake compiles it
    * by absolute path). */
   char script[1024];
   snprintf(script, sizeof script, "%s", __FILE__);
@@ -127,7 +127,7 @@ int tu_gltf_validate(const char *path) {
   if (slash) *slash = 0;
   size_t len = strlen(script);
   snprintf(script + len, sizeof script - len, "%s",
-           slash ? "/../scripts/gltf_validate.sh" : "../scripts/gltf_validate.sh");
+           slash ? "/../scripts/tools/gltf_validate.sh" : "../scripts/tools/gltf_validate.sh");
   struct stat st;
   if (stat(script, &st) != 0) return 2;
   char cmd[4096];

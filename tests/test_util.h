@@ -20,7 +20,7 @@ int tu_same_file(const char *a, const char *b);
 /* Removes a folder and everything in it (one level deep is enough here). */
 void tu_remove_dir(const char *dir);
 
-/* Runs scripts/gltf_validate.sh (the Khronos validator) on a .glb/.gltf:
+/* Runs scripts/tools/gltf_validate.sh (the Khronos validator) on a .glb/.gltf:
  * 0 no errors, 1 errors, 3 the validator is unavailable, other: failure. */
 int tu_gltf_validate(const char *path);
 

@@ -29,37 +29,15 @@ typedef struct scene {
 
 /* Material 0: invisible (alpha 0) frame; 1: red; 2: blue; all opaque but 0. */
 static void scene_begin(scene *sc, size_t max_tris) {
+  static const float col[3][4] = {{1, 1, 1, 0}, {1, 0, 0, 1}, {0, 0, 1, 1}};
+  static const char *const names[3] = {"frame", "red", "blue"};
   memset(sc, 0, sizeof *sc);
-  bbc_mesh *m = &sc->m;
-  m->kind = BBC_MESH_TRIANGLES;
-  m->positions = calloc(9 * max_tris, sizeof(double));
-  m->indices = calloc(3 * max_tris, sizeof(uint32_t));
-  m->face_material = calloc(max_tris, sizeof(uint32_t));
-  m->face_group = calloc(max_tris, sizeof(uint32_t));
-  m->materials = calloc(3, sizeof(bbc_material));
-  m->material_count = 3;
-  const float col[3][4] = {{1, 1, 1, 0}, {1, 0, 0, 1}, {0, 0, 1, 1}};
-  const char *names[3] = {"frame", "red", "blue"};
-  for (int i = 0; i < 3; i++) {
-    m->materials[i].name = strdup(names[i]);
-    m->materials[i].texture = -1;
-    memcpy(m->materials[i].base_color, col[i], sizeof col[i]);
-  }
-  m->group_count = 1;
-  m->group_names = calloc(1, sizeof(char *));
-  m->group_names[0] = strdup("g");
+  tu_mesh_begin(&sc->m, max_tris, 3, names, col, "g");
 }
 
 static void scene_tri(scene *sc, const double *a, const double *b, const double *c,
                       uint32_t material) {
-  bbc_mesh *m = &sc->m;
-  size_t t = m->triangle_count++, v = m->vertex_count;
-  memcpy(m->positions + 3 * v, a, 3 * sizeof(double));
-  memcpy(m->positions + 3 * v + 3, b, 3 * sizeof(double));
-  memcpy(m->positions + 3 * v + 6, c, 3 * sizeof(double));
-  for (int k = 0; k < 3; k++) m->indices[3 * t + k] = (uint32_t)(v + k);
-  m->vertex_count += 3;
-  m->face_material[t] = material;
+  tu_mesh_tri(&sc->m, a, b, c, material);
 }
 
 /* The unit square [0,1]^2 at z = 0, invisible: it fixes the billboard. */

@@ -68,32 +68,14 @@ static void test_self_and_moved(void **state) {
 /* n opaque red quads at z = 0, 1 high, `width` wide, the k-th from
  * x0 + k * period. */
 static void stripes(bbc_mesh *m, double x0, double width, int n, double period) {
-  memset(m, 0, sizeof *m);
-  m->kind = BBC_MESH_TRIANGLES;
-  m->vertex_count = 4 * (size_t)n;
-  m->positions = calloc(12 * (size_t)n, sizeof(double));
-  m->triangle_count = 2 * (size_t)n;
-  m->indices = malloc(6 * (size_t)n * sizeof(uint32_t));
-  const double p[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  static const float red[1][4] = {{1, 0, 0, 1}};
+  static const char *const names[1] = {"red"};
+  tu_mesh_begin(m, 2 * (size_t)n, 1, names, red, "q");
   for (int k = 0; k < n; k++) {
-    for (int i = 0; i < 4; i++) {
-      m->positions[3 * (4 * k + i)] = x0 + k * period + p[i][0] * width;
-      m->positions[3 * (4 * k + i) + 1] = p[i][1];
-    }
-    const uint32_t ix[6] = {0, 1, 2, 0, 2, 3};
-    for (int i = 0; i < 6; i++) m->indices[6 * k + i] = (uint32_t)(4 * k) + ix[i];
+    double x = x0 + k * period;
+    const double p[4][3] = {{x, 0, 0}, {x + width, 0, 0}, {x + width, 1, 0}, {x, 1, 0}};
+    tu_mesh_quad(m, p[0], p[1], p[2], p[3], 0);
   }
-  m->face_material = calloc(m->triangle_count, sizeof(uint32_t));
-  m->face_group = calloc(m->triangle_count, sizeof(uint32_t));
-  m->material_count = 1;
-  m->materials = calloc(1, sizeof(bbc_material));
-  m->materials[0].name = strdup("red");
-  m->materials[0].texture = -1;
-  const float red[4] = {1, 0, 0, 1};
-  memcpy(m->materials[0].base_color, red, sizeof red);
-  m->group_count = 1;
-  m->group_names = calloc(1, sizeof(char *));
-  m->group_names[0] = strdup("q");
   bbc_error err;
   if (bbc_mesh_finalize(m, 0, "quad", &err) != BBC_OK) fail_msg("%s", err.message);
 }

@@ -11,26 +11,7 @@
 #include <string.h>
 
 #include "bbc.h"
-
-/* Builds a mesh owning copies of the given arrays, one material, one group. */
-static void make_mesh(bbc_mesh *m, const double *pos, size_t nv, const uint32_t *idx, size_t nt) {
-  memset(m, 0, sizeof *m);
-  m->vertex_count = nv;
-  m->positions = malloc(nv * 3 * sizeof(double));
-  memcpy(m->positions, pos, nv * 3 * sizeof(double));
-  m->triangle_count = nt;
-  m->indices = malloc(nt * 3 * sizeof(uint32_t));
-  memcpy(m->indices, idx, nt * 3 * sizeof(uint32_t));
-  m->face_material = calloc(nt, sizeof(uint32_t));
-  m->face_group = calloc(nt, sizeof(uint32_t));
-  m->material_count = 1;
-  m->materials = calloc(1, sizeof(bbc_material));
-  m->materials[0].name = strdup("m");
-  m->materials[0].texture = -1;
-  m->group_count = 1;
-  m->group_names = calloc(1, sizeof(char *));
-  m->group_names[0] = strdup("g");
-}
+#include "test_util.h"
 
 /*  Two triangles: a big one (area 2) at x in [0,2] and a small one (area
  *  0.5) far away at x in [10,11]. The area-weighted centre is
@@ -40,7 +21,7 @@ static void test_center_is_area_weighted(void **state) {
   const double pos[] = {0, 0, 0, 2, 0, 0, 0, 2, 0, 10, 0, 0, 11, 0, 0, 10, 1, 0};
   const uint32_t idx[] = {0, 1, 2, 3, 4, 5};
   bbc_mesh m;
-  make_mesh(&m, pos, 6, idx, 2);
+  tu_mesh_from(&m, pos, 6, idx, 2);
   bbc_error err;
   assert_int_equal(bbc_mesh_finalize(&m, 1, "test", &err), BBC_OK);
   double c1[3] = {2.0 / 3, 2.0 / 3, 0}, c2[3] = {31.0 / 3, 1.0 / 3, 0};
@@ -69,7 +50,7 @@ static void test_cube(void **state) {
   const uint32_t idx[] = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
                           2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
   bbc_mesh m;
-  make_mesh(&m, pos, 8, idx, 12);
+  tu_mesh_from(&m, pos, 8, idx, 12);
   bbc_error err;
   assert_int_equal(bbc_mesh_finalize(&m, 1, "cube", &err), BBC_OK);
   assert_true(fabs(m.center[0] - 1) < 1e-12 && fabs(m.center[1] - 2) < 1e-12 &&
@@ -95,7 +76,7 @@ static void test_two_sided_sheet_keeps_its_normal(void **state) {
   for (int smooth = 0; smooth <= 1; smooth++)
     for (int k = 0; k < 2; k++) {
       bbc_mesh m;
-      make_mesh(&m, pos, 8, k ? apart : shared, 4);
+      tu_mesh_from(&m, pos, 8, k ? apart : shared, 4);
       bbc_error err;
       assert_int_equal(bbc_mesh_finalize(&m, smooth, "leaf", &err), BBC_OK);
       for (int v = 0; v < (k ? 8 : 4); v++) {
@@ -112,7 +93,7 @@ static void test_degenerates_dropped_and_counted(void **state) {
   const double pos[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0};
   const uint32_t idx[] = {0, 1, 2, 0, 0, 1, 0, 1, 3};
   bbc_mesh m;
-  make_mesh(&m, pos, 4, idx, 3);
+  tu_mesh_from(&m, pos, 4, idx, 3);
   bbc_error err;
   assert_int_equal(bbc_mesh_finalize(&m, 0, "deg", &err), BBC_OK);
   assert_int_equal(m.triangle_count, 1);
@@ -124,7 +105,7 @@ static void test_degenerates_dropped_and_counted(void **state) {
 
   /* Nothing left: an error, not an empty mesh. */
   const uint32_t idx2[] = {0, 1, 3};
-  make_mesh(&m, pos, 4, idx2, 1);
+  tu_mesh_from(&m, pos, 4, idx2, 1);
   assert_int_equal(bbc_mesh_finalize(&m, 0, "deg", &err), BBC_ERROR_EMPTY);
   assert_non_null(strstr(err.message, "deg"));
   bbc_mesh_free(&m);
@@ -136,7 +117,7 @@ static void test_invalid_geometry_refused(void **state) {
   const uint32_t idx[] = {0, 1, 2};
   bbc_mesh m;
   bbc_error err;
-  make_mesh(&m, pos, 3, idx, 1);
+  tu_mesh_from(&m, pos, 3, idx, 1);
   assert_int_equal(bbc_mesh_finalize(&m, 1, "nan.obj", &err), BBC_ERROR_INVALID_GEOMETRY);
   assert_non_null(strstr(err.message, "nan.obj"));
   assert_non_null(strstr(err.message, "vertex 2"));
@@ -144,13 +125,13 @@ static void test_invalid_geometry_refused(void **state) {
 
   const double pos2[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
   const uint32_t bad[] = {0, 1, 3};
-  make_mesh(&m, pos2, 3, bad, 1);
+  tu_mesh_from(&m, pos2, 3, bad, 1);
   assert_int_equal(bbc_mesh_finalize(&m, 1, "idx.obj", &err), BBC_ERROR_INVALID_GEOMETRY);
   assert_non_null(strstr(err.message, "vertex 3"));
   bbc_mesh_free(&m);
 
   const double huge[] = {0, 0, 0, 1, 0, 0, 0, 1e38, 0};
-  make_mesh(&m, huge, 3, idx, 1);
+  tu_mesh_from(&m, huge, 3, idx, 1);
   assert_int_equal(bbc_mesh_finalize(&m, 1, "huge", &err), BBC_ERROR_INVALID_GEOMETRY);
   bbc_mesh_free(&m);
 

@@ -137,3 +137,60 @@ int tu_gltf_validate(const char *path) {
   if (rc == -1 || !WIFEXITED(rc)) return 2;
   return WEXITSTATUS(rc);
 }
+
+void tu_mesh_begin(bbc_mesh *m, size_t max_tris, size_t materials, const char *const *names,
+                   const float (*colours)[4], const char *group) {
+  memset(m, 0, sizeof *m);
+  m->kind = BBC_MESH_TRIANGLES;
+  m->positions = calloc(12 * max_tris, sizeof(double));
+  m->indices = calloc(3 * max_tris, sizeof(uint32_t));
+  m->face_material = calloc(max_tris, sizeof(uint32_t));
+  m->face_group = calloc(max_tris, sizeof(uint32_t));
+  m->materials = calloc(materials, sizeof(bbc_material));
+  m->material_count = materials;
+  for (size_t i = 0; i < materials; i++) {
+    m->materials[i].name = strdup(names[i]);
+    m->materials[i].texture = -1;
+    for (int k = 0; k < 4; k++) m->materials[i].base_color[k] = colours ? colours[i][k] : 1.0f;
+  }
+  m->group_count = 1;
+  m->group_names = calloc(1, sizeof(char *));
+  m->group_names[0] = strdup(group);
+}
+
+/* Appends corners p[0..n-1] as vertices and triangles (0 k k+1) of them. */
+static void append_fan(bbc_mesh *m, const double *const *p, int n, uint32_t material) {
+  size_t v = m->vertex_count;
+  for (int i = 0; i < n; i++) memcpy(m->positions + 3 * (v + i), p[i], 3 * sizeof(double));
+  for (int k = 1; k + 1 < n; k++) {
+    size_t t = m->triangle_count++;
+    m->indices[3 * t] = (uint32_t)v;
+    m->indices[3 * t + 1] = (uint32_t)(v + k);
+    m->indices[3 * t + 2] = (uint32_t)(v + k + 1);
+    m->face_material[t] = material;
+  }
+  m->vertex_count += (size_t)n;
+}
+
+void tu_mesh_tri(bbc_mesh *m, const double *a, const double *b, const double *c,
+                 uint32_t material) {
+  const double *p[3] = {a, b, c};
+  append_fan(m, p, 3, material);
+}
+
+void tu_mesh_quad(bbc_mesh *m, const double *a, const double *b, const double *c, const double *d,
+                  uint32_t material) {
+  const double *p[4] = {a, b, c, d};
+  append_fan(m, p, 4, material);
+}
+
+void tu_mesh_from(bbc_mesh *m, const double *pos, size_t nv, const uint32_t *idx, size_t nt) {
+  static const char *const names[1] = {"m"};
+  tu_mesh_begin(m, nt, 1, names, NULL, "g");
+  free(m->positions);
+  m->positions = malloc(nv * 3 * sizeof(double));
+  memcpy(m->positions, pos, nv * 3 * sizeof(double));
+  m->vertex_count = nv;
+  memcpy(m->indices, idx, nt * 3 * sizeof(uint32_t));
+  m->triangle_count = nt;
+}

@@ -3,6 +3,9 @@
 #define BBC_TEST_UTIL_H
 
 #include <stddef.h>
+#include <stdint.h>
+
+#include "bbc.h"
 
 /* Path of a shared real-data file: BBC_DATA_DIR "/" rel (static buffer per
  * call site is not needed: caller passes the buffer). */
@@ -23,6 +26,22 @@ void tu_remove_dir(const char *dir);
 /* Runs scripts/tools/gltf_validate.sh (the Khronos validator) on a .glb/.gltf:
  * 0 no errors, 1 errors, 3 the validator is unavailable, other: failure. */
 int tu_gltf_validate(const char *path);
+
+/* Small hand-built triangle meshes. tu_mesh_begin: an empty mesh with room
+ * for max_tris triangles and 4 * max_tris vertices, `materials` untextured
+ * materials named names[i] of colour colours[i] (NULL: white, opaque) and
+ * one group named `group`; triangles and quads are then appended, each with
+ * vertices of its own. bbc_mesh_finalize and bbc_mesh_free as for any mesh. */
+void tu_mesh_begin(bbc_mesh *m, size_t max_tris, size_t materials, const char *const *names,
+                   const float (*colours)[4], const char *group);
+/* Appends triangle abc of material `material`. */
+void tu_mesh_tri(bbc_mesh *m, const double *a, const double *b, const double *c, uint32_t material);
+/* Appends quad abcd (four vertices, triangles abc and acd). */
+void tu_mesh_quad(bbc_mesh *m, const double *a, const double *b, const double *c, const double *d,
+                  uint32_t material);
+/* A mesh of the given vertices and triangles (copied), one white material
+ * "m", one group "g". */
+void tu_mesh_from(bbc_mesh *m, const double *pos, size_t nv, const uint32_t *idx, size_t nt);
 
 /* cmocka group fixtures: a temporary folder in tu_dir for the whole group. */
 extern char *tu_dir;

@@ -25,33 +25,15 @@
  * behind) and x = 2 (a square in y, z with a red triangle in front). The
  * squares use an invisible material; they fix the billboards. */
 static void add_tri(bbc_mesh *m, const double p[3][3], uint32_t material) {
-  size_t t = m->triangle_count++, v = m->vertex_count;
-  memcpy(m->positions + 3 * v, p, 9 * sizeof(double));
-  for (int k = 0; k < 3; k++) m->indices[3 * t + k] = (uint32_t)(v + k);
-  m->vertex_count += 3;
-  m->face_material[t] = material;
+  tu_mesh_tri(m, p[0], p[1], p[2], material);
 }
 
 static void build_cloud(int back_images, int normal_maps, bbc_cloud *cl) {
   enum { MAX_TRIS = 8 };
+  static const float col[3][4] = {{1, 1, 1, 0}, {1, 0, 0, 1}, {0, 0, 1, 1}};
+  static const char *const names[3] = {"frame", "red", "blue"};
   bbc_mesh m;
-  memset(&m, 0, sizeof m);
-  m.kind = BBC_MESH_TRIANGLES;
-  m.positions = calloc(9 * MAX_TRIS, sizeof(double));
-  m.indices = calloc(3 * MAX_TRIS, sizeof(uint32_t));
-  m.face_material = calloc(MAX_TRIS, sizeof(uint32_t));
-  m.face_group = calloc(MAX_TRIS, sizeof(uint32_t));
-  m.materials = calloc(3, sizeof(bbc_material));
-  m.material_count = 3;
-  const float col[3][4] = {{1, 1, 1, 0}, {1, 0, 0, 1}, {0, 0, 1, 1}};
-  for (int i = 0; i < 3; i++) {
-    m.materials[i].name = strdup(i == 0 ? "frame" : i == 1 ? "red" : "blue");
-    m.materials[i].texture = -1;
-    memcpy(m.materials[i].base_color, col[i], sizeof col[i]);
-  }
-  m.group_count = 1;
-  m.group_names = calloc(1, sizeof(char *));
-  m.group_names[0] = strdup("all");
+  tu_mesh_begin(&m, MAX_TRIS, 3, names, col, "all");
   /* Plane 0: z = 0. */
   add_tri(&m, (const double[3][3]){{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}, 0);
   add_tri(&m, (const double[3][3]){{0, 0, 0}, {1, 1, 0}, {0, 1, 0}}, 0);

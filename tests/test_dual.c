@@ -332,7 +332,7 @@ static void test_min_rect(void **state) {
     for (size_t i = 0; i < nf; i++) which[i] = (uint32_t)i;
     const double n[3] = {0.36, 0.48, 0.8};
     double u[3], w[3], mn[2], mx[2];
-    bbc__dual_min_rect(faces, which, nf, n, u, w, mn, mx);
+    assert_int_equal(bbc__dual_min_rect(faces, which, nf, n, u, w, mn, mx), BBC_OK);
     double area = (mx[0] - mn[0]) * (mx[1] - mn[1]);
     for (size_t i = 0; i < nf; i++)
       for (int j = 0; j < faces[i].nv; j++) {
@@ -386,8 +386,8 @@ static void test_density_exact_and_thread_independent(void **state) {
   dual_grid g1, g2;
   assert_int_equal(bbc__dual_grid_init(&g1, 9, 0.6, 13, 1, area, 1), BBC_OK);
   assert_int_equal(bbc__dual_grid_init(&g2, 9, 0.6, 13, 1, area, 2), BBC_OK);
-  bbc__dual_grid_accumulate(&g1, faces, NULL, nf, +1, NULL);
-  bbc__dual_grid_accumulate(&g2, faces, NULL, nf, +1, NULL);
+  assert_int_equal(bbc__dual_grid_accumulate(&g1, faces, NULL, nf, +1, NULL), BBC_OK);
+  assert_int_equal(bbc__dual_grid_accumulate(&g2, faces, NULL, nf, +1, NULL), BBC_OK);
   assert_true(grids_equal(&g1, &g2));
   size_t ncell = (size_t)g1.n_theta * g1.n_phi * g1.n_rho, nonzero = 0;
   for (size_t c = 0; c < ncell; c++) nonzero += g1.contrib[c] != 0;
@@ -398,8 +398,8 @@ static void test_density_exact_and_thread_independent(void **state) {
     odd[i] = (uint32_t)(nf - 1 - 2 * i);
     even[i] = (uint32_t)(nf - 2 - 2 * i);
   }
-  bbc__dual_grid_accumulate(&g1, faces, odd, nf / 2, -1, NULL);
-  bbc__dual_grid_accumulate(&g1, faces, even, nf / 2, -1, NULL);
+  assert_int_equal(bbc__dual_grid_accumulate(&g1, faces, odd, nf / 2, -1, NULL), BBC_OK);
+  assert_int_equal(bbc__dual_grid_accumulate(&g1, faces, even, nf / 2, -1, NULL), BBC_OK);
   for (size_t c = 0; c < ncell; c++) {
     assert_int_equal(g1.contrib[c], 0);
     assert_int_equal(g1.penalty[c], 0);
@@ -425,7 +425,7 @@ static void test_density_matches_direct_formula(void **state) {
   for (size_t i = 0; i < nf; i++) area += faces[i].area;
   dual_grid g;
   assert_int_equal(bbc__dual_grid_init(&g, 9, 0.6, 13, 1, area, 2), BBC_OK);
-  bbc__dual_grid_accumulate(&g, faces, NULL, nf, +1, NULL);
+  assert_int_equal(bbc__dual_grid_accumulate(&g, faces, NULL, nf, +1, NULL), BBC_OK);
   size_t nd = (size_t)g.n_theta * g.n_phi, ncell = nd * g.n_rho;
   double *rc = calloc(ncell, sizeof *rc), *rp = calloc(ncell, sizeof *rp);
   double *touch = calloc(ncell, sizeof *touch); /* the tolerance */

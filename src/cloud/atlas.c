@@ -345,6 +345,10 @@ bbc_result bbc_atlas_pack(const bbc_image *images, size_t count, int padding, in
     goto done;
   }
   place_images(images, count, padding, rr, atlas, rects);
+  for (size_t i = 0; i < count; i++) /* every image inside the atlas, at its own size */
+    assert(rects[i].x >= 0 && rects[i].y >= 0 && rects[i].width == images[i].width &&
+           rects[i].height == images[i].height && rects[i].x + rects[i].width <= found_w &&
+           rects[i].y + rects[i].height <= found_h);
   r = dilate(atlas, padding > 4 ? padding : 4);
   if (r != BBC_OK) {
     bbc_image_free(atlas);

@@ -506,16 +506,16 @@ void bbc__baked_clear_transparent(baked *b) {
  * nearest opaque ones (breadth first, the mean of the neighbours filled
  * before it), alpha kept: a GPU's filtering and mipmaps then mix no black
  * (or, in a normal map, no bogus normal) into the edges of leaves. */
-static void fill_transparent(bbc_image *img) {
+static bbc_result fill_transparent(bbc_image *img) {
   int w = img->width, h = img->height;
   size_t n = (size_t)w * h;
-  if (!img->rgba || !n) return;
+  if (!img->rgba || !n) return BBC_OK;
   uint8_t *done = malloc(n);
   uint32_t *queue = malloc(n * sizeof *queue);
-  if (!done || !queue) { /* out of memory: the texels stay as they are */
+  if (!done || !queue) {
     free(done);
     free(queue);
-    return;
+    return BBC_ERROR_OUT_OF_MEMORY;
   }
   size_t head = 0, tail = 0;
   for (size_t i = 0; i < n; i++) done[i] = img->rgba[4 * i + 3] != 0;
@@ -553,11 +553,14 @@ static void fill_transparent(bbc_image *img) {
   }
   free(done);
   free(queue);
+  return BBC_OK;
 }
 
-void bbc__baked_fill_transparent(baked *b) {
+bbc_result bbc__baked_fill_transparent(baked *b) {
   bbc_image *all[6] = {&b->front, &b->back, &b->front_nm, &b->back_nm, &b->front_ao, &b->back_ao};
-  for (int i = 0; i < 6; i++) fill_transparent(all[i]);
+  bbc_result r = BBC_OK;
+  for (int i = 0; i < 6 && r == BBC_OK; i++) r = fill_transparent(all[i]);
+  return r;
 }
 
 void bbc__baked_free(baked *b) {

@@ -69,10 +69,12 @@ bbc_result bbc_billboards_compute(const bbc_mesh *mesh, const bbc_planeset *set,
       memset(b, 0, sizeof *b);
       b->plane = (uint32_t)i;
       double mn[2], mx[2];
-      if (points)
-        bbc__points_min_rect(mesh, which, n, p->normal, b->u, b->w, mn, mx);
-      else
-        bbc__dual_min_rect(faces, which, n, p->normal, b->u, b->w, mn, mx);
+      bbc_result rr = points ? bbc__points_min_rect(mesh, which, n, p->normal, b->u, b->w, mn, mx)
+                             : bbc__dual_min_rect(faces, which, n, p->normal, b->u, b->w, mn, mx);
+      if (rr != BBC_OK) {
+#pragma omp atomic write
+        oom = 1;
+      }
       double width = mx[0] - mn[0], height = mx[1] - mn[1];
       if (height > width) { /* longer side along u; u x w stays the normal */
         double u[3], w[3];

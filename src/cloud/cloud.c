@@ -113,6 +113,8 @@ static bbc_result cloud_build_rects(const bbc_mesh *m, const bbc_planeset *set,
   int texres = 4, sides = prm->back_images ? 2 : 1,
       scale = prm->quality == BBC_QUALITY_SUPERSAMPLED ? 4 : 1;
   if (r == BBC_OK) texres = bbc__texres_fitting(set, kept, nk, sides, scale, limit);
+  if (r == BBC_OK && texres < 0)
+    r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
   bbc_params p2 = *prm;
   while (r == BBC_OK) {
     p2.texres = texres;
@@ -192,7 +194,9 @@ static bbc_result build_inner(const bbc_mesh *m, const bbc_planeset *set,
     r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
   double t1 = bbc__now_s();
   cl->bake_s = t1 - t0;
-  for (size_t k = 0; r == BBC_OK && k < nk; k++) bbc__baked_fill_transparent(&bk[k]);
+  for (size_t k = 0; r == BBC_OK && k < nk; k++)
+    if (bbc__baked_fill_transparent(&bk[k]) != BBC_OK)
+      r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 3: out of memory");
   if (r == BBC_OK)
     r = bbc__cloud_atlas_mesh(set, prm, cl, bk, swatch, &limbs, limbs_group, atlas_limit, err);
   if (r == BBC_OK) set_roughness(m, set, prm->rough_min, &cl->mesh);

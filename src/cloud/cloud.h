@@ -79,7 +79,7 @@ size_t bbc__billboards_keep(const bbc_mesh *mesh, const bbc_planeset *set, const
 int bbc__floor_pow2(double x);
 /* atlasmax: the largest texres (8192 down to 8, else 4) whose images of
  * rectangles rects[n] (`sides` each, `scale` times the texels a side) the
- * packer fits in one limit x limit atlas. */
+ * packer fits in one limit x limit atlas; -1 out of memory. */
 int bbc__texres_fitting(const bbc_planeset *set, const bbc_billboard *rects, size_t n, int sides,
                         int scale, int limit);
 /* The cloud's billboards 0..kept_planes-1 from the kept planes (order[]),
@@ -133,8 +133,9 @@ int bbc__bake_samples(const bbc_params *prm);
  * opaque ones alpha 255. */
 void bbc__baked_clear_transparent(bbc__baked *b);
 /* Every image's transparent texels take the colour of their nearest
- * opaque ones (alpha stays 0), so that filtering mixes in no black. */
-void bbc__baked_fill_transparent(bbc__baked *b);
+ * opaque ones (alpha stays 0), so that filtering mixes in no black.
+ * BBC_ERROR_OUT_OF_MEMORY leaves some images unfilled. */
+bbc_result bbc__baked_fill_transparent(bbc__baked *b);
 void bbc__baked_free(bbc__baked *b);
 void bbc__bake_inputs_free(bbc__bake_inputs *in);
 

@@ -74,15 +74,20 @@ bbc_result bbc__limbs_build(const bbc_mesh *m, const bbc_planeset *set, int targ
     out->face_group = malloc((got / 3 + 1) * sizeof *out->face_group);
     out->materials = calloc(1, sizeof *out->materials);
     out->group_names = calloc(1, sizeof *out->group_names);
-    if (out->materials) out->materials[0].name = bbc__strdup("limbs");
-    if (out->group_names) out->group_names[0] = bbc__strdup("trunk");
+    /* counted at once, so that bbc_mesh_free frees the names on failure */
+    if (out->materials) {
+      out->material_count = 1;
+      out->materials[0].name = bbc__strdup("limbs");
+    }
+    if (out->group_names) {
+      out->group_count = 1;
+      out->group_names[0] = bbc__strdup("trunk");
+    }
     if (!out->positions || !out->indices || !out->face_material || !out->face_group ||
         !out->materials || !out->group_names || !out->materials[0].name || !out->group_names[0])
       r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "limbs: out of memory");
   }
   if (r == BBC_OK) {
-    out->material_count = 1;
-    out->group_count = 1;
     out->materials[0].texture = -1;
     for (int c = 0; c < 4; c++) out->materials[0].base_color[c] = 1.0f;
     for (size_t v = 0; v < nu; v++)
@@ -115,16 +120,21 @@ int bbc__limbs_part(const bbc_planeset *set, uint32_t *part) {
 /* The limbs' colour: their original faces baked as the stem billboards
  * are (prelit by a headlight from the side, textures at the distance of a
  * 64-texel image), seen from two sides, averaged over what they cover. */
-static void limb_colour(const bbc__bake_inputs *in, uint8_t rgba[4]) {
+static bbc_result limb_colour(const bbc__bake_inputs *in, uint8_t rgba[4]) {
   const bbc_mesh *m = in->mesh;
   const bbc_planeset *set = in->set;
   const bbc_params *prm = in->params;
   enum { SIDE = 64 };
   uint32_t *faces = malloc((m->triangle_count ? m->triangle_count : 1) * sizeof *faces);
   uint8_t *img = malloc(4 * SIDE * SIDE);
+  if (!faces || !img) {
+    free(faces);
+    free(img);
+    return BBC_ERROR_OUT_OF_MEMORY;
+  }
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   size_t n = 0;
-  for (size_t t = 0; faces && t < m->triangle_count; t++) {
+  for (size_t t = 0; t < m->triangle_count; t++) {
     if (set->face_plane[t] != BBC_NO_PLANE) continue;
     faces[n++] = (uint32_t)t;
     for (int c = 0; c < 3; c++)
@@ -136,7 +146,8 @@ static void limb_colour(const bbc__bake_inputs *in, uint8_t rgba[4]) {
   }
   double sum[3] = {0, 0, 0}, weight = 0;
   int up = prm->up_axis >= 0 && prm->up_axis <= 2 ? prm->up_axis : 1;
-  for (int side = 0; n && img && side < 2; side++) {
+  bbc_result r = BBC_OK;
+  for (int side = 0; n && r == BBC_OK && side < 2; side++) {
     int ax = (up + 1 + side) % 3, across = (up + 2 - side) % 3;
     bbc_view v;
     memset(&v, 0, sizeof v);
@@ -158,7 +169,12 @@ static void limb_colour(const bbc__bake_inputs *in, uint8_t rgba[4]) {
     bk.alpha_bits = in->alpha_bits;
     memset(img, 0, 4 * SIDE * SIDE);
     bbc_error quiet;
-    if (bbc__render_bake(m, faces, n, &v, &bk, &quiet) != BBC_OK) continue;
+    r = bbc__render_bake(m, faces, n, &v, &bk, &quiet);
+    if (r == BBC_ERROR_OUT_OF_MEMORY) break;
+    if (r != BBC_OK) { /* a side it cannot see: the other's colour, else grey */
+      r = BBC_OK;
+      continue;
+    }
     for (size_t i = 0; i < (size_t)SIDE * SIDE; i++) {
       double a = img[4 * i + 3] / 255.0;
       for (int c = 0; c < 3; c++) sum[c] += a * img[4 * i + c];
@@ -169,6 +185,7 @@ static void limb_colour(const bbc__bake_inputs *in, uint8_t rgba[4]) {
   rgba[3] = 255;
   free(faces);
   free(img);
+  return r;
 }
 
 /* The mean voxel shadowing of the faces the limbs' mesh replaces. */
@@ -198,12 +215,13 @@ bbc_result bbc__limbs_stage(const bbc__bake_inputs *in, const bbc_cloud *cl, int
   bbc_result r = bbc__limbs_build(in->mesh, in->set, limbs_target, limbs, err);
   if (r == BBC_OK && limbs->triangle_count) {
     uint8_t texel[3][4] = {{0, 0, 0, 255}, {128, 128, 255, 255}, {255, 255, 255, 255}};
-    limb_colour(in, texel[0]);
+    r = limb_colour(in, texel[0]);
+    if (r != BBC_OK) r = bbc__fail(err, r, "step 3: out of memory");
     texel[2][0] = texel[2][1] = texel[2][2] = limb_occlusion(in);
     int want[3] = {1, prm->normal_maps, prm->occlusion > 0};
     for (int i = 0; r == BBC_OK && i < 3; i++)
-      if (want[i]) r = bbc_image_alloc(&swatch[i], 4, 4);
-    if (r != BBC_OK) r = bbc__fail(err, r, "step 3: out of memory");
+      if (want[i] && (r = bbc_image_alloc(&swatch[i], 4, 4)) != BBC_OK)
+        r = bbc__fail(err, r, "step 3: out of memory");
     for (int i = 0; r == BBC_OK && i < 3; i++)
       for (size_t x = 0; swatch[i].rgba && x < 16; x++) memcpy(swatch[i].rgba + 4 * x, texel[i], 4);
   }

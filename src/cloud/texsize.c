@@ -56,8 +56,8 @@ size_t bbc__cloud_texels(const bbc_planeset *set, const bbc_billboard *rects, si
 
 /* Whether the images of billboards `rects` at `texres` (sized as
  * bbc__cloud_billboards_init sizes them: quality 3 keeps its samples,
- * `scale` 4) pack into one limit x limit atlas; blank images stand in for
- * them. */
+ * `scale` 4) pack into one limit x limit atlas (1), do not (0), or out of
+ * memory (-1); blank images stand in for them. */
 static int atlas_fits(const bbc_planeset *set, const bbc_billboard *rects, size_t n, int texres,
                       int sides, int scale, int limit) {
   double texel = texel_of(set, rects, n, texres);
@@ -81,25 +81,25 @@ static int atlas_fits(const bbc_planeset *set, const bbc_billboard *rects, size_
   for (size_t i = 0; ok && i < count; i++) imgs[i].rgba = blank;
   bbc_image atlas = {0, 0, NULL};
   bbc_error quiet;
-  ok = ok && bbc_atlas_pack(imgs, count, 2, limit, &atlas, where, &quiet) == BBC_OK;
+  bbc_result r =
+      ok ? bbc_atlas_pack(imgs, count, 2, limit, &atlas, where, &quiet) : BBC_ERROR_OUT_OF_MEMORY;
   bbc_image_free(&atlas);
   free(blank);
   free(where);
   free(imgs);
-  return ok;
+  return r == BBC_OK ? 1 : r == BBC_ERROR_OUT_OF_MEMORY ? -1 : 0;
 }
 
 int bbc__texres_fitting(const bbc_planeset *set, const bbc_billboard *rects, size_t n, int sides,
                         int scale, int limit) {
-  int texres = 4;
   size_t per = (size_t)sides * (size_t)(scale * scale);
-  for (int t = 8192; n && t > 4; t /= 2)
-    if ((double)bbc__cloud_texels(set, rects, n, t, 1) * (double)per <= (double)limit * limit &&
-        atlas_fits(set, rects, n, t, sides, scale, limit)) {
-      texres = t;
-      break;
-    }
-  return texres;
+  for (int t = 8192; n && t > 4; t /= 2) {
+    if ((double)bbc__cloud_texels(set, rects, n, t, 1) * (double)per > (double)limit * limit)
+      continue;
+    int fits = atlas_fits(set, rects, n, t, sides, scale, limit);
+    if (fits) return fits > 0 ? t : -1;
+  }
+  return 4;
 }
 
 void bbc__cloud_billboards_init(bbc_cloud *cl, const bbc_planeset *set, const bbc_billboard *bb,

@@ -266,9 +266,10 @@ void bbc__dual_grid_free(dual_grid *g);
 bbc_result bbc__dual_grid_copy(dual_grid *dst, const dual_grid *src);
 
 /* Adds (sign = +1) or removes (sign = -1) the density of faces (thesis 2.1.5
- * step 2, and the grid update of 2.1.8). */
-void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint32_t *which,
-                               size_t count, int sign, const bbc_callbacks *cb);
+ * step 2, and the grid update of 2.1.8). BBC_ERROR_OUT_OF_MEMORY leaves
+ * the grid with some faces' density missing. */
+bbc_result bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint32_t *which,
+                                     size_t count, int sign, const bbc_callbacks *cb);
 
 /* Density along rho in fixed point (steps 1 and 2). A face's range
  * [lo, hi] over a column of n rho cells adds to each cell w x the fraction
@@ -364,14 +365,15 @@ int bbc__dual_posttweak(const dual_face *faces, const uint32_t *which, size_t co
 int bbc__dual_fit_plane(const dual_face *faces, const uint32_t *which, size_t count, double eps,
                         double n[3], double *rho);
 /* Minimum-area bounding rectangle of the faces projected onto the plane:
- * writes its in-plane axes u, w (unit) and the rectangle's extents. */
-void bbc__dual_min_rect(const dual_face *faces, const uint32_t *which, size_t count,
-                        const double n[3], double u[3], double w[3], double min_uv[2],
-                        double max_uv[2]);
+ * writes its in-plane axes u, w (unit) and the rectangle's extents
+ * (BBC_ERROR_OUT_OF_MEMORY: an empty one). */
+bbc_result bbc__dual_min_rect(const dual_face *faces, const uint32_t *which, size_t count,
+                              const double n[3], double u[3], double w[3], double min_uv[2],
+                              double max_uv[2]);
 /* The same for points of a point cloud (mesh positions, which[count]):
  * each point projected once, the same rectangle as their dual faces'. */
-void bbc__points_min_rect(const bbc_mesh *mesh, const uint32_t *which, size_t count,
-                          const double n[3], double u[3], double w[3], double min_uv[2],
-                          double max_uv[2]);
+bbc_result bbc__points_min_rect(const bbc_mesh *mesh, const uint32_t *which, size_t count,
+                                const double n[3], double u[3], double w[3], double min_uv[2],
+                                double max_uv[2]);
 
 #endif /* BBC_DUAL_H */

@@ -22,6 +22,7 @@
  */
 #include "dual.h"
 
+#include <assert.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -473,14 +474,15 @@ static BBC__CLONES void add_faces(const dual_grid *g, const dual_face *faces, co
   }
 }
 
-void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint32_t *which,
-                               size_t count, int sign, const bbc_callbacks *cb) {
+bbc_result bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint32_t *which,
+                                     size_t count, int sign, const bbc_callbacks *cb) {
   /* Directions come in opposite pairs: (i, j) and (i + n_theta/2, n_phi-1-j)
    * have opposite normals, so one evaluation serves both (the range of -n is
    * [-hi, -lo]). Pairs are numbered by their first member. */
   int nth = g->n_theta, nph = g->n_phi;
   size_t npairs = (size_t)nth * nph / 2;
-  int nt = bbc__thread_count(g->threads);
+  assert(sign == 1 || sign == -1);
+  int nt = bbc__thread_count(g->threads), failed = 0;
   /* Each thread owns a fixed block of pairs and adds every face to them: no
    * two threads write the same cell, and integer sums make the result
    * independent of the partition. */
@@ -502,7 +504,12 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
     double *buf = malloc(nb * 17 * sizeof *buf);
     size_t *dir_a = malloc(nb * 2 * sizeof *dir_a);
     int64_t *diff = calloc(nb * 6 * ((size_t)g->n_rho + 2), sizeof *diff);
-    if (buf && dir_a && diff) {
+    if (!buf || !dir_a || !diff) {
+#ifdef _OPENMP
+#pragma omp atomic write
+#endif
+      failed = 1;
+    } else {
       double *nx = buf, *ny = buf + nb, *nz = buf + 2 * nb, *rad = buf + 3 * nb;
       double *lo = buf + 4 * nb, *hi = buf + 5 * nb, *proj = buf + 6 * nb, *ok = buf + 7 * nb;
       double *tr = buf + 9 * nb; /* the directions' boxes for points: 8 arrays of nb */
@@ -555,4 +562,5 @@ void bbc__dual_grid_accumulate(dual_grid *g, const dual_face *faces, const uint3
     free(buf);
     free(dir_a);
   }
+  return failed ? BBC_ERROR_OUT_OF_MEMORY : BBC_OK;
 }

@@ -211,7 +211,10 @@ static bbc_result level_at(bbc_grid *g, const bbc_planes_options *o, double scal
       for (size_t q = 0; q < 2; q++) bbc__dual_grid_free(&L->g[q]);
       return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 1: out of memory for the grid");
     }
-    bbc__dual_grid_accumulate(&L->g[pi], gp->faces, NULL, gp->nf, +1, &cb);
+    if (bbc__dual_grid_accumulate(&L->g[pi], gp->faces, NULL, gp->nf, +1, &cb) != BBC_OK) {
+      for (size_t q = 0; q < 2; q++) bbc__dual_grid_free(&L->g[q]);
+      return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 1: out of memory for the grid");
+    }
     bbc__progress(&cb, "grid", 1.0);
     L->step1_s[pi] = bbc__now_s() - t0;
     if (bbc__cancelled(&cb)) {

@@ -74,9 +74,9 @@ static bbc_result cover_leftovers(bbc_planeset *set, const grid_part *gp, size_t
   dual_grid g;
   if (bbc__dual_grid_init(&g, p->res_deg, eps, gp->radius, p->up_axis, area, p->threads) != BBC_OK)
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory for the grid");
-  bbc__dual_grid_accumulate(&g, left, NULL, nl, +1, NULL);
   select_result sr;
-  bbc_result r = bbc__select_planes(left, nl, &g, p, eps, gp->radius, NULL, &sr);
+  bbc_result r = bbc__dual_grid_accumulate(&g, left, NULL, nl, +1, NULL);
+  if (r == BBC_OK) r = bbc__select_planes(left, nl, &g, p, eps, gp->radius, NULL, &sr);
   bbc__dual_grid_free(&g);
   if (r != BBC_OK) return bbc__fail(err, r, "plane selection failed: %s", bbc_result_string(r));
   bbc_plane *planes = realloc(set->planes, (set->plane_count + sr.plane_count) * sizeof *planes);

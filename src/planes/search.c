@@ -151,10 +151,10 @@ static bbc_result probe_count(const bbc_grid *g, const bbc_planes_options *o, pr
     if (bbc__dual_grid_init(&dg, p->res_deg, eps, gp->radius, p->up_axis, pr->total[pi],
                             p->threads) != BBC_OK)
       return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "step 1: out of memory for the grid");
-    bbc__dual_grid_accumulate(&dg, pr->faces[pi], NULL, pr->nf[pi], +1, NULL);
     select_result sr;
-    bbc_result r =
-        bbc__select_planes(pr->faces[pi], pr->nf[pi], &dg, &sp, eps, gp->radius, &cb, &sr);
+    bbc_result r = bbc__dual_grid_accumulate(&dg, pr->faces[pi], NULL, pr->nf[pi], +1, NULL);
+    if (r == BBC_OK)
+      r = bbc__select_planes(pr->faces[pi], pr->nf[pi], &dg, &sp, eps, gp->radius, &cb, &sr);
     bbc__dual_grid_free(&dg);
     if (r == BBC_ERROR_CANCELLED) return bbc__fail(err, r, "plane selection: cancelled");
     if (r != BBC_OK) return bbc__fail(err, r, "plane selection failed: %s", bbc_result_string(r));

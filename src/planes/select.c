@@ -18,6 +18,7 @@
  */
 #include "select.h"
 
+#include <assert.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -646,7 +647,8 @@ static bbc_result push_plane(ctx *c, const found_plane *fp, size_t face_count, d
 static bbc_result add_cardboard(ctx *c, const found_plane *mother, const uint32_t *set, size_t n,
                                 double mother_area, int32_t mother_index) {
   double u[3], w[3], mn[2], mx[2];
-  bbc__dual_min_rect(c->faces, set, n, mother->n, u, w, mn, mx);
+  if (bbc__dual_min_rect(c->faces, set, n, mother->n, u, w, mn, mx) != BBC_OK)
+    return BBC_ERROR_OUT_OF_MEMORY;
   /* Through the centre of gravity of the projected faces. */
   double cg[3] = {0, 0, 0}, a = 0;
   for (size_t i = 0; i < n; i++) {
@@ -811,8 +813,7 @@ static size_t super_greedy(ctx *c, const found_plane *fp, size_t n) {
 static bbc_result take_plane(ctx *c, const found_plane *fp, size_t n) {
   const uint32_t *set = c->set;
   select_result *out = c->out;
-  if (n == 0) /* cannot happen: a face is valid for its own plane */
-    return BBC_ERROR_INVALID_GEOMETRY;
+  assert(n > 0); /* a face is valid for its own plane */
   double area = 0;
   for (size_t i = 0; i < n; i++) area += dual_projected_area(&c->faces[set[i]], fp->n);
   int32_t index = (int32_t)out->plane_count;
@@ -831,18 +832,18 @@ static bbc_result take_plane(ctx *c, const found_plane *fp, size_t n) {
 /* Grid update: exactly reverse the n simplified faces' density (2.1.8); or,
  * when fewer faces remain than were simplified, the grid anew from those
  * that remain (the same integer sums, less work). */
-static void update_grid(ctx *c, size_t n) {
+static bbc_result update_grid(ctx *c, size_t n) {
   dual_grid *g = c->g;
-  if (c->remaining >= n) {
-    bbc__dual_grid_accumulate(g, c->faces, c->set, n, -1, NULL);
-  } else if (c->remaining > 0) {
+  if (c->remaining >= n) return bbc__dual_grid_accumulate(g, c->faces, c->set, n, -1, NULL);
+  if (c->remaining > 0) {
     size_t k = 0, ncell = (size_t)g->n_theta * g->n_phi * g->n_rho;
     for (size_t f = 0; f < c->nf; f++)
       if (!c->assigned[f]) c->work[k++] = (uint32_t)f;
     memset(g->contrib, 0, ncell * sizeof *g->contrib);
     memset(g->penalty, 0, ncell * sizeof *g->penalty);
-    bbc__dual_grid_accumulate(g, c->faces, c->work, k, +1, NULL);
+    return bbc__dual_grid_accumulate(g, c->faces, c->work, k, +1, NULL);
   }
+  return BBC_OK;
 }
 
 /* One plane of the greedy select (2.1.8): found, tweaked, taken. */
@@ -854,8 +855,7 @@ static bbc_result select_plane(ctx *c, int want) {
   if (c->p->super_greedy) n = super_greedy(c, &fp, n);
   bbc_result r = take_plane(c, &fp, n);
   if (r != BBC_OK) return r;
-  update_grid(c, n);
-  return BBC_OK;
+  return update_grid(c, n);
 }
 
 bbc_result bbc__select_planes(const dual_face *faces, size_t nf, dual_grid *g, const bbc_params *p,

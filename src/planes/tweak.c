@@ -169,57 +169,59 @@ static void plane_axes(const double n[3], double a[3], double b[3]) {
   b[2] = n[0] * a[1] - n[1] * a[0];
 }
 
-static void min_rect_of(pt2 *p, size_t np, const double a[3], const double b[3], double u[3],
-                        double w[3], double min_uv[2], double max_uv[2]);
+static bbc_result min_rect_of(pt2 *p, size_t np, const double a[3], const double b[3], double u[3],
+                              double w[3], double min_uv[2], double max_uv[2]);
 
-void bbc__dual_min_rect(const dual_face *faces, const uint32_t *which, size_t count,
-                        const double n[3], double u[3], double w[3], double min_uv[2],
-                        double max_uv[2]) {
+bbc_result bbc__dual_min_rect(const dual_face *faces, const uint32_t *which, size_t count,
+                              const double n[3], double u[3], double w[3], double min_uv[2],
+                              double max_uv[2]) {
   double a[3], b[3];
   plane_axes(n, a, b);
   size_t np = 4 * count;
   pt2 *p = malloc((np ? np : 1) * sizeof *p);
-  if (p) {
-    np = 0;
-    for (size_t i = 0; i < count; i++) {
-      const dual_face *f = &faces[which[i]];
-      for (int j = 0; j < f->nv; j++) {
-        double v[3] = {f->c[0] + f->d[j][0], f->c[1] + f->d[j][1], f->c[2] + f->d[j][2]};
-        p[np].x = vdot(vload(v), vload(a));
-        p[np++].y = vdot(vload(v), vload(b));
-      }
+  if (!p) return BBC_ERROR_OUT_OF_MEMORY;
+  np = 0;
+  for (size_t i = 0; i < count; i++) {
+    const dual_face *f = &faces[which[i]];
+    for (int j = 0; j < f->nv; j++) {
+      double v[3] = {f->c[0] + f->d[j][0], f->c[1] + f->d[j][1], f->c[2] + f->d[j][2]};
+      p[np].x = vdot(vload(v), vload(a));
+      p[np++].y = vdot(vload(v), vload(b));
     }
   }
-  min_rect_of(p, p ? np : 0, a, b, u, w, min_uv, max_uv);
+  bbc_result r = min_rect_of(p, np, a, b, u, w, min_uv, max_uv);
   free(p);
+  return r;
 }
 
-void bbc__points_min_rect(const bbc_mesh *m, const uint32_t *which, size_t count, const double n[3],
-                          double u[3], double w[3], double min_uv[2], double max_uv[2]) {
+bbc_result bbc__points_min_rect(const bbc_mesh *m, const uint32_t *which, size_t count,
+                                const double n[3], double u[3], double w[3], double min_uv[2],
+                                double max_uv[2]) {
   double a[3], b[3];
   plane_axes(n, a, b);
   pt2 *p = malloc((count ? count : 1) * sizeof *p);
-  if (p)
-    for (size_t i = 0; i < count; i++) {
-      const double *v = m->positions + 3 * (size_t)which[i];
-      p[i].x = vdot(vload(v), vload(a));
-      p[i].y = vdot(vload(v), vload(b));
-    }
-  min_rect_of(p, p ? count : 0, a, b, u, w, min_uv, max_uv);
+  if (!p) return BBC_ERROR_OUT_OF_MEMORY;
+  for (size_t i = 0; i < count; i++) {
+    const double *v = m->positions + 3 * (size_t)which[i];
+    p[i].x = vdot(vload(v), vload(a));
+    p[i].y = vdot(vload(v), vload(b));
+  }
+  bbc_result r = min_rect_of(p, count, a, b, u, w, min_uv, max_uv);
   free(p);
+  return r;
 }
 
 /* The minimum-area rectangle of 2D points p[np] (coordinates along a and
- * b; np = 0 when they could not be had): its axes and extents. The points
- * are reordered. */
-static void min_rect_of(pt2 *p, size_t np, const double a[3], const double b[3], double u[3],
-                        double w[3], double min_uv[2], double max_uv[2]) {
+ * b): its axes and extents (np = 0: axes a, b, an empty rectangle). The
+ * points are reordered. */
+static bbc_result min_rect_of(pt2 *p, size_t np, const double a[3], const double b[3], double u[3],
+                              double w[3], double min_uv[2], double max_uv[2]) {
   pt2 *h = np ? malloc((2 * np + 2) * sizeof *h) : NULL;
   if (!h) {
     memcpy(u, a, 3 * sizeof *u);
     memcpy(w, b, 3 * sizeof *w);
     min_uv[0] = min_uv[1] = max_uv[0] = max_uv[1] = 0;
-    return;
+    return np ? BBC_ERROR_OUT_OF_MEMORY : BBC_OK;
   }
   size_t hn = bbc__convex_hull_2d(p, np, h);
   /* Rotating calipers: the minimum rectangle has a side on a hull edge. */
@@ -264,4 +266,5 @@ static void min_rect_of(pt2 *p, size_t np, const double a[3], const double b[3],
     w[k] = -bs * a[k] + bc * b[k];
   }
   free(h);
+  return BBC_OK;
 }

@@ -368,6 +368,7 @@ static ALWAYS_INLINE int triangle_setup(const bbc_mesh *m, size_t t, const targe
   tr->a = a;
   tr->b = b;
   tr->c = c;
+  assert(area > 0); /* oriented: the edge functions are positive inside */
   tr->area = area;
   tr->x0 = x0;
   tr->x1 = x1;

@@ -43,6 +43,9 @@
  *     a NULL options pointer; the `*_options_default()` functions write
  *     exactly that. bbc_params is the parameter table, not an options
  *     struct: it is filled by bbc_params_default() or bbc_params_thesis().
+ *     The one exception follows from it: bbc_planes_options holds a
+ *     bbc_params, so a zeroed one is not the defaults; fill it with
+ *     bbc_planes_options_default() (a NULL pointer still means them).
  *   - Ownership: what a `*_load()`, `*_build()`, `*_find()` or
  *     `*_generate()` fills in belongs to the caller and is released by the
  *     matching `*_free()`; `*_free(NULL)` and freeing a zeroed struct are
@@ -685,8 +688,9 @@ typedef struct bbc_planeset {
   double retry_s;       /* wall-clock seconds of the discarded runs and the probes */
   int probe_runs;       /* the epsilon search's runs on a sample of the faces (1 in
                          * probe_stride): it predicts the plane count at a scale */
-  int probe_stride;
-  double probe_s; /* their wall-clock seconds (part of retry_s) */
+  int probe_stride;     /* the probes' sample: one face or point in this many of each
+                         * part (0 when there were no probes) */
+  double probe_s;       /* their wall-clock seconds (part of retry_s) */
   /* `pointsample`/`facesample`: steps 1 and 2 ran on one face or point in
    * sample_stride (1: every one); beyond_count faces or points were valid
    * for none of the sample's planes (the farthest beyond_max epsilon from
@@ -703,8 +707,8 @@ typedef struct bbc_planeset {
 void bbc_planeset_free(bbc_planeset *set);
 
 /* What steps 1 and 2 run with. Fill with bbc_planes_options_default and
- * change from there (a zeroed bbc_params is not the defaults); NULL
- * options mean the defaults. */
+ * change from there (it holds a bbc_params: the conventions' exception);
+ * NULL options mean the defaults. */
 typedef struct bbc_planes_options {
   bbc_params params;          /* for every part unless overridden */
   size_t part_override_count; /* parameters per part, at most 4: */
@@ -1157,11 +1161,14 @@ typedef struct bbc_eval_view {
  * over the side views). */
 typedef struct bbc_eval_result {
   size_t view_count;
-  bbc_eval_view *views;
-  size_t side_count;
+  bbc_eval_view *views; /* view_count of them, in the order of the directions */
+  size_t side_count;    /* the views that are side views (bbc_eval_view.side) */
+  /* Each bbc_eval_view figure of the same name: `_mean` its mean over all
+   * views, `_min` its least, `_side_mean`/`_side_min` the same over the
+   * side views only (0 when there are none). */
   double iou_mean, iou_min, iou_side_mean, iou_side_min;
   double recall_mean, recall_side_mean;
-  double false_mean;
+  double false_mean; /* of false_coverage */
   double psnr_mean, psnr_min, psnr_side_mean;
   double mae_mean;
   double coverage_ratio_mean, coverage_ratio_side_mean;

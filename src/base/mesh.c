@@ -156,8 +156,9 @@ static bbc_result compute_normals(bbc_mesh *m, int smooth, int only_missing) {
   /* first[v]: the vertex whose sum v shares (the lowest index at v's
    * position with smooth, else v); ref: per such vertex, its largest
    * face's cross product (the lowest face index among equals). */
-  double *acc = calloc(nv * 3, sizeof *acc), *ref = calloc(nv * 4, sizeof *ref);
-  uint32_t *first = malloc(nv * sizeof *first);
+  size_t nv1 = nv ? nv : 1;
+  double *acc = calloc(nv1 * 3, sizeof *acc), *ref = calloc(nv1 * 4, sizeof *ref);
+  uint32_t *first = malloc(nv1 * sizeof *first);
   if (!acc || !ref || !first || (smooth && nv > 1 && !same_position_first(m, first))) {
     free(acc);
     free(ref);

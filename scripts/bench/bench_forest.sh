@@ -11,6 +11,14 @@
 # vertices on the CPU: the figures use a small viewport (SIZE, 320x200) and
 # say which renderer drew them.
 set -euo pipefail
+case "${1:-}" in
+  -h|--help)
+    echo "usage: scripts/bench/bench_forest.sh [BUILD (build)] [FRAMES (24)] [SIZE (320x200)]"
+    echo "  the forest engine along each map's camera path; writes bench/results/forest.md, .json"
+    exit 0 ;;
+  -*) echo "bench_forest.sh: unknown option $1 (--help)" >&2; exit 1 ;;
+esac
+[ -z "${1:-}" ] || [ -d "$1" ] || { echo "bench_forest.sh: no build folder $1 (make first)" >&2; exit 2; }
 build=${1:-build}
 frames=${2:-24}
 size=${3:-320x200}

@@ -123,22 +123,27 @@ static inline vec3 in_image(const double *w, const camera *cam, double toward) {
             -toward * vdot(vload(w), vload(cam->f)));
 }
 
+/* Whether face `face` (unit, model space) turns away from the viewer of
+ * the image `toward` (1 front, -1 back) tilted `up_tilt` towards up: the
+ * side a viewer above the horizon sees of a face seen edge-on. */
+static int face_away(const double *face, const target *tg, double toward) {
+  const bbc__bake *bk = tg->bake;
+  vec3 look = vadd(v3(0, 0, 1), vscale(in_image(bk->up, tg->cam, toward), bk->up_tilt));
+  return vdot(in_image(face, tg->cam, toward), look) < 0;
+}
+
 /* Writes normal n (model space, unit) of a pixel of face `face` into a
  * normal map. Two-sided surfaces show a client the side whose face turns
  * to its viewer (gl_FrontFacing), with the normal on that side: so n is
  * turned to the face's side (a normal against its own face, the two
  * sides of a sheet, counts as the face's), then to the side of the face
- * that turns to this image's viewer tilted `up_tilt` towards up (the
- * side a viewer above the horizon sees of a face seen edge-on); with
- * `out` (in the image's frame) it is then bent by it. */
-static void put_normal(uint8_t *o, const double *n, const double *face, const target *tg,
+ * this image shows (`away`: face_away); with `out` (in the image's frame)
+ * it is then bent by it. */
+static void put_normal(uint8_t *o, const double *n, const double *face, int away, const target *tg,
                        double toward, const double *out) {
-  const bbc__bake *bk = tg->bake;
-  const camera *cam = tg->cam;
-  vec3 ni = in_image(n, cam, toward), fi = in_image(face, cam, toward);
-  vec3 look = vadd(v3(0, 0, 1), vscale(in_image(bk->up, cam, toward), bk->up_tilt));
-  int against = vdot(ni, fi) < 0, away = vdot(fi, look) < 0;
-  double x = ni.x, y = ni.y, z = ni.z, flat = bk->flat;
+  vec3 ni = in_image(n, tg->cam, toward);
+  int against = vdot(vload(n), vload(face)) < 0;
+  double x = ni.x, y = ni.y, z = ni.z, flat = tg->bake->flat;
   if (against != away) {
     x = -x;
     y = -y;
@@ -289,6 +294,7 @@ typedef struct tri {
   int wide;                  /* bbc__bake.taps: the pixels a tap of which it covers */
   int faces_camera;          /* its front (counter-clockwise side) faces the camera */
   double face[3];            /* baking normal maps: its unit normal (model space) */
+  int away[2];               /* ... and face_away for the front and the back image */
   const bbc_material *mat;
 } tri;
 
@@ -382,6 +388,8 @@ static ALWAYS_INLINE int triangle_setup(const bbc_mesh *m, size_t t, const targe
   if (tg->bake && (tg->bake->front_nm || tg->bake->back_nm)) {
     bbc__triangle_cross(m, t, tr->face);
     vstore(tr->face, vnorm_or(vload(tr->face), v3(0, 0, 1)));
+    tr->away[0] = face_away(tr->face, tg, 1);
+    tr->away[1] = face_away(tr->face, tg, -1);
   }
   tr->mat = mat;
   return 1;
@@ -811,7 +819,7 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
         tg->depth[pi] = z;
         memcpy(tg->rgba + 4 * pi, px4, 4);
         if (tg->bake && tg->bake->front_nm)
-          put_normal(tg->bake->front_nm + 4 * pi, n, tr.face, tg, 1,
+          put_normal(tg->bake->front_nm + 4 * pi, n, tr.face, tr.away[0], tg, 1,
                      tg->bake->outward > 0 ? outward_dir(m, t, &tr, l0, l1, l2, tg, 1, odir)
                                            : NULL);
       }
@@ -819,7 +827,7 @@ static BBC__CLONES void draw_triangle(const bbc_mesh *m, size_t t, const target 
         tg->depth_back[pi] = z;
         memcpy(tg->bake->back + 4 * pi, px4, 4);
         if (tg->bake->back_nm)
-          put_normal(tg->bake->back_nm + 4 * pi, n, tr.face, tg, -1,
+          put_normal(tg->bake->back_nm + 4 * pi, n, tr.face, tr.away[1], tg, -1,
                      tg->bake->outward > 0 ? outward_dir(m, t, &tr, l0, l1, l2, tg, -1, odir)
                                            : NULL);
       }

@@ -1124,9 +1124,11 @@ typedef struct bbc_eval_options {
                      * ratio over its block IoU */
   int sheet_views;  /* rows of the sheet, spread over the views; 0 = 8 */
   /* A point cloud original is splatted as step 3 splats it: */
-  double point_size; /* pixels of a 256-pixel picture of its bounding
-                      * sphere; 0 = 3.5 */
-  int point_square;  /* 1 = square splats; 0 = round */
+  double point_size;                   /* pixels of a 256-pixel picture of its bounding
+                                        * sphere; 0 = 3.5 */
+  int point_square;                    /* 1 = square splats; 0 = round */
+  const struct bbc_impostor *impostor; /* not NULL: drawn (bbc_impostor_render) in
+                                        * place of `other`, which may be NULL */
 } bbc_eval_options;
 
 /* Writes the defaults (all zero) into `options`. */
@@ -1282,6 +1284,80 @@ void bbc_octahedral_frame_dir(int n, int i, int j, int hemi, double dir[3]);
  * (barycentric: >= 0, summing to 1; 1 on a frame seen along its own
  * direction). */
 void bbc_octahedral_blend(const double dir[3], int n, int hemi, int frame[3][2], double weight[3]);
+
+/* ---- Octahedral impostors (docs/impostors.md) ------------------------------
+ * A model rendered from the n x n frame directions of an octahedral (or
+ * hemi-octahedral) grid into two atlases, drawn as one camera-facing quad
+ * that blends the three frames nearest the view. */
+typedef struct bbc_impostor_options {
+  int frames;       /* frames a side of the grid, 2..64; 0 = 8 */
+  int full;         /* 1 = octahedral (the whole sphere); 0 = hemi-octahedral
+                     * (views from above the horizon, as trees are seen) */
+  long long texels; /* texels of each atlas at most, >= 4 a frame; 0 = 1,048,576 */
+  int samples;      /* samples a texel side, 1..4 (coverage and colour averaged
+                     * over them); 0 = 4 */
+  bbc_up up;        /* the model's up axis */
+  int threads;      /* 0 = all cores; never changes the result */
+} bbc_impostor_options;
+
+/* Writes the defaults (all zero) into `options`. */
+void bbc_impostor_options_default(bbc_impostor_options *options);
+
+typedef struct bbc_impostor {
+  int frames;       /* n: frame (i, j) shows the model seen from
+                     * bbc_impostor_frame_dir(i, j), i, j in 0..n - 1 */
+  int hemi;         /* 1 = hemi-octahedral */
+  int frame_size;   /* texels a frame side; frame (i, j) is the square of the
+                     * atlases at column i x frame_size, row j x frame_size
+                     * (rows from the top of the image) */
+  int padding;      /* texels at each frame's border that the model never
+                     * covers (the sphere's projection stays inside) */
+  bbc_axis up;      /* the model's up axis: the mapping's +y */
+  double center[3]; /* the model's bounding sphere */
+  double radius;
+  double half_extent; /* each frame is the square of side 2 half_extent around
+                       * center, seen orthographically (radius x frame_size /
+                       * (frame_size - 2 padding)) */
+  bbc_image albedo;   /* RGBA: unlit colour, alpha 0 or 255 (coverage-keeping:
+                       * the fraction of opaque texels that of the covered
+                       * samples); transparent texels carry their frame's
+                       * nearest opaque colour (for mip levels) */
+  bbc_image normal;   /* RGB: the model-space unit normal n as 255 (n + 1) / 2,
+                       * turned to the frame's viewer; A: the depth d of the
+                       * surface along the view from the sphere's centre plane
+                       * (d in [-radius, radius], nearer the viewer negative)
+                       * as 255 (d / radius + 1) / 2 */
+} bbc_impostor;
+
+/* Renders `mesh` into an impostor (free with bbc_impostor_free; zeroed on
+ * failure). Deterministic with any thread count. */
+bbc_result bbc_impostor_build(const bbc_mesh *mesh, const bbc_impostor_options *options,
+                              bbc_impostor *impostor, bbc_error *err);
+void bbc_impostor_free(bbc_impostor *impostor);
+/* The unit direction from the model towards the viewer of frame (i, j),
+ * in the model's frame (the mapping's +y is the impostor's up axis), and the
+ * frame's image axes: right and up (unit, orthogonal to dir). */
+void bbc_impostor_frame_basis(const bbc_impostor *impostor, int i, int j, double dir[3],
+                              double right[3], double up[3]);
+/* Draws the impostor into `image` (allocated by the caller) as a GPU would
+ * draw its quad seen with `view` (orthographic): each pixel the blend of
+ * the three frames nearest the view (bbc_octahedral_blend), each frame's
+ * texel where the view's ray meets the surface the frame saw (marched
+ * through its depths a texel at a time, relief mapping), nearest texels,
+ * the blended alpha tested against a 4 x 4 ordered dither (as alpha to
+ * coverage; 0 or 1 along a frame's own direction), lit from the normal
+ * atlas as bbc_render_ortho lights a mesh (lighting, light, light_gain,
+ * headlight, sun, sun_ambient; `ambient` adds 0.2 x the colour); the
+ * background where nothing covers a pixel. Deterministic. */
+bbc_result bbc_impostor_render(const bbc_impostor *impostor, const bbc_view *view, bbc_image *image,
+                               bbc_error *err);
+/* Writes the impostor's descriptor to `path` (JSON: its frames, layout,
+ * bounds and the atlases' names) and its atlases beside it as
+ * <stem>_albedo.png and <stem>_normal.png (the stem as for other outputs'
+ * side files: "tree.json" -> "tree_json"), each atomically. */
+bbc_result bbc_impostor_write(const char *path, const bbc_impostor *impostor, bbc_error *err);
+/* Reads what bbc_impostor_write wrote (free with bbc_impostor_free). */
+bbc_result bbc_impostor_read(const char *path, bbc_impostor *impostor, bbc_error *err);
 
 #ifdef __cplusplus
 }

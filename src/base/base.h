@@ -100,6 +100,11 @@ void bbc__smallest_eigenvector(double a[3][3], double out[3]);
  * keeps the last good step (`start` when the matrix is zero). */
 void bbc__largest_eigenvector(const double a[3][3], const double start[3], double v[3]);
 
+/* ---- impostors (src/base/octahedral.c) ---------------------------------- */
+/* A model-space direction (up axis `up`: 0 x, 1 y, 2 z) in the octahedral
+ * mapping's frame (+y up), as bbc_octahedral_encode takes it. */
+void bbc__impostor_to_mapping(int up, const double model[3], double mapping[3]);
+
 /* ---- deterministic random numbers (splitmix64) --------------------------- */
 typedef struct bbc__rng {
   uint64_t state;

@@ -11,6 +11,7 @@
 
 #include <assert.h>
 #include <math.h>
+#include <string.h>
 
 static double sign1(double v) {
   return v < 0 ? -1.0 : 1.0;
@@ -100,4 +101,53 @@ void bbc_octahedral_blend(const double d[3], int n, int hemi, int frame[3][2], d
     weight[1] = fy - fx;
     weight[2] = fx;
   }
+}
+
+/* A direction of the mapping's frame (+y up) in a model whose up axis is
+ * `up` (a cyclic permutation of the axes: +y onto up), and back. */
+static void to_model(int up, const double c[3], double m[3]) {
+  m[(up + 2) % 3] = c[0];
+  m[up] = c[1];
+  m[(up + 1) % 3] = c[2];
+}
+
+void bbc__impostor_to_mapping(int up, const double m[3], double c[3]) {
+  c[0] = m[(up + 2) % 3];
+  c[1] = m[up];
+  c[2] = m[(up + 1) % 3];
+}
+
+void bbc_impostor_frame_basis(const bbc_impostor *imp, int i, int j, double dir[3], double right[3],
+                              double up[3]) {
+  assert(imp && dir && right && up && imp->frames >= 2);
+  int ax = (int)imp->up >= 0 && imp->up <= 2 ? (int)imp->up : 1;
+  double c[3];
+  bbc_octahedral_frame_dir(imp->frames, i, j, imp->hemi, c);
+  to_model(ax, c, dir);
+  /* The image's up: the model's, or for a view along it (from straight
+   * above or below) the mapping's -z (the same for every such frame). */
+  double hint[3] = {0, 0, 0}, f[3] = {-dir[0], -dir[1], -dir[2]};
+  if (fabs(dir[ax]) > 0.999)
+    hint[(ax + 1) % 3] = -1;
+  else
+    hint[ax] = 1;
+  double r[3] = {f[1] * hint[2] - f[2] * hint[1], f[2] * hint[0] - f[0] * hint[2],
+                 f[0] * hint[1] - f[1] * hint[0]};
+  double l = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+  for (int k = 0; k < 3; k++) right[k] = r[k] / l;
+  up[0] = right[1] * f[2] - right[2] * f[1];
+  up[1] = right[2] * f[0] - right[0] * f[2];
+  up[2] = right[0] * f[1] - right[1] * f[0];
+}
+
+void bbc_impostor_options_default(bbc_impostor_options *o) {
+  assert(o);
+  memset(o, 0, sizeof *o);
+}
+
+void bbc_impostor_free(bbc_impostor *imp) {
+  if (!imp) return;
+  bbc_image_free(&imp->albedo);
+  bbc_image_free(&imp->normal);
+  memset(imp, 0, sizeof *imp);
 }

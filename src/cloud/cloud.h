@@ -24,6 +24,27 @@ size_t bbc__cloud_texels(const bbc_planeset *set, const bbc_billboard *rects, si
  * which the longest side that sets `texres` leaves out; else 1. */
 double bbc__rect_density(const bbc_planeset *set, const bbc_billboard *rect);
 
+/* ---- supersamples down to texels (src/cloud/texels.c) ------------------------ */
+/* Which texels of a k x k supersampled image end opaque (mask[texel] = 1)
+ * and which some sample covered (cand). `dither` 0 (growing, thesis 2.3.9):
+ * at least `min_opaque` of its k^2 samples are covered; 1: coverage-keeping
+ * error diffusion (Floyd-Steinberg, serpentine rows) of each texel's covered
+ * fraction (its samples' alphas; with taps, those drawn at their centres,
+ * bbc__bake.taps), so that over any small area the fraction of opaque texels
+ * is the fraction covered, and a texel no sample covers never turns opaque. */
+bbc_result bbc__alpha_mask(const bbc_image *img, const uint8_t *taps, int k, int dither,
+                           unsigned min_opaque, uint8_t *mask, uint8_t *cand);
+/* `img` (k x k samples a texel) replaced by its texels: each the mean of its
+ * covered samples (normals, encoded 255 (n + 1) / 2, renormalised), alpha
+ * 255 where mask says so, else 0 (the colour kept). */
+bbc_result bbc__downsample_masked(bbc_image *img, int k, int is_normal, const uint8_t *mask);
+/* Texels not opaque in `mask` become (0, 0, 0, 0); opaque ones alpha 255. */
+void bbc__clear_masked(bbc_image *img, const uint8_t *mask);
+/* Every transparent texel (alpha 0) takes the colour of its nearest opaque
+ * ones (breadth first), alpha kept, so that a GPU's filtering and mip
+ * levels mix no black (or no bogus normal) into edges. */
+bbc_result bbc__fill_transparent(bbc_image *img);
+
 /* ---- the trunk part as a mesh (src/cloud/limbs.c) ----------------------------- */
 /* The faces no plane simplifies (set->face_plane BBC_NO_PLANE: the trunk
  * part with `limbs`), welded and simplified to at most `target` triangles,

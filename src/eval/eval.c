@@ -224,7 +224,8 @@ static int eval_view(const eval_ctx *c, int k, bbc_image *a, bbc_image *b, bbc_e
   v.point_size_px =
       (float)(o->point_size * (2 * c->orig->radius / 256.0) * (o->size / (2 * v.half_extent)));
   if (bbc_render_ortho(c->orig, &v, a, e) != BBC_OK ||
-      bbc_render_ortho(c->other, &v, b, e) != BBC_OK)
+      (o->impostor ? bbc_impostor_render(o->impostor, &v, b, e)
+                   : bbc_render_ortho(c->other, &v, b, e)) != BBC_OK)
     return 0;
   compare(a, b, ev);
   /* Sheet rows: views spread over the whole list. */
@@ -333,7 +334,7 @@ static void summarise(bbc_eval_result *res, int n) {
 
 bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_options *opt,
                     bbc_eval_result *res, bbc_error *err) {
-  assert(orig && other && res);
+  assert(orig && res && (other || (opt && opt->impostor)));
   memset(res, 0, sizeof *res);
   bbc_eval_options o;
   if (opt)
@@ -345,6 +346,7 @@ bbc_result bbc_eval(const bbc_mesh *orig, const bbc_mesh *other, const bbc_eval_
   if (n < 1 || n > 100000 || o.size < 8 || o.size > 8192)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
                      "eval: views must be 1..100000 and size 8..8192 (got %d, %d)", n, o.size);
+  if (o.impostor) other = orig; /* its bounds: the original's */
   if (orig->vertex_count == 0 || other->vertex_count == 0)
     return bbc__fail(err, BBC_ERROR_EMPTY, "eval: a model is empty");
   eval_ctx c;

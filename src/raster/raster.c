@@ -988,6 +988,7 @@ bbc_result bbc__render_bake(const bbc_mesh *m, const uint32_t *faces, size_t fac
   setup_light(&cam, view, tg.light);
   size_t count = faces ? face_count : m->triangle_count;
   for (size_t i = 0; i < count; i++) draw_triangle(m, faces ? faces[i] : i, &tg);
+  if (bake->front_depth) memcpy(bake->front_depth, depth, n * sizeof *depth);
   free(depth);
   return BBC_OK;
 }

@@ -44,6 +44,8 @@ typedef struct bbc__bake {
   int width, height;
   uint8_t *front, *back;       /* RGBA */
   uint8_t *front_nm, *back_nm; /* RGBA, may be NULL */
+  float *front_depth;          /* may be NULL: receives the front image's depth a pixel
+                                * (along the view from its centre; FLT_MAX: none) */
   double outward;              /* > 0: normal maps turn two-sided surfaces to the side
                                 * facing their viewer plus `outward` times away from
                                 * `center` (0: their viewer's) */

@@ -114,6 +114,7 @@ int cmd_view(cli *c, int argc, char **argv);
 int cmd_cloud(cli *c, int argc, char **argv);
 int cmd_eval(cli *c, int argc, char **argv);
 int cmd_baseline(cli *c, int argc, char **argv);
+int cmd_impostor(cli *c, int argc, char **argv);
 /* The eval metrics as JSON text (cJSON_free it); a and b name the inputs. */
 char *eval_json_text(const bbc_eval_result *r, const bbc_eval_options *o, const char *a,
                      const char *b);

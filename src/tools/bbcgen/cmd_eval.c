@@ -243,7 +243,7 @@ static int eval_suns(const cli *c, const eval_args *ea, const bbc_mesh m[2], bbc
     o->sheet = k == 0 ? sheet : NULL;
     bbc_eval_result r;
     bbc_error err;
-    if (bbc_eval(&m[0], &m[1], o, &r, &err) != BBC_OK) {
+    if (bbc_eval(&m[0], o->impostor ? NULL : &m[1], o, &r, &err) != BBC_OK) {
       rc = cli_fail(&err, 0);
       break;
     }
@@ -444,12 +444,20 @@ int cmd_eval(cli *c, int argc, char **argv) {
     bbc_mesh_free(&m[0]);
     return rc;
   }
-  if (bbc_mesh_load(ea.paths[1], &lo, &m[1], &err) != BBC_OK) {
+  /* An impostor (its descriptor) is drawn in place of a model. */
+  size_t ol = strlen(ea.paths[1]);
+  int impostor = ol >= 5 && !strcasecmp(ea.paths[1] + ol - 5, ".json");
+  bbc_impostor imp;
+  memset(&imp, 0, sizeof imp);
+  memset(&m[1], 0, sizeof m[1]);
+  if (impostor ? bbc_impostor_read(ea.paths[1], &imp, &err) != BBC_OK
+               : bbc_mesh_load(ea.paths[1], &lo, &m[1], &err) != BBC_OK) {
     bbc_mesh_free(&m[0]);
     return cli_fail(&err, 0);
   }
   bbc_eval_options o;
   eval_options(c, &ea, &m[1], &o);
+  if (impostor) o.impostor = &imp;
   bbc_image sheet = {0, 0, NULL};
   if (png) o.sheet = &sheet;
   bbc_eval_result r;
@@ -459,7 +467,7 @@ int cmd_eval(cli *c, int argc, char **argv) {
     rc = eval_suns(c, &ea, m, &o, png ? &sheet : NULL);
     if (rc == EXIT_OK && png && bbc_image_write_png(png, &sheet, &err) != BBC_OK)
       rc = cli_fail(&err, 1);
-  } else if (bbc_eval(&m[0], &m[1], &o, &r, &err) != BBC_OK) {
+  } else if (bbc_eval(&m[0], impostor ? NULL : &m[1], &o, &r, &err) != BBC_OK) {
     rc = cli_fail(&err, 0);
   } else {
     print_eval(&r, &o, t0);
@@ -474,6 +482,7 @@ int cmd_eval(cli *c, int argc, char **argv) {
     bbc_eval_result_free(&r);
   }
   bbc_image_free(&sheet);
+  bbc_impostor_free(&imp);
   bbc_mesh_free(&m[0]);
   bbc_mesh_free(&m[1]);
   return rc;

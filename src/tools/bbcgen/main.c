@@ -75,19 +75,26 @@ static void help_model_commands(FILE *out) {
         "      triangle. Trunk and foliage are simplified apart (--split).\n"
         "  bbcgen eval ORIGINAL OTHER [--views N] [--size PX] [--json OUT.json]\n"
         "              [--png SHEET.png] [--lit|--no-lit] [--side-elevation DEG]\n"
-        "      How close OTHER (a cloud, a baseline) looks to ORIGINAL: both rendered\n"
-        "      from N directions over the sphere (64), coverage IoU, recall, false\n"
-        "      coverage, PSNR, colour error, brightness, density (coverage ratio,\n"
-        "      block IoU at 1/8 resolution); also over side views (elevation within\n"
-        "      --side-elevation, 30 degrees). Lit when OTHER is prelit (all its\n"
-        "      materials unlit), else unlit; --lit / --no-lit choose. A chain: each\n"
-        "      level alone at its own screen size, a line (and a JSON 'levels' entry)\n"
-        "      each.\n"
+        "      How close OTHER (a cloud, a baseline, an impostor's .json) looks to\n"
+        "      ORIGINAL: both rendered from N directions over the sphere (64),\n"
+        "      coverage IoU, recall, false coverage, PSNR, colour error, brightness,\n"
+        "      density (coverage ratio, block IoU at 1/8 resolution); also over side\n"
+        "      views (elevation within --side-elevation, 30 degrees). Lit when OTHER\n"
+        "      is prelit (all its materials unlit), else unlit; --lit / --no-lit\n"
+        "      choose. A chain: each level alone at its own screen size, a line (and a\n"
+        "      JSON 'levels' entry) each.\n"
         "  bbcgen baseline MODEL -o OUT.glb --method crossed [--planes K] [--horizontal]\n"
         "              [--texels N]\n"
         "  bbcgen baseline MODEL -o OUT.glb --method simplify|sloppy --triangles N\n"
         "      Far-LOD alternatives to compare with `eval`: K crossed billboards (3)\n"
-        "      baked by our baker at about N texels, or meshoptimizer's simplification.\n",
+        "      baked by our baker at about N texels, or meshoptimizer's simplification.\n"
+        "  bbcgen impostor MODEL -o OUT.json [--frames N] [--texels N] [--full]\n"
+        "              [--samples K]\n"
+        "      The octahedral impostor engines bake for far trees: the model rendered\n"
+        "      from N x N directions (8) over the upper half of the sphere (--full:\n"
+        "      the whole sphere) into an albedo atlas and a normal + depth atlas of\n"
+        "      about N texels each (1,048,576), K x K samples a texel (4), beside the\n"
+        "      descriptor OUT.json (docs/impostors.md). `eval` judges it (OTHER.json).\n",
         out);
 }
 
@@ -306,10 +313,12 @@ static int run_command(cli *c, const char *cmd, int argc, char **argv) {
   if (!strcmp(cmd, "planes")) return cmd_planes(c, argc - 1, argv + 1);
   if (!strcmp(cmd, "eval")) return cmd_eval(c, argc - 1, argv + 1);
   if (!strcmp(cmd, "baseline")) return cmd_baseline(c, argc - 1, argv + 1);
+  if (!strcmp(cmd, "impostor")) return cmd_impostor(c, argc - 1, argv + 1);
   if (!strcmp(cmd, "exec")) return cmd_exec(c, argc - 1, argv + 1);
   if (!strcmp(cmd, "view")) return cmd_view(c, argc - 1, argv + 1);
-  static const char *const commands[] = {"info", "sample",   "tree", "render", "setup", "planes",
-                                         "eval", "baseline", "exec", "view",   NULL};
+  static const char *const commands[] = {"info",     "sample", "tree", "render",
+                                         "setup",    "planes", "eval", "baseline",
+                                         "impostor", "exec",   "view", NULL};
   if (cmd[0] == '-') {
     static const char *const own[] = {"--help", "--version", NULL};
     return cli_unknown_option(NULL, cmd, own);
@@ -324,7 +333,7 @@ static int run_command(cli *c, const char *cmd, int argc, char **argv) {
     else
       cli_error(
           "unknown command '%s', and no model file of that name (commands: info, sample, tree, "
-          "render, planes, eval, baseline, exec, view, setup; try bbcgen --help)",
+          "render, planes, eval, baseline, impostor, exec, view, setup; try bbcgen --help)",
           cmd);
     return EXIT_USAGE;
   }

@@ -74,17 +74,21 @@ void bbcgl_forest_free(bbcgl_forest *f);
 
 /* How a component is drawn (bbcgl_forest_add_part). */
 typedef struct bbcgl_part_options {
-  int lit;                /* its materials that are not unlit are lit by the frame's sun as
-                           * bbc_forest_sun_shade says: normal maps bend the normal, the
-                           * occlusion map darkens the ambient light; unlit ones (clouds with
-                           * a baked light) are drawn as they are */
-  int mipmap;             /* mip levels that keep alpha binary */
-  size_t billboards;      /* what the statistics count for it per tree (0: a polygon model) */
-  float sway_height;      /* the height the wind bends the model over (model units, the same
-                           * for every level of a model); 0 = it does not sway */
-  const float *occlusion; /* per vertex, the ambient light's share where no occlusion map
-                           * says (bbc_shade_vertices, as bbcgen bakes its clouds'
-                           * occlusion maps); NULL = 1 */
+  int lit;                      /* its materials that are not unlit are lit by the frame's sun as
+                                 * bbc_forest_sun_shade says: normal maps bend the normal, the
+                                 * occlusion map darkens the ambient light; unlit ones (clouds with
+                                 * a baked light) are drawn as they are */
+  int mipmap;                   /* mip levels that keep alpha binary */
+  size_t billboards;            /* what the statistics count for it per tree (0: a polygon model) */
+  float sway_height;            /* the height the wind bends the model over (model units, the same
+                                 * for every level of a model); 0 = it does not sway */
+  const float *occlusion;       /* per vertex, the ambient light's share where no occlusion map
+                                 * says (bbc_shade_vertices, as bbcgen bakes its clouds'
+                                 * occlusion maps); NULL = 1 */
+  const bbc_impostor *impostor; /* not NULL: `mesh` is its quad (corners +-1, bbcgen
+                                 * impostor's .json read by forest), drawn facing the eye
+                                 * with the frames' blend (docs/impostors.md); it must
+                                 * outlive the renderer */
 } bbcgl_part_options;
 
 /* Adds `mesh` as a component of bucket `bucket` (one level of one model):

@@ -21,6 +21,7 @@ typedef struct batch {
                         * plane (a billboard): first index, index count; the
                         * limbs one run */
   size_t run_count;
+  const bbc_impostor *imp; /* an impostor's quad (tex: its albedo and normal atlases), or NULL */
 } batch;
 
 typedef struct part {
@@ -46,6 +47,7 @@ struct bbcgl_forest {
   GLuint p_terrain, p_model, p_sky, p_water;
   GLint u_has, u_base, u_lit, u_maps, u_sway; /* the model program's per-material uniforms */
   GLint u_blend, u_lod;                       /* weights from the distance (blend ranges) */
+  GLint u_imp, u_imp_c, u_imp_r;              /* an impostor's (impostor.glsl) */
   /* terrain */
   GLuint t_vao, t_vbo, t_ebo, t_nodes, t_height, t_colour;
   size_t t_first[5], t_count[5], t_node_capacity;

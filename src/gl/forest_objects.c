@@ -19,6 +19,13 @@ static void set_batch(const bbcgl_forest *f, const batch *ba) {
   glUniform1i(f->u_lit, ba->lit);
   glUniform2i(f->u_maps, ba->tex[1] != 0, ba->tex[2] != 0);
   glUniform1f(f->u_sway, ba->sway);
+  const bbc_impostor *im = ba->imp;
+  glUniform4i(f->u_imp, im ? im->frames : 0, im ? im->hemi : 0, im ? im->frame_size : 0, im != 0);
+  if (im) {
+    glUniform4f(f->u_imp_c, (float)im->center[0], (float)im->center[1], (float)im->center[2],
+                (float)im->half_extent);
+    glUniform1f(f->u_imp_r, (float)im->radius);
+  }
   if (ba->single_sided)
     glEnable(GL_CULL_FACE);
   else

@@ -144,6 +144,33 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_image *src, int mipmap, int
   return tex;
 }
 
+/* An impostor's atlas as it is: RGBA8, one level, nearest texels (the
+ * shader fetches texels of its frames; a normal atlas's alpha is depth). */
+static GLuint atlas_texture(bbcgl_forest *f, const bbc_image *im, char *err) {
+  for (size_t i = 0; i < f->texture_count; i++)
+    if (f->textures[i].key == im->rgba && f->textures[i].map == 2) return f->textures[i].tex;
+  texture_entry *t2 = realloc(f->textures, (f->texture_count + 1) * sizeof *t2);
+  if (!t2) {
+    snprintf(err, BBCGL_ERR, "out of memory");
+    return 0;
+  }
+  f->textures = t2;
+  GLuint tex;
+  glCreateTextures(GL_TEXTURE_2D, 1, &tex);
+  glTextureStorage2D(tex, 1, GL_RGBA8, im->width, im->height);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage2D(tex, 0, 0, 0, im->width, im->height, GL_RGBA, GL_UNSIGNED_BYTE, im->rgba);
+  glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  texture_entry *t = &f->textures[f->texture_count++];
+  memset(t, 0, sizeof *t);
+  t->key = im->rgba;
+  t->map = 2;
+  t->tex = tex;
+  t->bytes = (size_t)im->width * im->height * 4;
+  return tex;
+}
+
 size_t bbcgl_forest_texture_bytes(const bbcgl_forest *f, const bbc_image *im, int mipmap) {
   size_t n = 0; /* as a colour map and as a normal or occlusion map */
   for (size_t i = 0; i < f->texture_count; i++)
@@ -182,6 +209,19 @@ static const bbc_image *mesh_image(const bbc_mesh *m, int index) {
  * fails. */
 static int add_batches(bbcgl_forest *f, part *p, const bbc_mesh *m, const size_t *first,
                        const size_t *count, const bbcgl_part_options *o, char *err) {
+  if (o->impostor) { /* its quad, one batch reading the atlases */
+    batch *b = &p->batches[p->batch_count++];
+    b->first = first[0];
+    b->count = count[0];
+    for (int k = 0; k < 4; k++) b->base[k] = 1;
+    b->lit = o->lit;
+    b->sway = o->sway_height;
+    b->imp = o->impostor;
+    const bbc_image *im[2] = {&o->impostor->albedo, &o->impostor->normal};
+    for (int k = 0; k < 2; k++)
+      if (!(b->tex[k] = atlas_texture(f, im[k], err))) return 0;
+    return 1;
+  }
   for (size_t mat = 0; mat < m->material_count; mat++) {
     if (!count[mat]) continue;
     const bbc_material *ma = &m->materials[mat];

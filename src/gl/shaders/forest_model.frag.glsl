@@ -4,12 +4,17 @@
 // not cover, so no sorting is needed and depth stays right).
 #version 450 core
 #include "fog.glsl"
+#include "impostor.glsl"
 in vec3 v_world;
 in vec3 v_normal;
 in vec4 v_tangent;
 in vec2 v_uv;
 in float v_fade;
 in float v_occlusion;
+flat in vec4 v_imp_base;
+flat in ivec4 v_imp_fr;
+flat in vec3 v_imp_w;
+flat in vec2 v_imp_cs;
 uniform sampler2D u_tex;
 uniform sampler2D u_normal;
 uniform sampler2D u_occlusion;
@@ -30,8 +35,88 @@ float bayer(ivec2 p) {
   }
   return (float(v) + 0.5) / 64.0;
 }
+// an impostor's texel along the view's ray in frame fr (i + n j), as
+// bbc_impostor_render finds it (src/raster/impostor_draw.c): marched one
+// texel of the frame at a time through the model's sphere, the first
+// covered texel the ray reaches within a thin shell, or crosses into from in
+// front of its neighbour; w 0 where none
+void imp_look(int fr, vec3 p, vec3 f, out vec4 col, out vec3 nrm) {
+  int n = u_imp.x, S = u_imp.z;
+  ivec2 ij = ivec2(fr % n, fr / n);
+  vec3 dir, r, u;
+  imp_basis(ij, dir, r, u);
+  col = vec4(0.0);
+  nrm = vec3(0.0);
+  float denom = -dot(f, dir);
+  if (denom <= 0.02) return;
+  float R = u_imp_r, he = u_imp_c.w, k = 0.5 * float(S) / he, a0 = -dot(p, dir);
+  vec3 q0 = p + (-R - a0) / denom * f, q1 = p + (R - a0) / denom * f;
+  vec2 s0 = vec2(0.5 * float(S) + k * dot(q0, r), 0.5 * float(S) - k * dot(q0, u));
+  vec2 s1 = vec2(0.5 * float(S) + k * dot(q1, r), 0.5 * float(S) - k * dot(q1, u));
+  float len = max(abs(s1.x - s0.x), abs(s1.y - s0.y));
+  int steps = clamp(int(ceil(len)), 1, 512);
+  float texel = 2.0 * he / float(S);
+  float shell = 2.0 * R / float(steps) + texel + 2.0 * R / 255.0, bridge = 32.0 * texel;
+  bool front = false;
+  float fd = 0.0;
+  for (int i = 0; i < steps; i++) {
+    float mid = (float(i) + 0.5) / float(steps), end = -R + 2.0 * R * float(i + 1) / float(steps);
+    ivec2 x = ivec2(floor(mix(s0, s1, mid)));
+    if (any(lessThan(x, ivec2(0))) || any(greaterThanEqual(x, ivec2(S)))) {
+      front = false;
+      continue;
+    }
+    ivec2 at = ij * S + x;
+    vec4 c = texelFetch(u_tex, at, 0);
+    if (c.a < 0.5) {
+      front = false;
+      continue;
+    }
+    vec4 m = texelFetch(u_normal, at, 0);
+    float d = (m.a * 2.0 - 1.0) * R;
+    bool hit = d <= end && (d >= end - shell || (front && fd - d <= bridge));
+    front = d > end;
+    fd = d;
+    if (hit) {
+      col = vec4(c.rgb, 1.0);
+      nrm = m.xyz * 2.0 - 1.0;
+      return;
+    }
+  }
+}
+vec3 imp_turn(vec3 v, float c, float s) { return vec3(c * v.x + s * v.z, v.y, -s * v.x + c * v.z); }
+// an impostor's fragment: the weighted hits of its three frames, alpha
+// tested against an ordered dither (as alpha to coverage), lit by the sun
+void impostor() {
+  float c = v_imp_cs.x, s = v_imp_cs.y;
+  vec3 p = imp_turn(v_world - v_imp_base.xyz, c, -s) / v_imp_base.w;
+  vec3 f = imp_turn(normalize(v_world - u_eye), c, -s);
+  vec4 sum = vec4(0.0);
+  vec3 nsum = vec3(0.0);
+  float wsum = 0.0;
+  for (int k = 0; k < 3; k++) {
+    if (v_imp_w[k] <= 0.0) continue;
+    vec4 col;
+    vec3 nrm;
+    imp_look(v_imp_fr[k], p, f, col, nrm);
+    sum += v_imp_w[k] * col;
+    nsum += v_imp_w[k] * nrm;
+    wsum += v_imp_w[k];
+  }
+  if (wsum <= 0.0 || sum.a / wsum < bayer(ivec2(gl_FragCoord.yx) + ivec2(3, 5))) discard;
+  vec3 rgb = sum.rgb / sum.a;
+  if (u_lit != 0) {
+    vec3 n = dot(nsum, nsum) > 1e-12 ? imp_turn(normalize(nsum), c, s) : vec3(0.0, 1.0, 0.0);
+    rgb *= (u_ambient + max(dot(n, u_light), 0.0)) / (u_ambient + 1.0);
+  }
+  o_colour = u_fill != 0 ? vec4(1.0) : vec4(fogged(rgb, v_world), 1.0);
+}
 void main() {
   if (v_fade < 1.0 && bayer(ivec2(gl_FragCoord.xy)) >= v_fade) discard;
+  if (u_imp.w != 0) {
+    impostor();
+    return;
+  }
   vec4 c = u_base;
   vec4 t = u_has_tex != 0 ? texture(u_tex, v_uv) : vec4(1.0);
   // BC1 (2): transparent texels decode black, so filtering mixes black into

@@ -2,6 +2,7 @@
 // record scales, turns about the vertical and places the model; the wind
 // sways it as bbc_forest_wind_offset (src/forest/sun_wind.c) says.
 #version 450 core
+#include "impostor.glsl"
 layout(location = 0) in vec3 a_pos;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_uv;
@@ -22,6 +23,10 @@ out vec4 v_tangent;
 out vec2 v_uv;
 out float v_fade;
 out float v_occlusion;
+flat out vec4 v_imp_base;  // an impostor: its centre's world position, scale
+flat out ivec4 v_imp_fr;   // its three frames (i + n j) and 1
+flat out vec3 v_imp_w;     // their weights
+flat out vec2 v_imp_cs;    // its yaw's cosine and sine
 // bbc_forest_wind_offset: q relative to the base, base its world position
 vec3 wind_offset(vec3 q, vec3 base, float height) {
   if (u_wind.x <= 0.0 || height <= 0.0 || q.y <= 0.0) return vec3(0.0);
@@ -54,6 +59,27 @@ void main() {
     return;
   }
   float c = cos(a_inst.w), s = sin(a_inst.w);
+  if (u_imp.w != 0) {  // an impostor: its quad across the view through its centre
+    vec3 cq = turn(u_imp_c.xyz * a_inst2.x, c, s);
+    cq += wind_offset(cq, a_inst.xyz, u_sway * a_inst2.x);
+    vec3 cw = a_inst.xyz + cq, e = normalize(u_eye - cw);
+    vec3 r = abs(e.y) > 0.999 ? vec3(1.0, 0.0, 0.0) : normalize(cross(vec3(0.0, 1.0, 0.0), e));
+    vec3 u = cross(e, r);
+    float h = u_imp_c.w * a_inst2.x;
+    v_world = cw + (a_pos.x * r + a_pos.y * u) * h;
+    v_imp_base = vec4(cw, a_inst2.x);
+    v_imp_cs = vec2(c, s);
+    ivec2 fr[3];
+    imp_blend(turn(e, c, -s), fr, v_imp_w);
+    v_imp_fr = ivec4(fr[0].x + u_imp.x * fr[0].y, fr[1].x + u_imp.x * fr[1].y,
+                     fr[2].x + u_imp.x * fr[2].y, 1);
+    v_normal = e;
+    v_tangent = vec4(r, 1.0);
+    v_uv = a_uv;
+    v_occlusion = 1.0;
+    gl_Position = u_viewproj * vec4(v_world, 1.0);
+    return;
+  }
   vec3 q = turn(a_pos * a_inst2.x, c, s);
   q += wind_offset(q, a_inst.xyz, u_sway * a_inst2.x);
   v_normal = turn(a_normal, c, s);

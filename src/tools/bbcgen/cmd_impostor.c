@@ -80,6 +80,7 @@ int cmd_impostor(cli *c, int argc, char **argv) {
   bbc_error err;
   if (bbc_mesh_load(path, &lo, &m, &err) != BBC_OK) return cli_fail(&err, 0);
   double t0 = cli_now();
+  rc = EXIT_OK;
   bbc_impostor imp;
   if (bbc_impostor_build(&m, &o, &imp, &err) != BBC_OK) {
     rc = cli_fail_in(path, &err, 0);

@@ -117,6 +117,24 @@ static int model_reads(const char *where, int line, const char *name, const char
     fprintf(stderr, "%s:%d: model '%s' not found (%s)\n", where, line, name, path);
     return 0;
   }
+  size_t pl = strlen(path);
+  if (pl >= 5 && !strcasecmp(path + pl - 5, ".json")) { /* an impostor (bbcgen impostor) */
+    bbc_impostor imp;
+    bbc_error err;
+    if (bbc_impostor_read(path, &imp, &err) != BBC_OK) {
+      fprintf(stderr, "%s:%d: impostor '%s': %s\n", where, line, name, err.message);
+      return 0;
+    }
+    int y_up = imp.up == BBC_AXIS_Y;
+    if (y_up)
+      printf("    %s: an impostor, %d x %d %s frames of %d texels\n", name, imp.frames, imp.frames,
+             imp.hemi ? "hemi-octahedral" : "octahedral", imp.frame_size);
+    else
+      fprintf(stderr, "%s:%d: impostor '%s': forest draws impostors of y-up models\n", where, line,
+              name);
+    bbc_impostor_free(&imp);
+    return y_up;
+  }
   bbc_load_options lo;
   bbc_load_options_default(&lo);
   scene_load_note note = {where, line, NULL, 0}; /* its textures are files it needs too */

@@ -444,8 +444,9 @@ static bbcgl_forest *create_forest(scene *s, const run_options *o) {
       for (int k = 0; k < s->models[m].part_count[l]; k++) {
         const scene_part *p = &s->models[m].parts[l][k];
         const scene_mesh *me = &s->meshes[p->mesh];
-        bbcgl_part_options po = {p->lit, p->mipmap, me->billboards, (float)s->models[m].height,
-                                 me->occlusion};
+        bbcgl_part_options po = {p->lit,         p->mipmap,
+                                 me->billboards, (float)s->models[m].height,
+                                 me->occlusion,  me->impostor};
         if (!bbcgl_forest_add_part(r, s->cull.bucket_base[m] + l, &me->mesh, &po, err)) {
           fprintf(stderr, "forest: %s: %s\n", me->path, err);
           bbcgl_forest_free(r);

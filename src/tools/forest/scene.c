@@ -95,6 +95,76 @@ static size_t count_billboards(const bbc_mesh *m) {
   return m->triangle_count - limbs <= 16 * n ? n : 0;
 }
 
+/* An impostor's quad: corners (+-1, +-1, 0), one white material; the
+ * drawing layer places it facing the eye and reads the atlases. 0 when out
+ * of memory. */
+static int impostor_quad(bbc_mesh *q) {
+  static const double corner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  static const uint32_t idx[6] = {0, 1, 2, 0, 2, 3};
+  memset(q, 0, sizeof *q);
+  q->kind = BBC_MESH_TRIANGLES;
+  q->positions = calloc(12, sizeof *q->positions);
+  q->normals = calloc(12, sizeof *q->normals);
+  q->uvs = calloc(8, sizeof *q->uvs);
+  q->indices = malloc(sizeof idx);
+  q->face_material = calloc(2, sizeof *q->face_material);
+  q->face_group = calloc(2, sizeof *q->face_group);
+  q->materials = calloc(1, sizeof *q->materials);
+  q->group_names = calloc(1, sizeof *q->group_names);
+  if (!q->positions || !q->normals || !q->uvs || !q->indices || !q->face_material ||
+      !q->face_group || !q->materials || !q->group_names ||
+      !(q->materials[0].name = strdup("impostor")) || !(q->group_names[0] = strdup("impostor"))) {
+    bbc_mesh_free(q);
+    return 0;
+  }
+  for (int k = 0; k < 4; k++) {
+    q->positions[3 * k] = corner[k][0];
+    q->positions[3 * k + 1] = corner[k][1];
+    q->normals[3 * k + 2] = 1;
+    q->uvs[2 * k] = (float)(0.5 * corner[k][0] + 0.5);
+    q->uvs[2 * k + 1] = (float)(0.5 * corner[k][1] + 0.5);
+  }
+  memcpy(q->indices, idx, sizeof idx);
+  q->vertex_count = 4;
+  q->triangle_count = 2;
+  q->material_count = 1;
+  q->group_count = 1;
+  q->materials[0].texture = -1;
+  for (int k = 0; k < 4; k++) q->materials[0].base_color[k] = 1;
+  return 1;
+}
+
+/* An impostor's descriptor at `path` into m (its quad and atlases); 0 with
+ * the message said. */
+static int load_impostor(scene_mesh *m, const char *path, const char *where, int line) {
+  bbc_error err;
+  m->impostor = calloc(1, sizeof *m->impostor);
+  if (!m->impostor || bbc_impostor_read(path, m->impostor, &err) != BBC_OK) {
+    fprintf(stderr, "%s:%d: %s\n", where, line, m->impostor ? err.message : "out of memory");
+    free(m->impostor);
+    m->impostor = NULL;
+    return 0;
+  }
+  const bbc_impostor *im = m->impostor;
+  if (im->up != BBC_AXIS_Y || !impostor_quad(&m->mesh)) {
+    fprintf(stderr, "%s:%d: %s: %s\n", where, line, path,
+            im->up != BBC_AXIS_Y ? "forest draws impostors of y-up models (bbcgen impostor "
+                                   "--up y, the default)"
+                                 : "out of memory");
+    bbc_impostor_free(m->impostor);
+    free(m->impostor);
+    m->impostor = NULL;
+    return 0;
+  }
+  double c = sqrt(im->center[0] * im->center[0] + im->center[1] * im->center[1] +
+                  im->center[2] * im->center[2]);
+  m->radius = c + im->radius;
+  m->height = im->center[1] + im->radius;
+  m->billboards = 1;
+  m->relightable = 1; /* its normal atlas: lit by the sun wherever placed */
+  return 1;
+}
+
 static long find_mesh(scene *s, const char *path, int lod_node, FILE *log, int progress,
                       const char *where, int line) {
   for (size_t i = 0; i < s->mesh_count; i++)
@@ -112,6 +182,15 @@ static long find_mesh(scene *s, const char *path, int lod_node, FILE *log, int p
   lo.callbacks.user = &note;
   bbc_error err;
   if (progress) fprintf(stderr, "forest: loading %s\n", path);
+  size_t pl = strlen(path);
+  if (pl >= 5 && !strcasecmp(path + pl - 5, ".json")) { /* an impostor */
+    if (!load_impostor(m, path, where, line) || !(m->path = strdup(path))) return -1;
+    if (log)
+      fprintf(log, "model %s: an impostor, %d x %d %s frames of %d texels\n", path,
+              m->impostor->frames, m->impostor->frames,
+              m->impostor->hemi ? "hemi-octahedral" : "octahedral", m->impostor->frame_size);
+    return (long)s->mesh_count++;
+  }
   bbc_result r = bbc_mesh_load(path, &lo, &m->mesh, &err);
   if (r != BBC_OK) {
     if (lod_node > 0 && r == BBC_ERROR_NOT_FOUND && scene_file_exists(path))
@@ -307,6 +386,8 @@ void scene_free(scene *s) {
   for (size_t i = 0; i < s->mesh_count; i++) {
     free(s->meshes[i].path);
     bbc_mesh_free(&s->meshes[i].mesh);
+    bbc_impostor_free(s->meshes[i].impostor);
+    free(s->meshes[i].impostor);
     free(s->meshes[i].occlusion);
   }
   free(s->meshes);

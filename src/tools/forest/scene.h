@@ -13,14 +13,17 @@ typedef struct scene_mesh {
   char *path;
   int lod_node; /* as bbc_load_options.lod_node */
   bbc_mesh mesh;
-  size_t billboards; /* planes of the mesh when it is a Billboard Cloud, else 0 */
-  double radius;     /* farthest vertex from the model's origin */
-  double height;     /* highest vertex above the model's origin (its base) */
-  int relightable;   /* a material has a normal or occlusion map (a cloud made with
-                      * bbcgen --lighting material): lit by the sun wherever placed */
-  float *occlusion;  /* per vertex, for a polygon model lit by the sun: the occlusion
-                      * bbcgen bakes into its clouds' occlusion maps (occlusion 64,
-                      * occlusionmin 0.75), so that the levels light alike; else NULL */
+  size_t billboards;      /* planes of the mesh when it is a Billboard Cloud, else 0 */
+  double radius;          /* farthest vertex from the model's origin */
+  double height;          /* highest vertex above the model's origin (its base) */
+  int relightable;        /* a material has a normal or occlusion map (a cloud made with
+                           * bbcgen --lighting material): lit by the sun wherever placed */
+  bbc_impostor *impostor; /* an octahedral impostor (a .json descriptor, bbcgen impostor):
+                           * `mesh` its quad (corners at x, y = +-1), drawn facing the eye
+                           * with the frames' blend; else NULL */
+  float *occlusion;       /* per vertex, for a polygon model lit by the sun: the occlusion
+                           * bbcgen bakes into its clouds' occlusion maps (occlusion 64,
+                           * occlusionmin 0.75), so that the levels light alike; else NULL */
 } scene_mesh;
 
 typedef struct scene_part {

@@ -120,6 +120,19 @@ rndtree oak.txt 1.0 333334 1 1 0 0 0 0
 rndtree pine.txt 1.1 333333 1 1 0 0 0 0
 rndtree birch.txt 0.9 333333 1 1 0 0 0 0
 EOT
+# The same million with octahedral impostors (bbcgen impostor, 8 x 8 frames,
+# 65,536 texels) as the farthest level in place of the 6-billboard clouds
+# (issue 49; docs/impostors.md).
+for s in oak pine birch; do
+  [ "$out/${s}_imp.json" -nt "$out/$s.obj" ] ||
+    "$bin/bbcgen" impostor "$out/$s.obj" -o "$out/${s}_imp.json" --frames 8 --texels 65536 -q
+  sed "s/${s}_6.glb mipmap/${s}_imp.json/" "$out/$s.txt" > "$out/${s}_i.txt"
+done
+big_map million_imp big "$bigwater" 0.5 "A million trees, impostors farthest" <<EOT
+rndtree oak_i.txt 1.0 333334 1 1 0 0 0 0
+rndtree pine_i.txt 1.1 333333 1 1 0 0 0 0
+rndtree birch_i.txt 0.9 333333 1 1 0 0 0 0
+EOT
 # Finland (thesis 3.3, map c): groups of 8 spruces, each group one model
 # simplified by bbcgen as a whole (the polygon group near, then clouds of 25,
 # 11 and 11 billboards at 256, 128 and 32 texels like the thesis's), on
@@ -205,4 +218,5 @@ fi
 sed -n '1,12p' "$out/check.txt"
 echo "Fly through it: $bin/forest $out/map.txt   (headless: add --size 800x600 --screenshot F.png)"
 echo "The thesis's maps (3.3): $out/mixed.txt, islands.txt, finland.txt, huge150k.txt; a million"
-echo "trees: $out/million.txt; their benchmark: scripts/bench/bench_forest.sh $build"
+echo "trees: $out/million.txt (million_imp.txt: impostors farthest); their benchmark:"
+echo "scripts/bench/bench_forest.sh $build"

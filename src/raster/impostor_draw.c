@@ -88,11 +88,11 @@ static void look_up(const bbc_impostor *imp, const frame_look *fl, const double 
   double shell = 2 * R / steps + texel + 2 * R / 255.0;
   /* The ray passing from in front of one covered texel to behind the next
    * crosses the surface between them, where their depths differ by less
-   * than `bridge`, a quarter of a 128-texel frame (one canopy's surface,
+   * than `bridge`, a quarter of the frame's width (one canopy's surface,
    * not two leaves far apart: measured on the Scopia pine and a generated
    * oak, docs/impostors.md). */
   int was_in_front = 0;
-  double front_d = 0, bridge = 32 * texel;
+  double front_d = 0, bridge = 0.5 * imp->half_extent;
   for (int i = 0; i < steps; i++) {
     double mid = (i + 0.5) / steps, end = -R + 2 * R * (i + 1.0) / steps;
     double s = s0 + mid * (s1 - s0), t = t0 + mid * (t1 - t0);

@@ -56,7 +56,7 @@ void imp_look(int fr, vec3 p, vec3 f, out vec4 col, out vec3 nrm) {
   float len = max(abs(s1.x - s0.x), abs(s1.y - s0.y));
   int steps = clamp(int(ceil(len)), 1, 512);
   float texel = 2.0 * he / float(S);
-  float shell = 2.0 * R / float(steps) + texel + 2.0 * R / 255.0, bridge = 32.0 * texel;
+  float shell = 2.0 * R / float(steps) + texel + 2.0 * R / 255.0, bridge = 0.5 * he;
   bool front = false;
   float fd = 0.0;
   for (int i = 0; i < steps; i++) {

@@ -13,7 +13,7 @@ typedef struct baseline_args {
   const char *path, *out, *method;
   long long planes, texels, triangles;
   int horizontal;
-  int crossed, simplify, sloppy; /* the method */
+  int crossed, simplify, sloppy, impostor; /* the method */
   const char *ext;               /* the output's extension */
 } baseline_args;
 
@@ -67,16 +67,18 @@ static int check_baseline_args(baseline_args *ba) {
   ba->crossed = method && !strcmp(method, "crossed");
   ba->simplify = method && !strcmp(method, "simplify");
   ba->sloppy = method && !strcmp(method, "sloppy");
-  if (method && !(ba->crossed || ba->simplify || ba->sloppy)) {
-    cli_error("baseline: unknown method '%s' (crossed, simplify or sloppy)", method);
+  ba->impostor = method && !strcmp(method, "impostor");
+  if (method && !(ba->crossed || ba->simplify || ba->sloppy || ba->impostor)) {
+    cli_error("baseline: unknown method '%s' (crossed, simplify, sloppy or impostor)", method);
     return EXIT_USAGE;
   }
-  if (!ba->path || !out || !(ba->crossed || ba->simplify || ba->sloppy)) {
+  if (!ba->path || !out || !(ba->crossed || ba->simplify || ba->sloppy || ba->impostor)) {
     cli_error("baseline: usage: bbcgen baseline MODEL -o OUT.glb|.gltf|.obj --method "
               "crossed [--planes K] [--horizontal] [--texels N] | --method simplify|sloppy "
-              "--triangles N");
+              "--triangles N | -o OUT.json --method impostor [--texels N]");
     return EXIT_USAGE;
   }
+  if (ba->impostor) return EXIT_OK; /* bbcgen impostor's checks */
   if ((ba->simplify || ba->sloppy) && !ba->triangles) {
     cli_error("baseline: --method %s needs --triangles N", method);
     return EXIT_USAGE;
@@ -99,6 +101,12 @@ int cmd_baseline(cli *c, int argc, char **argv) {
   int rc = parse_baseline_args(c, argc, argv, &ba);
   if (rc >= 0) return rc;
   if ((rc = check_baseline_args(&ba)) != EXIT_OK) return rc;
+  if (ba.impostor) { /* the octahedral impostor at the texels asked: bbcgen impostor */
+    char texels[32];
+    snprintf(texels, sizeof texels, "%lld", ba.texels);
+    char *args[] = {"impostor", (char *)ba.path, "-o", (char *)ba.out, "--texels", texels, NULL};
+    return cmd_impostor(c, 6, args);
+  }
   const char *path = ba.path, *out = ba.out;
   bbc_load_options lo;
   cli_load_options(c, &lo);

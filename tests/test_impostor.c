@@ -241,6 +241,7 @@ static void test_threads_and_round_trip(void **state) {
   assert_true(c.radius == a.radius && c.half_extent == a.half_extent);
   assert_memory_equal(c.albedo.rgba, a.albedo.rgba, bytes);
   assert_memory_equal(c.normal.rgba, a.normal.rgba, bytes);
+  bbc_impostor_free(&c);
   /* a descriptor that lies is refused, and says what it lacks */
   FILE *fp = fopen(path, "w");
   fputs("{\"format\": \"bbc-impostor\", \"layout\": \"cubic\"}", fp);

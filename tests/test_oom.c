@@ -147,9 +147,53 @@ static void test_every_allocation_fails_in_turn(void **state) {
   bbc_mesh_free(&tree);
 }
 
+/* An impostor of the tree (2 x 2 frames of 16 texels, one thread) built
+ * and written with allocation `at` failing: out of memory said, nothing
+ * else. Returns the result. */
+static bbc_result impostor_run(const bbc_mesh *mesh, long at, const char *out) {
+  bbc_impostor_options o;
+  bbc_impostor_options_default(&o);
+  o.frames = 2;
+  o.texels = 2 * 2 * 16 * 16;
+  o.threads = 1;
+  bbc_impostor imp;
+  bbc_error err;
+  counted = 0;
+  fail_at = at;
+  armed = 1;
+  bbc_result r = bbc_impostor_build(mesh, &o, &imp, &err);
+  if (r == BBC_OK) r = bbc_impostor_write(out, &imp, &err);
+  armed = 0;
+  if (r != BBC_OK && r != BBC_ERROR_OUT_OF_MEMORY && r != BBC_ERROR_IO)
+    fail_msg("impostor, allocation %ld failing: error %d, %s", at, (int)r, err.message);
+  bbc_impostor_free(&imp);
+  return r;
+}
+
+static void test_impostor_allocations(void **state) {
+  (void)state;
+  bbc_tree_options t;
+  bbc_tree_options_default(&t);
+  t.leaves = 30;
+  t.texture_size = 32;
+  bbc_mesh tree;
+  bbc_error err;
+  assert_int_equal(bbc_tree_generate(&t, &tree, &err), BBC_OK);
+  char out[2048];
+  snprintf(out, sizeof out, "%s/oom.json", tu_dir);
+  assert_int_equal(impostor_run(&tree, -1, out), BBC_OK);
+  long total = counted, oom = 0;
+  assert_true(total > 10);
+  for (long at = 0; at < total; at++) oom += impostor_run(&tree, at, out) != BBC_OK;
+  printf("an impostor of the tree: %ld allocations, %ld runs failing\n", total, oom);
+  assert_true(oom > 0);
+  bbc_mesh_free(&tree);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_every_allocation_fails_in_turn),
+      cmocka_unit_test(test_impostor_allocations),
   };
   return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

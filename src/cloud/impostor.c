@@ -27,6 +27,7 @@ static void work_free(frame_work *f) {
   free(f->taps);
   free(f->mask);
   free(f->cand);
+  memset(f, 0, sizeof *f);
 }
 
 static bbc_result work_alloc(frame_work *f, int w, int s) {
@@ -230,6 +231,7 @@ bbc_result bbc_impostor_build(const bbc_mesh *mesh, const bbc_impostor_options *
       memset(&e, 0, sizeof e);
       if (ok && build_frame(&c, q % o.frames, q / o.frames, &f, &e) == BBC_OK) continue;
       if (!ok) bbc__fail(&e, BBC_ERROR_OUT_OF_MEMORY, "impostor: out of memory");
+      ok = 0; /* a failed frame may leave this thread's images freed */
 #pragma omp critical(bbc_impostor_fail)
       if (!failed || q < failed - 1) { /* the first frame's error, whatever the threads */
         first = e;

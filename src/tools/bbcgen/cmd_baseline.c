@@ -14,7 +14,7 @@ typedef struct baseline_args {
   long long planes, texels, triangles;
   int horizontal;
   int crossed, simplify, sloppy, impostor; /* the method */
-  const char *ext;               /* the output's extension */
+  const char *ext;                         /* the output's extension */
 } baseline_args;
 
 /* The command line into `ba`: -1 to go on, else an exit code (said). */

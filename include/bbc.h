@@ -26,8 +26,8 @@
  * Sections: 1 results, errors and callbacks; 2 images; 3 meshes and point
  * clouds; 4 parameters; 5 steps 1 and 2: parts and planes; 6 step 3:
  * billboards and the cloud; 7 writers; 8 software rendering; 9 evaluation
- * and baselines; 10 generators. The forest engine's runtime has its own
- * header, bbc_forest.h.
+ * and baselines; 10 generators; 11 the algorithm's internals as geometry
+ * for viewers. The forest engine's runtime has its own header, bbc_forest.h.
  *
  * Conventions, stated once:
  *   - Errors: a function that can fail on bad data or bad parameters
@@ -64,6 +64,13 @@
 
 #ifdef __cplusplus
 extern "C" {
+#endif
+
+/* printf-style format checking of the functions that take a format. */
+#if defined(__GNUC__) || defined(__clang__)
+#define BBC_PRINTF(fmt, args) __attribute__((format(printf, fmt, args)))
+#else
+#define BBC_PRINTF(fmt, args)
 #endif
 
 #define BBC_VERSION_MAJOR  0
@@ -134,6 +141,30 @@ typedef struct bbc_callbacks {
    * event's arrays are valid during the call only. */
   void (*debug)(void *user, const bbc_debug_event *event);
 } bbc_callbacks;
+
+/* For callers that report their own failures and progress the library's
+ * way (bbcgen's session does): */
+/* Writes `code` and a message formatted as printf's into err (NULL:
+ * nothing; cut at sizeof err->message); returns `code`. */
+bbc_result bbc_error_set(bbc_error *err, bbc_result code, const char *fmt, ...) BBC_PRINTF(3, 4);
+/* Calls cb's log hook with a message formatted as printf's (cut at 1,023
+ * bytes); nothing when cb or its hook is NULL. */
+void bbc_callbacks_log(const bbc_callbacks *cb, bbc_log_level level, const char *fmt, ...)
+    BBC_PRINTF(3, 4);
+/* Callbacks that name what they report on, for a stage that repeats (per
+ * part, per level of detail): progress stages come out as "<label>:
+ * <stage>" and log messages as "<label>: <message>" through the callbacks
+ * `in` (may be NULL), the debug hook's events with `where` the label, the
+ * cancel hook as it is. `out` is valid while `label` is; calls through it
+ * must not overlap (the library reports progress from one thread at a
+ * time). The label is cut at 95 bytes. */
+typedef struct bbc_label {
+  bbc_callbacks outer;
+  char label[96];
+  char text[1200];
+} bbc_label;
+void bbc_callbacks_label(const bbc_callbacks *in, bbc_label *label, bbc_callbacks *out,
+                         const char *fmt, ...) BBC_PRINTF(4, 5);
 
 /* An axis of the model's frame: the up axis of a model (parameter
  * `upaxis`), the axis of a view. */
@@ -750,6 +781,19 @@ typedef struct bbc_grid bbc_grid;
  * freed with bbc_grid_free. */
 bbc_result bbc_grid_build(const bbc_mesh *mesh, const bbc_planes_options *options, bbc_grid **grid,
                           bbc_error *err);
+/* bbc_grid_build for bbc_planes_select straight after: each epsilon's
+ * density is built when a whole run of step 2 needs it (a search that
+ * probes and lands on another epsilon never builds the asked one's). The
+ * grid views (bbc_grid_view_build) need bbc_grid_build's grid. */
+bbc_result bbc_grid_build_for_select(const bbc_mesh *mesh, const bbc_planes_options *options,
+                                     bbc_grid **grid, bbc_error *err);
+/* The options a grid's step 1 ran with (its copy, callbacks cleared). */
+const bbc_planes_options *bbc_grid_get_options(const bbc_grid *grid);
+/* Copies planes options so that the copy stays valid when the caller's
+ * change: the split's pattern texts into `text` (cut at 4,095 bytes), the
+ * callbacks cleared. */
+void bbc_planes_options_copy(bbc_planes_options *dst, char text[3][4096],
+                             const bbc_planes_options *src);
 /* Releases a grid (NULL: nothing). */
 void bbc_grid_free(bbc_grid *grid);
 /* Step 2 on a grid of step 1 (the greedy select and what follows it, on a
@@ -1358,6 +1402,82 @@ bbc_result bbc_impostor_render(const bbc_impostor *impostor, const bbc_view *vie
 bbc_result bbc_impostor_write(const char *path, const bbc_impostor *impostor, bbc_error *err);
 /* Reads what bbc_impostor_write wrote (free with bbc_impostor_free). */
 bbc_result bbc_impostor_read(const char *path, bbc_impostor *impostor, bbc_error *err);
+
+/* ======================================================================== */
+/* 11. The algorithm's internals as geometry (Appendix A `show bbc`)         */
+/* ======================================================================== */
+
+/* Coloured geometry for a viewer to draw as it is (bbcgen's viewer):
+ * triangles and line segments, 6 floats a vertex (x y z r g b). */
+typedef struct bbc_geometry {
+  float *tris; /* 3 vertices a triangle */
+  size_t tri_count;
+  float *lines; /* 2 vertices a segment */
+  size_t line_count;
+  double center[3], radius; /* what frames it */
+} bbc_geometry;
+void bbc_geometry_free(bbc_geometry *geometry);
+
+/* The four grid views. They are drawn in a box: theta (-180..180 deg) along
+ * x in [-2, 2], rho (the grid's range, from just below 0 to the part's
+ * radius + epsilon) along y in [0, 2], phi (-90..90 deg) along z in
+ * [1, -1]; the box's edges grey, its theta edge red, rho green, phi blue. */
+typedef enum bbc_grid_view_kind {
+  BBC_GRID_VIEW_DOMAIN = 0, /* the face's discretised validity domain: the cells
+                             * step 1 counts it in (simple validity), light blue */
+  BBC_GRID_VIEW_CONTINUOUS, /* its continuous validity domain: the exact range
+                             * of rho per direction, lower sheet orange, upper
+                             * sheet yellow */
+  BBC_GRID_VIEW_BOTH,       /* the cells as blue edges with the sheets */
+  BBC_GRID_VIEW_DENSITY     /* the grid's density (contribution minus penalty)
+                             * as cubes sized and coloured by it, blue to red */
+} bbc_grid_view_kind;
+
+typedef struct bbc_grid_view_options {
+  bbc_grid_view_kind kind;
+  size_t part; /* index of the part (bbc_grid_get_part_count) */
+  size_t face; /* the selected face: an index within the part */
+  int vertex;  /* continuous views: -1 the face's domain, 0-2 (0-3 for a face of four
+                * vertices) one vertex's (F6) */
+  int volume;  /* continuous views: lines across the domain between its sheets (F7) */
+} bbc_grid_view_options;
+/* The grid at the epsilon of the planes step 2 returned last (else as
+ * asked). */
+bbc_result bbc_grid_view_build(const bbc_grid *grid, const bbc_grid_view_options *options,
+                               bbc_geometry *out, bbc_error *err);
+size_t bbc_grid_get_part_count(const bbc_grid *grid);
+const char *bbc_grid_get_part_name(const bbc_grid *grid, size_t part); /* NULL: no such part */
+size_t bbc_grid_get_part_faces(const bbc_grid *grid, size_t part);
+/* The mesh triangle of a part's face, -1 when there is none (a face of
+ * four vertices, two coplanar triangles sharing an edge: the first). */
+int64_t bbc_grid_get_face_triangle(const bbc_grid *grid, size_t part, size_t face);
+/* Its vertices: 3, or 4 for two triangles taken as one face; 0 when none. */
+int bbc_grid_get_face_vertex_count(const bbc_grid *grid, size_t part, size_t face);
+/* The part's face of the largest area (the views' first selection). */
+size_t bbc_grid_get_largest_face(const bbc_grid *grid, size_t part);
+/* The part's epsilon in model units in the views' grid. */
+double bbc_grid_get_epsilon(const bbc_grid *grid, size_t part);
+
+/* The faces view: per triangle of the mesh one state, */
+enum {
+  BBC_FACE_DONE = 0,      /* simplified already: not drawn */
+  BBC_FACE_REMAINING = 1, /* wireframe, grey */
+  BBC_FACE_VALID = 2      /* valid for the current plane: solid blue */
+};
+/* and the selected triangle solid yellow (state NULL: all remaining). */
+bbc_result bbc_faces_view_build(const bbc_mesh *mesh, const uint8_t *state, size_t selected,
+                                bbc_geometry *out, bbc_error *err);
+/* show model's overlays: every vertex's validity domain in model space (an
+ * octahedron of radius eps: the planes valid for the vertex meet its
+ * eps-ball; at most 200,000 vertices, every k-th of larger models), and
+ * the shadow voxels of 2.3.11 (the occupied voxels, grey by their light). */
+bbc_result bbc_vertex_domains_view_build(const bbc_mesh *mesh, double eps, bbc_geometry *out,
+                                         bbc_error *err);
+bbc_result bbc_shade_view_build(const bbc_mesh *mesh, int voxels, double ambient, bbc_axis up_axis,
+                                bbc_geometry *out, bbc_error *err);
+/* States after step 2: the faces of the selected triangle's plane valid,
+ * the others remaining (set NULL: all remaining). */
+void bbc_faces_get_state(const bbc_planeset *set, size_t selected, uint8_t *state, size_t count);
 
 #ifdef __cplusplus
 }

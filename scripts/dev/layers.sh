@@ -23,8 +23,9 @@
 # library, named here: gl (the drawing layer) sees the public headers and the
 # application layer; the tools see the application layer, the drawing layer
 # and their common folder. include/ (the public headers) is open to all: the
-# layers above the library call libbbc's public functions (bbc_*), never its
-# internal ones (bbc__*).
+# layers above the library (app, gl, the tools) include none of its internal
+# headers and call libbbc's public functions (bbc_*), never its internal ones
+# (bbc__*).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 mode=${1:-check}
@@ -37,6 +38,10 @@ done < <(awk '/^bbc_layer\(/ { sub(/^bbc_layer\(/, ""); line = $0
            while (line !~ /SOURCES/ && (getline more) > 0) line = line " " more
            sub(/SOURCES.*/, "", line); gsub(/DEPS/, "", line); print line }' \
            "$root/CMakeLists.txt")
+# The application layer links the library's layers (CMakeLists.txt) but,
+# like every layer above the library, sees only its public headers and
+# calls only its public functions: what bbcgen needs, a user can do.
+allowed[app]="app"
 allowed[gl]="gl app"
 allowed[tools/bbcgen]="tools/bbcgen tools/common app gl"
 allowed[tools/forest]="tools/forest tools/common gl"

@@ -3,8 +3,8 @@
  * run it — the session that keeps a model, its planes and its cloud between
  * steps, what is written of it (cloud files, the report, the preview, the
  * save folders), the command language of batch files and the prompt, the
- * by-hand parameter rules and the viewer's geometry. Built on the public
- * library (bbc.h); linked into bbcgen and the tests, not installed.
+ * by-hand parameter rules. Built on the public library (bbc.h); linked into bbcgen and the tests,
+ * not installed.
  */
 #ifndef BBC_APP_H
 #define BBC_APP_H
@@ -50,79 +50,6 @@ bbc_lighting bbc_lighting_for_output(const char *path);
 /* What a cloud baked with `params` carries, for people: "material",
  * "baked", ... */
 const char *bbc_params_lighting_name(const bbc_params *params);
-
-/* ---- the algorithm's internals as pictures (Appendix A `show bbc`) ----- */
-/* Coloured geometry for a viewer to draw as it is (bbcgen's viewer):
- * triangles and line segments, 6 floats a vertex (x y z r g b). */
-typedef struct bbc_geometry {
-  float *tris; /* 3 vertices a triangle */
-  size_t tri_count;
-  float *lines; /* 2 vertices a segment */
-  size_t line_count;
-  double center[3], radius; /* what frames it */
-} bbc_geometry;
-void bbc_geometry_free(bbc_geometry *geometry);
-
-/* The four grid views. They are drawn in a box: theta (-180..180 deg) along
- * x in [-2, 2], rho (the grid's range, from just below 0 to the part's
- * radius + epsilon) along y in [0, 2], phi (-90..90 deg) along z in
- * [1, -1]; the box's edges grey, its theta edge red, rho green, phi blue. */
-typedef enum bbc_grid_view_kind {
-  BBC_GRID_VIEW_DOMAIN = 0, /* the face's discretised validity domain: the cells
-                             * step 1 counts it in (simple validity), light blue */
-  BBC_GRID_VIEW_CONTINUOUS, /* its continuous validity domain: the exact range
-                             * of rho per direction, lower sheet orange, upper
-                             * sheet yellow */
-  BBC_GRID_VIEW_BOTH,       /* the cells as blue edges with the sheets */
-  BBC_GRID_VIEW_DENSITY     /* the grid's density (contribution minus penalty)
-                             * as cubes sized and coloured by it, blue to red */
-} bbc_grid_view_kind;
-
-typedef struct bbc_grid_view_options {
-  bbc_grid_view_kind kind;
-  size_t part; /* index of the part (bbc_grid_get_part_count) */
-  size_t face; /* the selected face: an index within the part */
-  int vertex;  /* continuous views: -1 the face's domain, 0-2 (0-3 for a face of four
-                * vertices) one vertex's (F6) */
-  int volume;  /* continuous views: lines across the domain between its sheets (F7) */
-} bbc_grid_view_options;
-/* The grid at the epsilon of the planes step 2 returned last (else as
- * asked). */
-bbc_result bbc_grid_view_build(const bbc_grid *grid, const bbc_grid_view_options *options,
-                               bbc_geometry *out, bbc_error *err);
-size_t bbc_grid_get_part_count(const bbc_grid *grid);
-const char *bbc_grid_get_part_name(const bbc_grid *grid, size_t part); /* NULL: no such part */
-size_t bbc_grid_get_part_faces(const bbc_grid *grid, size_t part);
-/* The mesh triangle of a part's face, -1 when there is none (a face of
- * four vertices, two coplanar triangles sharing an edge: the first). */
-int64_t bbc_grid_get_face_triangle(const bbc_grid *grid, size_t part, size_t face);
-/* Its vertices: 3, or 4 for two triangles taken as one face; 0 when none. */
-int bbc_grid_get_face_vertex_count(const bbc_grid *grid, size_t part, size_t face);
-/* The part's face of the largest area (the views' first selection). */
-size_t bbc_grid_get_largest_face(const bbc_grid *grid, size_t part);
-/* The part's epsilon in model units in the views' grid. */
-double bbc_grid_get_epsilon(const bbc_grid *grid, size_t part);
-
-/* The faces view: per triangle of the mesh one state, */
-enum {
-  BBC_FACE_DONE = 0,      /* simplified already: not drawn */
-  BBC_FACE_REMAINING = 1, /* wireframe, grey */
-  BBC_FACE_VALID = 2      /* valid for the current plane: solid blue */
-};
-/* and the selected triangle solid yellow (state NULL: all remaining). */
-bbc_result bbc_faces_view_build(const bbc_mesh *mesh, const uint8_t *state, size_t selected,
-                                bbc_geometry *out, bbc_error *err);
-/* show model's overlays: every vertex's validity domain in model space (an
- * octahedron of radius eps: the planes valid for the vertex meet its
- * eps-ball; at most 200,000 vertices, every k-th of larger models), and
- * the shadow voxels of 2.3.11 (the occupied voxels, grey by their light). */
-bbc_result bbc_vertex_domains_view_build(const bbc_mesh *mesh, double eps, bbc_geometry *out,
-                                         bbc_error *err);
-bbc_result bbc_shade_view_build(const bbc_mesh *mesh, int voxels, double ambient, bbc_axis up_axis,
-                                bbc_geometry *out, bbc_error *err);
-/* States after step 2: the faces of the selected triangle's plane valid,
- * the others remaining (set NULL: all remaining). */
-void bbc_faces_get_state(const bbc_planeset *set, size_t selected, uint8_t *state, size_t count);
 
 /* ---- session: BBCgen's workflow (thesis Appendix A), GL-free ----------- */
 /* A model, its planes (steps 1 and 2) and its cloud (step 3) kept between

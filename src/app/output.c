@@ -16,7 +16,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-typedef bbc__level job_lod;
+typedef app_level job_lod;
 
 static const char *extension_of(const char *path) {
   const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
@@ -59,7 +59,7 @@ void bbc_session_get_output_path(const char *out, size_t level, char *buf, size_
 
 void bbc_session_set_output(bbc_session *s, const bbc_params *p) {
   for (size_t k = 0; k < bbc_session_get_level_count(s); k++) {
-    bbc__level *l = bbc__session_level(s, k);
+    app_level *l = app_session_level(s, k);
     l->params.format = p->format;
     l->params.dds = p->dds;
   }
@@ -75,7 +75,7 @@ static void name_chain_materials(job_lod *const *lods, size_t count) {
     char name[64];
     snprintf(name, sizeof name, "billboards_LOD%zu", k);
     bbc_material *mat = &lods[k]->cloud.mesh.materials[0];
-    char *dup = bbc__strdup(name);
+    char *dup = strdup(name);
     if (dup) {
       free(mat->name);
       mat->name = dup;
@@ -83,7 +83,7 @@ static void name_chain_materials(job_lod *const *lods, size_t count) {
     if (lods[k]->cloud.mesh.material_count > 1) { /* the limbs' */
       snprintf(name, sizeof name, "limbs_LOD%zu", k);
       mat = &lods[k]->cloud.mesh.materials[1];
-      dup = bbc__strdup(name);
+      dup = strdup(name);
       if (dup) {
         free(mat->name);
         mat->name = dup;
@@ -110,10 +110,12 @@ static bbc_result share_chain_atlas(bbc_session *s, job_lod *const *lods, size_t
   if (r != BBC_OK) return r;
   const bbc_image *a = &lods[0]->cloud.mesh.textures[0].image;
   if (s->atlas_shared)
-    bbc__log(cb, BBC_LOG_INFO, "the %zu levels share one %dx%d atlas", count, a->width, a->height);
+    bbc_callbacks_log(cb, BBC_LOG_INFO, "the %zu levels share one %dx%d atlas", count, a->width,
+                      a->height);
   else
-    bbc__log(cb, BBC_LOG_INFO, "the levels do not fit one %dx%d atlas together: one atlas each",
-             budget, budget);
+    bbc_callbacks_log(cb, BBC_LOG_INFO,
+                      "the levels do not fit one %dx%d atlas together: one atlas each", budget,
+                      budget);
   return BBC_OK;
 }
 
@@ -128,7 +130,7 @@ static bbc_result write_gltf_chain(const bbc_session *s, job_lod *const *lods, s
   bbc_gltf_node nodes[BBC_SESSION_MAX_LEVELS];
   double coverage[BBC_SESSION_MAX_LEVELS];
   for (size_t k = 0; k < count; k++) {
-    texts[k] = bbc__level_json_text(lods[k]);
+    texts[k] = app_level_json_text(lods[k]);
     if (count > 1)
       snprintf(names[k], sizeof names[k], "%s_LOD%zu", model, k);
     else
@@ -149,13 +151,13 @@ static bbc_result write_gltf_chain(const bbc_session *s, job_lod *const *lods, s
     }
     if (k && coverage[k] > coverage[k - 1]) coverage[k] = coverage[k - 1];
   }
-  char *params = bbc__params_json_text(&lods[0]->params);
+  char *params = app_params_json_text(&lods[0]->params);
   size_t n = params ? strlen(params) + 64 : 0;
   char *extras = params ? malloc(n + 128) : NULL;
   if (!extras) { /* the file would lose its parameters: an error, not a quiet loss */
     cJSON_free(params);
     for (size_t k = 0; k < count; k++) cJSON_free(texts[k]);
-    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", out);
+    return bbc_error_set(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", out);
   }
   const double *og = s->model.origin;
   if (og[0] != 0 || og[1] != 0 || og[2] != 0) /* where the coordinates were */
@@ -234,31 +236,32 @@ static bbc_result write_levels(bbc_session *s, const char *out, const bbc_callba
                                bbc_error *err) {
   size_t count = bbc_session_get_level_count(s);
   if (!count)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "no Billboard Cloud to write: run step 3");
+    return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT,
+                         "no Billboard Cloud to write: run step 3");
   job_lod *lods[BBC_SESSION_MAX_LEVELS];
-  for (size_t k = 0; k < count; k++) lods[k] = bbc__session_level(s, k);
+  for (size_t k = 0; k < count; k++) lods[k] = app_session_level(s, k);
   const char *ext = extension_of(out);
   int glb = !strcasecmp(ext, ".glb"), gltf = !strcasecmp(ext, ".gltf"),
       obj = !strcasecmp(ext, ".obj"), wrl = !strcasecmp(ext, ".wrl"),
       fbx = !strcasecmp(ext, ".fbx");
   if (!glb && !gltf && !obj && !wrl && !fbx)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
-                     "the output must end in .glb, .gltf, .obj, .wrl or .fbx, not '%s'", out);
+    return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT,
+                         "the output must end in .glb, .gltf, .obj, .wrl or .fbx, not '%s'", out);
   if (fbx && lods[0]->params.occlusion > 0 && !lods[0]->params.prelight)
-    bbc__log(cb, BBC_LOG_WARNING, "FBX carries no occlusion map (use .glb or .gltf)");
+    bbc_callbacks_log(cb, BBC_LOG_WARNING, "FBX carries no occlusion map (use .glb or .gltf)");
   if (fbx && s->level_files && count > 1)
-    bbc__log(cb, BBC_LOG_WARNING,
-             "--lod-files makes glTF level files; the .fbx holds every level in one file");
+    bbc_callbacks_log(cb, BBC_LOG_WARNING,
+                      "--lod-files makes glTF level files; the .fbx holds every level in one file");
   if (obj && (lods[0]->params.normal_maps || lods[0]->params.occlusion > 0))
-    bbc__log(cb, BBC_LOG_WARNING,
-             "OBJ output carries no normal or occlusion map (use .glb or .gltf, or "
-             "--lighting baked)");
+    bbc_callbacks_log(cb, BBC_LOG_WARNING,
+                      "OBJ output carries no normal or occlusion map (use .glb or .gltf, or "
+                      "--lighting baked)");
   if (wrl && lods[0]->params.occlusion > 0 && !lods[0]->params.prelight)
-    bbc__log(cb, BBC_LOG_WARNING, "VRML carries no occlusion map (use .glb or .gltf)");
+    bbc_callbacks_log(cb, BBC_LOG_WARNING, "VRML carries no occlusion map (use .glb or .gltf)");
   if (wrl && lods[0]->params.normal_maps && lods[0]->params.format == BBC_VRML_97)
-    bbc__log(cb, BBC_LOG_WARNING,
-             "VRML97 (format 1) carries no normal map: none written (format 0 has them)");
-  double t0 = bbc__now_s();
+    bbc_callbacks_log(cb, BBC_LOG_WARNING,
+                      "VRML97 (format 1) carries no normal map: none written (format 0 has them)");
+  double t0 = app_now_s();
   bbc_result r = BBC_OK;
   char model[128];
   model_name(s->model_path, model, sizeof model);
@@ -283,7 +286,7 @@ static bbc_result write_levels(bbc_session *s, const char *out, const bbc_callba
     r = write_fbx_chain(lods, count, out, model, err);
   else
     r = write_level_files(s, lods, count, out, obj, unlit, err);
-  s->write_s = bbc__now_s() - t0;
+  s->write_s = app_now_s() - t0;
   return r;
 }
 
@@ -365,8 +368,8 @@ bbc_result bbc_session_write(bbc_session *s, const char *out, const bbc_callback
     if (made != 0 && e != EEXIST) break;
   }
   if (made != 0)
-    return bbc__fail(err, BBC_ERROR_IO, "%s: cannot write in the folder %s: %s", out,
-                     *folder ? folder : "./", strerror(e));
+    return bbc_error_set(err, BBC_ERROR_IO, "%s: cannot write in the folder %s: %s", out,
+                         *folder ? folder : "./", strerror(e));
   snprintf(staged_out, sizeof staged_out, "%s/%s", stage, base);
   bbc_result r = write_levels(s, staged_out, cb, err);
   if (r != BBC_OK) unstage_message(err, stage, folder);
@@ -374,10 +377,10 @@ bbc_result bbc_session_write(bbc_session *s, const char *out, const bbc_callback
   char bad[4600];
   if (r == BBC_OK && (move_staged(stage, folder, ext, 0, 1, bad, sizeof bad) != 0 ||
                       move_staged(stage, folder, ext, 1, 1, bad, sizeof bad) != 0))
-    r = bbc__fail(err, BBC_ERROR_IO, "%s: a folder is in the way; nothing written", bad);
+    r = bbc_error_set(err, BBC_ERROR_IO, "%s: a folder is in the way; nothing written", bad);
   if (r == BBC_OK && (move_staged(stage, folder, ext, 0, 0, bad, sizeof bad) != 0 ||
                       move_staged(stage, folder, ext, 1, 0, bad, sizeof bad) != 0))
-    r = bbc__fail(err, BBC_ERROR_IO, "%s: cannot move it into place: %s", bad, strerror(errno));
+    r = bbc_error_set(err, BBC_ERROR_IO, "%s: cannot move it into place: %s", bad, strerror(errno));
   remove_stage(stage);
   return r;
 }
@@ -398,15 +401,15 @@ static int make_dirs(const char *path) {
 bbc_result bbc_session_save(bbc_session *s, const char *user_dir, const bbc_callbacks *cb,
                             char *written, size_t written_size, bbc_error *err) {
   if (!s->have_cloud)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
-                     "save needs a Billboard Cloud: run bbc or bbc3 first");
+    return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT,
+                         "save needs a Billboard Cloud: run bbc or bbc3 first");
   /* Appendix A: always below vrml97models/ of the current folder. */
   if (user_dir && (user_dir[0] == '/' || !strcmp(user_dir, "..") || !strncmp(user_dir, "../", 3) ||
                    strstr(user_dir, "/../") ||
                    (strlen(user_dir) >= 3 && !strcmp(user_dir + strlen(user_dir) - 3, "/..")))) {
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
-                     "save %s: the folder must stay below vrml97models/ (no '/' start, no '..')",
-                     user_dir);
+    return bbc_error_set(
+        err, BBC_ERROR_INVALID_ARGUMENT,
+        "save %s: the folder must stay below vrml97models/ (no '/' start, no '..')", user_dir);
   }
   const char *base = strrchr(s->model_path, '/');
   base = base ? base + 1 : s->model_path;
@@ -429,7 +432,8 @@ bbc_result bbc_session_save(bbc_session *s, const char *user_dir, const bbc_call
   else
     snprintf(dir, sizeof dir, "vrml97models/%s/%s", stem, leaf);
   if (make_dirs(dir) != 0)
-    return bbc__fail(err, BBC_ERROR_IO, "%s: cannot create the folder: %s", dir, strerror(errno));
+    return bbc_error_set(err, BBC_ERROR_IO, "%s: cannot create the folder: %s", dir,
+                         strerror(errno));
   snprintf(path, sizeof path, "%s/%s.wrl", dir, stem);
   if (written) snprintf(written, written_size, "%s", path);
   return bbc_session_write(s, path, cb, err);

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef bbc__level job_lod;
+typedef app_level job_lod;
 
 static void put_px(bbc_image *im, int x, int y, const uint8_t *rgb) {
   if (x < 0 || y < 0 || x >= im->width || y >= im->height) return;
@@ -43,10 +43,11 @@ static const uint8_t k_kind_rgb[BBC_PLANE_KIND_COUNT][3] = {
 bbc_result bbc_session_write_preview(const bbc_session *s, const char *out, int cell,
                                      bbc_error *err) {
   if (!s->have_cloud)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "no Billboard Cloud to preview: run step 3");
+    return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT,
+                         "no Billboard Cloud to preview: run step 3");
   if (cell < 16 || cell > 4096)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "preview cells of 16 to 4096 pixels, not %d",
-                     cell);
+    return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT,
+                         "preview cells of 16 to 4096 pixels, not %d", cell);
   const bbc_mesh *m = &s->model;
   const job_lod *L = &s->level0;
   int up = L->params.up_axis;
@@ -71,7 +72,7 @@ bbc_result bbc_session_write_preview(const bbc_session *s, const char *out, int 
   if (bbc_image_alloc(&sheet, 4 * cell, rows * cell) != BBC_OK ||
       bbc_image_alloc(&img, cell, cell) != BBC_OK) {
     bbc_image_free(&sheet);
-    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "preview: out of memory");
+    return bbc_error_set(err, BBC_ERROR_OUT_OF_MEMORY, "preview: out of memory");
   }
   float *shade = NULL;
   if (L->params.shade_voxels > 0) {
@@ -90,7 +91,7 @@ bbc_result bbc_session_write_preview(const bbc_session *s, const char *out, int 
   for (int v = 0; v < 4 && rc == BBC_OK; v++) {
     for (int row = 0; row < rows && rc == BBC_OK; row++) {
       int cloud_row = row >= 1 && row < outline_row;
-      const job_lod *lv = cloud_row ? bbc__session_level((bbc_session *)s, (size_t)row - 1) : L;
+      const job_lod *lv = cloud_row ? app_session_level((bbc_session *)s, (size_t)row - 1) : L;
       bbc_view view;
       bbc_view_frame_mesh(m, dirs[v], ups[v], &view);
       /* The original lit as the textures were baked; the cloud unlit (its

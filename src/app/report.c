@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef bbc__level job_lod;
+typedef app_level job_lod;
 
 /* Which budget moved epsilon (maxplanes raises it, minplanes lowers it), or
  * NULL when the asked epsilon was used. */
@@ -18,7 +18,7 @@ static const char *epsilon_adjusted_by(const job_lod *L) {
 }
 
 void bbc_session_get_epsilon_note(const bbc_session *s, size_t level, char *buf, size_t n) {
-  const job_lod *L = bbc__session_level((bbc_session *)s, level);
+  const job_lod *L = app_session_level((bbc_session *)s, level);
   const char *by = L ? epsilon_adjusted_by(L) : NULL;
   if (!by) {
     if (n) buf[0] = 0;
@@ -29,7 +29,7 @@ void bbc_session_get_epsilon_note(const bbc_session *s, size_t level, char *buf,
            raised ? L->params.max_planes : L->params.min_planes);
 }
 
-char *bbc__params_json_text(const bbc_params *p) {
+char *app_params_json_text(const bbc_params *p) {
   cJSON *o = cJSON_CreateObject();
   for (size_t i = 0; i < bbc_param_count(); i++) {
     const bbc_param_info *info = bbc_param_at(i);
@@ -127,7 +127,7 @@ static cJSON *lod_json(const job_lod *L, int detailed) {
   return o;
 }
 
-char *bbc__level_json_text(const bbc__level *L) {
+char *app_level_json_text(const app_level *L) {
   cJSON *o = lod_json(L, 0);
   char *text = cJSON_PrintUnformatted(o);
   cJSON_Delete(o);
@@ -138,9 +138,10 @@ bbc_result bbc_session_write_report(const bbc_session *s, const char *out, const
                                     bbc_error *err) {
   size_t count = bbc_session_get_level_count(s);
   if (!count)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "no Billboard Cloud to report: run step 3");
+    return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT,
+                         "no Billboard Cloud to report: run step 3");
   const job_lod *lods[BBC_SESSION_MAX_LEVELS];
-  for (size_t k = 0; k < count; k++) lods[k] = bbc__session_level((bbc_session *)s, k);
+  for (size_t k = 0; k < count; k++) lods[k] = app_session_level((bbc_session *)s, k);
   cJSON *o = cJSON_CreateObject();
   cJSON_AddStringToObject(o, "generator", "bbcgen " BBC_VERSION_STRING);
   cJSON_AddStringToObject(o, "model", s->model_path);
@@ -151,7 +152,7 @@ bbc_result bbc_session_write_report(const bbc_session *s, const char *out, const
   cJSON_AddNumberToObject(o, "model_radius", s->model.radius);
   /* What the cloud's colours carry (docs/lighting.md). */
   cJSON_AddStringToObject(o, "lighting", bbc_params_lighting_name(&lods[0]->params));
-  char *params = bbc__params_json_text(&lods[0]->params);
+  char *params = app_params_json_text(&lods[0]->params);
   cJSON_AddItemToObject(o, "parameters", cJSON_Parse(params));
   cJSON_free(params);
   cJSON *t = cJSON_AddObjectToObject(o, "times_s");
@@ -169,7 +170,7 @@ bbc_result bbc_session_write_report(const bbc_session *s, const char *out, const
   for (size_t k = 0; k < count; k++) cJSON_AddItemToArray(lj, lod_json(lods[k], 1));
   char *text = cJSON_Print(o);
   cJSON_Delete(o);
-  if (!text) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", out);
+  if (!text) return bbc_error_set(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", out);
   size_t n = strlen(text);
   char *withnl = malloc(n + 2);
   bbc_result r = BBC_ERROR_OUT_OF_MEMORY;
@@ -179,7 +180,7 @@ bbc_result bbc_session_write_report(const bbc_session *s, const char *out, const
     withnl[n + 1] = 0;
     r = bbc_write_file_atomic(out, withnl, n + 1, err);
   } else {
-    bbc__fail(err, r, "%s: out of memory", out);
+    bbc_error_set(err, r, "%s: out of memory", out);
   }
   free(withnl);
   cJSON_free(text);

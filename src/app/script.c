@@ -4,7 +4,6 @@
  * session (bbcgen's cmd_exec.c); the fuzzer (fuzz/fuzz_batch.c) feeds it
  * arbitrary text. */
 #include "app.h"
-#include "planes.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -98,7 +97,7 @@ static int whole_double(const char *s, double *v) {
   return !*e;
 }
 
-#define bad(err, ...) bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, __VA_ARGS__)
+#define bad(err, ...) bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT, __VA_ARGS__)
 
 /* The arguments of each command that takes some; `c` is its name. */
 static bbc_result parse_load(bbc_command *cmd, const char *c, bbc_error *err) {
@@ -171,10 +170,10 @@ bbc_result bbc_command_parse(const char *line, size_t n, bbc_command *cmd, bbc_e
   memset(cmd, 0, sizeof *cmd);
   cmd->line = lineno;
   if (memchr(line, 0, n))
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "not text: a NUL byte in the line");
+    return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT, "not text: a NUL byte in the line");
   if (n > BBC_COMMAND_LINE_MAX)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "a line longer than %d characters",
-                     BBC_COMMAND_LINE_MAX);
+    return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT, "a line longer than %d characters",
+                         BBC_COMMAND_LINE_MAX);
   size_t i = 0;
   char word[BBC_COMMAND_LINE_MAX + 1];
   if (!next_word(line, n, &i, word, sizeof word) || word[0] == '#') return BBC_OK;

@@ -9,9 +9,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 static void remember(bbc_session *s, const bbc_planes_options *options) {
-  bbc__planes_options_copy(&s->planned, s->text, options);
+  bbc_planes_options_copy(&s->planned, s->text, options);
 }
 
 bbc_session *bbc_session_new(void) {
@@ -33,7 +34,13 @@ static void drop_cloud(bbc_session *s) {
   s->have_cloud = 0;
 }
 
-bbc__level *bbc__session_level(bbc_session *s, size_t k) {
+double app_now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+app_level *app_session_level(bbc_session *s, size_t k) {
   if (!s->have_cloud) return NULL;
   if (k == 0) return &s->level0;
   return k - 1 < s->extra_count ? &s->extra[k - 1] : NULL;
@@ -70,7 +77,7 @@ void bbc_session_free(bbc_session *s) {
 bbc_result bbc_session_load(bbc_session *s, const char *path, const bbc_load_options *options,
                             bbc_error *err) {
   bbc_mesh m;
-  double t0 = bbc__now_s();
+  double t0 = app_now_s();
   bbc_result r = bbc_mesh_load(path, options, &m, err);
   if (r != BBC_OK) return r;
   drop_grid(s);
@@ -78,7 +85,7 @@ bbc_result bbc_session_load(bbc_session *s, const char *path, const bbc_load_opt
   s->model = m;
   s->have_model = 1;
   snprintf(s->model_path, sizeof s->model_path, "%s", path);
-  s->load_s = bbc__now_s() - t0;
+  s->load_s = app_now_s() - t0;
   return BBC_OK;
 }
 
@@ -93,13 +100,13 @@ int bbc_session_grid_stale_step(const bbc_session *s, const bbc_planes_options *
                                 const char **which) {
   if (which) *which = NULL;
   if (!s->grid) return -1;
-  return bbc_planes_options_stale_step(bbc__grid_options(s->grid), options, which) == 1;
+  return bbc_planes_options_stale_step(bbc_grid_get_options(s->grid), options, which) == 1;
 }
 
 bbc_result bbc_session_build_grid(bbc_session *s, const bbc_planes_options *options,
                                   bbc_error *err) {
   if (!s->have_model)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "step 1 needs a model: load one");
+    return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT, "step 1 needs a model: load one");
   bbc_grid *g;
   bbc_result r = bbc_grid_build(&s->model, options, &g, err);
   if (r != BBC_OK) return r;
@@ -111,14 +118,14 @@ bbc_result bbc_session_build_grid(bbc_session *s, const bbc_planes_options *opti
 bbc_result bbc_session_select_planes(bbc_session *s, const bbc_planes_options *options,
                                      bbc_error *err) {
   if (!s->have_model)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "step 2 needs a model: load one");
+    return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT, "step 2 needs a model: load one");
   const char *which = NULL;
   int stale = bbc_session_grid_stale_step(s, options, &which);
   if (stale < 0)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "step 2 needs the grid of step 1 first");
+    return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT, "step 2 needs the grid of step 1 first");
   if (stale)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
-                     "%s changed since step 1, and it needs step 1 again", which);
+    return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT,
+                         "%s changed since step 1, and it needs step 1 again", which);
   bbc_planeset set;
   bbc_result r = bbc_planes_select(s->grid, options, &set, err);
   if (r != BBC_OK) return r;
@@ -132,14 +139,14 @@ bbc_result bbc_session_select_planes(bbc_session *s, const bbc_planes_options *o
 bbc_result bbc_session_build_cloud(bbc_session *s, const bbc_planes_options *options,
                                    bbc_error *err) {
   if (!s->have_planes)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
-                     "step 3 needs the planes of steps 1 and 2 first");
+    return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT,
+                         "step 3 needs the planes of steps 1 and 2 first");
   const char *which = NULL;
   int step = bbc_session_stale_step(s, options, &which);
   if (step == 1 || step == 2)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
-                     "%s changed since the planes were found, and it needs step %d again", which,
-                     step);
+    return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT,
+                         "%s changed since the planes were found, and it needs step %d again",
+                         which, step);
   bbc_cloud c;
   bbc_result r =
       bbc_cloud_build(&s->model, &s->level0.planes, &options->params, &options->callbacks, &c, err);
@@ -151,11 +158,11 @@ bbc_result bbc_session_build_cloud(bbc_session *s, const bbc_planes_options *opt
 
 bbc_result bbc_session_run(bbc_session *s, const bbc_planes_options *options, bbc_error *err) {
   if (!s->have_model)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "steps 1 to 3 need a model: load one");
+    return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT, "steps 1 to 3 need a model: load one");
   /* every step into new state first: a failure keeps the old grid, planes
    * and cloud */
   bbc_grid *g;
-  bbc_result r = bbc__grid_build_to_select(&s->model, options, &g, err);
+  bbc_result r = bbc_grid_build_for_select(&s->model, options, &g, err);
   if (r != BBC_OK) return r;
   bbc_planeset set;
   r = bbc_planes_select(g, options, &set, err);
@@ -183,28 +190,28 @@ bbc_result bbc_session_run_levels(bbc_session *s, const bbc_planes_options *opti
                                   const double *epsilons, size_t count, bbc_error *err) {
   if (!epsilons || !count) return bbc_session_run(s, options, err);
   if (count > BBC_SESSION_MAX_LEVELS)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "at most %d levels of detail",
-                     BBC_SESSION_MAX_LEVELS);
+    return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT, "at most %d levels of detail",
+                         BBC_SESSION_MAX_LEVELS);
   bbc_lod_level lv[BBC_SESSION_MAX_LEVELS];
   for (size_t k = 0; k < count; k++) lv[k] = (bbc_lod_level){epsilons[k], 0, 0};
   return bbc_session_run_chain(s, options, lv, count, err);
 }
 
 /* Triangles a level draws: its billboards' and its limbs'. */
-static size_t level_triangles(const bbc__level *L) {
+static size_t level_triangles(const app_level *L) {
   return L->cloud.mesh.triangle_count;
 }
 
 /* Steps 1 to 3 of one level at epsilon `eps` (texres as `o` says); the grid
  * is kept in *g for level 0. */
-static bbc_result run_one_level(bbc_session *s, bbc_planes_options *o, double eps, bbc__level *L,
+static bbc_result run_one_level(bbc_session *s, bbc_planes_options *o, double eps, app_level *L,
                                 bbc_grid **g, bbc_error *err) {
   double base = o->params.epsilon_pct;
   o->params.epsilon_pct = eps;
   for (size_t i = 0; i < o->part_override_count; i++) /* a part's own epsilon stays */
     if (o->part_overrides[i].params.epsilon_pct == base)
       o->part_overrides[i].params.epsilon_pct = eps;
-  bbc_result r = bbc__grid_build_to_select(&s->model, o, g, err);
+  bbc_result r = bbc_grid_build_for_select(&s->model, o, g, err);
   if (r != BBC_OK) return r;
   r = bbc_planes_select(*g, o, &L->planes, err);
   if (r == BBC_OK) {
@@ -221,7 +228,7 @@ static bbc_result run_one_level(bbc_session *s, bbc_planes_options *o, double ep
   return BBC_OK;
 }
 
-static void free_level(bbc__level *L) {
+static void free_level(app_level *L) {
   bbc_planeset_free(&L->planes);
   bbc_cloud_free(&L->cloud);
 }
@@ -264,7 +271,7 @@ static void level_budget(double px, bbc_params *p) {
  * level 0, at most half the level before's; level 0 otherwise by the atlas
  * budget). */
 static double level_options(const bbc_planes_options *options, const bbc_lod_level *levels,
-                            size_t k, const bbc__level *prev, bbc_planes_options *o) {
+                            size_t k, const app_level *prev, bbc_planes_options *o) {
   *o = *options;
   double eps = levels[k].epsilon_pct > 0 ? levels[k].epsilon_pct : o->params.epsilon_pct;
   if (k && levels[k].epsilon_pct <= 0) {
@@ -291,7 +298,7 @@ static double level_options(const bbc_planes_options *options, const bbc_lod_lev
 }
 
 /* Step 3 again at `texres` (the planes kept). */
-static bbc_result rebake(bbc_session *s, bbc__level *L, int texres, const bbc_callbacks *cb,
+static bbc_result rebake(bbc_session *s, app_level *L, int texres, const bbc_callbacks *cb,
                          bbc_error *err) {
   bbc_params p = L->params;
   p.texres = texres;
@@ -309,19 +316,19 @@ bbc_result bbc_session_run_chain(bbc_session *s, const bbc_planes_options *optio
                                  const bbc_lod_level *levels, size_t count, bbc_error *err) {
   if (!levels || !count) return bbc_session_run(s, options, err);
   if (count > BBC_SESSION_MAX_LEVELS)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "at most %d levels of detail",
-                     BBC_SESSION_MAX_LEVELS);
+    return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT, "at most %d levels of detail",
+                         BBC_SESSION_MAX_LEVELS);
   for (size_t k = 1; k < count; k++)
     if ((levels[k].epsilon_pct > 0 && levels[k].epsilon_pct <= levels[k - 1].epsilon_pct) ||
         (levels[k].screen_px > 0 && levels[k].screen_px >= levels[k - 1].screen_px) ||
         levels[k].epsilon_pct < 0)
-      return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT,
-                       "the levels' epsilons must increase and their screen sizes fall "
-                       "(finest first)");
+      return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT,
+                           "the levels' epsilons must increase and their screen sizes fall "
+                           "(finest first)");
   if (!s->have_model)
-    return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "steps 1 to 3 need a model: load one");
+    return bbc_error_set(err, BBC_ERROR_INVALID_ARGUMENT, "steps 1 to 3 need a model: load one");
   /* every level into new state first: a failure keeps the session as it was */
-  bbc__level lv[BBC_SESSION_MAX_LEVELS];
+  app_level lv[BBC_SESSION_MAX_LEVELS];
   memset(lv, 0, sizeof lv);
   bbc_grid *g0 = NULL;
   bbc_result r = BBC_OK;
@@ -330,10 +337,10 @@ bbc_result bbc_session_run_chain(bbc_session *s, const bbc_planes_options *optio
   for (size_t k = 0; k < count && r == BBC_OK; k++) {
     bbc_planes_options o;
     double eps = level_options(options, levels, k, k ? &lv[k - 1] : NULL, &o);
-    bbc__label lab;
+    bbc_label lab;
     if (count > 1)
-      bbc__label_callbacks(&options->callbacks, &lab, &o.callbacks, "level %zu of %zu", k + 1,
-                           count);
+      bbc_callbacks_label(&options->callbacks, &lab, &o.callbacks, "level %zu of %zu", k + 1,
+                          count);
     bbc_grid *g = NULL;
     const bbc_planes_options level = o; /* run_one_level writes the epsilon into o */
     r = run_one_level(s, &o, eps, &lv[k], &g, err);
@@ -401,7 +408,7 @@ bbc_result bbc_session_run_chain(bbc_session *s, const bbc_planes_options *optio
 }
 
 double bbc_session_get_level_screen_px(const bbc_session *s, size_t k) {
-  const bbc__level *L = bbc__session_level((bbc_session *)s, k);
+  const app_level *L = app_session_level((bbc_session *)s, k);
   return L ? L->screen_px : 0;
 }
 
@@ -415,7 +422,7 @@ size_t bbc_session_get_level_count(const bbc_session *s) {
 
 const bbc_cloud *bbc_session_get_level(const bbc_session *s, size_t k, const bbc_planeset **planes,
                                        const bbc_params **params, double *epsilon_pct) {
-  const bbc__level *L = bbc__session_level((bbc_session *)s, k);
+  const app_level *L = app_session_level((bbc_session *)s, k);
   if (planes) *planes = L ? &L->planes : NULL;
   if (params) *params = L ? &L->params : NULL;
   if (epsilon_pct) *epsilon_pct = L ? L->epsilon_pct : 0;

@@ -23,11 +23,7 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-#if defined(__GNUC__)
-#define BBC__PRINTF(fmt, args) __attribute__((format(printf, fmt, args)))
-#else
-#define BBC__PRINTF(fmt, args)
-#endif
+#define BBC__PRINTF(fmt, args) BBC_PRINTF(fmt, args)
 
 /* The innermost loops of steps 1-3 compiled twice, for AVX2 and for any
  * x86-64, the one the processor supports chosen at load time (GCC's
@@ -50,19 +46,6 @@ void bbc__log(const bbc_callbacks *cb, bbc_log_level level, const char *fmt, ...
 void bbc__progress(const bbc_callbacks *cb, const char *stage, double fraction);
 /* Whether the caller's cancel callback asks to stop (see bbc_callbacks). */
 int bbc__cancelled(const bbc_callbacks *cb);
-
-/* Callbacks that name what they report on: progress stages come out as
- * "<label>: <stage>" and log messages as "<label>: <message>", through the
- * caller's callbacks. For a stage that repeats (per part, per run of
- * maxplanes/minplanes, per level of detail). Calls through `out` must not
- * overlap (the library reports progress from one thread at a time). */
-typedef struct bbc__label {
-  bbc_callbacks outer;
-  char label[96];
-  char text[1200];
-} bbc__label;
-void bbc__label_callbacks(const bbc_callbacks *in, bbc__label *l, bbc_callbacks *out,
-                          const char *fmt, ...) BBC__PRINTF(4, 5);
 
 /* Twice triangle t's area vector (its unnormalised normal) into c[3]. */
 void bbc__triangle_cross(const bbc_mesh *m, size_t t, double *c);

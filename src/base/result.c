@@ -40,25 +40,49 @@ const char *bbc_result_string(bbc_result result) {
   return "unknown error";
 }
 
-bbc_result bbc__fail(bbc_error *err, bbc_result code, const char *fmt, ...) {
+static bbc_result vfail(bbc_error *err, bbc_result code, const char *fmt, va_list ap) {
   if (err) {
-    va_list ap;
-    va_start(ap, fmt);
     vsnprintf(err->message, sizeof err->message, fmt, ap);
-    va_end(ap);
     err->code = code;
   }
   return code;
 }
 
-void bbc__log(const bbc_callbacks *cb, bbc_log_level level, const char *fmt, ...) {
-  if (!cb || !cb->log) return;
-  char buf[1024];
+bbc_result bbc__fail(bbc_error *err, bbc_result code, const char *fmt, ...) {
   va_list ap;
   va_start(ap, fmt);
-  vsnprintf(buf, sizeof buf, fmt, ap);
+  vfail(err, code, fmt, ap);
   va_end(ap);
+  return code;
+}
+
+bbc_result bbc_error_set(bbc_error *err, bbc_result code, const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  vfail(err, code, fmt, ap);
+  va_end(ap);
+  return code;
+}
+
+static void vlog(const bbc_callbacks *cb, bbc_log_level level, const char *fmt, va_list ap) {
+  if (!cb || !cb->log) return;
+  char buf[1024];
+  vsnprintf(buf, sizeof buf, fmt, ap);
   cb->log(cb->user, level, buf);
+}
+
+void bbc__log(const bbc_callbacks *cb, bbc_log_level level, const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  vlog(cb, level, fmt, ap);
+  va_end(ap);
+}
+
+void bbc_callbacks_log(const bbc_callbacks *cb, bbc_log_level level, const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  vlog(cb, level, fmt, ap);
+  va_end(ap);
 }
 
 void bbc__progress(const bbc_callbacks *cb, const char *stage, double fraction) {
@@ -70,31 +94,31 @@ int bbc__cancelled(const bbc_callbacks *cb) {
 }
 
 static int label_cancel(void *user) {
-  bbc__label *l = user;
+  bbc_label *l = user;
   return l->outer.cancel && l->outer.cancel(l->outer.user);
 }
 
 static void label_progress(void *user, const char *stage, double fraction) {
-  bbc__label *l = user;
+  bbc_label *l = user;
   snprintf(l->text, sizeof l->text, "%s: %s", l->label, stage);
   if (l->outer.progress) l->outer.progress(l->outer.user, l->text, fraction);
 }
 
 static void label_log(void *user, bbc_log_level level, const char *message) {
-  bbc__label *l = user;
+  bbc_label *l = user;
   snprintf(l->text, sizeof l->text, "%s: %s", l->label, message);
   if (l->outer.log) l->outer.log(l->outer.user, level, l->text);
 }
 
 static void label_debug(void *user, const bbc_debug_event *event) {
-  bbc__label *l = user;
+  bbc_label *l = user;
   bbc_debug_event e = *event;
   e.where = l->label;
   l->outer.debug(l->outer.user, &e);
 }
 
-void bbc__label_callbacks(const bbc_callbacks *in, bbc__label *l, bbc_callbacks *out,
-                          const char *fmt, ...) {
+void bbc_callbacks_label(const bbc_callbacks *in, bbc_label *l, bbc_callbacks *out, const char *fmt,
+                         ...) {
   memset(l, 0, sizeof *l);
   if (in) l->outer = *in;
   va_list ap;

@@ -1,5 +1,5 @@
 /* grid.h — step 1's result kept for step 2 and for the views (planes.c,
- * src/app/views.c); internal. */
+ * src/cloud/views.c); internal. */
 #ifndef BBC_GRID_H
 #define BBC_GRID_H
 

@@ -136,8 +136,8 @@ const bbc_params *bbc__part_params(const bbc_planes_options *o, const char *name
 
 /* ---- step 1: the grid ------------------------------------------------------ */
 
-void bbc__planes_options_copy(bbc_planes_options *dst, char text[3][4096],
-                              const bbc_planes_options *src) {
+void bbc_planes_options_copy(bbc_planes_options *dst, char text[3][4096],
+                             const bbc_planes_options *src) {
   *dst = *src;
   const char **t[3] = {&dst->split.trunk_patterns, &dst->split.foliage_patterns, &dst->split.rest};
   for (int k = 0; k < 3; k++)
@@ -148,7 +148,7 @@ void bbc__planes_options_copy(bbc_planes_options *dst, char text[3][4096],
   memset(&dst->callbacks, 0, sizeof dst->callbacks);
 }
 
-const bbc_planes_options *bbc__grid_options(const bbc_grid *g) {
+const bbc_planes_options *bbc_grid_get_options(const bbc_grid *g) {
   return &g->options;
 }
 
@@ -169,16 +169,16 @@ void bbc_grid_free(bbc_grid *g) {
 
 /* Progress names the part and the run when steps repeat. */
 static void part_callbacks(const bbc_planes_options *o, const bbc_grid *g, const grid_part *gp,
-                           double scale, int attempt, bbc__label *lab, bbc_callbacks *cb) {
+                           double scale, int attempt, bbc_label *lab, bbc_callbacks *cb) {
   *cb = o->callbacks;
   if (g->part_count > 1 && attempt > 1)
-    bbc__label_callbacks(&o->callbacks, lab, cb, "%s, run %d at epsilon %.3g %%", gp->name, attempt,
-                         scale * gp->params->epsilon_pct);
+    bbc_callbacks_label(&o->callbacks, lab, cb, "%s, run %d at epsilon %.3g %%", gp->name, attempt,
+                        scale * gp->params->epsilon_pct);
   else if (g->part_count > 1)
-    bbc__label_callbacks(&o->callbacks, lab, cb, "%s", gp->name);
+    bbc_callbacks_label(&o->callbacks, lab, cb, "%s", gp->name);
   else if (attempt > 1)
-    bbc__label_callbacks(&o->callbacks, lab, cb, "run %d at epsilon %.3g %%", attempt,
-                         scale * gp->params->epsilon_pct);
+    bbc_callbacks_label(&o->callbacks, lab, cb, "run %d at epsilon %.3g %%", attempt,
+                        scale * gp->params->epsilon_pct);
 }
 
 /* The level at `scale`, built (step 1 proper: each part's dual grid and its
@@ -202,7 +202,7 @@ static bbc_result level_at(bbc_grid *g, const bbc_planes_options *o, double scal
     const bbc_params *p = gp->params;
     /* epsilon is relative to the whole model's radius for every part. */
     L->eps_abs[pi] = scale * p->epsilon_pct / 100.0 * g->mesh_radius;
-    bbc__label lab;
+    bbc_label lab;
     bbc_callbacks cb;
     part_callbacks(o, g, gp, scale, attempt, &lab, &cb);
     double t0 = bbc__now_s();
@@ -244,7 +244,7 @@ bbc_result bbc_grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, bbc
   return grid_build_threads(mesh, o, 1, out, err);
 }
 
-bbc_result bbc__grid_build_to_select(const bbc_mesh *mesh, const bbc_planes_options *o,
+bbc_result bbc_grid_build_for_select(const bbc_mesh *mesh, const bbc_planes_options *o,
                                      bbc_grid **out, bbc_error *err) {
   return grid_build_threads(mesh, o, 0, out, err);
 }
@@ -389,7 +389,7 @@ static bbc_result grid_build(const bbc_mesh *mesh, const bbc_planes_options *o, 
     bbc_grid_free(g);
     return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "plane selection: out of memory");
   }
-  bbc__planes_options_copy(&g->options, g->text, o);
+  bbc_planes_options_copy(&g->options, g->text, o);
   g->face_count = nf;
   g->mesh_radius = mesh->radius;
   char names[2][32];
@@ -508,7 +508,7 @@ static bbc_result select_part(bbc_grid *g, const bbc_planes_options *o, const gr
   pr->grid_cells = (size_t)kept->n_theta * kept->n_phi * kept->n_rho;
   pr->step1_s = L->reported ? 0 : L->step1_s[pi];
 
-  bbc__label lab;
+  bbc_label lab;
   bbc_callbacks cb;
   part_callbacks(o, g, gp, scale, attempt, &lab, &cb);
   /* the greedy select consumes the density: a copy of the kept grid */
@@ -555,7 +555,7 @@ bbc_result bbc_planes_find(const bbc_mesh *mesh, const bbc_planes_options *o, bb
   assert(mesh && set);
   memset(set, 0, sizeof *set);
   bbc_grid *grid;
-  bbc_result r = bbc__grid_build_to_select(mesh, o, &grid, err);
+  bbc_result r = bbc_grid_build_for_select(mesh, o, &grid, err);
   if (r != BBC_OK) return r;
   r = bbc_planes_select(grid, o, set, err);
   bbc_grid_free(grid);

@@ -1,6 +1,6 @@
 /*
  * planes.h — what steps 1 and 2 give the layers above them besides the
- * public API (src/planes): the options a grid was built with, copied, and
+ * public API (src/planes): normals at some points, and
  * the stem model (stem.c) that the split and step 3's stem billboards
  * share. Not installed.
  */
@@ -8,19 +8,6 @@
 #define BBC_PLANES_H
 
 #include "base.h"
-
-/* A copy of planes options whose split pattern texts live in `text` (the
- * caller's may change); callbacks cleared. */
-void bbc__planes_options_copy(bbc_planes_options *dst, char text[3][4096],
-                              const bbc_planes_options *src);
-/* The options a grid's step 1 ran with. */
-const bbc_planes_options *bbc__grid_options(const bbc_grid *grid);
-/* bbc_grid_build for bbc_planes_select straight after: the parts' faces
- * only, each level's density built when a whole run needs it (a search
- * that probes and lands on another epsilon never uses the asked one's:
- * 37 ms of a 7,706-point scan's 0.33 s). */
-bbc_result bbc__grid_build_to_select(const bbc_mesh *mesh, const bbc_planes_options *options,
-                                     bbc_grid **grid, bbc_error *err);
 
 /* bbc_points_estimate_normals for the points idx[count] only (NULL: every
  * point, count = the mesh's), each from all the cloud's points around it

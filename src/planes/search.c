@@ -143,10 +143,10 @@ static bbc_result probe_count(const bbc_grid *g, const bbc_planes_options *o, pr
     bbc_params sp = *bbc__part_params(o, gp->name);
     sp.break_num = bbc__sampled_break_num(gp, sp.break_num, pr->stride);
     double eps = scale * p->epsilon_pct / 100.0 * g->mesh_radius;
-    bbc__label lab;
+    bbc_label lab;
     bbc_callbacks cb;
-    bbc__label_callbacks(&o->callbacks, &lab, &cb, "probe (1 face in %d) at epsilon %.3g %%",
-                         pr->stride, scale * p->epsilon_pct);
+    bbc_callbacks_label(&o->callbacks, &lab, &cb, "probe (1 face in %d) at epsilon %.3g %%",
+                        pr->stride, scale * p->epsilon_pct);
     dual_grid dg;
     if (bbc__dual_grid_init(&dg, p->res_deg, eps, gp->radius, p->up_axis, pr->total[pi],
                             p->threads) != BBC_OK)

@@ -1,9 +1,9 @@
 /* cmd_view.c — the viewer (thesis Appendix A `show model`, `show bbc`):
  * `bbcgen view` renders its nine views headless; `show model` and `show
  * bbc` at the prompt open a window. The geometry of show bbc's views comes
- * from the application layer (bbc_grid_view_build, bbc_faces_view_build: src/app/views.c),
- * the drawing is src/gl/viewer.c; the model, grid, planes and cloud from the
- * session. */
+ * from the library (bbc_grid_view_build, bbc_faces_view_build:
+ * src/cloud/views.c), the drawing is src/gl/viewer.c; the model, grid,
+ * planes and cloud from the session. */
 #include "pipeline.h"
 
 #include <GLFW/glfw3.h>

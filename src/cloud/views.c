@@ -9,7 +9,7 @@
  * (-90..90 deg) along z in [1, -1], rho (the grid's range) along y in
  * [0, 2]. The box's edges are drawn with theta red, rho green, phi blue.
  */
-#include "app.h"
+#include "base.h"
 #include "grid.h"
 
 #include <math.h>

@@ -12,15 +12,15 @@
  *   bbc_forest_map map;          bbc_forest_world world;    bbc_error err;
  *   bbc_forest_map_load("map.txt", &map, &err);            // 1. the map file
  *   bbc_forest_world_build(&map, "maps/", &world, &err);    // 2. terrain, trees
- *   bbc_forest_cull cull;                                   // 3. one LOD model
- *   bbc_forest_cull_init(&cull, &world, models, n,          //    per model file,
- *                        placement_models, map.placement_count, &err);
+ *   bbc_forest_cull *cull;                                  // 3. one LOD model
+ *   bbc_forest_cull_build(&world, models, n,                //    per model file,
+ *                         placement_models, map.placement_count, &cull, &err);
  *   bbc_forest_camera cam = {{500, 80, 500}, 135, -6, 1};  // 4. each frame:
  *   float vp[16];
  *   bbc_forest_camera_get_viewproj(&cam, 16.0 / 9, 1, 2000, vp);
- *   bbc_forest_cull_run(&cull, vp, cam.pos, cam.zoom);     //    the trees, by level
- *   // draw bucket b's bbc_forest_cull_get_bucket_size(&cull, b) records
- *   bbc_forest_cull_free(&cull); bbc_forest_world_free(&world);
+ *   bbc_forest_cull_run(cull, vp, cam.pos, cam.zoom);      //    the trees, by level
+ *   // draw bucket b's bbc_forest_cull_get_bucket_size(cull, b) records
+ *   bbc_forest_cull_free(cull); bbc_forest_world_free(&world);
  *   bbc_forest_map_free(&map);
  *
  * Sections: 1 map and model description files; 2 the world; 3 culling and
@@ -210,70 +210,68 @@ typedef struct bbc_forest_draw {
   float fade;  /* 0..1: how much of the tree this level draws (1 = whole) */
 } bbc_forest_draw;
 
-typedef struct bbc_forest_cull {
+/* The culling state (opaque): the static records, the grid and this
+ * frame's ranges and records. */
+typedef struct bbc_forest_cull bbc_forest_cull;
+struct bbc_forest_occluder; /* section 4 */
+struct bbc_forest_terrain;
+
+/* What the culling gives the drawing layer (bbc_forest_cull_get_records):
+ * read-only views of its arrays. Those marked "fixed" stay valid and
+ * unchanged for the culling's life; the frame's until the next run or the
+ * free. */
+typedef struct bbc_forest_records {
+  /* fixed */
   size_t model_count;
-  bbc_forest_lod_model *models;    /* copies, ranges owned */
-  size_t *bucket_base;             /* per model: index of its level 0's bucket */
-  size_t bucket_count;             /* sum of lod_count */
-  uint32_t (*placement_models)[2]; /* per placement: model ids (UINT32_MAX = none) */
-  size_t placement_count;
-  size_t instance_count;
-  /* grid: cells_x x cells_z cells (multiples of 8), in blocks of 8 x 8 */
-  int cells_x, cells_z, blocks_x, blocks_z;
-  double cell_size;
-  size_t cell_count;
-  float (*cell_box)[6];   /* min xyz, max xyz of the trees with their radius (empty: min > max) */
-  float (*cell_reach)[6]; /* min xyz, max xyz of the trees' origins (for distances) */
-  float (*block_box)[6];  /* the union of a block's cell boxes */
-  /* static records: every tree once per model it uses, fade 1 */
+  const bbc_forest_lod_model *models; /* the copies of the models' levels */
+  const size_t *bucket_base;          /* per model: its level 0's bucket; level l of model
+                                       * m is bucket bucket_base[m] + l */
+  size_t bucket_count;                /* the sum of the models' lod_count */
+  size_t cell_count;                  /* cells of the grid over the map */
   size_t static_count;
-  bbc_forest_draw *statics;
-  uint8_t *static_first;       /* 1 where the model is the tree's first component */
-  uint32_t *model_cell_start;  /* model m, cell k: statics[start[m * (cell_count + 1) + k]
-                                * .. start[m * (cell_count + 1) + k + 1]) */
-  uint32_t *model_cell_firsts; /* model m, cell k: how many of them have static_first */
-  /* per frame, ranges of statics: bucket b draws ranges[range_start[b] ..
-   * range_start[b + 1]), each (first, count): those before range_blend[b]
-   * whole (weight 1), those from it weighted per tree by
-   * bbc_forest_lod_get_weight at its distance from `eye` / `zoom` (0:
-   * not drawn; the drawing layer computes it, e.g. in a vertex shader) */
-  size_t range_capacity;
-  uint32_t (*ranges)[2];
-  size_t *range_start;
-  size_t *range_blend;
-  double eye[3], zoom; /* the last frame's */
-  uint32_t (*range_scratch)[2];
-  uint32_t *range_bucket;
-  size_t *range_last;
-  /* per frame, trees handled one by one: bucket b draws
-   * draws[bucket_start[b] .. bucket_start[b + 1]) */
-  size_t capacity;
-  bbc_forest_draw *draws;
-  size_t *bucket_start;
-  uint32_t *scratch_bucket;
-  bbc_forest_draw *scratch;
-  /* statistics of the last frame: cells in view, (model, cell)s handled tree
-   * by tree, trees whose first component is in a range or a record (cells in
-   * view: some may be just outside the frustum) */
-  size_t cells_visible, cells_tested_per_tree, trees_visible;
-  /* Occlusion (set by the caller before a frame; NULL: none): cells (and
-   * blocks of them) that `occluder` finds hidden behind the terrain as
-   * `occluder_terrain` draws it this frame are not drawn; cells_occluded:
-   * the last frame's cells in the frustum left out so (not in cells_visible) */
-  struct bbc_forest_occluder *occluder;
-  const struct bbc_forest_terrain *occluder_terrain;
-  size_t cells_occluded;
-} bbc_forest_cull;
+  const bbc_forest_draw *statics;   /* every tree once per model it uses, fade 1, ordered
+                                     * by model and then by cell */
+  const uint8_t *static_first;      /* per static record: 1 where the model is the tree's
+                                     * first component (a tree counts once) */
+  const uint32_t *model_cell_start; /* model m, cell k: its records are statics[start[m *
+                                     * (cell_count + 1) + k] .. start[m * (cell_count
+                                     * + 1) + k + 1]) */
+  /* this frame: bucket b draws the static ranges ranges[range_start[b] ..
+   * range_start[b + 1]), each (first, count) into statics: those before
+   * range_blend[b] whole (weight 1), those from it weighted per tree by
+   * bbc_forest_lod_get_weight at its distance from `eye` / `zoom` (0: not
+   * drawn; the drawing layer computes it, e.g. in a vertex shader); and
+   * the per-frame records draws[bucket_start[b] .. bucket_start[b + 1]),
+   * with their weights in `fade` */
+  const uint32_t (*ranges)[2];
+  const size_t *range_start; /* bucket_count + 1 */
+  const size_t *range_blend; /* bucket_count */
+  const bbc_forest_draw *draws;
+  const size_t *bucket_start; /* bucket_count + 1; bucket_start[bucket_count]: all of them */
+  double eye[3], zoom;        /* the frame's */
+  /* the frame's statistics: cells in view, (model, cell)s handled tree by
+   * tree, trees whose first component is in a range or a record (cells in
+   * view: some may be just outside the frustum), cells in the frustum that
+   * the occluder hid (not in cells_visible) */
+  size_t cells_visible, cells_tested_per_tree, trees_visible, cells_occluded;
+} bbc_forest_records;
 
 /* Prepares the culling of `world`'s trees: models[model_count] are the
  * levels of each model (copied), and placement_models[p] names the
  * model(s) of placement p: [0] and, for two components, [1] (UINT32_MAX
- * when none). Stores every tree once per model as a static record;
- * bbc_forest_cull_free releases it all. */
-bbc_result bbc_forest_cull_init(bbc_forest_cull *cull, const bbc_forest_world *world,
-                                const bbc_forest_lod_model *models, size_t model_count,
-                                const uint32_t (*placement_models)[2], size_t placement_count,
-                                bbc_error *err);
+ * when none). Stores every tree once per model as a static record; *cull
+ * is released by bbc_forest_cull_free (NULL on failure). */
+bbc_result bbc_forest_cull_build(const bbc_forest_world *world, const bbc_forest_lod_model *models,
+                                 size_t model_count, const uint32_t (*placement_models)[2],
+                                 size_t placement_count, bbc_forest_cull **cull, bbc_error *err);
+/* Occlusion for the next frames (NULL: none): cells (and blocks of them)
+ * that `occluder` finds hidden behind the terrain as `terrain` draws it
+ * this frame are not drawn. Both are the caller's and must outlive the
+ * frames that use them. */
+void bbc_forest_cull_set_occluder(bbc_forest_cull *cull, struct bbc_forest_occluder *occluder,
+                                  const struct bbc_forest_terrain *terrain);
+/* The records and the last frame's ranges (above) into *records. */
+void bbc_forest_cull_get_records(const bbc_forest_cull *cull, bbc_forest_records *records);
 /* One frame: `viewproj` column-major (OpenGL), `eye` the camera position;
  * distances are divided by `zoom` (zooming in shows finer levels). Work per
  * cell of the grid: after it, bucket b draws its static ranges, whole or
@@ -301,7 +299,7 @@ size_t bbc_forest_cull_get_bucket_size(const bbc_forest_cull *cull, size_t bucke
 void bbc_forest_cull_copy_bucket(const bbc_forest_cull *cull, size_t bucket, bbc_forest_draw *out);
 /* The weight (0..1) level `lod` of `model` gets at distance d. */
 double bbc_forest_lod_get_weight(const bbc_forest_lod_model *model, size_t lod, double d);
-/* Releases what the culling owns and zeroes it (NULL: nothing). */
+/* Releases the culling and all it owns (NULL: nothing). */
 void bbc_forest_cull_free(bbc_forest_cull *cull);
 
 /* Frustum planes (a, b, c, d: inside when a x + b y + c z + d >= 0) of a

@@ -97,6 +97,13 @@ static void test_lod_weights(void **state) {
                        bbc_forest_lod_get_weight(&m, l, d)) <= 0.05 + 1e-9);
 }
 
+/* The culling's records and last frame (bbc_forest_cull_get_records). */
+static bbc_forest_records rec_of(const bbc_forest_cull *c) {
+  bbc_forest_records r;
+  bbc_forest_cull_get_records(c, &r);
+  return r;
+}
+
 /* The cell culling's frame against the flat one (the thesis's, tree by
  * tree), `nb` buckets, bucket b a level of model model_of[b]: every record
  * the flat way draws (weight > 0) is drawn by the cells' ranges with the
@@ -108,7 +115,7 @@ static size_t check_against_flat(bbc_forest_cull *c, const float vp[16], const d
                                  double zoom, const bbc_forest_lod_model *models,
                                  const size_t *model_of, size_t nb) {
   bbc_forest_cull_run(c, vp, eye, zoom);
-  size_t vis = c->trees_visible, cap = c->static_count * 3, na = 0, nf = 0;
+  size_t vis = rec_of(c).trees_visible, cap = rec_of(c).static_count * 3, na = 0, nf = 0;
   bbc_forest_draw *a = malloc(cap * sizeof *a), *fl = malloc(cap * sizeof *fl);
   size_t *ab = malloc(cap * sizeof *ab), *fb = malloc(cap * sizeof *fb);
   assert_true(a && fl && ab && fb);
@@ -136,10 +143,10 @@ static size_t check_against_flat(bbc_forest_cull *c, const float vp[16], const d
     free(tmp);
   }
   bbc_forest_cull_run_flat(c, vp, eye, zoom);
-  assert_true(c->trees_visible <= vis);
+  assert_true(rec_of(c).trees_visible <= vis);
   for (size_t k = 0; k < nb; k++)
-    for (size_t j = c->bucket_start[k]; j < c->bucket_start[k + 1]; j++) {
-      fl[nf] = c->draws[j];
+    for (size_t j = rec_of(c).bucket_start[k]; j < rec_of(c).bucket_start[k + 1]; j++) {
+      fl[nf] = rec_of(c).draws[j];
       fb[nf++] = k;
     }
   /* every flat record among the cells' */
@@ -192,12 +199,12 @@ static void test_cull_matches_flat(void **state) {
   double r0[6] = {0, 40, 40, 150, 150, 600}, r1[4] = {0, 90, 90, 2000}, r2[2] = {10, 300};
   bbc_forest_lod_model models[3] = {{3, r0, 6, 4}, {2, r1, 0, 3}, {1, r2, 10, 2}};
   uint32_t pm[3][2] = {{0, UINT32_MAX}, {1, 2}, {2, UINT32_MAX}};
-  bbc_forest_cull c;
+  bbc_forest_cull *c;
   bbc_error err;
-  assert_int_equal(bbc_forest_cull_init(&c, &w, models, 3, (const uint32_t(*)[2])pm, 3, &err),
+  assert_int_equal(bbc_forest_cull_build(&w, models, 3, (const uint32_t(*)[2])pm, 3, &c, &err),
                    BBC_OK);
   size_t model_of[6] = {0, 0, 0, 1, 1, 2};
-  assert_int_equal(c.bucket_count, 6);
+  assert_int_equal(rec_of(c).bucket_count, 6);
   size_t whole = 0, blend = 0;
   for (int v = 0; v < 12; v++) {
     bbc_forest_camera cam;
@@ -205,15 +212,15 @@ static void test_cull_matches_flat(void **state) {
     float vp[16];
     bbc_forest_camera_get_viewproj(&cam, 1.3, 0.5, 1500, vp);
     double zoom = v % 4 == 3 ? 2.5 : 1;
-    assert_true(check_against_flat(&c, vp, cam.pos, zoom, models, model_of, 6) > 0);
-    bbc_forest_cull_run(&c, vp, cam.pos, zoom);
+    assert_true(check_against_flat(c, vp, cam.pos, zoom, models, model_of, 6) > 0);
+    bbc_forest_cull_run(c, vp, cam.pos, zoom);
     for (size_t b = 0; b < 6; b++) {
-      whole += c.range_blend[b] - c.range_start[b];
-      blend += c.range_start[b + 1] - c.range_blend[b];
+      whole += rec_of(c).range_blend[b] - rec_of(c).range_start[b];
+      blend += rec_of(c).range_start[b + 1] - rec_of(c).range_blend[b];
     }
   }
   assert_true(whole > 0 && blend > 0);
-  bbc_forest_cull_free(&c);
+  bbc_forest_cull_free(c);
   bbc_forest_world_free(&w);
 }
 
@@ -235,17 +242,17 @@ static void test_cull(void **state) {
   double r0[4] = {0, 50, 50, 1000}, r1[2] = {0, 1000};
   bbc_forest_lod_model models[2] = {{2, r0, 5, 3}, {1, r1, 0, 2}};
   uint32_t pm[2][2] = {{0, UINT32_MAX}, {0, 1}};
-  bbc_forest_cull c;
+  bbc_forest_cull *c;
   bbc_error err;
-  assert_int_equal(bbc_forest_cull_init(&c, &w, models, 2, (const uint32_t(*)[2])pm, 2, &err),
+  assert_int_equal(bbc_forest_cull_build(&w, models, 2, (const uint32_t(*)[2])pm, 2, &c, &err),
                    BBC_OK);
-  assert_int_equal(c.bucket_count, 3);
+  assert_int_equal(rec_of(c).bucket_count, 3);
   size_t model_of[3] = {0, 0, 1};
   bbc_forest_camera cam;
   look(&cam, 128, 10, 300, 0, 0); /* south of the map, looking north over it */
   float vp[16];
   bbc_forest_camera_get_viewproj(&cam, 1.0, 0.5, 2000, vp);
-  bbc_forest_cull_run(&c, vp, cam.pos, 1);
+  bbc_forest_cull_run(c, vp, cam.pos, 1);
   /* every tree ahead within the 60 degree view; count by brute force */
   double planes[6][4];
   bbc_forest_frustum_from_matrix(vp, planes);
@@ -259,19 +266,19 @@ static void test_cull(void **state) {
   }
   assert_true(expect_visible > 50 && expect_visible < 256);
   /* the cells in view hold them all, and some outside the frustum */
-  assert_true(c.trees_visible >= expect_visible && c.trees_visible < 256);
+  assert_true(rec_of(c).trees_visible >= expect_visible && rec_of(c).trees_visible < 256);
   /* whole cells and cells across the switch at 50 (level 0's end: tree by
    * tree) */
   size_t whole = 0;
-  for (size_t b = 0; b < 3; b++) whole += c.range_blend[b] - c.range_start[b];
-  assert_true(whole > 0 && c.bucket_start[3] > 0);
+  for (size_t b = 0; b < 3; b++) whole += rec_of(c).range_blend[b] - rec_of(c).range_start[b];
+  assert_true(whole > 0 && rec_of(c).bucket_start[3] > 0);
   size_t total = 0;
-  for (size_t b = 0; b < 3; b++) total += bbc_forest_cull_get_bucket_size(&c, b);
+  for (size_t b = 0; b < 3; b++) total += bbc_forest_cull_get_bucket_size(c, b);
   bbc_forest_draw *grid = malloc(total * sizeof *grid);
   assert_non_null(grid);
   for (size_t b = 0, at = 0; b < 3; b++) {
-    bbc_forest_cull_copy_bucket(&c, b, grid + at);
-    at += bbc_forest_cull_get_bucket_size(&c, b);
+    bbc_forest_cull_copy_bucket(c, b, grid + at);
+    at += bbc_forest_cull_get_bucket_size(c, b);
   }
   /* records carry the instance and a weight in [0, 1] */
   for (size_t i = 0; i < total; i++)
@@ -280,34 +287,34 @@ static void test_cull(void **state) {
   {
     bbc_forest_draw *again = malloc(total * sizeof *again);
     assert_non_null(again);
-    bbc_forest_cull_run(&c, vp, cam.pos, 1);
+    bbc_forest_cull_run(c, vp, cam.pos, 1);
     for (size_t b = 0, at = 0; b < 3; b++) {
-      bbc_forest_cull_copy_bucket(&c, b, again + at);
-      at += bbc_forest_cull_get_bucket_size(&c, b);
+      bbc_forest_cull_copy_bucket(c, b, again + at);
+      at += bbc_forest_cull_get_bucket_size(c, b);
     }
     assert_memory_equal(grid, again, total * sizeof *grid);
     free(again);
   }
   free(grid);
   /* against the flat way (forest --naive), tree by tree */
-  check_against_flat(&c, vp, cam.pos, 1, models, model_of, 3);
-  bbc_forest_cull_run_flat(&c, vp, cam.pos, 1);
-  assert_int_equal(c.range_start[3], 0);
-  assert_int_equal(c.trees_visible, expect_visible);
+  check_against_flat(c, vp, cam.pos, 1, models, model_of, 3);
+  bbc_forest_cull_run_flat(c, vp, cam.pos, 1);
+  assert_int_equal(rec_of(c).range_start[3], 0);
+  assert_int_equal(rec_of(c).trees_visible, expect_visible);
   /* looking away: nothing */
   look(&cam, 128, 10, 300, 180, 0);
   bbc_forest_camera_get_viewproj(&cam, 1.0, 0.5, 2000, vp);
-  bbc_forest_cull_run(&c, vp, cam.pos, 1);
-  assert_int_equal(c.bucket_start[3] + c.range_start[3], 0);
-  assert_int_equal(c.trees_visible, 0);
+  bbc_forest_cull_run(c, vp, cam.pos, 1);
+  assert_int_equal(rec_of(c).bucket_start[3] + rec_of(c).range_start[3], 0);
+  assert_int_equal(rec_of(c).trees_visible, 0);
   /* zooming in (distances / zoom) moves trees to finer levels */
   look(&cam, 128, 10, 300, 0, 0);
   bbc_forest_camera_get_viewproj(&cam, 1.0, 0.5, 2000, vp);
-  bbc_forest_cull_run(&c, vp, cam.pos, 1);
-  size_t fine0 = bbc_forest_cull_get_bucket_size(&c, 0);
-  bbc_forest_cull_run(&c, vp, cam.pos, 8);
-  assert_true(bbc_forest_cull_get_bucket_size(&c, 0) > fine0);
-  bbc_forest_cull_free(&c);
+  bbc_forest_cull_run(c, vp, cam.pos, 1);
+  size_t fine0 = bbc_forest_cull_get_bucket_size(c, 0);
+  bbc_forest_cull_run(c, vp, cam.pos, 8);
+  assert_true(bbc_forest_cull_get_bucket_size(c, 0) > fine0);
+  bbc_forest_cull_free(c);
   bbc_forest_world_free(&w);
 }
 

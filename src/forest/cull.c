@@ -13,7 +13,7 @@
  * (model, level), ranges of static records and per-frame records, so the drawing layer issues two
  * multi-draws per model, level, component and material. bbc_forest_cull_run_flat does the thesis's
  * per-tree work (into per-frame records) to measure against. Everything is allocated in
- * bbc_forest_cull_init. */
+ * bbc_forest_cull_build. */
 #include "bbc_forest.h"
 #include "io.h"
 
@@ -21,6 +21,55 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* The culling state (opaque in bbc_forest.h). */
+struct bbc_forest_cull {
+  size_t model_count;
+  bbc_forest_lod_model *models;    /* copies, ranges owned */
+  size_t *bucket_base;             /* per model: index of its level 0's bucket */
+  size_t bucket_count;             /* sum of lod_count */
+  uint32_t (*placement_models)[2]; /* per placement: model ids (UINT32_MAX = none) */
+  size_t placement_count;
+  size_t instance_count;
+  /* grid: cells_x x cells_z cells (multiples of 8), in blocks of 8 x 8 */
+  int cells_x, cells_z, blocks_x, blocks_z;
+  double cell_size;
+  size_t cell_count;
+  float (*cell_box)[6];   /* min xyz, max xyz of the trees with their radius (empty: min > max) */
+  float (*cell_reach)[6]; /* min xyz, max xyz of the trees' origins (for distances) */
+  float (*block_box)[6];  /* the union of a block's cell boxes */
+  /* static records: every tree once per model it uses, fade 1 */
+  size_t static_count;
+  bbc_forest_draw *statics;
+  uint8_t *static_first;       /* 1 where the model is the tree's first component */
+  uint32_t *model_cell_start;  /* model m, cell k: statics[start[m * (cell_count + 1) + k]
+                                * .. start[m * (cell_count + 1) + k + 1]) */
+  uint32_t *model_cell_firsts; /* model m, cell k: how many of them have static_first */
+  /* per frame, ranges of statics (bbc_forest_records says what they are) */
+  size_t range_capacity;
+  uint32_t (*ranges)[2];
+  size_t *range_start;
+  size_t *range_blend;
+  double eye[3], zoom; /* the last frame's */
+  uint32_t (*range_scratch)[2];
+  uint32_t *range_bucket;
+  size_t *range_last;
+  /* per frame, trees handled one by one: bucket b draws
+   * draws[bucket_start[b] .. bucket_start[b + 1]) */
+  size_t capacity;
+  bbc_forest_draw *draws;
+  size_t *bucket_start;
+  uint32_t *scratch_bucket;
+  bbc_forest_draw *scratch;
+  /* statistics of the last frame: cells in view, (model, cell)s handled tree
+   * by tree, trees whose first component is in a range or a record (cells in
+   * view: some may be just outside the frustum) */
+  size_t cells_visible, cells_tested_per_tree, trees_visible;
+  /* occlusion (bbc_forest_cull_set_occluder; NULL: none) */
+  struct bbc_forest_occluder *occluder;
+  const struct bbc_forest_terrain *occluder_terrain;
+  size_t cells_occluded;
+};
 
 void bbc_forest_frustum_from_matrix(const float m[16], double p[6][4]) {
   assert(m && p);
@@ -90,7 +139,7 @@ void bbc_forest_cull_free(bbc_forest_cull *c) {
   free(c->bucket_start);
   free(c->scratch_bucket);
   free(c->scratch);
-  memset(c, 0, sizeof *c);
+  free(c);
 }
 
 static void box_empty(float b[6]) {
@@ -287,20 +336,24 @@ static int frame_buffers(bbc_forest_cull *c) {
          c->range_blend && c->draws && c->scratch && c->scratch_bucket && c->bucket_start;
 }
 
-bbc_result bbc_forest_cull_init(bbc_forest_cull *c, const bbc_forest_world *w,
-                                const bbc_forest_lod_model *models, size_t model_count,
-                                const uint32_t (*pm)[2], size_t placement_count, bbc_error *err) {
-  memset(c, 0, sizeof *c);
+bbc_result bbc_forest_cull_build(const bbc_forest_world *w, const bbc_forest_lod_model *models,
+                                 size_t model_count, const uint32_t (*pm)[2],
+                                 size_t placement_count, bbc_forest_cull **out, bbc_error *err) {
+  assert(w && out);
+  *out = NULL;
+  bbc_result r = check_references(w, model_count, pm, placement_count, err);
+  if (r != BBC_OK) return r;
+  bbc_forest_cull *c = calloc(1, sizeof *c);
+  if (!c) return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "forest culling: out of memory");
   c->instance_count = w->instance_count;
   c->model_count = model_count;
   c->placement_count = placement_count;
-  bbc_result r = check_references(w, model_count, pm, placement_count, err);
-  if (r != BBC_OK) return r;
   if (!copy_models(c, models, model_count, pm, placement_count) || !make_grid(c, w, model_count))
     goto oom;
   /* Count the records of each (model, cell), then place them. */
   size_t total = count_records(c, w, models, model_count, pm);
   if (!place_records(c, w, model_count, pm, total) || !frame_buffers(c)) goto oom;
+  *out = c;
   return BBC_OK;
 oom:
   bbc_forest_cull_free(c);
@@ -567,4 +620,37 @@ void bbc_forest_cull_copy_bucket(const bbc_forest_cull *c, size_t b, bbc_forest_
   }
   size_t s = c->bucket_start[b], e = c->bucket_start[b + 1];
   memcpy(out, c->draws + s, (e - s) * sizeof *out);
+}
+
+void bbc_forest_cull_set_occluder(bbc_forest_cull *c, struct bbc_forest_occluder *occluder,
+                                  const struct bbc_forest_terrain *terrain) {
+  assert(c);
+  c->occluder = occluder;
+  c->occluder_terrain = terrain;
+}
+
+void bbc_forest_cull_get_records(const bbc_forest_cull *c, bbc_forest_records *r) {
+  assert(c && r);
+  *r = (bbc_forest_records){
+      .model_count = c->model_count,
+      .models = c->models,
+      .bucket_base = c->bucket_base,
+      .bucket_count = c->bucket_count,
+      .cell_count = c->cell_count,
+      .static_count = c->static_count,
+      .statics = c->statics,
+      .static_first = c->static_first,
+      .model_cell_start = c->model_cell_start,
+      .ranges = (const uint32_t(*)[2])c->ranges,
+      .range_start = c->range_start,
+      .range_blend = c->range_blend,
+      .draws = c->draws,
+      .bucket_start = c->bucket_start,
+      .eye = {c->eye[0], c->eye[1], c->eye[2]},
+      .zoom = c->zoom,
+      .cells_visible = c->cells_visible,
+      .cells_tested_per_tree = c->cells_tested_per_tree,
+      .trees_visible = c->trees_visible,
+      .cells_occluded = c->cells_occluded,
+  };
 }

@@ -46,7 +46,7 @@ static void bind_maps(const batch *ba, GLuint *bound, bbcgl_stats *st) {
 /* The thesis's way (3.3), for measuring against: per tree, level and
  * billboard its own draw call and texture bind (the culling's per-frame
  * records, after the static ones in the buffer). */
-static void draw_objects_naive(bbcgl_forest *f, const bbc_forest_cull *c, bbcgl_stats *st) {
+static void draw_objects_naive(bbcgl_forest *f, const bbc_forest_records *c, bbcgl_stats *st) {
   for (size_t i = 0; i < f->part_count; i++) {
     const part *pt = &f->parts[i];
     if (pt->bucket >= c->bucket_count) continue;
@@ -80,7 +80,7 @@ static void draw_objects_naive(bbcgl_forest *f, const bbc_forest_cull *c, bbcgl_
 
 /* The instance buffer holds the static records (uploaded once) and this
  * frame's records after them. */
-static int upload_instances(bbcgl_forest *f, const bbc_forest_cull *c) {
+static int upload_instances(bbcgl_forest *f, const bbc_forest_records *c) {
   size_t s = c->static_count, n = c->bucket_start[c->bucket_count];
   if (s + n > f->instance_capacity) {
     size_t cap = s + n + n / 2 + 1024;
@@ -130,7 +130,7 @@ static void vao_source(bbcgl_forest *f, GLuint buf) {
 /* GPU culling's programs and buffers: per bucket a region of the output as
  * large as its model's records, the first-component bits, and one indirect
  * command per part and material (its instance count filled in each frame). */
-static void gpu_build(bbcgl_forest *f, const bbc_forest_cull *c) {
+static void gpu_build(bbcgl_forest *f, const bbc_forest_records *c) {
   f->gpu_state = -1;
   snprintf(f->gpu_err, sizeof f->gpu_err, "GPU culling: out of memory");
   if (!(f->p_cull = bbcgl__compute_program(bbcgl__glsl_forest_cull_comp, "cull", f->gpu_err)) ||
@@ -194,7 +194,7 @@ static void gpu_build(bbcgl_forest *f, const bbc_forest_cull *c) {
 
 /* GPU culling, before the drawing: every static record of every model
  * through the cull shader, then the commands' instance counts. */
-static int gpu_cull(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_cull *c) {
+static int gpu_cull(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_records *c) {
   if (!f->gpu_state) gpu_build(f, c);
   if (f->gpu_state < 0 || !c->static_count) return 0;
   upload_instances(f, c);
@@ -254,7 +254,7 @@ static int gpu_cull(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_cul
   return 1;
 }
 
-static void draw_objects_gpu(bbcgl_forest *f, const bbc_forest_cull *c, bbcgl_stats *st) {
+static void draw_objects_gpu(bbcgl_forest *f, const bbc_forest_records *c, bbcgl_stats *st) {
   vao_source(f, f->g_out);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, f->g_cmds);
   GLuint bound[3] = {0, 0, 0};
@@ -293,10 +293,10 @@ static void set_command(uint32_t *cmd, const batch *ba, uint32_t n, uint32_t fir
 
 /* Bucket b's commands per material: whole ranges and per-frame records
  * (weights in the records), then blend ranges (weights from the distance). */
-static size_t whole_commands(const bbc_forest_cull *c, size_t b) {
+static size_t whole_commands(const bbc_forest_records *c, size_t b) {
   return c->range_blend[b] - c->range_start[b] + (c->bucket_start[b + 1] > c->bucket_start[b]);
 }
-static size_t blend_commands(const bbc_forest_cull *c, size_t b) {
+static size_t blend_commands(const bbc_forest_records *c, size_t b) {
   return c->range_start[b + 1] - c->range_blend[b];
 }
 
@@ -304,7 +304,7 @@ static size_t blend_commands(const bbc_forest_cull *c, size_t b) {
  * and material a command per whole range of its bucket, one for the
  * bucket's per-frame records, then one per blend range. Their number; 0:
  * nothing to draw (or no memory for them). */
-static size_t fill_commands(bbcgl_forest *f, const bbc_forest_cull *c) {
+static size_t fill_commands(bbcgl_forest *f, const bbc_forest_records *c) {
   size_t ncmd = 0;
   for (size_t i = 0; i < f->part_count; i++) {
     const part *pt = &f->parts[i];
@@ -341,8 +341,9 @@ static size_t fill_commands(bbcgl_forest *f, const bbc_forest_cull *c) {
 /* The levels of bucket b for the shader's weights of blend ranges: its
  * range's start and end, the model's fade, 1 / zoom (as
  * bbc_forest_lod_get_weight, distances divided by the zoom). */
-static void bucket_lod(const bbc_forest_cull *c, size_t b, float lod[4]) {
-  size_t l, m = bbc_forest_cull_get_bucket_model(c, b, &l);
+static void bucket_lod(const bbc_forest_cull *cull, const bbc_forest_records *c, size_t b,
+                       float lod[4]) {
+  size_t l, m = bbc_forest_cull_get_bucket_model(cull, b, &l);
   const bbc_forest_lod_model *mod = &c->models[m];
   lod[0] = (float)mod->ranges[2 * l];
   lod[1] = (float)(mod->ranges[2 * l + 1] < 1e30 ? mod->ranges[2 * l + 1] : 1e30);
@@ -352,7 +353,8 @@ static void bucket_lod(const bbc_forest_cull *c, size_t b, float lod[4]) {
 
 /* The CPU culling's objects: per part and material a multi-draw of whole
  * ranges and per-frame records, and one of blend ranges. */
-static void draw_objects_indirect(bbcgl_forest *f, const bbc_forest_cull *c, bbcgl_stats *st) {
+static void draw_objects_indirect(bbcgl_forest *f, const bbc_forest_cull *cull,
+                                  const bbc_forest_records *c, bbcgl_stats *st) {
   size_t ncmd = fill_commands(f, c);
   if (!ncmd) return;
   glInvalidateBufferData(f->indirect);
@@ -363,12 +365,12 @@ static void draw_objects_indirect(bbcgl_forest *f, const bbc_forest_cull *c, bbc
   for (size_t i = 0; i < f->part_count; i++) {
     const part *pt = &f->parts[i];
     if (pt->bucket >= c->bucket_count) continue;
-    size_t b = pt->bucket, count = bbc_forest_cull_get_bucket_size(c, b);
+    size_t b = pt->bucket, count = bbc_forest_cull_get_bucket_size(cull, b);
     size_t whole = whole_commands(c, b), blend = blend_commands(c, b);
     if (!whole && !blend) continue;
     glBindVertexArray(pt->vao);
     float lod[4];
-    bucket_lod(c, b, lod);
+    bucket_lod(cull, c, b, lod);
     glUniform4fv(f->u_lod, 1, lod);
     for (size_t bi = 0; bi < pt->batch_count; bi++) {
       const batch *ba = &pt->batches[bi];
@@ -390,8 +392,11 @@ static void draw_objects_indirect(bbcgl_forest *f, const bbc_forest_cull *c, bbc
 /* The objects of the frame: the model program's uniforms, then drawn the
  * naive way, by indirect multi-draws of the CPU culling's records, or
  * culled and drawn on the GPU. */
-void bbcgl__forest_draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_cull *c,
+void bbcgl__forest_draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_cull *cull,
                                 bbcgl_stats *st) {
+  bbc_forest_records rec;
+  bbc_forest_cull_get_records(cull, &rec);
+  const bbc_forest_records *c = &rec;
   st->trees = c->trees_visible;
   int gpu = 0;
   if (fr->gpu_cull && !fr->naive && c->bucket_count) {
@@ -423,7 +428,7 @@ void bbcgl__forest_draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bb
     draw_objects_naive(f, c, st);
     return;
   }
-  draw_objects_indirect(f, c, st);
+  draw_objects_indirect(f, cull, c, st);
 }
 
 const char *bbcgl_forest_gpu_cull_error(const bbcgl_forest *f) {

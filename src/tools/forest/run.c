@@ -300,12 +300,12 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
   c0 = now_s();
   /* occlusion by the terrain where it is drawn, solid, for this eye */
   int occlude = !st->o->reference && !st->no_terrain && !st->wireframe && !st->locked;
-  st->s->cull.occluder = occlude ? &st->s->occluder : NULL;
-  st->s->cull.occluder_terrain = occlude ? &st->s->terrain : NULL;
+  bbc_forest_cull_set_occluder(st->s->cull, occlude ? &st->s->occluder : NULL,
+                               occlude ? &st->s->terrain : NULL);
   if (st->o->naive)
-    bbc_forest_cull_run_flat(&st->s->cull, fr.viewproj, fr.eye, st->cam.zoom);
+    bbc_forest_cull_run_flat(st->s->cull, fr.viewproj, fr.eye, st->cam.zoom);
   else if (!st->o->gpu_cull)
-    bbc_forest_cull_run(&st->s->cull, fr.viewproj, fr.eye, st->cam.zoom);
+    bbc_forest_cull_run(st->s->cull, fr.viewproj, fr.eye, st->cam.zoom);
   fr.naive = st->o->naive;
   fr.gpu_cull = st->o->gpu_cull && !st->o->naive;
   fr.zoom = st->cam.zoom;
@@ -313,17 +313,19 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
   res->cull_ms = fr.gpu_cull ? 0 : (now_s() - c0) * 1000;
   bbcgl_context_begin(ctx);
   if (st->o->bench) bbcgl_context_counters_begin(ctx);
-  bbcgl_forest_draw(r, &fr, &st->s->terrain, &st->s->cull, &res->stats);
+  bbcgl_forest_draw(r, &fr, &st->s->terrain, st->s->cull, &res->stats);
   if (fr.gpu_cull && !st->gpu_failed && bbcgl_forest_gpu_cull_error(r)) {
     fprintf(stderr, "forest: --gpu-cull: %s\n", bbcgl_forest_gpu_cull_error(r));
     st->gpu_failed = 1;
     st->quit = 1;
   }
   memset(res->per_level, 0, sizeof res->per_level);
+  bbc_forest_records rec;
+  bbc_forest_cull_get_records(st->s->cull, &rec);
   for (size_t m = 0; m < st->s->model_count && !st->no_objects; m++)
     for (size_t l = 0; l < st->s->models[m].lod_count; l++) {
-      size_t b = st->s->cull.bucket_base[m] + l;
-      res->per_level[l < 7 ? l : 7] += bbc_forest_cull_get_bucket_size(&st->s->cull, b);
+      size_t b = rec.bucket_base[m] + l;
+      res->per_level[l < 7 ? l : 7] += bbc_forest_cull_get_bucket_size(st->s->cull, b);
     }
   const char *lines[24];
   char buf[8][160];
@@ -361,7 +363,7 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
   if (st->o->coverage) { /* the same frame again: objects only, white on black */
     fr.fill_colour = 1;
     bbcgl_stats dummy;
-    bbcgl_forest_draw(r, &fr, &st->s->terrain, &st->s->cull, &dummy);
+    bbcgl_forest_draw(r, &fr, &st->s->terrain, st->s->cull, &dummy);
     bbc_image im;
     char err[BBCGL_ERR];
     size_t covered = 0;
@@ -373,7 +375,7 @@ static void draw_frame(state *st, bbcgl_context *ctx, bbcgl_forest *r, double fp
     printf("coverage=%zu pos=%.3f,%.3f,%.3f\n", covered, st->cam.pos[0], st->cam.pos[1],
            st->cam.pos[2]);
     fr.fill_colour = 0;
-    bbcgl_forest_draw(r, &fr, &st->s->terrain, &st->s->cull, &dummy); /* what is shown */
+    bbcgl_forest_draw(r, &fr, &st->s->terrain, st->s->cull, &dummy); /* what is shown */
   }
 }
 
@@ -432,7 +434,9 @@ static bbcgl_forest *create_forest(scene *s, const run_options *o) {
     sc.fog_end = s->far_clip;
   }
   for (int i = 0; i < 6 && s->has_sky; i++) sc.sky[i] = &s->sky[i];
-  sc.bucket_count = s->cull.bucket_count;
+  bbc_forest_records rec;
+  bbc_forest_cull_get_records(s->cull, &rec);
+  sc.bucket_count = rec.bucket_count;
   sc.uncompressed = o->uncompressed;
   bbcgl_forest *r = bbcgl_forest_create(&sc, err);
   if (!r) {
@@ -447,7 +451,7 @@ static bbcgl_forest *create_forest(scene *s, const run_options *o) {
         bbcgl_part_options po = {p->lit,         p->mipmap,
                                  me->billboards, (float)s->models[m].height,
                                  me->occlusion,  me->impostor};
-        if (!bbcgl_forest_add_part(r, s->cull.bucket_base[m] + l, &me->mesh, &po, err)) {
+        if (!bbcgl_forest_add_part(r, rec.bucket_base[m] + l, &me->mesh, &po, err)) {
           fprintf(stderr, "forest: %s: %s\n", me->path, err);
           bbcgl_forest_free(r);
           return NULL;

@@ -402,7 +402,8 @@ void scene_free(scene *s) {
   free(s->placement_models);
   bbc_image_free(&s->terrain_colour);
   for (int i = 0; i < 6; i++) bbc_image_free(&s->sky[i]);
-  bbc_forest_cull_free(&s->cull);
+  bbc_forest_cull_free(s->cull);
+  s->cull = NULL;
   bbc_forest_terrain_free(&s->terrain);
   bbc_forest_occluder_free(&s->occluder);
   bbc_forest_world_free(&s->world);
@@ -468,8 +469,9 @@ int scene_load(scene *s, const char *map_path, FILE *log, int progress) {
     lm[i].fade = s->models[i].fade;
     lm[i].radius = s->models[i].radius;
   }
-  r = bbc_forest_cull_init(&s->cull, &s->world, lm, s->model_count,
-                           (const uint32_t(*)[2])s->placement_models, s->map.placement_count, &err);
+  r = bbc_forest_cull_build(&s->world, lm, s->model_count,
+                            (const uint32_t(*)[2])s->placement_models, s->map.placement_count,
+                            &s->cull, &err);
   free(lm);
   if (r != BBC_OK || bbc_forest_terrain_init(&s->terrain, &s->world, &err) != BBC_OK ||
       bbc_forest_occluder_init(&s->occluder, &s->world, &err) != BBC_OK) {

@@ -56,7 +56,7 @@ typedef struct scene {
   bbc_image terrain_colour;
   bbc_image sky[6];
   int has_sky;
-  bbc_forest_cull cull;
+  bbc_forest_cull *cull;
   bbc_forest_terrain terrain;
   bbc_forest_occluder occluder; /* the terrain's occlusion of cells of trees */
   double extent;                /* map size, world units */

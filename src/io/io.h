@@ -17,6 +17,25 @@ void bbc__safe_name(const char *in, char *out, size_t n);
 #define BBC__NUMBER_TEXT 64
 void bbc__number_text(char *out, size_t n, int digits, double v);
 
+/* The writers' text (src/io/text_out.c): a growing buffer (zeroed: empty)
+ * whose appends never fail loudly: a growth that fails sets `oom`, and
+ * every later append is ignored, so a writer checks `oom` once. Numbers go
+ * through bbc__text_number (bbc__number_text's spelling); bbc__text_printf
+ * is for everything else (its format takes no floating-point conversion). */
+typedef struct bbc__text {
+  unsigned char *data;
+  size_t size, cap;
+  int oom;
+} bbc__text;
+void bbc__text_append(bbc__text *t, const void *data, size_t n);
+void bbc__text_puts(bbc__text *t, const char *s);
+void bbc__text_printf(bbc__text *t, const char *fmt, ...) BBC__PRINTF(2, 3);
+void bbc__text_number(bbc__text *t, int digits, double v);
+/* Writes what the buffer holds to f and empties it (a file written as it
+ * goes); 0 when the write failed or the buffer ran out of memory. */
+int bbc__text_flush(bbc__text *t, FILE *f);
+void bbc__text_free(bbc__text *t);
+
 /* The stem of the files an output writes beside it (its textures): the
  * output's whole file name with the extension's dot as '_' ("u.gltf" ->
  * "u_gltf", "u.obj" -> "u_obj"), so that outputs of different formats in

@@ -26,27 +26,11 @@
 #include <strings.h>
 #include <zlib.h>
 
-typedef struct fbuf {
-  uint8_t *p;
-  size_t n, cap;
-  int oom;
-} fbuf;
+/* The file in memory: io's buffer (bytes appended with bbc__text_append). */
+typedef bbc__text fbuf;
 
 static void put(fbuf *b, const void *d, size_t n) {
-  if (b->oom) return;
-  if (b->n + n > b->cap) {
-    size_t cap = b->cap ? b->cap : 4096;
-    while (cap < b->n + n) cap *= 2;
-    uint8_t *q = realloc(b->p, cap);
-    if (!q) {
-      b->oom = 1;
-      return;
-    }
-    b->p = q;
-    b->cap = cap;
-  }
-  memcpy(b->p + b->n, d, n);
-  b->n += n;
+  bbc__text_append(b, d, n);
 }
 
 static void put_u32(fbuf *b, uint32_t v) {
@@ -62,7 +46,7 @@ static void put_u64(fbuf *b, uint64_t v) {
 static void set_u32(fbuf *b, size_t at, uint32_t v) {
   if (b->oom) return;
   uint8_t d[4] = {(uint8_t)v, (uint8_t)(v >> 8), (uint8_t)(v >> 16), (uint8_t)(v >> 24)};
-  memcpy(b->p + at, d, 4);
+  memcpy(b->data + at, d, 4);
 }
 
 /* A record being written: where its header is, how many properties it has
@@ -88,7 +72,7 @@ static void begin(writer *w, const char *name) {
   }
   if (w->depth > 0) w->stack[w->depth - 1].children = 1;
   rec *r = &w->stack[w->depth++];
-  r->at = w->b.n;
+  r->at = w->b.size;
   r->props = 0;
   r->children = 0;
   put_u32(&w->b, 0); /* end offset */
@@ -98,7 +82,7 @@ static void begin(writer *w, const char *name) {
   uint8_t l = (uint8_t)len;
   put(&w->b, &l, 1);
   put(&w->b, name, len);
-  r->props_at = w->b.n;
+  r->props_at = w->b.size;
 }
 
 static void end(writer *w) {
@@ -109,8 +93,8 @@ static void end(writer *w) {
   rec *r = &w->stack[--w->depth];
   static const uint8_t zero[13] = {0};
   if (r->children) put(&w->b, zero, sizeof zero);
-  if (w->b.n > UINT32_MAX) w->bad = 1; /* 32-bit offsets before version 7500 */
-  set_u32(&w->b, r->at, (uint32_t)w->b.n);
+  if (w->b.size > UINT32_MAX) w->bad = 1; /* 32-bit offsets before version 7500 */
+  set_u32(&w->b, r->at, (uint32_t)w->b.size);
   set_u32(&w->b, r->at + 4, r->props);
 }
 
@@ -127,7 +111,7 @@ static void prop_begin(writer *w, char type) {
 static void prop_end(writer *w) {
   if (w->depth <= 0 || w->b.oom) return;
   rec *r = &w->stack[w->depth - 1];
-  set_u32(&w->b, r->at + 8, (uint32_t)(w->b.n - r->props_at));
+  set_u32(&w->b, r->at + 8, (uint32_t)(w->b.size - r->props_at));
 }
 
 static void p_int(writer *w, int32_t v) {
@@ -650,7 +634,7 @@ static void footer(fbuf *b) {
   static const uint8_t zero[128] = {0};
   put(b, id, sizeof id);
   put(b, zero, 4);
-  size_t pad = ((b->n + 15) & ~(size_t)15) - b->n;
+  size_t pad = ((b->size + 15) & ~(size_t)15) - b->size;
   put(b, zero, pad ? pad : 16);
   put_u32(b, 7400);
   put(b, zero, 120);
@@ -691,7 +675,7 @@ bbc_result bbc_scene_write_fbx(const char *path, const bbc_fbx_node *nodes, size
   put(&w.b, zero, sizeof zero);
   footer(&w.b);
   if (w.b.oom || w.bad || w.depth) {
-    free(w.b.p);
+    free(w.b.data);
     free(d.tex);
     return w.b.oom ? bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path)
                    : bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "%s: too large for FBX 7.4", path);
@@ -707,11 +691,11 @@ bbc_result bbc_scene_write_fbx(const char *path, const bbc_fbx_node *nodes, size
     r = bbc_image_write_png(written[n_written], d.tex[i].image, err);
     if (r == BBC_OK) n_written++;
   }
-  if (r == BBC_OK) r = bbc_write_file_atomic(path, w.b.p, w.b.n, err);
+  if (r == BBC_OK) r = bbc_write_file_atomic(path, w.b.data, w.b.size, err);
   if (r != BBC_OK)
     for (size_t i = 0; i < n_written; i++) remove(written[i]);
   free(written);
-  free(w.b.p);
+  free(w.b.data);
   free(d.tex);
   return r;
 }

@@ -14,101 +14,29 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* ---- growable byte buffer ------------------------------------------------ */
-
-typedef struct gbuf {
-  unsigned char *data;
-  size_t size, cap;
-  int oom; /* a growth failed: every later append is ignored */
-} gbuf;
-
-static void gbuf_append(gbuf *b, const void *data, size_t n) {
-  if (b->oom || n == 0) return;
-  if (b->size + n < b->size) {
-    b->oom = 1;
-    return;
-  }
-  if (b->size + n > b->cap) {
-    size_t cap = b->cap ? b->cap : 4096;
-    while (cap < b->size + n) {
-      if (cap > SIZE_MAX / 2) {
-        cap = b->size + n;
-        break;
-      }
-      cap *= 2;
-    }
-    unsigned char *p = realloc(b->data, cap);
-    if (!p) {
-      b->oom = 1;
-      return;
-    }
-    b->data = p;
-    b->cap = cap;
-  }
-  memcpy(b->data + b->size, data, n);
-  b->size += n;
-}
+/* ---- the JSON and the binary chunk: io's text buffer ----------------------- */
 
 /* Pads with `byte` to a multiple of 4. */
-static void gbuf_pad4(gbuf *b, unsigned char byte) {
-  while (b->size % 4 && !b->oom) gbuf_append(b, &byte, 1);
-}
-
-static void gbuf_puts(gbuf *b, const char *s) {
-  gbuf_append(b, s, strlen(s));
-}
-
-static void gbuf_printf(gbuf *b, const char *fmt, ...) BBC__PRINTF(2, 3);
-static void gbuf_printf(gbuf *b, const char *fmt, ...) {
-  char small[256];
-  va_list ap;
-  va_start(ap, fmt);
-  int n = vsnprintf(small, sizeof small, fmt, ap);
-  va_end(ap);
-  if (n < 0) {
-    b->oom = 1;
-    return;
-  }
-  if ((size_t)n < sizeof small) {
-    gbuf_append(b, small, (size_t)n);
-    return;
-  }
-  char *big = malloc((size_t)n + 1);
-  if (!big) {
-    b->oom = 1;
-    return;
-  }
-  va_start(ap, fmt);
-  vsnprintf(big, (size_t)n + 1, fmt, ap);
-  va_end(ap);
-  gbuf_append(b, big, (size_t)n);
-  free(big);
-}
-
-/* A float as a JSON number that reads back as the same float ("%.9g"),
- * spelt as in the C locale whatever the process's. */
-static void gbuf_number(gbuf *b, double v) {
-  char s[BBC__NUMBER_TEXT];
-  bbc__number_text(s, sizeof s, 9, v);
-  gbuf_puts(b, s);
+static void gbuf_pad4(bbc__text *b, unsigned char byte) {
+  while (b->size % 4 && !b->oom) bbc__text_append(b, &byte, 1);
 }
 
 /* A JSON string: quotes, backslashes and control characters escaped, bytes
  * that are not valid UTF-8 replaced by U+FFFD (JSON must be UTF-8). */
-static void gbuf_string(gbuf *b, const char *s) {
+static void gbuf_string(bbc__text *b, const char *s) {
   const unsigned char *p = (const unsigned char *)s;
-  gbuf_puts(b, "\"");
+  bbc__text_puts(b, "\"");
   while (*p) {
     unsigned char c = *p;
     if (c == '"' || c == '\\') {
       char e[2] = {'\\', (char)c};
-      gbuf_append(b, e, 2);
+      bbc__text_append(b, e, 2);
       p++;
     } else if (c < 0x20) {
-      gbuf_printf(b, "\\u%04x", c);
+      bbc__text_printf(b, "\\u%04x", c);
       p++;
     } else if (c < 0x80) {
-      gbuf_append(b, p, 1);
+      bbc__text_append(b, p, 1);
       p++;
     } else {
       /* Length of a well-formed UTF-8 sequence starting here, or 0. */
@@ -125,15 +53,15 @@ static void gbuf_string(gbuf *b, const char *s) {
       if (n == 3 && ((c == 0xE0 && p[1] < 0xA0) || (c == 0xED && p[1] >= 0xA0))) n = 0;
       if (n == 4 && ((c == 0xF0 && p[1] < 0x90) || (c == 0xF4 && p[1] >= 0x90))) n = 0;
       if (n) {
-        gbuf_append(b, p, n);
+        bbc__text_append(b, p, n);
         p += n;
       } else {
-        gbuf_puts(b, "\\ufffd");
+        bbc__text_puts(b, "\\ufffd");
         p++;
       }
     }
   }
-  gbuf_puts(b, "\"");
+  bbc__text_puts(b, "\"");
 }
 
 static void put_u32le(unsigned char *p, uint32_t v) {
@@ -143,13 +71,13 @@ static void put_u32le(unsigned char *p, uint32_t v) {
   p[3] = (unsigned char)(v >> 24);
 }
 
-static void gbuf_u32(gbuf *b, uint32_t v) {
+static void gbuf_u32(bbc__text *b, uint32_t v) {
   unsigned char q[4];
   put_u32le(q, v);
-  gbuf_append(b, q, 4);
+  bbc__text_append(b, q, 4);
 }
 
-static void gbuf_f32(gbuf *b, float v) {
+static void gbuf_f32(bbc__text *b, float v) {
   uint32_t u;
   memcpy(&u, &v, 4);
   gbuf_u32(b, u); /* little-endian whatever the host */
@@ -315,7 +243,7 @@ typedef struct gltf_writer {
   int binary, lod, unlit;
   const char *stem, *dir; /* file names' stem; the output's folder */
   const char *tex_stem;   /* the images' stem (bbc__side_file_stem) */
-  gbuf bin, json;
+  bbc__text bin, json;
   mesh_out *mo; /* per node */
   view *views;
   size_t n_views;
@@ -367,7 +295,7 @@ static int texture_used(const bbc_mesh *m, size_t t) {
  * fit in a float is refused. */
 static bbc_result put_positions(gltf_writer *w, const bbc_mesh *m, mesh_out *mo) {
   size_t nv = m->vertex_count;
-  gbuf *bin = &w->bin;
+  bbc__text *bin = &w->bin;
   w->views[w->n_views++] = (view){bin->size, nv * 12, 34962};
   for (size_t v = 0; v < nv; v++)
     for (int k = 0; k < 3; k++) {
@@ -386,7 +314,7 @@ static bbc_result put_positions(gltf_writer *w, const bbc_mesh *m, mesh_out *mo)
 /* NORMAL, when the mesh has normals. */
 static void put_normals(gltf_writer *w, const bbc_mesh *m, mesh_out *mo) {
   size_t nv = m->vertex_count;
-  gbuf *bin = &w->bin;
+  bbc__text *bin = &w->bin;
   if (!m->normals) return;
   mo->has_normal = 1;
   w->views[w->n_views++] = (view){bin->size, nv * 12, 34962};
@@ -403,7 +331,7 @@ static void put_normals(gltf_writer *w, const bbc_mesh *m, mesh_out *mo) {
 /* TEXCOORD_0, when the mesh has texture coordinates. */
 static bbc_result put_uvs(gltf_writer *w, const bbc_mesh *m, mesh_out *mo) {
   size_t nv = m->vertex_count;
-  gbuf *bin = &w->bin;
+  bbc__text *bin = &w->bin;
   if (!m->uvs) return BBC_OK;
   mo->has_uv = 1;
   w->views[w->n_views++] = (view){bin->size, nv * 8, 34962};
@@ -423,7 +351,7 @@ static bbc_result put_uvs(gltf_writer *w, const bbc_mesh *m, mesh_out *mo) {
  * v, glTF's -v). */
 static void put_tangents(gltf_writer *w, const bbc_mesh *m, mesh_out *mo) {
   size_t nv = m->vertex_count;
-  gbuf *bin = &w->bin;
+  bbc__text *bin = &w->bin;
   if (!m->tangents || !m->normals) return;
   mo->has_tangent = 1;
   w->views[w->n_views++] = (view){bin->size, nv * 16, 34962};
@@ -440,7 +368,7 @@ static void put_tangents(gltf_writer *w, const bbc_mesh *m, mesh_out *mo) {
  * within each: 16 bits when every index fits below 65535 (itself the
  * primitive restart value), else 32. */
 static void put_indices(gltf_writer *w, const bbc_mesh *m, mesh_out *mo) {
-  gbuf *bin = &w->bin;
+  bbc__text *bin = &w->bin;
   mo->small = m->vertex_count <= 65535;
   for (size_t i = 0; i < m->material_count; i++) {
     if (!mo->mat_tris[i]) continue;
@@ -452,7 +380,7 @@ static void put_indices(gltf_writer *w, const bbc_mesh *m, mesh_out *mo) {
         uint32_t ix = m->indices[3 * t + k];
         if (mo->small) {
           unsigned char q[2] = {(unsigned char)ix, (unsigned char)(ix >> 8)};
-          gbuf_append(bin, q, 2);
+          bbc__text_append(bin, q, 2);
         } else {
           gbuf_u32(bin, ix);
         }
@@ -470,7 +398,7 @@ static bbc_result put_image(gltf_writer *w, const bbc_mesh *m, mesh_out *mo, siz
   size_t n = w->n_images;
   w->image_src[n] = im;
   mo->images_written++;
-  gbuf png = {0};
+  bbc__text png = {0};
   bbc_result pr = bbc__png_encode(im, &png.data, &png.size);
   png.cap = png.size;
   if (pr != BBC_OK)
@@ -488,7 +416,7 @@ static bbc_result put_image(gltf_writer *w, const bbc_mesh *m, mesh_out *mo, siz
   if (w->binary) {
     w->image_view[n] = w->n_views;
     w->views[w->n_views++] = (view){w->bin.size, png.size, 0};
-    gbuf_append(&w->bin, png.data, png.size);
+    bbc__text_append(&w->bin, png.data, png.size);
     gbuf_pad4(&w->bin, 0);
   } else {
     char full[2600];
@@ -542,10 +470,10 @@ static bbc_result put_mesh(gltf_writer *w, const bbc_mesh *m, mesh_out *mo) {
   return BBC_OK;
 }
 
-static void put_floats(gbuf *j, const float *v, int n) {
+static void put_floats(bbc__text *j, const float *v, int n) {
   for (int k = 0; k < n; k++) {
-    if (k) gbuf_puts(j, ",");
-    gbuf_number(j, v[k]);
+    if (k) bbc__text_puts(j, ",");
+    bbc__text_number(j, 9, v[k]);
   }
 }
 
@@ -605,23 +533,24 @@ static bbc_result lay_out_buffer(gltf_writer *w) {
  * engines import LOD groups (<model>_LOD0, _LOD1, ...), and the finest
  * names the coarser ones through MSFT_lod. */
 static void put_json_scene(gltf_writer *w) {
-  gbuf *j = &w->json;
+  bbc__text *j = &w->json;
   size_t node_count = w->node_count;
-  gbuf_puts(j, "{\"asset\":{\"generator\":\"bbcgen " BBC_VERSION_STRING "\",\"version\":\"2.0\"");
+  bbc__text_puts(j,
+                 "{\"asset\":{\"generator\":\"bbcgen " BBC_VERSION_STRING "\",\"version\":\"2.0\"");
   if (w->extras) {
-    gbuf_puts(j, ",\"extras\":");
-    gbuf_puts(j, w->extras);
+    bbc__text_puts(j, ",\"extras\":");
+    bbc__text_puts(j, w->extras);
   }
-  gbuf_puts(j, "},\n");
+  bbc__text_puts(j, "},\n");
   if (w->lod || w->unlit)
-    gbuf_printf(j, "\"extensionsUsed\":[%s%s%s],\n", w->lod ? "\"MSFT_lod\"" : "",
-                w->lod && w->unlit ? "," : "", w->unlit ? "\"KHR_materials_unlit\"" : "");
-  gbuf_puts(j, "\"scene\":0,\"scenes\":[{\"nodes\":[");
+    bbc__text_printf(j, "\"extensionsUsed\":[%s%s%s],\n", w->lod ? "\"MSFT_lod\"" : "",
+                     w->lod && w->unlit ? "," : "", w->unlit ? "\"KHR_materials_unlit\"" : "");
+  bbc__text_puts(j, "\"scene\":0,\"scenes\":[{\"nodes\":[");
   if (w->lod)
-    gbuf_printf(j, "%zu", node_count);
+    bbc__text_printf(j, "%zu", node_count);
   else
-    for (size_t n = 0; n < node_count; n++) gbuf_printf(j, "%s%zu", n ? "," : "", n);
-  gbuf_puts(j, "]}],\n");
+    for (size_t n = 0; n < node_count; n++) bbc__text_printf(j, "%s%zu", n ? "," : "", n);
+  bbc__text_puts(j, "]}],\n");
 }
 
 /* The finest level's MSFT_lod (the coarser levels' nodes) and, with
@@ -629,24 +558,24 @@ static void put_json_scene(gltf_writer *w) {
  * before whatever the caller's extras `ex` hold. Returns the extras still to
  * write (NULL once merged). */
 static const char *put_json_lod(gltf_writer *w, const char *ex) {
-  gbuf *j = &w->json;
+  bbc__text *j = &w->json;
   const bbc_gltf_options *options = w->options;
-  gbuf_puts(j, ",\"extensions\":{\"MSFT_lod\":{\"ids\":[");
-  for (size_t k = 1; k < w->node_count; k++) gbuf_printf(j, "%s%zu", k > 1 ? "," : "", k);
-  gbuf_puts(j, "]}}");
+  bbc__text_puts(j, ",\"extensions\":{\"MSFT_lod\":{\"ids\":[");
+  for (size_t k = 1; k < w->node_count; k++) bbc__text_printf(j, "%s%zu", k > 1 ? "," : "", k);
+  bbc__text_puts(j, "]}}");
   if (options->screen_coverage) {
-    gbuf_puts(j, ",\"extras\":{\"MSFT_screencoverage\":[");
+    bbc__text_puts(j, ",\"extras\":{\"MSFT_screencoverage\":[");
     for (size_t k = 0; k < w->node_count; k++) {
-      if (k) gbuf_puts(j, ",");
-      gbuf_number(j, (float)options->screen_coverage[k]);
+      if (k) bbc__text_puts(j, ",");
+      bbc__text_number(j, 9, (float)options->screen_coverage[k]);
     }
-    gbuf_puts(j, "]");
+    bbc__text_puts(j, "]");
     if (ex) {
       const char *body = ex + strspn(ex, " \t\r\n") + 1; /* after '{' */
-      if (*(body + strspn(body, " \t\r\n")) != '}') gbuf_puts(j, ",");
-      gbuf_puts(j, body);
+      if (*(body + strspn(body, " \t\r\n")) != '}') bbc__text_puts(j, ",");
+      bbc__text_puts(j, body);
     } else {
-      gbuf_puts(j, "}");
+      bbc__text_puts(j, "}");
     }
     ex = NULL;
   }
@@ -655,196 +584,196 @@ static const char *put_json_lod(gltf_writer *w, const char *ex) {
 
 /* "nodes": one per mesh, then the LOD group node when there is a chain. */
 static void put_json_nodes(gltf_writer *w) {
-  gbuf *j = &w->json;
+  bbc__text *j = &w->json;
   const bbc_gltf_node *nodes = w->nodes;
   size_t node_count = w->node_count;
-  gbuf_puts(j, "\"nodes\":[");
+  bbc__text_puts(j, "\"nodes\":[");
   for (size_t n = 0; n < node_count; n++) {
-    gbuf_printf(j, "%s\n{\"mesh\":%zu", n ? "," : "", n);
+    bbc__text_printf(j, "%s\n{\"mesh\":%zu", n ? "," : "", n);
     if (nodes[n].name) {
-      gbuf_puts(j, ",\"name\":");
+      bbc__text_puts(j, ",\"name\":");
       gbuf_string(j, nodes[n].name);
     }
     const char *ex = nodes[n].extras_json;
     if (w->lod && n == 0) ex = put_json_lod(w, ex);
     if (ex) {
-      gbuf_puts(j, ",\"extras\":");
-      gbuf_puts(j, ex);
+      bbc__text_puts(j, ",\"extras\":");
+      bbc__text_puts(j, ex);
     }
-    gbuf_puts(j, "}");
+    bbc__text_puts(j, "}");
   }
   if (w->lod) {
-    gbuf_puts(j, ",\n{\"name\":");
+    bbc__text_puts(j, ",\n{\"name\":");
     gbuf_string(j, w->options->lod_group_name ? w->options->lod_group_name : "lod_group");
-    gbuf_puts(j, ",\"children\":[");
-    for (size_t n = 0; n < node_count; n++) gbuf_printf(j, "%s%zu", n ? "," : "", n);
-    gbuf_puts(j, "]}");
+    bbc__text_puts(j, ",\"children\":[");
+    for (size_t n = 0; n < node_count; n++) bbc__text_printf(j, "%s%zu", n ? "," : "", n);
+    bbc__text_puts(j, "]}");
   }
-  gbuf_puts(j, "],\n");
+  bbc__text_puts(j, "],\n");
 }
 
 /* "meshes": one primitive per material used. */
 static void put_json_meshes(gltf_writer *w) {
-  gbuf *j = &w->json;
-  gbuf_puts(j, "\"meshes\":[");
+  bbc__text *j = &w->json;
+  bbc__text_puts(j, "\"meshes\":[");
   for (size_t n = 0; n < w->node_count; n++) {
     const bbc_mesh *m = w->nodes[n].mesh;
     const mesh_out *o = &w->mo[n];
-    gbuf_puts(j, n ? ",\n{" : "\n{");
+    bbc__text_puts(j, n ? ",\n{" : "\n{");
     if (w->nodes[n].name) {
-      gbuf_puts(j, "\"name\":");
+      bbc__text_puts(j, "\"name\":");
       gbuf_string(j, w->nodes[n].name);
-      gbuf_puts(j, ",");
+      bbc__text_puts(j, ",");
     }
-    gbuf_puts(j, "\"primitives\":[");
+    bbc__text_puts(j, "\"primitives\":[");
     size_t prim = 0, a = o->first_accessor;
     for (size_t i = 0; i < m->material_count; i++) {
       if (!o->mat_tris[i]) continue;
       size_t next = a + 1;
-      gbuf_printf(j, "%s\n{\"attributes\":{\"POSITION\":%zu", prim ? "," : "", a);
-      if (o->has_normal) gbuf_printf(j, ",\"NORMAL\":%zu", next++);
-      if (o->has_uv) gbuf_printf(j, ",\"TEXCOORD_0\":%zu", next++);
-      if (o->has_tangent) gbuf_printf(j, ",\"TANGENT\":%zu", next++);
-      gbuf_printf(j, "},\"indices\":%zu,\"material\":%zu,\"mode\":4}",
-                  o->first_index_accessor + prim, o->first_material + i);
+      bbc__text_printf(j, "%s\n{\"attributes\":{\"POSITION\":%zu", prim ? "," : "", a);
+      if (o->has_normal) bbc__text_printf(j, ",\"NORMAL\":%zu", next++);
+      if (o->has_uv) bbc__text_printf(j, ",\"TEXCOORD_0\":%zu", next++);
+      if (o->has_tangent) bbc__text_printf(j, ",\"TANGENT\":%zu", next++);
+      bbc__text_printf(j, "},\"indices\":%zu,\"material\":%zu,\"mode\":4}",
+                       o->first_index_accessor + prim, o->first_material + i);
       prim++;
     }
-    gbuf_puts(j, "]}");
+    bbc__text_puts(j, "]}");
   }
-  gbuf_puts(j, "],\n");
+  bbc__text_puts(j, "],\n");
 }
 
 /* "materials": every material of every mesh, alpha-masked. */
 static void put_json_materials(gltf_writer *w) {
-  gbuf *j = &w->json;
-  gbuf_puts(j, "\"materials\":[");
+  bbc__text *j = &w->json;
+  bbc__text_puts(j, "\"materials\":[");
   for (size_t n = 0; n < w->node_count; n++) {
     const bbc_mesh *m = w->nodes[n].mesh;
     const mesh_out *mo = &w->mo[n];
     for (size_t i = 0; i < m->material_count; i++) {
       const bbc_material *mat = &m->materials[i];
-      gbuf_puts(j, n || i ? ",\n{\"name\":" : "\n{\"name\":");
+      bbc__text_puts(j, n || i ? ",\n{\"name\":" : "\n{\"name\":");
       gbuf_string(j, mat->name ? mat->name : "");
-      gbuf_puts(j, ",\"pbrMetallicRoughness\":{\"baseColorFactor\":[");
+      bbc__text_puts(j, ",\"pbrMetallicRoughness\":{\"baseColorFactor\":[");
       for (int k = 0; k < 4; k++) {
         float c = mat->base_color[k];
         c = c >= 0.0f ? (c <= 1.0f ? c : 1.0f) : (c < 0.0f ? 0.0f : 1.0f); /* NaN -> 1 */
         if (k < 3) c = (float)bbc__srgb_to_linear(c); /* glTF's factor is linear */
-        if (k) gbuf_puts(j, ",");
-        gbuf_number(j, c);
+        if (k) bbc__text_puts(j, ",");
+        bbc__text_number(j, 9, c);
       }
-      gbuf_puts(j, "]");
+      bbc__text_puts(j, "]");
       int t = mat->texture;
       if (t >= 0 && (size_t)t < m->texture_count && mo->tex_gltf[t] >= 0)
-        gbuf_printf(j, ",\"baseColorTexture\":{\"index\":%d}", mo->tex_gltf[t]);
+        bbc__text_printf(j, ",\"baseColorTexture\":{\"index\":%d}", mo->tex_gltf[t]);
       float rough = mat->roughness > 0 && mat->roughness <= 1 ? mat->roughness : 1.0f;
-      gbuf_puts(j, ",\"metallicFactor\":0,\"roughnessFactor\":");
-      gbuf_number(j, rough);
-      gbuf_puts(j, "}");
+      bbc__text_puts(j, ",\"metallicFactor\":0,\"roughnessFactor\":");
+      bbc__text_number(j, 9, rough);
+      bbc__text_puts(j, "}");
       int nmt = mat->normal_map - 1, aot = mat->occlusion_map - 1;
       if (nmt >= 0 && mo->tex_gltf[nmt] >= 0 && mo->has_tangent)
-        gbuf_printf(j, ",\"normalTexture\":{\"index\":%d}", mo->tex_gltf[nmt]);
+        bbc__text_printf(j, ",\"normalTexture\":{\"index\":%d}", mo->tex_gltf[nmt]);
       if (aot >= 0 && mo->tex_gltf[aot] >= 0)
-        gbuf_printf(j, ",\"occlusionTexture\":{\"index\":%d}", mo->tex_gltf[aot]);
-      if (w->unlit) gbuf_puts(j, ",\"extensions\":{\"KHR_materials_unlit\":{}}");
-      gbuf_printf(j, ",\"alphaMode\":\"MASK\",\"alphaCutoff\":0.5,\"doubleSided\":%s}",
-                  mat->single_sided ? "false" : "true");
+        bbc__text_printf(j, ",\"occlusionTexture\":{\"index\":%d}", mo->tex_gltf[aot]);
+      if (w->unlit) bbc__text_puts(j, ",\"extensions\":{\"KHR_materials_unlit\":{}}");
+      bbc__text_printf(j, ",\"alphaMode\":\"MASK\",\"alphaCutoff\":0.5,\"doubleSided\":%s}",
+                       mat->single_sided ? "false" : "true");
     }
   }
-  gbuf_puts(j, "],\n");
+  bbc__text_puts(j, "],\n");
 }
 
 /* "samplers", "textures" and "images", when there are images. */
 static void put_json_images(gltf_writer *w) {
-  gbuf *j = &w->json;
+  bbc__text *j = &w->json;
   if (!w->n_images) return;
-  gbuf_puts(j, "\"samplers\":[{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":33071,"
-               "\"wrapT\":33071}],\n\"textures\":[");
+  bbc__text_puts(j, "\"samplers\":[{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":33071,"
+                    "\"wrapT\":33071}],\n\"textures\":[");
   for (size_t i = 0; i < w->n_images; i++)
-    gbuf_printf(j, "%s{\"sampler\":0,\"source\":%zu}", i ? "," : "", i);
-  gbuf_puts(j, "],\n\"images\":[");
+    bbc__text_printf(j, "%s{\"sampler\":0,\"source\":%zu}", i ? "," : "", i);
+  bbc__text_puts(j, "],\n\"images\":[");
   for (size_t i = 0; i < w->n_images; i++) {
     if (w->binary)
-      gbuf_printf(j, "%s{\"bufferView\":%zu,\"mimeType\":\"image/png\"}", i ? "," : "",
-                  w->image_view[i]);
+      bbc__text_printf(j, "%s{\"bufferView\":%zu,\"mimeType\":\"image/png\"}", i ? "," : "",
+                       w->image_view[i]);
     else
-      gbuf_printf(j, "%s{\"uri\":\"%s.png\"}", i ? "," : "", w->image_names[i]);
+      bbc__text_printf(j, "%s{\"uri\":\"%s.png\"}", i ? "," : "", w->image_names[i]);
   }
-  gbuf_puts(j, "],\n");
+  bbc__text_puts(j, "],\n");
 }
 
 /* "accessors": they follow the bufferViews one to one, except images. */
 static void put_json_accessors(gltf_writer *w) {
-  gbuf *j = &w->json;
-  gbuf_puts(j, "\"accessors\":[");
+  bbc__text *j = &w->json;
+  bbc__text_puts(j, "\"accessors\":[");
   size_t vi = 0, acc = 0;
   for (size_t n = 0; n < w->node_count; n++) {
     const bbc_mesh *m = w->nodes[n].mesh;
     const mesh_out *o = &w->mo[n];
-    gbuf_printf(j,
-                "%s\n{\"bufferView\":%zu,\"componentType\":5126,\"count\":%zu,"
-                "\"type\":\"VEC3\",\"min\":[",
-                acc++ ? "," : "", vi++, o->nv);
+    bbc__text_printf(j,
+                     "%s\n{\"bufferView\":%zu,\"componentType\":5126,\"count\":%zu,"
+                     "\"type\":\"VEC3\",\"min\":[",
+                     acc++ ? "," : "", vi++, o->nv);
     put_floats(j, o->pmin, 3);
-    gbuf_puts(j, "],\"max\":[");
+    bbc__text_puts(j, "],\"max\":[");
     put_floats(j, o->pmax, 3);
-    gbuf_puts(j, "]}");
+    bbc__text_puts(j, "]}");
     if (o->has_normal)
-      gbuf_printf(j,
-                  ",\n{\"bufferView\":%zu,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\"}",
-                  vi++, o->nv);
+      bbc__text_printf(
+          j, ",\n{\"bufferView\":%zu,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\"}", vi++,
+          o->nv);
     if (o->has_uv)
-      gbuf_printf(j,
-                  ",\n{\"bufferView\":%zu,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"}",
-                  vi++, o->nv);
+      bbc__text_printf(
+          j, ",\n{\"bufferView\":%zu,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"}", vi++,
+          o->nv);
     if (o->has_tangent)
-      gbuf_printf(j,
-                  ",\n{\"bufferView\":%zu,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC4\"}",
-                  vi++, o->nv);
+      bbc__text_printf(
+          j, ",\n{\"bufferView\":%zu,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC4\"}", vi++,
+          o->nv);
     for (size_t i = 0; i < m->material_count; i++) {
       if (!o->mat_tris[i]) continue;
-      gbuf_printf(j,
-                  ",\n{\"bufferView\":%zu,\"componentType\":%d,\"count\":%zu,\"type\":\"SCALAR\"}",
-                  vi++, o->small ? 5123 : 5125, 3 * o->mat_tris[i]);
+      bbc__text_printf(
+          j, ",\n{\"bufferView\":%zu,\"componentType\":%d,\"count\":%zu,\"type\":\"SCALAR\"}", vi++,
+          o->small ? 5123 : 5125, 3 * o->mat_tris[i]);
     }
     if (w->binary) vi += o->images_written;
   }
-  gbuf_puts(j, "],\n");
+  bbc__text_puts(j, "],\n");
 }
 
 /* "bufferViews" and the one buffer (.gltf: the .bin beside it). */
 static void put_json_buffer(gltf_writer *w) {
-  gbuf *j = &w->json;
-  gbuf_puts(j, "\"bufferViews\":[");
+  bbc__text *j = &w->json;
+  bbc__text_puts(j, "\"bufferViews\":[");
   for (size_t i = 0; i < w->n_views; i++) {
-    gbuf_printf(j, "%s\n{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu", i ? "," : "",
-                w->views[i].offset, w->views[i].length);
-    if (w->views[i].target) gbuf_printf(j, ",\"target\":%d", w->views[i].target);
-    gbuf_puts(j, "}");
+    bbc__text_printf(j, "%s\n{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu", i ? "," : "",
+                     w->views[i].offset, w->views[i].length);
+    if (w->views[i].target) bbc__text_printf(j, ",\"target\":%d", w->views[i].target);
+    bbc__text_puts(j, "}");
   }
-  gbuf_puts(j, "],\n\"buffers\":[{");
-  if (!w->binary) gbuf_printf(j, "\"uri\":\"%s.bin\",", w->stem);
-  gbuf_printf(j, "\"byteLength\":%zu}]}\n", w->bin.size);
+  bbc__text_puts(j, "],\n\"buffers\":[{");
+  if (!w->binary) bbc__text_printf(j, "\"uri\":\"%s.bin\",", w->stem);
+  bbc__text_printf(j, "\"byteLength\":%zu}]}\n", w->bin.size);
 }
 
 /* The .glb: header, the JSON chunk (padded with blanks), the BIN chunk. */
 static bbc_result write_glb(gltf_writer *w) {
-  gbuf *json = &w->json, *bin = &w->bin;
-  gbuf out = {0};
+  bbc__text *json = &w->json, *bin = &w->bin;
+  bbc__text out = {0};
   gbuf_pad4(json, ' ');
   size_t total = 12 + 8 + json->size + 8 + bin->size;
   if (total > UINT32_MAX)
     return bbc__fail(w->err, BBC_ERROR_OUT_OF_RANGE, "%s: %zu bytes: too large for GLB (4 GiB)",
                      w->path, total);
-  gbuf_append(&out, "glTF", 4);
+  bbc__text_append(&out, "glTF", 4);
   gbuf_u32(&out, 2);
   gbuf_u32(&out, (uint32_t)total);
   gbuf_u32(&out, (uint32_t)json->size);
-  gbuf_append(&out, "JSON", 4);
-  gbuf_append(&out, json->data, json->size);
+  bbc__text_append(&out, "JSON", 4);
+  bbc__text_append(&out, json->data, json->size);
   gbuf_u32(&out, (uint32_t)bin->size);
-  gbuf_append(&out, "BIN\0", 4);
-  gbuf_append(&out, bin->data, bin->size);
+  bbc__text_append(&out, "BIN\0", 4);
+  bbc__text_append(&out, bin->data, bin->size);
   bbc_result r;
   if (out.oom)
     r = bbc__fail(w->err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", w->path);

@@ -7,20 +7,24 @@
 #include <string.h>
 #include <strings.h>
 
-/* Base name of a path without folder and extension, into out. */
 /* "TAG x y ..." (count numbers of `digits` significant digits, spelt as in
  * the C locale) and a line end. */
-static void put_numbers(FILE *f, const char *tag, int digits, const double *v, int count) {
-  fputs(tag, f);
+static void put_numbers(bbc__text *t, const char *tag, int digits, const double *v, int count) {
+  bbc__text_puts(t, tag);
   for (int k = 0; k < count; k++) {
-    char s[BBC__NUMBER_TEXT];
-    bbc__number_text(s, sizeof s, digits, v[k]);
-    fputc(' ', f);
-    fputs(s, f);
+    bbc__text_puts(t, " ");
+    bbc__text_number(t, digits, v[k]);
   }
-  fputc('\n', f);
+  bbc__text_puts(t, "\n");
 }
 
+/* Writes the text out to f once it holds 1 MiB (an OBJ is written as it
+ * goes); 0 when out of memory or the write failed. */
+static int spill(bbc__text *t, FILE *f) {
+  return t->size < (1u << 20) ? !t->oom : bbc__text_flush(t, f);
+}
+
+/* Base name of a path without folder and extension, into out. */
 static void path_stem(const char *path, char *out, size_t n) {
   const char *s = strrchr(path, '/');
   s = s ? s + 1 : path;
@@ -30,10 +34,10 @@ static void path_stem(const char *path, char *out, size_t n) {
 }
 
 /* Comment lines "# ..." for each line of `text` (may be NULL). */
-static void put_comment(FILE *f, const char *text) {
+static void put_comment(bbc__text *t, const char *text) {
   for (const char *p = text; p && *p;) {
     size_t n = strcspn(p, "\r\n");
-    fprintf(f, "# %.*s\n", (int)n, p);
+    bbc__text_printf(t, "# %.*s\n", (int)n, p);
     p += n;
     while (*p == '\r' || *p == '\n') p++;
   }
@@ -60,6 +64,19 @@ static bbc_result write_textures(const bbc_mesh *m, const char *stem, const char
   return r;
 }
 
+/* The rest of the text into the file, then the file committed (or
+ * removed: out of memory). */
+static bbc_result finish(bbc__atomic_file *af, bbc__text *t, const char *path, bbc_error *err) {
+  int oom = t->oom;
+  if (!oom) bbc__text_flush(t, af->fp); /* a failed write: the commit says so */
+  bbc__text_free(t);
+  if (oom) {
+    bbc__atomic_abort(af);
+    return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+  }
+  return bbc__atomic_commit(af, err);
+}
+
 /* The MTL: each material's colour, opacity and textures (map_d too when the
  * texture has alpha); illum 0 when unlit. */
 static bbc_result write_mtl(const char *mtl_path, const bbc_mesh *m, char (*tex_names)[520],
@@ -67,59 +84,60 @@ static bbc_result write_mtl(const char *mtl_path, const bbc_mesh *m, char (*tex_
   bbc__atomic_file af;
   bbc_result r = bbc__atomic_open(&af, mtl_path, err);
   if (r != BBC_OK) return r;
-  fprintf(af.fp, "# written by bbcgen %s\n", BBC_VERSION_STRING);
+  bbc__text t = {0};
+  bbc__text_printf(&t, "# written by bbcgen %s\n", BBC_VERSION_STRING);
   for (size_t i = 0; i < m->material_count; i++) {
     const bbc_material *mat = &m->materials[i];
     char safe[128];
     bbc__safe_name(mat->name, safe, sizeof safe);
-    fprintf(af.fp, "\nnewmtl %s\n", safe);
+    bbc__text_printf(&t, "\nnewmtl %s\n", safe);
     const double kd[4] = {mat->base_color[0], mat->base_color[1], mat->base_color[2],
                           mat->base_color[3]};
-    put_numbers(af.fp, "Kd", 6, kd, 3);
-    if (mat->base_color[3] < 1.0f) put_numbers(af.fp, "d", 6, kd + 3, 1);
-    if (unlit) fprintf(af.fp, "illum 0\n"); /* colour only, no lighting */
+    put_numbers(&t, "Kd", 6, kd, 3);
+    if (mat->base_color[3] < 1.0f) put_numbers(&t, "d", 6, kd + 3, 1);
+    if (unlit) bbc__text_puts(&t, "illum 0\n"); /* colour only, no lighting */
     if (mat->texture >= 0 && tex_names[mat->texture][0]) {
-      fprintf(af.fp, "map_Kd %s\n", tex_names[mat->texture]);
+      bbc__text_printf(&t, "map_Kd %s\n", tex_names[mat->texture]);
       if (m->textures[mat->texture].has_alpha)
-        fprintf(af.fp, "map_d %s\n", tex_names[mat->texture]);
+        bbc__text_printf(&t, "map_d %s\n", tex_names[mat->texture]);
     }
   }
-  return bbc__atomic_commit(&af, err);
+  return finish(&af, &t, mtl_path, err);
 }
 
 /* The faces in mesh order: a group line whenever the group changes, a
  * usemtl line whenever the material does (restated inside each group);
  * corners name their vt and vn when the mesh has them. */
-static void put_faces(FILE *f, const bbc_mesh *m) {
+static void put_faces(bbc__text *t, FILE *f, const bbc_mesh *m) {
   uint32_t cur_group = UINT32_MAX, cur_mat = UINT32_MAX;
-  for (size_t t = 0; t < m->triangle_count; t++) {
-    if (m->face_group[t] != cur_group) {
-      cur_group = m->face_group[t];
+  for (size_t k = 0; k < m->triangle_count && spill(t, f); k++) {
+    if (m->face_group[k] != cur_group) {
+      cur_group = m->face_group[k];
       char safe[256];
       bbc__safe_name(m->group_names[cur_group], safe, sizeof safe);
-      fprintf(f, "g %s\n", safe);
+      bbc__text_printf(t, "g %s\n", safe);
       cur_mat = UINT32_MAX; /* restate the material inside each group */
     }
-    if (m->face_material[t] != cur_mat) {
-      cur_mat = m->face_material[t];
+    if (m->face_material[k] != cur_mat) {
+      cur_mat = m->face_material[k];
       char safe[128];
       bbc__safe_name(m->materials[cur_mat].name, safe, sizeof safe);
-      fprintf(f, "usemtl %s\n", safe);
+      bbc__text_printf(t, "usemtl %s\n", safe);
     }
-    const uint32_t *ix = m->indices + 3 * t;
-    fputc('f', f);
-    for (int k = 0; k < 3; k++) {
-      unsigned long i = (unsigned long)ix[k] + 1;
+    const uint32_t *ix = m->indices + 3 * k;
+    bbc__text_puts(t, "f");
+    for (int c = 0; c < 3; c++) {
+      unsigned long i = (unsigned long)ix[c] + 1;
       if (m->uvs && m->normals)
-        fprintf(f, " %lu/%lu/%lu", i, i, i);
+        bbc__text_printf(t, " %lu/%lu/%lu", i, i, i);
       else if (m->uvs)
-        fprintf(f, " %lu/%lu", i, i);
+        bbc__text_printf(t, " %lu/%lu", i, i);
       else if (m->normals)
-        fprintf(f, " %lu//%lu", i, i);
+        bbc__text_printf(t, " %lu//%lu", i, i);
       else
-        fprintf(f, " %lu", i);
+        bbc__text_printf(t, " %lu", i);
     }
-    fputc('\n', f);
+    bbc__text_puts(t, "\n");
   }
 }
 
@@ -131,22 +149,24 @@ static bbc_result write_obj_file(const char *obj_path, const bbc_mesh *m, const 
   bbc_result r = bbc__atomic_open(&af, obj_path, err);
   if (r != BBC_OK) return r;
   FILE *f = af.fp;
-  fprintf(f, "# written by bbcgen %s: %zu vertices, %zu triangles\nmtllib %s.mtl\n",
-          BBC_VERSION_STRING, m->vertex_count, m->triangle_count, stem);
-  put_comment(f, comment);
-  for (size_t v = 0; v < m->vertex_count; v++) put_numbers(f, "v", 9, m->positions + 3 * v, 3);
+  bbc__text t = {0};
+  bbc__text_printf(&t, "# written by bbcgen %s: %zu vertices, %zu triangles\nmtllib %s.mtl\n",
+                   BBC_VERSION_STRING, m->vertex_count, m->triangle_count, stem);
+  put_comment(&t, comment);
+  for (size_t v = 0; v < m->vertex_count && spill(&t, f); v++)
+    put_numbers(&t, "v", 9, m->positions + 3 * v, 3);
   if (m->uvs)
-    for (size_t v = 0; v < m->vertex_count; v++) {
+    for (size_t v = 0; v < m->vertex_count && spill(&t, f); v++) {
       const double uv[2] = {m->uvs[2 * v], m->uvs[2 * v + 1]};
-      put_numbers(f, "vt", 7, uv, 2);
+      put_numbers(&t, "vt", 7, uv, 2);
     }
   if (m->normals)
-    for (size_t v = 0; v < m->vertex_count; v++) {
+    for (size_t v = 0; v < m->vertex_count && spill(&t, f); v++) {
       const double nv[3] = {m->normals[3 * v], m->normals[3 * v + 1], m->normals[3 * v + 2]};
-      put_numbers(f, "vn", 6, nv, 3);
+      put_numbers(&t, "vn", 6, nv, 3);
     }
-  put_faces(f, m);
-  return bbc__atomic_commit(&af, err);
+  put_faces(&t, f, m);
+  return finish(&af, &t, obj_path, err);
 }
 
 bbc_result bbc_mesh_write_obj(const char *obj_path, const bbc_mesh *m,

@@ -12,69 +12,32 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* ---- a growable text buffer ---------------------------------------------- */
-
-typedef struct text {
-  char *data;
-  size_t size, cap;
-  int oom; /* a growth failed: every later append is ignored */
-} text;
-
-static void put(text *t, const char *fmt, ...) BBC__PRINTF(2, 3);
-static void put(text *t, const char *fmt, ...) {
-  while (!t->oom) {
-    size_t room = t->cap - t->size;
-    va_list ap;
-    va_start(ap, fmt);
-    int n = vsnprintf(t->data ? t->data + t->size : NULL, room, fmt, ap);
-    va_end(ap);
-    if (n >= 0 && (size_t)n < room) {
-      t->size += (size_t)n;
-      return;
-    }
-    size_t cap = t->cap ? t->cap : 4096;
-    while (n >= 0 && cap - t->size <= (size_t)n && cap < SIZE_MAX / 2) cap *= 2;
-    char *p = n >= 0 && cap - t->size > (size_t)n ? realloc(t->data, cap) : NULL;
-    if (!p) {
-      t->oom = 1;
-      return;
-    }
-    t->data = p;
-    t->cap = cap;
-  }
-}
-
-/* A number with `digits` significant digits, spelt as in the C locale. */
-static void put_number(text *t, int digits, double v) {
-  char out[BBC__NUMBER_TEXT];
-  bbc__number_text(out, sizeof out, digits, v);
-  put(t, "%s", out);
-}
+/* ---- the text: io's buffer ------------------------------------------------ */
 
 /* `s` without line ends and other control characters (comment text). */
-static void put_line_text(text *t, const char *s, size_t n) {
+static void put_line_text(bbc__text *t, const char *s, size_t n) {
   for (size_t i = 0; i < n; i++) {
     unsigned char c = (unsigned char)s[i];
-    put(t, "%c", c < 0x20 && c != '\t' ? ' ' : (char)c);
+    bbc__text_printf(t, "%c", c < 0x20 && c != '\t' ? ' ' : (char)c);
   }
 }
 
 /* A quoted relative URL naming <stem><suffix>: bytes outside RFC 3986's
  * unreserved and sub-delimiter characters are percent-encoded, so the
  * VRML string needs no escapes. */
-static void put_url(text *t, const char *stem, const char *suffix) {
-  put(t, "\"");
+static void put_url(bbc__text *t, const char *stem, const char *suffix) {
+  bbc__text_printf(t, "\"");
   for (int part = 0; part < 2; part++)
     for (const char *p = part ? suffix : stem; *p; p++) {
       unsigned char c = (unsigned char)*p;
       int safe = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
                  (c && strchr("-._~!$&'()*+,;=@", c));
       if (safe)
-        put(t, "%c", (char)c);
+        bbc__text_printf(t, "%c", (char)c);
       else
-        put(t, "%%%02X", c);
+        bbc__text_printf(t, "%%%02X", c);
     }
-  put(t, "\"");
+  bbc__text_printf(t, "\"");
 }
 
 /* ---- the file -------------------------------------------------------------- */
@@ -107,108 +70,109 @@ static size_t fan_count(const bbc_mesh *m, size_t base, size_t t0, int n, int ba
  * levels first when there is one, the PNG for the rest), a white Material
  * unless unlit (VRML97 6.4: an Appearance without a material is drawn
  * unlit). */
-static void put_appearance(text *t, const vrml_ctx *x, const char *in) {
-  put(t, "%s  appearance Appearance {\n", in);
-  if (!x->unlit) put(t, "%s    material Material { diffuseColor 1 1 1 }\n", in);
-  put(t, "%s    texture ImageTexture { url ", in);
+static void put_appearance(bbc__text *t, const vrml_ctx *x, const char *in) {
+  bbc__text_printf(t, "%s  appearance Appearance {\n", in);
+  if (!x->unlit) bbc__text_printf(t, "%s    material Material { diffuseColor 1 1 1 }\n", in);
+  bbc__text_printf(t, "%s    texture ImageTexture { url ", in);
   if (x->dds_suffix[0]) {
-    put(t, "[ ");
+    bbc__text_printf(t, "[ ");
     put_url(t, x->stem, x->dds_suffix);
-    put(t, " ");
+    bbc__text_printf(t, " ");
     put_url(t, x->stem, x->col_suffix);
-    put(t, " ]");
+    bbc__text_printf(t, " ]");
   } else {
     put_url(t, x->stem, x->col_suffix);
   }
-  put(t, " repeatS FALSE repeatT FALSE }\n");
-  put(t, "%s  }\n", in);
+  bbc__text_printf(t, " repeatS FALSE repeatT FALSE }\n");
+  bbc__text_printf(t, "%s  }\n", in);
 }
 
 /* Vectors [from, to) of d (or, NULL, f), 3 each, one a line. */
-static void put_vectors(text *t, const double *d, const float *f, size_t from, size_t to,
+static void put_vectors(bbc__text *t, const double *d, const float *f, size_t from, size_t to,
                         int digits) {
   for (size_t v = from; v < to; v++) {
-    put(t, "      ");
+    bbc__text_printf(t, "      ");
     for (int j = 0; j < 3; j++) {
-      if (j) put(t, " ");
-      put_number(t, digits, d ? d[3 * v + j] : f[3 * v + j]);
+      if (j) bbc__text_printf(t, " ");
+      bbc__text_number(t, digits, d ? d[3 * v + j] : f[3 * v + j]);
     }
-    put(t, "%s\n", v + 1 < to ? "," : "");
+    bbc__text_printf(t, "%s\n", v + 1 < to ? "," : "");
   }
 }
 
 /* The limbs' mesh (`limbs`): vertices from v0 on, triangles from t0 on,
  * smooth normals, every corner on the swatch of their colour in the atlas. */
-static void put_limbs(text *t, const vrml_ctx *x, size_t v0, size_t t0) {
+static void put_limbs(bbc__text *t, const vrml_ctx *x, size_t v0, size_t t0) {
   const bbc_mesh *m = x->m;
-  put(t, "\n# the trunk part as a mesh (limbs): %zu triangles\n", m->triangle_count - t0);
-  put(t, "DEF Limbs Shape {\n");
+  bbc__text_printf(t, "\n# the trunk part as a mesh (limbs): %zu triangles\n",
+                   m->triangle_count - t0);
+  bbc__text_printf(t, "DEF Limbs Shape {\n");
   put_appearance(t, x, "");
-  put(t, "  geometry IndexedFaceSet {\n    ccw TRUE\n    solid FALSE\n");
-  put(t, "    coord Coordinate { point [\n");
+  bbc__text_printf(t, "  geometry IndexedFaceSet {\n    ccw TRUE\n    solid FALSE\n");
+  bbc__text_printf(t, "    coord Coordinate { point [\n");
   put_vectors(t, m->positions, NULL, v0, m->vertex_count, 9);
-  put(t, "    ] }\n");
+  bbc__text_printf(t, "    ] }\n");
   if (m->normals) {
-    put(t, "    normal Normal { vector [\n");
+    bbc__text_printf(t, "    normal Normal { vector [\n");
     put_vectors(t, NULL, m->normals, v0, m->vertex_count, 6);
-    put(t, "    ] }\n");
+    bbc__text_printf(t, "    ] }\n");
   }
-  put(t, "    texCoord TextureCoordinate { point [ ");
-  put_number(t, 7, m->uvs[2 * v0]);
-  put(t, " ");
-  put_number(t, 7, m->uvs[2 * v0 + 1]);
-  put(t, " ] }\n    coordIndex [\n");
+  bbc__text_printf(t, "    texCoord TextureCoordinate { point [ ");
+  bbc__text_number(t, 7, m->uvs[2 * v0]);
+  bbc__text_printf(t, " ");
+  bbc__text_number(t, 7, m->uvs[2 * v0 + 1]);
+  bbc__text_printf(t, " ] }\n    coordIndex [\n");
   for (size_t i = t0; i < m->triangle_count; i++) {
     const uint32_t *ix = m->indices + 3 * i;
-    put(t, "      %zu %zu %zu -1%s\n", (size_t)(ix[0] - v0), (size_t)(ix[1] - v0),
-        (size_t)(ix[2] - v0), i + 1 < m->triangle_count ? "," : "");
+    bbc__text_printf(t, "      %zu %zu %zu -1%s\n", (size_t)(ix[0] - v0), (size_t)(ix[1] - v0),
+                     (size_t)(ix[2] - v0), i + 1 < m->triangle_count ? "," : "");
   }
-  put(t, "    ]\n    texCoordIndex [\n");
+  bbc__text_printf(t, "    ]\n    texCoordIndex [\n");
   for (size_t i = t0; i < m->triangle_count; i++)
-    put(t, "      0 0 0 -1%s\n", i + 1 < m->triangle_count ? "," : "");
-  put(t, "    ]\n  }\n}\n");
+    bbc__text_printf(t, "      0 0 0 -1%s\n", i + 1 < m->triangle_count ? "," : "");
+  bbc__text_printf(t, "    ]\n  }\n}\n");
 }
 
 /* One side of billboard k: vertices [base, base + n) of the mesh. */
-static void put_side(text *t, const vrml_ctx *x, size_t k, int back, size_t base, int n) {
+static void put_side(bbc__text *t, const vrml_ctx *x, size_t k, int back, size_t base, int n) {
   const char *in = x->nm_nodes ? "  " : ""; /* inside the Group */
-  if (x->nm_nodes) put(t, "Group { children [\n");
-  put(t, "%sDEF BB%zu_%s Shape {\n", in, k, back ? "back" : "front");
+  if (x->nm_nodes) bbc__text_printf(t, "Group { children [\n");
+  bbc__text_printf(t, "%sDEF BB%zu_%s Shape {\n", in, k, back ? "back" : "front");
   put_appearance(t, x, in);
-  put(t, "%s  geometry IndexedFaceSet {\n", in);
-  put(t, "%s    ccw TRUE\n", in);
-  put(t, "%s    solid %s\n", in, x->solid ? "TRUE" : "FALSE");
-  put(t, "%s    coord Coordinate { point [\n", in);
+  bbc__text_printf(t, "%s  geometry IndexedFaceSet {\n", in);
+  bbc__text_printf(t, "%s    ccw TRUE\n", in);
+  bbc__text_printf(t, "%s    solid %s\n", in, x->solid ? "TRUE" : "FALSE");
+  bbc__text_printf(t, "%s    coord Coordinate { point [\n", in);
   for (int c = 0; c < n; c++) {
     const double *p = x->m->positions + 3 * (base + (size_t)c);
-    put(t, "%s      ", in);
+    bbc__text_printf(t, "%s      ", in);
     for (int j = 0; j < 3; j++) {
-      if (j) put(t, " ");
-      put_number(t, 9, p[j]);
+      if (j) bbc__text_printf(t, " ");
+      bbc__text_number(t, 9, p[j]);
     }
-    put(t, "%s\n", c + 1 < n ? "," : "");
+    bbc__text_printf(t, "%s\n", c + 1 < n ? "," : "");
   }
-  put(t, "%s    ] }\n", in);
-  put(t, "%s    texCoord TextureCoordinate { point [\n", in);
+  bbc__text_printf(t, "%s    ] }\n", in);
+  bbc__text_printf(t, "%s    texCoord TextureCoordinate { point [\n", in);
   for (int c = 0; c < n; c++) {
     const float *uv = x->m->uvs + 2 * (base + (size_t)c);
-    put(t, "%s      ", in);
-    put_number(t, 7, uv[0]);
-    put(t, " ");
-    put_number(t, 7, uv[1]);
-    put(t, "%s\n", c + 1 < n ? "," : "");
+    bbc__text_printf(t, "%s      ", in);
+    bbc__text_number(t, 7, uv[0]);
+    bbc__text_printf(t, " ");
+    bbc__text_number(t, 7, uv[1]);
+    bbc__text_printf(t, "%s\n", c + 1 < n ? "," : "");
   }
-  put(t, "%s    ] }\n", in);
+  bbc__text_printf(t, "%s    ] }\n", in);
   /* The order the triangles wind: 0..n-1 for the front, n-1..0 for the back. */
-  put(t, "%s    coordIndex [", in);
-  for (int c = 0; c < n; c++) put(t, " %d", back ? n - 1 - c : c);
-  put(t, " -1 ]\n");
-  put(t, "%s  }\n", in);
-  put(t, "%s}\n", in);
+  bbc__text_printf(t, "%s    coordIndex [", in);
+  for (int c = 0; c < n; c++) bbc__text_printf(t, " %d", back ? n - 1 - c : c);
+  bbc__text_printf(t, " -1 ]\n");
+  bbc__text_printf(t, "%s  }\n", in);
+  bbc__text_printf(t, "%s}\n", in);
   if (x->nm_nodes) {
-    put(t, "  NormalMap { url ");
+    bbc__text_printf(t, "  NormalMap { url ");
     put_url(t, x->stem, x->nm_suffix);
-    put(t, " }\n] }\n");
+    bbc__text_printf(t, " }\n] }\n");
   }
 }
 
@@ -301,26 +265,28 @@ static bbc_result check_layout(const char *wrl_path, const bbc_cloud *cloud, int
 
 /* The header comments: what the file is, the caller's comment (each line
  * a comment), the format, the sides and the atlases. */
-static void put_header(text *t, const bbc_cloud *cloud, const char *comment, int format, int sides,
-                       const bbc_image *nm, int unlit) {
+static void put_header(bbc__text *t, const bbc_cloud *cloud, const char *comment, int format,
+                       int sides, const bbc_image *nm, int unlit) {
   const bbc_mesh *m = &cloud->mesh;
-  put(t, "#VRML V2.0 utf8\n");
-  put(t, "# Billboard Cloud: %zu billboards, written by bbcgen " BBC_VERSION_STRING "\n",
-      cloud->billboard_count);
+  bbc__text_printf(t, "#VRML V2.0 utf8\n");
+  bbc__text_printf(t,
+                   "# Billboard Cloud: %zu billboards, written by bbcgen " BBC_VERSION_STRING "\n",
+                   cloud->billboard_count);
   for (const char *p = comment; p && *p;) {
     size_t n = strcspn(p, "\r\n");
-    put(t, n ? "# " : "#");
+    bbc__text_printf(t, n ? "# " : "#");
     put_line_text(t, p, n);
-    put(t, "\n");
+    bbc__text_printf(t, "\n");
     p += n;
     if (*p == '\r' && p[1] == '\n') p++;
     if (*p) p++;
   }
-  put(t, "# format %d (%s); %s; atlas %dx%d%s%s\n", format,
-      format ? "VRML97" : "VRML 2.0 with extensions",
-      sides == 2 ? "front and back images, one-sided" : "one image, double-sided",
-      m->textures[0].image.width, m->textures[0].image.height, nm ? ", normal atlas" : "",
-      unlit ? "; unlit (no Material: the textures carry the light)" : "");
+  bbc__text_printf(t, "# format %d (%s); %s; atlas %dx%d%s%s\n", format,
+                   format ? "VRML97" : "VRML 2.0 with extensions",
+                   sides == 2 ? "front and back images, one-sided" : "one image, double-sided",
+                   m->textures[0].image.width, m->textures[0].image.height,
+                   nm ? ", normal atlas" : "",
+                   unlit ? "; unlit (no Material: the textures carry the light)" : "");
 }
 
 /* The Shapes' common settings and the atlases' file name suffixes. */
@@ -342,20 +308,20 @@ static void init_ctx(vrml_ctx *x, const bbc_mesh *m, const char *stem, int forma
 }
 
 /* Every billboard's sides, in order; returns the vertices they take. */
-static size_t put_billboards(text *t, const vrml_ctx *x, const bbc_cloud *cloud, int sides) {
+static size_t put_billboards(bbc__text *t, const vrml_ctx *x, const bbc_cloud *cloud, int sides) {
   const bbc_mesh *m = x->m;
   size_t v = 0;
   for (size_t k = 0; k < cloud->billboard_count; k++) {
     const bbc_cloud_billboard *b = &cloud->billboards[k];
-    put(t, "\n# billboard %zu: %s plane, part %u", k, bbc_plane_kind_name(b->kind),
-        (unsigned)b->part);
+    bbc__text_printf(t, "\n# billboard %zu: %s plane, part %u", k, bbc_plane_kind_name(b->kind),
+                     (unsigned)b->part);
     if (b->part < m->group_count && m->group_names && m->group_names[b->part]) {
       const char *g = m->group_names[b->part];
-      put(t, " (");
+      bbc__text_printf(t, " (");
       put_line_text(t, g, strlen(g));
-      put(t, ")");
+      bbc__text_printf(t, ")");
     }
-    put(t, ", %d corners\n", b->corner_count);
+    bbc__text_printf(t, ", %d corners\n", b->corner_count);
     for (int side = 0; side < sides; side++) {
       put_side(t, x, k, side, v, b->corner_count);
       v += (size_t)b->corner_count;
@@ -367,7 +333,7 @@ static size_t put_billboards(text *t, const vrml_ctx *x, const bbc_cloud *cloud,
 /* The images first (DDS, PNGs), the .wrl last; a failed write leaves none
  * of its images behind. `png` (png_size bytes) holds each image's path. */
 static bbc_result write_files(const char *wrl_path, const char *dir, char *png, size_t png_size,
-                              const vrml_ctx *x, const bbc_image *nm, const text *t,
+                              const vrml_ctx *x, const bbc_image *nm, const bbc__text *t,
                               bbc_error *err) {
   const bbc_mesh *m = x->m;
   const char *stem = x->stem;
@@ -426,7 +392,7 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud,
   const char *base_name = strrchr(wrl_path, '/') ? strrchr(wrl_path, '/') + 1 : wrl_path;
   size_t len = strlen(wrl_path), stem_len = strlen(base_name);
   char *dir = malloc(len + 1), *stem = malloc(stem_len + 1), *png = malloc(len + 200);
-  text t = {0};
+  bbc__text t = {0};
   if (!dir || !stem || !png) {
     r = bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "%s: out of memory", wrl_path);
     goto done;
@@ -438,9 +404,10 @@ bbc_result bbc_cloud_write_vrml(const char *wrl_path, const bbc_cloud *cloud,
   vrml_ctx x;
   init_ctx(&x, m, stem, format, unlit, dds, nm, sides);
   if (x.nm_nodes) {
-    put(&t, "# NormalMap: the normal atlas (tangent space) of the Shape beside it; a no-op\n"
+    bbc__text_printf(
+        &t, "# NormalMap: the normal atlas (tangent space) of the Shape beside it; a no-op\n"
             "# for VRML97 readers.\n");
-    put(&t, "PROTO NormalMap [ exposedField MFString url [] ] { Group { } }\n");
+    bbc__text_printf(&t, "PROTO NormalMap [ exposedField MFString url [] ] { Group { } }\n");
   }
   /* Billboards, then the limbs. */
   size_t v = put_billboards(&t, &x, cloud, sides);

@@ -9,6 +9,7 @@
 #include <cmocka.h>
 
 #include <dirent.h>
+#include <locale.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -324,6 +325,59 @@ static void test_double_sided_without_back_images(void **state) {
   free(wrl);
   free(dir);
   bbc_cloud_free(&cl);
+}
+
+/* Under a locale with a decimal comma (a library caller may call
+ * setlocale) the file is the same, byte for byte, as in the C locale:
+ * numbers spelt with '.'. Skipped only where no such locale is installed
+ * (scripts/dev/setup.sh makes de_DE.UTF-8). */
+static void test_decimal_comma_locale(void **state) {
+  (void)state;
+  static const char *const names[] = {"de_DE.UTF-8", "de_DE.utf8", "fr_FR.UTF-8", "fr_FR.utf8",
+                                      NULL};
+  bbc_cloud cl;
+  build_cloud(0, 0, &cl);
+  char *dir = sub_dir("locale");
+  char *c_wrl = path_in(dir, "c.wrl"), *comma_wrl = path_in(dir, "comma.wrl");
+  bbc_error err;
+  assert_int_equal(bbc_cloud_write_vrml(c_wrl, &cl, NULL, &err), BBC_OK);
+  const char *got = NULL;
+  for (int i = 0; names[i] && !got; i++)
+    if (setlocale(LC_NUMERIC, names[i])) got = names[i];
+  char probe[16];
+  snprintf(probe, sizeof probe, "%.2f", 0.5);
+  int comma = got && !strcmp(probe, "0,50");
+  bbc_result r = got ? bbc_cloud_write_vrml(comma_wrl, &cl, NULL, &err) : BBC_OK;
+  setlocale(LC_NUMERIC, "C");
+  if (!got) {
+    fprintf(stderr, "no locale with a decimal comma installed: test skipped\n");
+  } else {
+    assert_true(comma);
+    assert_int_equal(r, BBC_OK);
+    char *a = read_text(c_wrl), *b = read_text(comma_wrl);
+    /* the same but for the textures' names, which follow the file's */
+    size_t n = strlen(b), k = 0;
+    char *c = malloc(n + 1);
+    assert_non_null(c);
+    for (size_t i = 0; i < n;)
+      if (!strncmp(b + i, "comma_wrl", 9)) {
+        memcpy(c + k, "c_wrl", 5);
+        k += 5;
+        i += 9;
+      } else {
+        c[k++] = b[i++];
+      }
+    c[k] = 0;
+    assert_string_equal(a, c);
+    free(c);
+    free(a);
+    free(b);
+  }
+  free(c_wrl);
+  free(comma_wrl);
+  free(dir);
+  bbc_cloud_free(&cl);
+  if (!got) skip();
 }
 
 static void test_refused_paths_write_nothing(void **state) {
@@ -645,6 +699,7 @@ int main(void) {
       cmocka_unit_test(test_double_sided_without_back_images),
       cmocka_unit_test(test_refused_paths_write_nothing),
       cmocka_unit_test(test_deterministic),
+      cmocka_unit_test(test_decimal_comma_locale),
       cmocka_unit_test(test_read_back),
       cmocka_unit_test(test_dds_mip_levels),
       cmocka_unit_test(test_point_cloud_degenerate_outline),

@@ -281,6 +281,19 @@ static void find_size(const order_key *order, stbrp_rect *rr, size_t count, int 
   }
 }
 
+#ifndef NDEBUG
+/* Whether the rectangles lie at least `padding` texels apart (the packer's
+ * promise; checked for up to 4,096 of them, debug builds only). */
+static int rects_apart(const bbc_atlas_rect *r, size_t n, int padding) {
+  for (size_t i = 0; i < n && n <= 4096; i++)
+    for (size_t j = i + 1; j < n; j++)
+      if (r[i].x - padding < r[j].x + r[j].width && r[j].x < r[i].x + r[i].width + padding &&
+          r[i].y - padding < r[j].y + r[j].height && r[j].y < r[i].y + r[i].height + padding)
+        return 0;
+  return 1;
+}
+#endif
+
 /* Each image copied to its packed place (shifted by `padding`), which
  * rects[] records. */
 static void place_images(const bbc_image *images, size_t count, int padding, const stbrp_rect *rr,
@@ -349,6 +362,7 @@ bbc_result bbc_atlas_pack(const bbc_image *images, size_t count, int padding, in
     assert(rects[i].x >= 0 && rects[i].y >= 0 && rects[i].width == images[i].width &&
            rects[i].height == images[i].height && rects[i].x + rects[i].width <= found_w &&
            rects[i].y + rects[i].height <= found_h);
+  assert(rects_apart(rects, count, padding)); /* and none in another's padding */
   r = dilate(atlas, padding > 4 ? padding : 4);
   if (r != BBC_OK) {
     bbc_image_free(atlas);

@@ -4,6 +4,7 @@
  * images), then the limbs' mesh (`limbs`) on the swatch of their colour. */
 #include "cloud.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -154,6 +155,20 @@ static void limbs_mesh(const bbc_mesh *limbs, const bbc_atlas_rect *swatch, uint
   }
 }
 
+#ifndef NDEBUG
+/* Whether every index names a vertex, every face a material, and every
+ * texture coordinate lies in the atlas (debug builds only). */
+static int mesh_indices_valid(const bbc_mesh *me) {
+  for (size_t i = 0; i < 3 * me->triangle_count; i++)
+    if (me->indices[i] >= me->vertex_count) return 0;
+  for (size_t t = 0; t < me->triangle_count; t++)
+    if (me->face_material[t] >= me->material_count) return 0;
+  for (size_t i = 0; i < 2 * me->vertex_count; i++)
+    if (!(me->uvs[i] >= -1e-6f && me->uvs[i] <= 1 + 1e-6f)) return 0;
+  return 1;
+}
+#endif
+
 /* The cloud's mesh: each billboard's outline (twice with back images), then
  * the limbs' mesh (`limbs`, may be empty) textured by the swatch. */
 static bbc_result build_mesh(const bbc_planeset *set, const bbc_params *prm, bbc_cloud *cl,
@@ -169,6 +184,9 @@ static bbc_result build_mesh(const bbc_planeset *set, const bbc_params *prm, bbc
   size_t v = 0, t = 0;
   billboard_fans(cl, sides, aw, ah, me, &v, &t);
   limbs_mesh(limbs, swatch, limbs_group, aw, ah, me, v, t);
+  assert(v + limbs->vertex_count == me->vertex_count &&
+         t + limbs->triangle_count == me->triangle_count); /* mesh_alloc's counts, filled */
+  assert(mesh_indices_valid(me));
   cl->limb_triangles = limbs->triangle_count;
   if (swatch && limbs->triangle_count) cl->limb_swatch = *swatch;
   return BBC_OK;

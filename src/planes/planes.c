@@ -476,6 +476,60 @@ static bbc_result add_part_planes(bbc_planeset *set, const grid_part *gp, size_t
   return BBC_OK;
 }
 
+#ifndef NDEBUG
+/* Whether face f's vertices (the part's frame) lie within tol of plane pl
+ * (the model's frame; the part's centre at `center`). */
+static int face_within(const dual_face *f, const bbc_plane *pl, const double center[3],
+                       double tol) {
+  double d =
+      pl->d - (pl->normal[0] * center[0] + pl->normal[1] * center[1] + pl->normal[2] * center[2]);
+  int nv = f->point ? 1 : f->nv;
+  for (int k = 0; k < nv; k++) {
+    double v = 0;
+    for (int j = 0; j < 3; j++) v += pl->normal[j] * (f->c[j] + (f->point ? 0 : f->d[k][j]));
+    if (fabs(v - d) > tol) return 0;
+  }
+  return 1;
+}
+
+/* Whether mesh face (or point) `index` of part pi has a plane of its part,
+ * not a cardboard one. */
+static int face_has_plane(const bbc_planeset *set, uint32_t index, size_t pi) {
+  uint32_t p = set->face_plane[index];
+  return p < set->plane_count && set->planes[p].part == pi &&
+         set->planes[p].kind != BBC_PLANE_CARDBOARD;
+}
+
+/* The promise of steps 1 and 2 (bbc_planes_find), an invariant of every
+ * part's selection: each of its faces or points, sampled or not, is
+ * simplified by a plane of the part, not a cardboard one, and each of its
+ * vertices lies within eps of that plane. Debug builds only: a pass over
+ * the part's faces. */
+static int part_bound_holds(const bbc_planeset *set, const grid_part *gp, size_t pi, double eps) {
+  double tol = eps * (1 + 1e-6) + 1e-9 * (gp->radius + 1);
+  const dual_face *faces = gp->stride > 1 && gp->all ? gp->all : gp->faces;
+  size_t nf = gp->stride > 1 && gp->all ? gp->all_nf : gp->nf;
+  if (gp->stride > 1 && !gp->all) { /* a sampled point cloud: every point */
+    for (size_t i = 0; i < gp->n; i++) {
+      dual_face f = {.point = 1, .nv = 3};
+      for (int k = 0; k < 3; k++) f.c[k] = gp->points[3 * i + k];
+      if (!face_has_plane(set, gp->tris[i], pi)) return 0;
+      if (!face_within(&f, &set->planes[set->face_plane[gp->tris[i]]], gp->center, tol)) return 0;
+    }
+    return 1;
+  }
+  for (size_t i = 0; i < nf; i++) {
+    const dual_face *f = &faces[i];
+    if (!face_has_plane(set, f->mesh_index, pi)) return 0;
+    if (f->mesh_index2 != UINT32_MAX &&
+        set->face_plane[f->mesh_index2] != set->face_plane[f->mesh_index])
+      return 0;
+    if (!face_within(f, &set->planes[set->face_plane[f->mesh_index]], gp->center, tol)) return 0;
+  }
+  return 1;
+}
+#endif
+
 /* `breaknum` (faces of the whole) for a run on one face in `stride` of
  * part gp's faces (a sampled mesh's: of its sample), at least 10. */
 int bbc__sampled_break_num(const grid_part *gp, int break_num, int stride) {
@@ -526,6 +580,7 @@ static bbc_result select_part(bbc_grid *g, const bbc_planes_options *o, const gr
   r = add_part_planes(set, gp, pi, &sr, pr->epsilon_abs, err);
   bbc__select_result_free(&sr);
   if (r != BBC_OK) return r;
+  assert(part_bound_holds(set, gp, pi, pr->epsilon_abs));
   bbc__progress(&cb, "select", 1.0);
   return BBC_OK;
 }

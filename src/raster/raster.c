@@ -263,6 +263,7 @@ static int pixel_bounds(double minx, double maxx, double miny, double maxy, int 
   *x1 = bx1 > w - 1 ? w - 1 : (int)bx1;
   *y0 = by0 < 0 ? 0 : (int)by0;
   *y1 = by1 > h - 1 ? h - 1 : (int)by1;
+  assert(0 <= *x0 && *x0 <= *x1 && *x1 < w && 0 <= *y0 && *y0 <= *y1 && *y1 < h);
   return 1;
 }
 

@@ -1377,6 +1377,7 @@ typedef struct bbc_impostor {
  * failure). Deterministic with any thread count. */
 bbc_result bbc_impostor_build(const bbc_mesh *mesh, const bbc_impostor_options *options,
                               bbc_impostor *impostor, bbc_error *err);
+/* Releases what the impostor owns and zeroes it (NULL: nothing). */
 void bbc_impostor_free(bbc_impostor *impostor);
 /* The unit direction from the model towards the viewer of frame (i, j),
  * in the model's frame (the mapping's +y is the impostor's up axis), and the
@@ -1445,6 +1446,8 @@ typedef struct bbc_grid_view_options {
  * asked). */
 bbc_result bbc_grid_view_build(const bbc_grid *grid, const bbc_grid_view_options *options,
                                bbc_geometry *out, bbc_error *err);
+/* The grid's parts (as step 1 split the model), a part's name and its
+ * faces' count (0 for no such part). */
 size_t bbc_grid_get_part_count(const bbc_grid *grid);
 const char *bbc_grid_get_part_name(const bbc_grid *grid, size_t part); /* NULL: no such part */
 size_t bbc_grid_get_part_faces(const bbc_grid *grid, size_t part);
@@ -1473,6 +1476,7 @@ bbc_result bbc_faces_view_build(const bbc_mesh *mesh, const uint8_t *state, size
  * the shadow voxels of 2.3.11 (the occupied voxels, grey by their light). */
 bbc_result bbc_vertex_domains_view_build(const bbc_mesh *mesh, double eps, bbc_geometry *out,
                                          bbc_error *err);
+/* The shadow voxels of bbc_shade_voxels as boxes, grey by their light. */
 bbc_result bbc_shade_view_build(const bbc_mesh *mesh, int voxels, double ambient, bbc_axis up_axis,
                                 bbc_geometry *out, bbc_error *err);
 /* States after step 2: the faces of the selected triangle's plane valid,

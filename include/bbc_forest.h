@@ -336,11 +336,13 @@ typedef struct bbc_forest_terrain {
   int levels;       /* quadtree levels (root = levels - 1) */
   float **bounds;   /* per level: min and max height per node, row-major */
   double range[24]; /* per level, world units */
-  double morph_start[24];
+  double morph_start[24]; /* per level: where its odd vertices begin to morph */
   size_t node_count, capacity;
   bbc_forest_terrain_node *nodes;
 } bbc_forest_terrain;
 
+/* The quadtree of `world`'s heightmap and its nodes' height bounds (free
+ * with bbc_forest_terrain_free; zeroed on failure). */
 bbc_result bbc_forest_terrain_init(bbc_forest_terrain *t, const bbc_forest_world *world,
                                    bbc_error *err);
 /* Chooses the nodes for a camera at `eye` with view-projection `viewproj`
@@ -371,6 +373,8 @@ typedef struct bbc_forest_occluder {
   int ready; /* this frame's table holds (0: the eye is not above the terrain) */
 } bbc_forest_occluder;
 
+/* The block minima of `world`'s heightmap (free with
+ * bbc_forest_occluder_free; zeroed on failure). */
 bbc_result bbc_forest_occluder_init(bbc_forest_occluder *occluder, const bbc_forest_world *world,
                                     bbc_error *err);
 /* This frame's table for `eye`, the terrain drawn as `terrain` says (its

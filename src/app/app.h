@@ -62,7 +62,9 @@ const char *bbc_params_lighting_name(const bbc_params *params);
  * read by each call; the session copies what it must remember. */
 typedef struct bbc_session bbc_session;
 
-bbc_session *bbc_session_new(void); /* NULL: out of memory */
+/* A new, empty session (NULL: out of memory), and its release with all it
+ * keeps (NULL: nothing). */
+bbc_session *bbc_session_new(void);
 void bbc_session_free(bbc_session *session);
 /* Loads a model in place of the current one (planes and cloud dropped). */
 bbc_result bbc_session_load(bbc_session *session, const char *path, const bbc_load_options *options,
@@ -200,6 +202,8 @@ typedef struct bbc_command_info {
   bbc_command_kind kind;
   const char *name, *args, *what; /* "load", "FILE [nocg] [nomip]", a line of help */
 } bbc_command_info;
+/* The commands of the batch language and the prompt: their count, the
+ * i-th, one by name. */
 size_t bbc_command_count(void);
 const bbc_command_info *bbc_command_at(size_t i); /* i < bbc_command_count(), help's order */
 const bbc_command_info *bbc_command_find(const char *name); /* NULL: no such command */

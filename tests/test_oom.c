@@ -7,7 +7,10 @@
  * with BBC_OK or BBC_ERROR_OUT_OF_MEMORY — not another error, not a crash,
  * not a success with less in it — and in the sanitizer build nothing may
  * leak (there every seventh allocation, for time: the sanitizer build's
- * runs are 200 times slower; BBC_OOM_STEP=1 tries them all). */
+ * runs are 200 times slower; BBC_OOM_STEP=1 tries them all). The same for
+ * an impostor, a three-level LOD chain written as .glb and .fbx (as bbcgen
+ * makes it, through the session), and the forest's world, culling,
+ * terrain, occluder and baked colour. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -19,7 +22,9 @@
 #include <string.h>
 #include <time.h>
 
+#include "app.h"
 #include "bbc.h"
+#include "bbc_forest.h"
 #include "test_util.h"
 
 void *__real_malloc(size_t size);
@@ -125,15 +130,22 @@ static void every_allocation(const char *what, const bbc_mesh *mesh, const char 
   free(ref);
 }
 
-static void test_every_allocation_fails_in_turn(void **state) {
-  (void)state;
+/* The small generated tree every test runs on (30 leaves, a 32-texel leaf
+ * texture). */
+static void small_tree(bbc_mesh *tree) {
   bbc_tree_options t;
   bbc_tree_options_default(&t);
   t.leaves = 30;
   t.texture_size = 32;
+  bbc_error err;
+  assert_int_equal(bbc_tree_generate(&t, tree, &err), BBC_OK);
+}
+
+static void test_every_allocation_fails_in_turn(void **state) {
+  (void)state;
   bbc_mesh tree, points;
   bbc_error err;
-  assert_int_equal(bbc_tree_generate(&t, &tree, &err), BBC_OK);
+  small_tree(&tree);
   every_allocation("a generated tree", &tree, NULL);
   /* the same tree read back from OBJ (its MTL and leaf texture too) */
   char obj[2048];
@@ -172,13 +184,8 @@ static bbc_result impostor_run(const bbc_mesh *mesh, long at, const char *out) {
 
 static void test_impostor_allocations(void **state) {
   (void)state;
-  bbc_tree_options t;
-  bbc_tree_options_default(&t);
-  t.leaves = 30;
-  t.texture_size = 32;
   bbc_mesh tree;
-  bbc_error err;
-  assert_int_equal(bbc_tree_generate(&t, &tree, &err), BBC_OK);
+  small_tree(&tree);
   char out[2048];
   snprintf(out, sizeof out, "%s/oom.json", tu_dir);
   assert_int_equal(impostor_run(&tree, -1, out), BBC_OK);
@@ -190,10 +197,189 @@ static void test_impostor_allocations(void **state) {
   bbc_mesh_free(&tree);
 }
 
+/* Every allocation of `run` (its result; `at` the allocation failing, -1
+ * none) made to fail in turn (every `sanitize_step`-th in the sanitizer
+ * build): each run BBC_OK with the output (its digest) the same as without
+ * failures, or out of memory. */
+typedef bbc_result (*oom_run)(long at, const char *out, uint64_t *digest);
+static void each_allocation(const char *what, oom_run run, const char *out, long sanitize_step) {
+  uint64_t ref = 0, got = 0;
+  counted = 0;
+  assert_int_equal(run(-1, out, &ref), BBC_OK);
+  long total = counted, oom = 0, same = 0, step = 1;
+  assert_true(total > 10);
+#ifdef BBC_TEST_SANITIZE
+  step = sanitize_step;
+#else
+  (void)sanitize_step;
+#endif
+  if (getenv("BBC_OOM_STEP")) step = atol(getenv("BBC_OOM_STEP"));
+  if (step < 1) step = 1;
+  for (long at = 0; at < total; at += step) {
+    bbc_result r = run(at, out, &got);
+    if (r == BBC_ERROR_OUT_OF_MEMORY) {
+      oom++;
+    } else if (r != BBC_OK || got != ref) {
+      fail_msg("%s: allocation %ld of %ld failing: error %d, or BBC_OK with another output", what,
+               at, total, (int)r);
+    } else {
+      same++;
+    }
+  }
+  printf("%s: %ld allocations: %ld runs out of memory, %ld the same output\n", what, total, oom,
+         same);
+  assert_true(oom > 0);
+}
+
+/* FNV-1a over bytes, folded into *h. */
+static void digest_bytes(uint64_t *h, const void *data, size_t n) {
+  const unsigned char *b = data;
+  for (size_t i = 0; i < n; i++) *h = (*h ^ b[i]) * 1099511628211ull;
+}
+
+static void digest_file(uint64_t *h, const char *path) {
+  size_t n = 0;
+  unsigned char *b = tu_read_file(path, &n);
+  if (b) digest_bytes(h, b, n);
+  free(b);
+}
+
+/* A chain of three levels (256, 64 and 24 pixels) of the tree read from
+ * OBJ, made by the session as bbcgen makes it and written as one .glb and
+ * as FBX. */
+static char chain_obj[2048];
+static bbc_result chain_run(long at, const char *out, uint64_t *digest) {
+  bbc_session *s = bbc_session_new();
+  assert_non_null(s);
+  bbc_planes_options o;
+  bbc_planes_options_default(&o);
+  o.params.threads = 1;
+  bbc_params_lod_chain(&o.params, 0);
+  bbc_lod_level lv[3] = {{0, 256, 0}, {0, 64, 0}, {0, 24, 0}};
+  char fbx[2100];
+  snprintf(fbx, sizeof fbx, "%s.fbx", out);
+  bbc_error err;
+  counted = 0;
+  fail_at = at;
+  armed = 1;
+  bbc_result r = bbc_session_load(s, chain_obj, NULL, &err);
+  if (r == BBC_OK) r = bbc_session_run_chain(s, &o, lv, 3, &err);
+  if (r == BBC_OK) r = bbc_session_write(s, out, NULL, &err);
+  if (r == BBC_OK) r = bbc_session_write(s, fbx, NULL, &err);
+  armed = 0;
+  if (r != BBC_OK && r != BBC_ERROR_OUT_OF_MEMORY)
+    fail_msg("chain, allocation %ld failing: error %d, %s", at, (int)r, err.message);
+  bbc_session_free(s);
+  *digest = 14695981039346656037ull;
+  if (r == BBC_OK) {
+    digest_file(digest, out);
+    digest_file(digest, fbx);
+  }
+  return r;
+}
+
+static void test_chain_allocations(void **state) {
+  (void)state;
+  bbc_mesh tree;
+  bbc_error err;
+  small_tree(&tree);
+  snprintf(chain_obj, sizeof chain_obj, "%s/chain_tree.obj", tu_dir);
+  assert_int_equal(bbc_mesh_write_obj(chain_obj, &tree, NULL, &err), BBC_OK);
+  bbc_mesh_free(&tree);
+  char out[2048];
+  snprintf(out, sizeof out, "%s/chain.glb", tu_dir);
+  each_allocation("a three-level chain (.glb and .fbx)", chain_run, out, 11);
+}
+
+/* The forest's world of a small demo landscape (a map file, its heightmap
+ * and colour map, 400 trees of two models), the culling of a frame with
+ * the terrain's occlusion, and the terrain's baked colour. */
+static char forest_dir[2048];
+static bbc_result forest_run(long at, const char *out, uint64_t *digest) {
+  (void)out;
+  const char *text = "hmap h.png\ncolmap c.png\nheightscale 0.5\nstretch 2\n"
+                     "object2d house.txt 1 0 30 45 0 90 0 0.5\n"
+                     "rndtree tree.txt 1 400 1 1 0 0 0 0\n";
+  bbc_forest_map map;
+  bbc_forest_world world;
+  bbc_forest_terrain terrain;
+  bbc_forest_occluder occ;
+  bbc_image colour;
+  memset(&map, 0, sizeof map);
+  memset(&world, 0, sizeof world);
+  memset(&terrain, 0, sizeof terrain);
+  memset(&occ, 0, sizeof occ);
+  memset(&colour, 0, sizeof colour);
+  bbc_forest_cull *cull = NULL;
+  double r0[4] = {0, 40, 40, 400}, r1[2] = {0, 300};
+  bbc_forest_lod_model models[2] = {{2, r0, 5, 3}, {1, r1, 0, 6}};
+  uint32_t pm[2][2] = {{1, UINT32_MAX}, {0, UINT32_MAX}};
+  const double light[3] = {0.3, 0.8, 0.5}, shadow[2][2] = {{0, 0}, {4, 1}};
+  bbc_error err;
+  counted = 0;
+  fail_at = at;
+  armed = 1;
+  bbc_result r = bbc_forest_map_parse(text, strlen(text), "w.txt", &map, &err);
+  if (r == BBC_OK) r = bbc_forest_world_build(&map, forest_dir, &world, &err);
+  if (r == BBC_OK)
+    r = bbc_forest_cull_build(&world, models, 2, (const uint32_t(*)[2])pm, 2, &cull, &err);
+  if (r == BBC_OK) r = bbc_forest_terrain_init(&terrain, &world, &err);
+  if (r == BBC_OK) r = bbc_forest_occluder_init(&occ, &world, &err);
+  if (r == BBC_OK) r = bbc_forest_terrain_bake_colour(&world, light, shadow, &colour, &err);
+  *digest = 14695981039346656037ull;
+  if (r == BBC_OK) {
+    bbc_forest_camera cam = {{60, 40, 60}, 135, -10, 1};
+    float vp[16];
+    bbc_forest_camera_get_viewproj(&cam, 1.5, 0.5, 2000, vp);
+    bbc_forest_terrain_select(&terrain, &world, vp, cam.pos, 2);
+    bbc_forest_occluder_begin(&occ, &terrain, cam.pos);
+    bbc_forest_cull_set_occluder(cull, &occ, &terrain);
+    bbc_forest_cull_run(cull, vp, cam.pos, 1);
+    bbc_forest_records rec;
+    bbc_forest_cull_get_records(cull, &rec);
+    digest_bytes(digest, world.instances, world.instance_count * sizeof *world.instances);
+    digest_bytes(digest, rec.statics, rec.static_count * sizeof *rec.statics);
+    digest_bytes(digest, rec.range_start, (rec.bucket_count + 1) * sizeof *rec.range_start);
+    digest_bytes(digest, rec.draws, rec.bucket_start[rec.bucket_count] * sizeof *rec.draws);
+    digest_bytes(digest, terrain.nodes, terrain.node_count * sizeof *terrain.nodes);
+    digest_bytes(digest, colour.rgba, (size_t)colour.width * (size_t)colour.height * 4);
+  }
+  armed = 0;
+  if (r != BBC_OK && r != BBC_ERROR_OUT_OF_MEMORY)
+    fail_msg("forest, allocation %ld failing: error %d, %s", at, (int)r, err.message);
+  bbc_image_free(&colour);
+  bbc_forest_occluder_free(&occ);
+  bbc_forest_terrain_free(&terrain);
+  bbc_forest_cull_free(cull);
+  bbc_forest_world_free(&world);
+  bbc_forest_map_free(&map);
+  return r;
+}
+
+static void test_forest_allocations(void **state) {
+  (void)state;
+  bbc_image h, c;
+  double water = 0;
+  bbc_error err;
+  assert_int_equal(bbc_forest_demo_terrain(64, 3, BBC_FOREST_DEMO_HILLS, &h, &c, &water, &err),
+                   BBC_OK);
+  snprintf(forest_dir, sizeof forest_dir, "%s", tu_dir);
+  char path[2100];
+  snprintf(path, sizeof path, "%s/h.png", forest_dir);
+  assert_int_equal(bbc_image_write_png(path, &h, &err), BBC_OK);
+  snprintf(path, sizeof path, "%s/c.png", forest_dir);
+  assert_int_equal(bbc_image_write_png(path, &c, &err), BBC_OK);
+  bbc_image_free(&h);
+  bbc_image_free(&c);
+  each_allocation("the forest's world, culling, terrain, occluder and colour", forest_run, NULL, 1);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_every_allocation_fails_in_turn),
       cmocka_unit_test(test_impostor_allocations),
+      cmocka_unit_test(test_chain_allocations),
+      cmocka_unit_test(test_forest_allocations),
   };
   return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

@@ -4,8 +4,9 @@
 # to leave behaviour alone (a refactoring) did. Cases: the tree generator, the
 # default .glb of three trees, a .wrl with --thesis, an .obj, LOD chains (.glb
 # and .gltf), point clouds, `planes --json`, eval, render, a baseline, a batch
-# file with `save`, a viewer screenshot, and forest screenshots of two demo
-# maps (built once with OLD's tools).
+# file with `save`, a viewer screenshot, and forest screenshots of three demo
+# maps (built once with NEW's tools: the demo script may ask for commands
+# an older build lacks; both builds then draw the same files).
 #
 #   scripts/dev/same_behaviour.sh OLD_BIN_DIR NEW_BIN_DIR [WORK_DIR]
 #
@@ -75,11 +76,14 @@ if [ -f "$data/trees/scopia/pine/pine.obj" ]; then
   run_case model_cat "\$B/bbcgen $data/models/cat.3ds -o cat.glb -q"
 fi
 
-# forest: two demo maps, built once with OLD's tools, drawn by both.
+# forest: three demo maps, built once with NEW's tools, drawn by both.
 if [ ! -f "$work/forest/build/demo/forest/islands.txt" ]; then
   mkdir -p "$work/forest/build"
-  ln -sfn "$old" "$work/forest/build/bin"
-  (cd "$work/forest" && "$here/demo_forest.sh" build 300) > "$work/forest.log" 2>&1
+  ln -sfn "$new" "$work/forest/build/bin"
+  (cd "$work/forest" && "$here/demo_forest.sh" build 300) > "$work/forest.log" 2>&1 || {
+    echo "the demo maps failed; see $work/forest.log" >&2
+    exit 1
+  }
 fi
 maps="$work/forest/build/demo/forest"
 run_case forest_map "\$B/forest $maps/map.txt --size 320x200 --camera 250,95,250,135,-6 --screenshot map.png"

@@ -148,9 +148,12 @@ bbc_result bbc_clouds_share_atlas(bbc_cloud *clouds, size_t count, int max_size,
     r = bbc__fail(err, r, "shared atlas: out of memory");
     goto done;
   }
-  /* Does it fit? Not fitting is no error: the levels keep their atlases. */
+  /* Does it fit? Not fitting is no error: the levels keep their atlases
+   * (out of memory is). */
   bbc_error quiet;
-  if (bbc_atlas_pack(imgs[0], total, 2, max_size, &atlas[0], rects, &quiet) != BBC_OK) goto done;
+  bbc_result fit = bbc_atlas_pack(imgs[0], total, 2, max_size, &atlas[0], rects, &quiet);
+  if (fit == BBC_ERROR_OUT_OF_MEMORY) r = bbc__fail(err, fit, "%s", quiet.message);
+  if (fit != BBC_OK) goto done;
   for (size_t l = 1; l < ntex; l++) {
     r = bbc_atlas_pack(imgs[l], total, 2, max_size, &atlas[l], rects2, err);
     if (r == BBC_OK && memcmp(rects, rects2, total * sizeof *rects))

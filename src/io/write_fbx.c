@@ -177,7 +177,13 @@ static void p_array(writer *w, char type, const void *data, size_t count, size_t
   put_u32(&w->b, (uint32_t)count);
   uLongf zn = compressBound((uLong)raw);
   uint8_t *z = raw >= 64 ? malloc(zn) : NULL;
-  if (z && compress2(z, &zn, data, (uLong)raw, 6) == Z_OK && zn < raw) {
+  int zr = z ? compress2(z, &zn, data, (uLong)raw, 6) : Z_OK;
+  if ((raw >= 64 && !z) || zr == Z_MEM_ERROR) { /* out of memory, not a raw array */
+    free(z);
+    w->b.oom = 1;
+    return;
+  }
+  if (z && zr == Z_OK && zn < raw) {
     put_u32(&w->b, 1);
     put_u32(&w->b, (uint32_t)zn);
     put(&w->b, z, zn);

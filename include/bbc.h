@@ -240,6 +240,7 @@ int bbc_image_alpha_is_binary(const bbc_image *image);
  * writes atlases: every texel's alpha at most 64 or at least 192, and some
  * neither 0 nor 255. bbc_image_alpha_binarise makes it 0 (< 128) or 255. */
 int bbc_image_alpha_is_soft_mask(const bbc_image *image);
+/* Sets every texel's alpha to 0 (below 128) or 255, in place. */
 void bbc_image_alpha_binarise(bbc_image *image);
 /* Writes `image` with its bbc_image_mipmaps chain as an uncompressed RGBA8
  * DDS (Microsoft's DirectDraw Surface layout, every level down to 1 x 1),
@@ -1417,6 +1418,7 @@ typedef struct bbc_geometry {
   size_t line_count;
   double center[3], radius; /* what frames it */
 } bbc_geometry;
+/* Releases what the geometry owns and zeroes it (NULL: nothing). */
 void bbc_geometry_free(bbc_geometry *geometry);
 
 /* The four grid views. They are drawn in a box: theta (-180..180 deg) along

@@ -10,6 +10,8 @@
 #
 #   scripts/dev/same_behaviour.sh OLD_BIN_DIR NEW_BIN_DIR [WORK_DIR]
 #
+# MAPS_BIN_DIR=DIR builds the demo maps with DIR's tools instead (when both
+# builds are older than the demo script).
 # Exit status 0 when every output is identical, 1 otherwise (the differing
 # files named). Real data from ../shared/data is used where present.
 set -euo pipefail
@@ -79,7 +81,7 @@ fi
 # forest: three demo maps, built once with NEW's tools, drawn by both.
 if [ ! -f "$work/forest/build/demo/forest/islands.txt" ]; then
   mkdir -p "$work/forest/build"
-  ln -sfn "$new" "$work/forest/build/bin"
+  ln -sfn "$(cd "${MAPS_BIN_DIR:-$new}" && pwd)" "$work/forest/build/bin"
   (cd "$work/forest" && "$here/demo_forest.sh" build 300) > "$work/forest.log" 2>&1 || {
     echo "the demo maps failed; see $work/forest.log" >&2
     exit 1

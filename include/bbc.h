@@ -1147,6 +1147,9 @@ bbc_result bbc_light_gain_measure(const bbc_mesh *mesh, const double light[3], b
 typedef struct bbc_eval_options {
   int views;                 /* directions evenly over the sphere (Fibonacci
                               * lattice); 0 = 64 */
+  int upper;                 /* 1 = those `views` over the upper hemisphere only (seen
+                              * from above or level, as people see trees; a
+                              * hemi-octahedral impostor's domain) */
   int size;                  /* pixels along each view's side; 0 = 256 */
   bbc_up up;                 /* the up axis: side views, image up */
   double side_elevation_deg; /* side views: |elevation| <= this; 0 = 30 */

@@ -138,6 +138,29 @@ static void test_cloud_command(void **state) {
   assert_true(cJSON_GetObjectItemCaseSensitive(e, "iou_mean")->valuedouble == 1.0);
   cJSON_Delete(e);
   free(etext);
+  /* eval --upper: every view from above or level (y up: the camera's
+   * direction towards the model never rises) */
+  snprintf(args, sizeof args, "eval '%s' '%s' --views 12 --size 16 --upper --json '%s/e.json'",
+           path, path, tu_dir);
+  assert_int_equal(cli_run(args, &out, &err), 0);
+  free(out);
+  free(err);
+  etext = (char *)tu_read_file(ej, NULL);
+  e = cJSON_Parse(etext);
+  assert_non_null(e);
+  assert_true(cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(e, "upper")));
+  const cJSON *pv = cJSON_GetObjectItemCaseSensitive(e, "per_view"), *view;
+  assert_int_equal(cJSON_GetArraySize(pv), 12);
+  int level = 0;
+  cJSON_ArrayForEach(view, pv) {
+    double dy =
+        cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(view, "direction"), 1)->valuedouble;
+    assert_true(dy <= 1e-9);
+    level += dy > -0.2;
+  }
+  assert_true(level > 0); /* down to the horizon */
+  cJSON_Delete(e);
+  free(etext);
   /* Batch: bbc3 needs bbc2; bbc then save writes the Appendix A folder. */
   snprintf(text, sizeof text, "load \"%s\"\nbbc3\n", path);
   char *bf = tu_write_file(tu_dir, "c3.bbc", text, strlen(text));

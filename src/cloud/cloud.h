@@ -35,8 +35,9 @@ double bbc__rect_density(const bbc_planeset *set, const bbc_billboard *rect);
 bbc_result bbc__alpha_mask(const bbc_image *img, const uint8_t *taps, int k, int dither,
                            unsigned min_opaque, uint8_t *mask, uint8_t *cand);
 /* `img` (k x k samples a texel) replaced by its texels: each the mean of its
- * covered samples (normals, encoded 255 (n + 1) / 2, renormalised), alpha
- * 255 where mask says so, else 0 (the colour kept). */
+ * covered samples (is_normal 1: normals, encoded 255 (n + 1) / 2,
+ * renormalised; 2: their mean kept, at most unit length), alpha 255 where
+ * mask says so, else 0 (the colour kept). */
 bbc_result bbc__downsample_masked(bbc_image *img, int k, int is_normal, const uint8_t *mask);
 /* Texels not opaque in `mask` become (0, 0, 0, 0); opaque ones alpha 255. */
 void bbc__clear_masked(bbc_image *img, const uint8_t *mask);

@@ -116,7 +116,7 @@ static bbc_result build_frame(const build_ctx *c, int i, int j, frame_work *f, b
   bbc_image col = f->col, nm = f->nm;
   memset(&f->col, 0, sizeof f->col);
   memset(&f->nm, 0, sizeof f->nm);
-  if (r == BBC_OK) r = bbc__downsample_masked(&nm, k, 1, f->mask);
+  if (r == BBC_OK) r = bbc__downsample_masked(&nm, k, 2, f->mask);
   if (r == BBC_OK) r = bbc__downsample_masked(&col, k, 0, f->mask);
   if (r == BBC_OK) r = bbc__fill_transparent(&col);
   if (r == BBC_OK) r = bbc__fill_transparent(&nm);
@@ -136,8 +136,9 @@ static bbc_result build_frame(const build_ctx *c, int i, int j, frame_work *f, b
         }
         len = sqrt(len);
         uint8_t *d = imp->normal.rgba + 4 * o;
+        double keep = len > 1 ? len : 1; /* the mean normal's length kept (at most 1) */
         for (int q = 0; q < 3; q++) {
-          double u = 127.5 * ((len > 1e-9 ? m[q] / len : dir[q]) + 1.0);
+          double u = 127.5 * ((len > 1e-9 ? m[q] / keep : dir[q]) + 1.0);
           d[q] = (uint8_t)(u < 0 ? 0 : u + 0.5 > 255 ? 255 : u + 0.5);
         }
         d[3] = f->depth.rgba[4 * t];

@@ -68,7 +68,8 @@ bbc_result bbc__alpha_mask(const bbc_image *img, const uint8_t *taps, int k, int
 }
 
 /* Downsamples a k x k supersampled image to its texels: a texel with
- * covered samples gets their mean (normals renormalised), opaque when
+ * covered samples gets their mean (normals renormalised; is_normal 2: the
+ * mean normal kept, shorter where the samples' normals differ), opaque when
  * `mask` says so, else with alpha 0 (the colour kept for refinement;
  * bbc__clear_masked removes it). */
 bbc_result bbc__downsample_masked(bbc_image *img, int k, int is_normal, const uint8_t *mask) {
@@ -95,7 +96,8 @@ bbc_result bbc__downsample_masked(bbc_image *img, int k, int is_normal, const ui
         }
         len = sqrt(len);
         for (int c = 0; c < 3; c++) {
-          double e = len > 1e-9 ? 127.5 * (v[c] / len + 1.0) : (c == 2 ? 255 : 127.5);
+          double u = is_normal == 2 ? (len > 1 ? len : 1) : len;
+          double e = len > 1e-9 ? 127.5 * (v[c] / u + 1.0) : (c == 2 ? 255 : 127.5);
           d[c] = (uint8_t)(e > 255 ? 255 : e < 0 ? 0 : e + 0.5 > 255 ? 255 : e + 0.5);
         }
       } else {

@@ -211,6 +211,8 @@ static int eval_view(const eval_ctx *c, int k, bbc_image *a, bbc_image *b, bbc_e
     memcpy(dir, o->directions + 3 * k, sizeof dir);
     double l = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
     for (int i = 0; i < 3; i++) dir[i] = l > 0 ? dir[i] / l : (i == up ? -1 : 0);
+  } else if (o->upper) { /* the first half of a lattice of 2n: z >= 0 */
+    bbc_eval_get_direction(k, 2 * n, up, dir);
   } else {
     bbc_eval_get_direction(k, n, up, dir);
   }

@@ -148,11 +148,14 @@ static void shade(const bbc_view *v, const double *l, const double *n, const dou
                   uint8_t *out) {
   double s = 1, amb = 0;
   if (v->lighting) {
-    double ndl = vdot(vload(n), vload(l)), gain = v->light_gain > 0 ? v->light_gain : 1;
-    if (v->sun)
-      s = (v->sun_ambient + (ndl > 0 ? ndl : 0)) / (v->sun_ambient + 1.0);
+    double len = sqrt(vdot(vload(n), vload(n))), ndl = vdot(vload(n), vload(l));
+    double inv = len > 1e-9 ? 1 / len : 0;
+    double gain = v->light_gain > 0 ? v->light_gain : 1;
+    if (v->sun) /* n.l of the mean normal, plus its missing length's share lit as a
+                 * sphere of normals is (a quarter) */
+      s = (v->sun_ambient + (ndl > 0 ? ndl : 0) + 0.25 * (1 - len)) / (v->sun_ambient + 1.0);
     else
-      s = gain * (v->headlight ? fabs(ndl) : 0.35 + 0.65 * fabs(ndl));
+      s = gain * (v->headlight ? fabs(ndl * inv) : 0.35 + 0.65 * fabs(ndl * inv));
     if (v->ambient && !v->sun) amb = 0.2;
   }
   for (int k = 0; k < 3; k++) out[k] = unit_byte(col[k] * (s + amb));
@@ -208,7 +211,15 @@ bbc_result bbc_impostor_render(const bbc_impostor *imp, const bbc_view *view, bb
       }
       double col[3], nn[3];
       for (int c = 0; c < 3; c++) col[c] = sum.col[c] / sum.a;
-      vstore(nn, vnormalize(vload(sum.n)));
+      /* the covered frames' mean normal, its length kept (at most 1): the
+       * mean of Lambert's n.l over a texel's samples, not the brighter n.l
+       * of their renormalised mean */
+      double nl = 0;
+      for (int c = 0; c < 3; c++) {
+        nn[c] = sum.n[c] / sum.a;
+        nl += nn[c] * nn[c];
+      }
+      if (nl > 1 || nl < 1e-18) vstore(nn, vnormalize(vload(nn)));
       shade(view, l, nn, col, o);
     }
   return BBC_OK;

@@ -106,8 +106,15 @@ void impostor() {
   if (wsum <= 0.0 || sum.a / wsum < bayer(ivec2(gl_FragCoord.yx) + ivec2(3, 5))) discard;
   vec3 rgb = sum.rgb / sum.a;
   if (u_lit != 0) {
-    vec3 n = dot(nsum, nsum) > 1e-12 ? imp_turn(normalize(nsum), c, s) : vec3(0.0, 1.0, 0.0);
-    rgb *= (u_ambient + max(dot(n, u_light), 0.0)) / (u_ambient + 1.0);
+    // the covered frames' mean normal, its length kept (at most 1): n.l of
+    // it plus its missing length's share lit as a sphere of normals is (a
+    // quarter), as bbc_impostor_render lights it
+    vec3 n = sum.a > 0.0 ? nsum / sum.a : vec3(0.0);
+    float len = length(n);
+    n = len > 1.0 ? n / len : len > 1e-9 ? n : vec3(0.0, 1.0, 0.0);
+    len = min(len, 1.0);
+    n = imp_turn(n, c, s);
+    rgb *= (u_ambient + max(dot(n, u_light), 0.0) + 0.25 * (1.0 - len)) / (u_ambient + 1.0);
   }
   o_colour = u_fill != 0 ? vec4(1.0) : vec4(fogged(rgb, v_world), 1.0);
 }

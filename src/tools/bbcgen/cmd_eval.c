@@ -43,6 +43,7 @@ char *eval_json_text(const bbc_eval_result *r, const bbc_eval_options *o, const 
   cJSON_AddNumberToObject(j, "side_views", (double)r->side_count);
   cJSON_AddNumberToObject(j, "size", o->size);
   cJSON_AddBoolToObject(j, "lit", o->lighting);
+  cJSON_AddBoolToObject(j, "upper", o->upper);
   cJSON *vs = cJSON_AddArrayToObject(j, "per_view");
   for (size_t k = 0; k < r->view_count; k++) {
     const bbc_eval_view *v = &r->views[k];
@@ -76,6 +77,7 @@ typedef struct eval_args {
   int suns;           /* --sun: 0 none, 1 one (sun_deg), 16 the sweep */
   double sun_deg[2];  /* azimuth, elevation */
   double sun_ambient; /* 0 = the library's 0.4 */
+  int upper;          /* --upper: views over the upper hemisphere only */
 } eval_args;
 
 /* The sweep: 8 azimuths x 2 elevations. */
@@ -153,6 +155,8 @@ static int parse_eval_args(cli *c, int argc, char **argv, eval_args *ea) {
         cli_error("--sun-ambient: the ambient light against the sun's 1, in (0, 10], not '%s'", v);
         return EXIT_USAGE;
       }
+    } else if (!strcmp(argv[i], "--upper")) {
+      ea->upper = 1;
     } else if (!strcmp(argv[i], "--lit")) {
       ea->lit = 1;
     } else if (!strcmp(argv[i], "--no-lit")) {
@@ -160,15 +164,16 @@ static int parse_eval_args(cli *c, int argc, char **argv, eval_args *ea) {
     } else if (argv[i][0] != '-' && np < 2) {
       ea->paths[np++] = argv[i];
     } else {
-      static const char *const own[] = {"--views",  "--size", "--json",        "--png",
-                                        "--lit",    "--sun",  "--sun-ambient", "--side-elevation",
-                                        "--no-lit", NULL};
+      static const char *const own[] = {
+          "--views",       "--size",           "--json",   "--png",   "--lit", "--sun",
+          "--sun-ambient", "--side-elevation", "--no-lit", "--upper", NULL};
       return cli_unknown_option("eval", argv[i], own);
     }
   }
   if (np != 2) {
-    cli_error("eval: usage: bbcgen eval ORIGINAL OTHER [--views N] [--size PX] [--json OUT] "
-              "[--png SHEET] [--lit|--no-lit] [--sun AZ,EL|sweep] [--side-elevation DEG]");
+    cli_error(
+        "eval: usage: bbcgen eval ORIGINAL OTHER [--views N] [--size PX] [--json OUT] "
+        "[--png SHEET] [--lit|--no-lit] [--sun AZ,EL|sweep] [--side-elevation DEG] [--upper]");
     return EXIT_USAGE;
   }
   return -1;
@@ -179,6 +184,7 @@ static void eval_options(const cli *c, const eval_args *ea, const bbc_mesh *othe
                          bbc_eval_options *o) {
   bbc_eval_options_default(o);
   o->views = (int)ea->views;
+  o->upper = ea->upper;
   o->size = (int)ea->size;
   o->up = bbc_up_from_axis(c->params.up_axis);
   o->threads = c->params.threads;
@@ -230,6 +236,7 @@ static int eval_suns(const cli *c, const eval_args *ea, const bbc_mesh m[2], bbc
   cJSON_AddStringToObject(j, "original", ea->paths[0]);
   cJSON_AddStringToObject(j, "other", ea->paths[1]);
   cJSON_AddNumberToObject(j, "ambient", ea->sun_ambient > 0 ? ea->sun_ambient : 0.4);
+  cJSON_AddBoolToObject(j, "upper", o->upper);
   printf("sun (az, el)  luminance  r      g      b      block lum err  iou     block iou\n");
   for (int k = 0; k < n && rc == EXIT_OK; k++) {
     double deg[2] = {ea->sun_deg[0], ea->sun_deg[1]};
@@ -421,7 +428,7 @@ static int eval_chain(const cli *c, const eval_args *ea, const bbc_mesh *orig, c
 }
 
 int cmd_eval(cli *c, int argc, char **argv) {
-  eval_args ea = {{NULL, NULL}, NULL, NULL, 64, 256, -1, 30, 0, {0, 0}, 0};
+  eval_args ea = {{NULL, NULL}, NULL, NULL, 64, 256, -1, 30, 0, {0, 0}, 0, 0};
   int rc = parse_eval_args(c, argc, argv, &ea);
   if (rc >= 0) return rc;
   const char *json = ea.json, *png = ea.png;

@@ -331,6 +331,32 @@ static void test_sunlit_like_the_tree(void **state) {
   bbc_mesh_free(&m);
 }
 
+/* A point cloud's impostor is drawn from its splats (all of them: it was
+ * empty when none was passed), and covers about as much as the points. */
+static void test_points(void **state) {
+  (void)state;
+  bbc_mesh m, pts;
+  tree(&m, 5);
+  bbc_error err;
+  assert_int_equal(bbc_mesh_sample_points(&m, 20000, 1, &pts, &err), BBC_OK);
+  bbc_impostor imp;
+  build(&pts, 6, 1, 6 * 6 * 64 * 64, 0, &imp);
+  bbc_eval_options o;
+  bbc_eval_options_default(&o);
+  o.views = 8;
+  o.size = 96;
+  o.impostor = &imp;
+  bbc_eval_result r;
+  if (bbc_eval(&pts, NULL, &o, &r, &err) != BBC_OK) fail_msg("%s", err.message);
+  print_message("points: coverage ratio %.3f, IoU %.3f\n", r.coverage_ratio_mean, r.iou_mean);
+  assert_true(r.coverage_ratio_mean > 0.7 && r.coverage_ratio_mean < 1.3);
+  assert_true(r.iou_mean > 0.4);
+  bbc_eval_result_free(&r);
+  bbc_impostor_free(&imp);
+  bbc_mesh_free(&pts);
+  bbc_mesh_free(&m);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_frames_are_the_model),
@@ -339,6 +365,7 @@ int main(void) {
       cmocka_unit_test(test_threads_and_round_trip),
       cmocka_unit_test(test_bad_options),
       cmocka_unit_test(test_sunlit_like_the_tree),
+      cmocka_unit_test(test_points),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

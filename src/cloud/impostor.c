@@ -105,7 +105,14 @@ static bbc_result build_frame(const build_ctx *c, int i, int j, frame_work *f, b
     double px = 3.5 * (2 * imp->radius / 256.0) * (w / (2 * imp->half_extent));
     for (size_t q = 0; q < n; q++) f->z[q] = 0; /* splats give no depth: the centre plane */
     bk.front_depth = NULL;
-    r = bbc__render_splats(c->mesh, NULL, 0, &v, &bk, px < 1 ? 1 : px, 1, err);
+    r = bbc__render_splats(c->mesh, NULL, c->mesh->vertex_count, &v, &bk, px < 1 ? 1 : px, 1, err);
+    /* splats carry no normal: each covered sample faces the frame's viewer */
+    for (size_t q = 0; r == BBC_OK && q < n; q++)
+      if (f->col.rgba[4 * q + 3]) {
+        uint8_t *e = f->nm.rgba + 4 * q;
+        e[0] = e[1] = 128;
+        e[2] = e[3] = 255;
+      }
   } else {
     r = bbc__render_bake(c->mesh, NULL, 0, &v, &bk, err);
   }

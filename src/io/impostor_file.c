@@ -49,9 +49,12 @@ bbc_result bbc_impostor_write(const char *path, const bbc_impostor *imp, bbc_err
   put_number(fp, "half_extent", imp->half_extent, 0);
   fprintf(fp, "  \"albedo\": \"%s\",\n  \"normal\": \"%s\",\n", name[0], name[1]);
   fprintf(fp, "  \"albedo_encoding\": \"sRGB colour, alpha 0 or 255\",\n");
-  fprintf(fp, "  \"normal_encoding\": \"rgb = 255 (n + 1) / 2, n the model-space unit normal; "
-              "a = 255 (depth / radius + 1) / 2, depth along the view from the centre plane, "
-              "nearer the viewer negative\"\n}\n");
+  fprintf(
+      fp,
+      "  \"normal_encoding\": \"rgb = 255 (n + 1) / 2, n the mean of the texel's model-space unit "
+      "normals (|n| <= 1, not renormalised); "
+      "a = 255 (depth / radius + 1) / 2, depth along the view from the centre plane, "
+      "nearer the viewer negative\"\n}\n");
   return bbc__atomic_commit(&af, err);
 }
 

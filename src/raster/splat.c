@@ -20,7 +20,8 @@ static void splat_of(const bbc_mesh *m, size_t v, const bbc__camera *cam, const 
   bbc__camera_project(cam, m->positions + 3 * v, s);
   sp->x = s[0];
   sp->y = s[1];
-  sp->z = s[2] < view->depth_min || s[2] > view->depth_max ? NAN : (float)s[2];
+  int slab = view->depth_max > view->depth_min; /* else every depth (bbc_view) */
+  sp->z = slab && (s[2] < view->depth_min || s[2] > view->depth_max) ? NAN : (float)s[2];
   const uint8_t grey[4] = {200, 200, 200, 255}; /* no colour in the scan: light grey */
   memcpy(sp->px4, grey, 4);
   if (m->colors) memcpy(sp->px4, m->colors + 4 * v, 3);

@@ -69,11 +69,12 @@ static int coverage_bin(float c) {
 
 /* The coverage bin from which texels turn opaque so that `want` of the `n`
  * are, and the fraction of that bin's texels that do (texels of equal
- * coverage are split by an ordered dither, not all or none). */
+ * coverage are split by an ordered dither, not all or none); -1 when out
+ * of memory. */
 static int coverage_threshold(const float *cov, size_t n, size_t want, double *fraction) {
   size_t *hist = calloc(COVERAGE_BINS + 1, sizeof *hist);
   *fraction = 1;
-  if (!hist) return 1;
+  if (!hist) return -1;
   for (size_t i = 0; i < n; i++) hist[coverage_bin(cov[i])]++;
   size_t above = 0;
   int b = COVERAGE_BINS;
@@ -152,6 +153,7 @@ bbc_result bbc_image_mipmaps(const bbc_image *base, bbc_image **levels, int *cou
     size_t want = (size_t)((double)opaque0 / (double)n0 * (double)nt + 0.5);
     double frac = 1;
     int thr = alpha_tested ? coverage_threshold(cur.cov, nt, want, &frac) : 0;
+    if (thr < 0) goto oom;
     for (size_t i = 0; i < nt; i++) {
       uint8_t *p = out[l].rgba + 4 * i;
       int bin = coverage_bin(cur.cov[i]);

@@ -10,8 +10,9 @@
  * leak (there every seventh allocation, for time: the sanitizer build's
  * runs are 200 times slower; BBC_OOM_STEP=1 tries them all). The same for
  * an impostor, a three-level LOD chain written as .glb and .fbx (as bbcgen
- * makes it, through the session), and the forest's world, culling,
- * terrain, occluder and baked colour. */
+ * makes it, through the session), the forest's world, culling, terrain,
+ * occluder and baked colour, and the tools' other calls (the generator,
+ * the baselines, points on a mesh, a software render, an evaluation). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -411,12 +412,87 @@ static void test_forest_allocations(void **state) {
   each_allocation("the forest's world, culling, terrain, occluder and colour", forest_run, NULL, 1);
 }
 
+/* The tools' other library calls: the tree generator, crossed billboards,
+ * meshoptimizer's simplification, points sampled on a mesh and their
+ * normals, a software render and an evaluation (one thread). */
+static bbc_result misc_run(long at, const char *out, uint64_t *digest) {
+  (void)out;
+  bbc_tree_options t;
+  bbc_tree_options_default(&t);
+  t.leaves = 30;
+  t.texture_size = 32;
+  bbc_params p;
+  bbc_params_default(&p);
+  p.threads = 1;
+  p.texres = 32;
+  bbc_mesh tree, simple, pts;
+  bbc_cloud crossed;
+  bbc_image img;
+  bbc_eval_result ev;
+  memset(&tree, 0, sizeof tree);
+  memset(&simple, 0, sizeof simple);
+  memset(&pts, 0, sizeof pts);
+  memset(&crossed, 0, sizeof crossed);
+  memset(&img, 0, sizeof img);
+  memset(&ev, 0, sizeof ev);
+  bbc_eval_options eo;
+  bbc_eval_options_default(&eo);
+  eo.views = 4;
+  eo.size = 32;
+  eo.threads = 1;
+  bbc_view v;
+  memset(&v, 0, sizeof v);
+  v.direction[2] = -1;
+  v.up[1] = 1;
+  v.half_extent = 10;
+  v.lighting = 1;
+  bbc_error err;
+  counted = 0;
+  fail_at = at;
+  armed = 1;
+  bbc_result r = bbc_tree_generate(&t, &tree, &err);
+  if (r == BBC_OK) r = bbc_baseline_crossed(&tree, 3, 1, &p, 4096, NULL, &crossed, &err);
+  if (r == BBC_OK) r = bbc_baseline_simplify(&tree, 200, 0, &simple, &err);
+  if (r == BBC_OK) r = bbc_mesh_sample_points(&tree, 500, 1, &pts, &err);
+  if (r == BBC_OK) r = bbc_image_alloc(&img, 48, 48);
+  if (r == BBC_OK) r = bbc_render_ortho(&tree, &v, &img, &err);
+  if (r == BBC_OK) r = bbc_eval(&tree, &crossed.mesh, &eo, &ev, &err);
+  armed = 0;
+  if (r != BBC_OK && r != BBC_ERROR_OUT_OF_MEMORY)
+    fail_msg("misc, allocation %ld failing: error %d, %s", at, (int)r, err.message);
+  *digest = 14695981039346656037ull;
+  if (r == BBC_OK) {
+    digest_bytes(digest, tree.positions, 3 * tree.vertex_count * sizeof *tree.positions);
+    digest_bytes(digest, crossed.mesh.textures[0].image.rgba,
+                 4 * (size_t)crossed.mesh.textures[0].image.width *
+                     (size_t)crossed.mesh.textures[0].image.height);
+    digest_bytes(digest, simple.indices, 3 * simple.triangle_count * sizeof *simple.indices);
+    digest_bytes(digest, pts.positions, 3 * pts.vertex_count * sizeof *pts.positions);
+    digest_bytes(digest, img.rgba, 4 * 48 * 48);
+    digest_bytes(digest, &ev.iou_mean, sizeof ev.iou_mean);
+    digest_bytes(digest, &ev.block_iou_mean, sizeof ev.block_iou_mean);
+  }
+  bbc_eval_result_free(&ev);
+  bbc_image_free(&img);
+  bbc_mesh_free(&pts);
+  bbc_mesh_free(&simple);
+  bbc_cloud_free(&crossed);
+  bbc_mesh_free(&tree);
+  return r;
+}
+
+static void test_misc_allocations(void **state) {
+  (void)state;
+  each_allocation("generator, baselines, points, render, eval", misc_run, NULL, 3);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_every_allocation_fails_in_turn),
       cmocka_unit_test(test_impostor_allocations),
       cmocka_unit_test(test_chain_allocations),
       cmocka_unit_test(test_forest_allocations),
+      cmocka_unit_test(test_misc_allocations),
   };
   return cmocka_run_group_tests(tests, tu_group_setup, tu_group_teardown);
 }

@@ -413,8 +413,9 @@ static void test_forest_allocations(void **state) {
 }
 
 /* The tools' other library calls: the tree generator, crossed billboards,
- * meshoptimizer's simplification, points sampled on a mesh and their
- * normals, a software render and an evaluation (one thread). */
+ * meshoptimizer's simplification, points sampled on a mesh, a software
+ * render, an evaluation, the points' estimated normals, the vertices' shade
+ * and a PLY file (one thread). */
 static bbc_result misc_run(long at, const char *out, uint64_t *digest) {
   (void)out;
   bbc_tree_options t;
@@ -457,6 +458,15 @@ static bbc_result misc_run(long at, const char *out, uint64_t *digest) {
   if (r == BBC_OK) r = bbc_image_alloc(&img, 48, 48);
   if (r == BBC_OK) r = bbc_render_ortho(&tree, &v, &img, &err);
   if (r == BBC_OK) r = bbc_eval(&tree, &crossed.mesh, &eo, &ev, &err);
+  float *pn = NULL, *shade = NULL;
+  char ply[2048];
+  snprintf(ply, sizeof ply, "%s/misc.ply", tu_dir);
+  if (r == BBC_OK && !(pn = malloc(3 * pts.vertex_count * sizeof *pn))) r = BBC_ERROR_OUT_OF_MEMORY;
+  if (r == BBC_OK) r = bbc_points_estimate_normals(&pts, 1, pn, &err);
+  if (r == BBC_OK && !(shade = malloc(tree.vertex_count * sizeof *shade)))
+    r = BBC_ERROR_OUT_OF_MEMORY;
+  if (r == BBC_OK) r = bbc_shade_vertices(&tree, 16, 0.4, BBC_AXIS_Y, shade, &err);
+  if (r == BBC_OK) r = bbc_points_write_ply(ply, &pts, &err);
   armed = 0;
   if (r != BBC_OK && r != BBC_ERROR_OUT_OF_MEMORY)
     fail_msg("misc, allocation %ld failing: error %d, %s", at, (int)r, err.message);
@@ -471,7 +481,12 @@ static bbc_result misc_run(long at, const char *out, uint64_t *digest) {
     digest_bytes(digest, img.rgba, 4 * 48 * 48);
     digest_bytes(digest, &ev.iou_mean, sizeof ev.iou_mean);
     digest_bytes(digest, &ev.block_iou_mean, sizeof ev.block_iou_mean);
+    digest_bytes(digest, pn, 3 * pts.vertex_count * sizeof *pn);
+    digest_bytes(digest, shade, tree.vertex_count * sizeof *shade);
+    digest_file(digest, ply);
   }
+  free(pn);
+  free(shade);
   bbc_eval_result_free(&ev);
   bbc_image_free(&img);
   bbc_mesh_free(&pts);
@@ -483,7 +498,8 @@ static bbc_result misc_run(long at, const char *out, uint64_t *digest) {
 
 static void test_misc_allocations(void **state) {
   (void)state;
-  each_allocation("generator, baselines, points, render, eval", misc_run, NULL, 3);
+  each_allocation("generator, baselines, points, render, eval, normals, shade, PLY", misc_run, NULL,
+                  3);
 }
 
 int main(void) {

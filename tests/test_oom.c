@@ -47,6 +47,13 @@ static int should_fail(void) {
   return counted++ == fail_at;
 }
 
+/* Counting from 0, allocation `at` to fail (-1: none). */
+static void arm(long at) {
+  counted = 0;
+  fail_at = at;
+  armed = 1;
+}
+
 void *__wrap_malloc(size_t size) {
   return should_fail() ? NULL : __real_malloc(size);
 }
@@ -89,9 +96,7 @@ static bbc_result whole_run(const bbc_mesh *mesh, const char *path, long at, con
   memset(&s, 0, sizeof s);
   memset(&cl, 0, sizeof cl);
   bbc_error err;
-  counted = 0;
-  fail_at = at;
-  armed = 1;
+  arm(at);
   bbc_result r = BBC_OK;
   if (path) {
     r = bbc_mesh_load(path, NULL, &loaded, &err);
@@ -221,9 +226,7 @@ static bbc_result impostor_run(const bbc_mesh *mesh, long at, const char *out) {
   o.threads = 1;
   bbc_impostor imp;
   bbc_error err;
-  counted = 0;
-  fail_at = at;
-  armed = 1;
+  arm(at);
   bbc_result r = bbc_impostor_build(mesh, &o, &imp, &err);
   if (r == BBC_OK) r = bbc_impostor_write(out, &imp, &err);
   armed = 0;
@@ -297,9 +300,7 @@ static bbc_result chain_run(long at, const char *out, uint64_t *digest) {
   char fbx[2100];
   snprintf(fbx, sizeof fbx, "%s.fbx", out);
   bbc_error err;
-  counted = 0;
-  fail_at = at;
-  armed = 1;
+  arm(at);
   bbc_result r = bbc_session_load(s, chain_obj, NULL, &err);
   if (r == BBC_OK) r = bbc_session_run_chain(s, &o, lv, 3, &err);
   if (r == BBC_OK) r = bbc_session_write(s, out, NULL, &err);
@@ -354,9 +355,7 @@ static bbc_result forest_run(long at, const char *out, uint64_t *digest) {
   uint32_t pm[2][2] = {{1, UINT32_MAX}, {0, UINT32_MAX}};
   const double light[3] = {0.3, 0.8, 0.5}, shadow[2][2] = {{0, 0}, {4, 1}};
   bbc_error err;
-  counted = 0;
-  fail_at = at;
-  armed = 1;
+  arm(at);
   bbc_result r = bbc_forest_map_parse(text, strlen(text), "w.txt", &map, &err);
   if (r == BBC_OK) r = bbc_forest_world_build(&map, forest_dir, &world, &err);
   if (r == BBC_OK)
@@ -448,9 +447,7 @@ static bbc_result misc_run(long at, const char *out, uint64_t *digest) {
   v.half_extent = 10;
   v.lighting = 1;
   bbc_error err;
-  counted = 0;
-  fail_at = at;
-  armed = 1;
+  arm(at);
   bbc_result r = bbc_tree_generate(&t, &tree, &err);
   if (r == BBC_OK) r = bbc_baseline_crossed(&tree, 3, 1, &p, 4096, NULL, &crossed, &err);
   if (r == BBC_OK) r = bbc_baseline_simplify(&tree, 200, 0, &simple, &err);

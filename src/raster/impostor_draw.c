@@ -219,7 +219,7 @@ bbc_result bbc_impostor_render(const bbc_impostor *imp, const bbc_view *view, bb
         nn[c] = sum.n[c] / sum.a;
         nl += nn[c] * nn[c];
       }
-      if (nl > 1 || nl < 1e-18) vstore(nn, vnormalize(vload(nn)));
+      if (nl > 1) vstore(nn, vnormalize(vload(nn))); /* a mean of zero stays zero */
       shade(view, l, nn, col, o);
     }
   return BBC_OK;

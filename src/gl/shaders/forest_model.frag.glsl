@@ -111,7 +111,7 @@ void impostor() {
     // quarter), as bbc_impostor_render lights it
     vec3 n = sum.a > 0.0 ? nsum / sum.a : vec3(0.0);
     float len = length(n);
-    n = len > 1.0 ? n / len : len > 1e-9 ? n : vec3(0.0, 1.0, 0.0);
+    n = len > 1.0 ? n / len : n; // a mean of zero stays zero
     len = min(len, 1.0);
     n = imp_turn(n, c, s);
     rgb *= (u_ambient + max(dot(n, u_light), 0.0) + 0.25 * (1.0 - len)) / (u_ambient + 1.0);

@@ -1240,6 +1240,16 @@ bbc_result bbc_eval(const bbc_mesh *original, const bbc_mesh *other,
                     const bbc_eval_options *options, bbc_eval_result *result, bbc_error *err);
 /* Releases what the result owns and zeroes it (NULL: nothing). */
 void bbc_eval_result_free(bbc_eval_result *result);
+/* How well an impostor's frames show their model (issue 49): along each
+ * frame's own direction, the impostor drawn on the frame's own texels
+ * (bbc_impostor_render, a frame_size square) against `mesh` drawn 4 x finer
+ * (bbc_render_ortho), block IoU over blocks of 8 x 8 texels (per block the
+ * covered fractions, sum min / sum max; the worse of blocks from the frame's
+ * corner and blocks moved by half a block). Per frame into per_frame[j n + i]
+ * (NULL: not kept), the worst and the mean over the frames. Frames of at
+ * least 8 texels. Deterministic. */
+bbc_result bbc_impostor_check(const bbc_mesh *mesh, const struct bbc_impostor *impostor,
+                              double *per_frame, double *worst, double *mean, bbc_error *err);
 /* Writes direction k of n that bbc_eval uses (camera towards the model)
  * into dir[3]; k < n. */
 void bbc_eval_get_direction(int k, int n, bbc_axis up, double dir[3]);
@@ -1388,18 +1398,46 @@ void bbc_impostor_free(bbc_impostor *impostor);
  * frame's image axes: right and up (unit, orthogonal to dir). */
 void bbc_impostor_frame_basis(const bbc_impostor *impostor, int i, int j, double dir[3],
                               double right[3], double up[3]);
+/* Frame (i, j)'s own camera: the orthographic view along -dir, up its
+ * image's up, centred on the impostor's centre, half_extent its frame's
+ * (the rest of `view` zero). */
+void bbc_impostor_frame_view(const bbc_impostor *impostor, int i, int j, bbc_view *view);
 /* Draws the impostor into `image` (allocated by the caller) as a GPU would
  * draw its quad seen with `view` (orthographic): each pixel the blend of
  * the three frames nearest the view (bbc_octahedral_blend), each frame's
  * texel where the view's ray meets the surface the frame saw (marched
- * through its depths a texel at a time, relief mapping), nearest texels,
- * the blended alpha tested against a 4 x 4 ordered dither (as alpha to
+ * through its depths a texel at a time, relief mapping), nearest texels of
+ * the atlases (level 0: alpha tested at the base level, as bbc_render_ortho
+ * tests a cloud's textures), the blended alpha tested against a 4 x 4 ordered dither (as alpha to
  * coverage; 0 or 1 along a frame's own direction), lit from the normal
  * atlas as bbc_render_ortho lights a mesh (lighting, light, light_gain,
  * headlight, sun, sun_ambient; `ambient` adds 0.2 x the colour); the
  * background where nothing covers a pixel. Deterministic. */
 bbc_result bbc_impostor_render(const bbc_impostor *impostor, const bbc_view *view, bbc_image *image,
                                bbc_error *err);
+/* The same from the atlases' mip level `level` (bbc_impostor_level; past
+ * the last: the last), or with level -1 the level whose texels are nearest
+ * a pixel's size, round(log2(frame texels a pixel)), as forest's shader
+ * picks it. */
+bbc_result bbc_impostor_render_level(const bbc_impostor *impostor, const bbc_view *view, int level,
+                                     bbc_image *image, bbc_error *err);
+/* Mip levels of an impostor, each frame filtered within its own square:
+ * level l has frames of bbc_impostor_level_size(l) = max(1, frame_size >>
+ * l) texels (frame (i, j) at column i x size, row j x size, as level 0), a
+ * texel (x, y) standing for the level-0 texels [x S / s, (x + 1) S / s) of
+ * its frame across and down (S the frame size, s the level's). Albedo: the
+ * covered texels' mean colour; alpha binary, keeping each frame's covered
+ * shares down a quadtree as the frames themselves do (as many opaque texels
+ * as the shares sum to, shared between quarters by their sums); normal: the covered texels' mean
+ * normal (its length kept) and mean depth; where none is covered, the texels' mean colour and a
+ * zero normal. Level 0 is the atlases themselves. forest uploads them all and draws the level
+ * bbc_impostor_render_level(-1) picks. */
+int bbc_impostor_level_count(const bbc_impostor *impostor);
+int bbc_impostor_level_size(const bbc_impostor *impostor, int level);
+/* Level `level` (0 .. count - 1) of the impostor's two atlases into albedo
+ * and normal (allocated here; free with bbc_image_free; zeroed on failure). */
+bbc_result bbc_impostor_level(const bbc_impostor *impostor, int level, bbc_image *albedo,
+                              bbc_image *normal, bbc_error *err);
 /* Writes the impostor's descriptor to `path` (JSON: its frames, layout,
  * bounds and the atlases' names) and its atlases beside it as
  * <stem>_albedo.png and <stem>_normal.png (the stem as for other outputs'

@@ -568,7 +568,8 @@ static void test_sun(void **state) {
 }
 
 /* bbcgen impostor (issue 49): the descriptor and both atlases written, eval
- * judges the .json like a model, baseline --method impostor makes one too;
+ * judges the .json like a model, baseline --method impostor makes one too,
+ * --check says how well its frames show the model;
  * its mistakes named: an output that is no .json, too few frames or
  * texels, a missing model. */
 static void test_impostor_command(void **state) {
@@ -578,10 +579,17 @@ static void test_impostor_command(void **state) {
   if (cli_run(args, &out, &err)) fail_msg("%s", err);
   free(out);
   free(err);
-  snprintf(args, sizeof args, "impostor '%s/it.obj' -o '%s/it.json' --frames 4 --texels 16384",
-           tu_dir, tu_dir);
+  snprintf(args, sizeof args,
+           "impostor '%s/it.obj' -o '%s/it.json' --frames 4 --texels 16384 --check", tu_dir,
+           tu_dir);
   if (cli_run(args, &out, &err)) fail_msg("%s", err);
   assert_non_null(strstr(err, "4 x 4 frames of 32 texels"));
+  /* --check: how well the frames show the model, on stdout */
+  const char *ck = strstr(out, "frames against the model: block IoU worst ");
+  assert_non_null(ck);
+  double worst = atof(ck + strlen("frames against the model: block IoU worst "));
+  print_message("%s", ck);
+  assert_true(worst > 0.8 && worst <= 1.0);
   free(out);
   free(err);
   assert_true(cli_file_exists(tu_dir, "it.json"));

@@ -8,7 +8,8 @@
 #
 # For each tree and texel budget T: the default cloud in an atlas of
 # sqrt(T) texels a side (`atlasmax`), `bbcgen impostor --texels T` (8 x 8
-# frames, hemi-octahedral and with --full octahedral) and 3 crossed
+# frames, hemi-octahedral and with --full octahedral, each with --check: its
+# frames against the tree on their own texels) and 3 crossed
 # billboards (`baseline --texels T`);
 # meshoptimizer's simplification at the 1M cloud's triangles once (its
 # textures are the original's). Each judged by `bbcgen eval` (N views, 32 by
@@ -28,11 +29,11 @@ while [ $# -gt 2 ]; do
     --views) views=$2; shift 2 ;;
     --texels) texels=$2; shift 2 ;;
     --sizes) sizes=$2; shift 2 ;;
-    -h|--help) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench_impostor.sh: unknown option '$1' (try --help)" >&2; exit 1 ;;
   esac
 done
-case "${1:-}" in -h|--help) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;; esac
+case "${1:-}" in -h|--help) sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;; esac
 [ $# -eq 2 ] || { echo "usage: bench_impostor.sh [OPTIONS] BUILD_DIR OUT_DIR (try --help)" >&2; exit 1; }
 build=$1 out=$2
 bbcgen=$build/bin/bbcgen
@@ -94,8 +95,19 @@ while IFS=$'\t' read -r name orig; do
     side=$(python3 -c "import math; print(int(math.isqrt($t)))")
     c=$d/cloud_$t.glb i=$d/imp_$t.json f=$d/impfull_$t.json x=$d/x3_$t.glb
     [ -s "$c" ] || "$bbcgen" "$orig" -o "$c" --set atlasmax="$side" -q
-    [ -s "$i" ] || "$bbcgen" impostor "$orig" -o "$i" --texels "$t" -q
-    [ -s "$f" ] || "$bbcgen" impostor "$orig" -o "$f" --texels "$t" --full -q
+    # built with --check: each frame against the tree on the frame's own texels
+    [ -s "$i" ] && [ -s "${i%.json}.check" ] ||
+      "$bbcgen" impostor "$orig" -o "$i" --texels "$t" --check -q > "${i%.json}.check"
+    [ -s "$f" ] && [ -s "${f%.json}.check" ] ||
+      "$bbcgen" impostor "$orig" -o "$f" --texels "$t" --full --check -q > "${f%.json}.check"
+    for k in "$i:impostor" "$f:impostor_full"; do
+      python3 - "${k%%:*}" "$name" "${k#*:}" "$t" >> "$json" <<'PY'
+import json, re, sys
+m = re.search(r"worst ([0-9.]+) .*mean ([0-9.]+)", open(sys.argv[1][:-5] + ".check").read())
+print(json.dumps({"tree": sys.argv[2], "method": sys.argv[3], "budget": int(sys.argv[4]),
+                  "frames_worst": float(m.group(1)), "frames_mean": float(m.group(2))}))
+PY
+    done
     [ -s "$x" ] || "$bbcgen" baseline "$orig" -o "$x" --method crossed --planes 3 --texels "$t" -q
     ia=$(python3 -c "import json; j=json.load(open('$i')); print((j['frames']*j['frame_size'])**2)")
     record "$name" cloud "$t" "$((side * side))" "$(tris_of "$c")" "$c" "$orig"
@@ -157,6 +169,21 @@ for b in budgets:
             print(f"| {b:,} | {m} | {st.median(r['sunup_min'] for r in s):.3f} | "
                   f"{st.median(r['sunup_max'] for r in s):.3f} | {min(r['sunup_min'] for r in s):.3f} | "
                   f"{max(r['sunup_max'] for r in s):.3f} |")
+chk = [r for r in rows if 'frames_worst' in r]
+if chk:
+    print("\nEach impostor's frames against its tree (`bbcgen impostor --check`: along each "
+          "frame's direction, on the frame's own texels against the tree drawn 4 x finer, block "
+          "IoU over blocks of 8 x 8 texels): the worst frame, median and lowest over the trees, "
+          "and the mean over the frames.\n")
+    print("| texels | method | worst frame, median | worst frame, lowest | mean, median |")
+    print("|---:|---|---:|---:|---:|")
+    for b in budgets:
+        for m in ['impostor', 'impostor_full']:
+            s = [r for r in chk if r['budget'] == b and r['method'] == m]
+            if s:
+                print(f"| {b:,} | {m} | {st.median(r['frames_worst'] for r in s):.3f} | "
+                      f"{min(r['frames_worst'] for r in s):.3f} | "
+                      f"{st.median(r['frames_mean'] for r in s):.3f} |")
 print("\nPer tree at 1,048,576 texels and 128 px (block IoU):\n")
 print("| tree | " + " | ".join(methods) + " |")
 print("|---|" + "---:|" * len(methods))

@@ -83,6 +83,16 @@ void bbc__smallest_eigenvector(double a[3][3], double out[3]);
  * keeps the last good step (`start` when the matrix is zero). */
 void bbc__largest_eigenvector(const double a[3][3], const double start[3], double v[3]);
 
+/* ---- coverage-keeping binary alpha (src/base/image.c) -------------------- */
+/* Which of a w x h grid's cells (row stride `stride`) turn opaque, from
+ * their covered fractions frac (0..1): as many as the fractions sum to
+ * (rounded), shared down a quadtree (each rectangle halved across and down)
+ * in proportion to each quarter's sum, by largest remainder (ties: the
+ * first quarter), a cell of fraction 0 never; so every block of the tree
+ * holds within a cell of what it covers, and any block of a few cells
+ * nearly so. mask[y stride + x] = 1 or 0. Deterministic. */
+void bbc__coverage_tree(const float *frac, int w, int h, int stride, uint8_t *mask);
+
 /* ---- impostors (src/base/octahedral.c) ---------------------------------- */
 /* A model-space direction (up axis `up`: 0 x, 1 y, 2 z) in the octahedral
  * mapping's frame (+y up), as bbc_octahedral_encode takes it. */

@@ -5,6 +5,7 @@
 
 #include <assert.h>
 #include <limits.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -179,4 +180,52 @@ oom:
   for (int l = 0; out && l < n; l++) bbc_image_free(&out[l]);
   free(out);
   return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "mipmaps: out of memory");
+}
+
+/* The quadtree's rectangle (x0, y0, w, h) given `t` opaque cells. */
+static void coverage_split(const float *frac, int stride, uint8_t *mask, int x0, int y0, int w,
+                           int h, long t) {
+  if (w <= 0 || h <= 0) return;
+  if (w == 1 && h == 1) {
+    mask[(size_t)y0 * stride + x0] = t > 0 && frac[(size_t)y0 * stride + x0] > 0;
+    return;
+  }
+  int w1 = (w + 1) / 2, h1 = (h + 1) / 2;
+  int xs[4] = {x0, x0 + w1, x0, x0 + w1}, ys[4] = {y0, y0, y0 + h1, y0 + h1};
+  int ws[4] = {w1, w - w1, w1, w - w1}, hs[4] = {h1, h1, h - h1, h - h1};
+  double sum[4] = {0, 0, 0, 0}, total = 0, rem[4];
+  long cap[4] = {0, 0, 0, 0}, n[4], left = t;
+  for (int q = 0; q < 4; q++) {
+    for (int y = ys[q]; y < ys[q] + hs[q]; y++)
+      for (int x = xs[q]; x < xs[q] + ws[q]; x++) {
+        float f = frac[(size_t)y * stride + x];
+        sum[q] += f;
+        cap[q] += f > 0;
+      }
+    total += sum[q];
+  }
+  for (int q = 0; q < 4; q++) {
+    double want = total > 0 ? (double)t * sum[q] / total : 0;
+    n[q] = (long)floor(want);
+    if (n[q] > cap[q]) n[q] = cap[q];
+    rem[q] = want - (double)n[q];
+    left -= n[q];
+  }
+  while (left > 0) {
+    int best = -1;
+    for (int q = 0; q < 4; q++)
+      if (n[q] < cap[q] && (best < 0 || rem[q] > rem[best])) best = q;
+    if (best < 0) break;
+    n[best]++;
+    rem[best] -= 1;
+    left--;
+  }
+  for (int q = 0; q < 4; q++) coverage_split(frac, stride, mask, xs[q], ys[q], ws[q], hs[q], n[q]);
+}
+
+void bbc__coverage_tree(const float *frac, int w, int h, int stride, uint8_t *mask) {
+  double total = 0;
+  for (int y = 0; y < h; y++)
+    for (int x = 0; x < w; x++) total += frac[(size_t)y * stride + x];
+  coverage_split(frac, stride, mask, 0, 0, w, h, (long)floor(total + 0.5));
 }

@@ -140,6 +140,19 @@ void bbc_impostor_frame_basis(const bbc_impostor *imp, int i, int j, double dir[
   up[2] = right[0] * f[1] - right[1] * f[0];
 }
 
+void bbc_impostor_frame_view(const bbc_impostor *imp, int i, int j, bbc_view *view) {
+  assert(imp && view);
+  double dir[3], right[3], up[3];
+  bbc_impostor_frame_basis(imp, i, j, dir, right, up);
+  memset(view, 0, sizeof *view);
+  for (int k = 0; k < 3; k++) {
+    view->direction[k] = -dir[k];
+    view->up[k] = up[k];
+    view->center[k] = imp->center[k];
+  }
+  view->half_extent = imp->half_extent;
+}
+
 void bbc_impostor_options_default(bbc_impostor_options *o) {
   assert(o);
   memset(o, 0, sizeof *o);

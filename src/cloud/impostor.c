@@ -83,13 +83,7 @@ static bbc_result build_frame(const build_ctx *c, int i, int j, frame_work *f, b
   double dir[3], right[3], up[3];
   bbc_impostor_frame_basis(imp, i, j, dir, right, up);
   bbc_view v;
-  memset(&v, 0, sizeof v);
-  for (int a = 0; a < 3; a++) {
-    v.direction[a] = -dir[a];
-    v.up[a] = up[a];
-    v.center[a] = imp->center[a];
-  }
-  v.half_extent = imp->half_extent;
+  bbc_impostor_frame_view(imp, i, j, &v);
   bbc__bake bk;
   memset(&bk, 0, sizeof bk);
   bk.width = bk.height = w;
@@ -117,7 +111,7 @@ static bbc_result build_frame(const build_ctx *c, int i, int j, frame_work *f, b
     r = bbc__render_bake(c->mesh, NULL, 0, &v, &bk, err);
   }
   if (r != BBC_OK) return r;
-  r = bbc__alpha_mask(&f->col, bk.taps[0], k, 1, 1, f->mask, f->cand);
+  r = bbc__alpha_mask(&f->col, bk.taps[0], k, 2, 1, f->mask, f->cand);
   if (r == BBC_OK) depth_texels(f, k, imp->radius);
   /* the texels' own images (downsample replaces them by s x s ones) */
   bbc_image col = f->col, nm = f->nm;

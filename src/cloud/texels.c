@@ -15,9 +15,39 @@
  * that over any small area the fraction of opaque texels is the fraction
  * the original covers, and a texel none of whose samples is covered never
  * turns opaque (its share of the error moves on to covered neighbours). */
+/* The covered fraction of texel (x, y) of a k x k supersampled image (its
+ * samples' alphas; with taps, those drawn at their centres) and whether any
+ * sample covers it (*n > 0). */
+static float texel_share(const bbc_image *img, const uint8_t *taps, int k, int x, int y,
+                         unsigned *n) {
+  unsigned shares = 0;
+  *n = 0;
+  for (int j = 0; j < k; j++)
+    for (int q = 0; q < k; q++) {
+      size_t si = (size_t)(y * k + j) * img->width + (x * k + q);
+      unsigned a = img->rgba[4 * si + 3];
+      *n += a > 0;
+      shares += !taps || taps[si] ? a : 0;
+    }
+  return (float)shares / (float)(255 * k * k);
+}
+
 bbc_result bbc__alpha_mask(const bbc_image *img, const uint8_t *taps, int k, int dither,
                            unsigned min_opaque, uint8_t *mask, uint8_t *cand) {
   int w = img->width / k, h = img->height / k;
+  if (dither == 2) { /* coverage kept down a quadtree */
+    float *frac = malloc((size_t)w * h * sizeof *frac);
+    if (!frac) return BBC_ERROR_OUT_OF_MEMORY;
+    for (int y = 0; y < h; y++)
+      for (int x = 0; x < w; x++) {
+        unsigned n;
+        frac[(size_t)y * w + x] = texel_share(img, taps, k, x, y, &n);
+        cand[(size_t)y * w + x] = n > 0;
+      }
+    bbc__coverage_tree(frac, w, h, w, mask);
+    free(frac);
+    return BBC_OK;
+  }
   float *err = dither ? calloc(2 * ((size_t)w + 2), sizeof *err) : NULL;
   if (dither && !err) return BBC_ERROR_OUT_OF_MEMORY;
   for (int y = 0; y < h; y++) {
@@ -27,22 +57,16 @@ bbc_result bbc__alpha_mask(const bbc_image *img, const uint8_t *taps, int k, int
     int dir = y % 2 ? -1 : 1;
     for (int i = 0; i < w; i++) {
       int x = dir > 0 ? i : w - 1 - i;
-      unsigned n = 0, shares = 0; /* covered samples, their alphas (pure 2: shares) */
-      for (int j = 0; j < k; j++)
-        for (int q = 0; q < k; q++) {
-          size_t si = (size_t)(y * k + j) * img->width + (x * k + q);
-          unsigned a = img->rgba[4 * si + 3];
-          n += a > 0;
-          /* bbc__bake.taps: a sample drawn by a face passing its alpha test
-           * at a tap only makes the texel a candidate, its coverage the
-           * samples' centres' */
-          shares += !taps || taps[si] ? a : 0;
-        }
+      /* covered samples, and their share: bbc__bake.taps, a sample drawn by
+       * a face passing its alpha test at a tap only makes the texel a
+       * candidate, its coverage the samples' centres' */
+      unsigned n;
+      float share = texel_share(img, taps, k, x, y, &n);
       uint8_t on;
       if (!dither) {
         on = n > 0 && n >= min_opaque;
       } else {
-        float v = (float)shares / (float)(255 * k * k) + cur[x];
+        float v = share + cur[x];
         on = n > 0 && v >= 0.5f;
         /* The error goes to the neighbours inside the image, the weights
          * renormalised, so that none leaves over an edge. */

@@ -64,6 +64,7 @@ bbcgl_forest *bbcgl_forest_create(const bbcgl_scene *scene, char *err) {
   f->u_imp = glGetUniformLocation(f->p_model, "u_imp");
   f->u_imp_c = glGetUniformLocation(f->p_model, "u_imp_c");
   f->u_imp_r = glGetUniformLocation(f->p_model, "u_imp_r");
+  f->u_imp_lv = glGetUniformLocation(f->p_model, "u_imp_lv");
   f->u_blend = glGetUniformLocation(f->p_model, "u_blend");
   f->u_lod = glGetUniformLocation(f->p_model, "u_lod");
   bbcgl__forest_build_water(f);

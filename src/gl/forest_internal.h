@@ -5,6 +5,9 @@
 #ifndef BBCGL_FOREST_INTERNAL_H
 #define BBCGL_FOREST_INTERNAL_H
 
+/* An impostor's mip levels the shader knows (u_imp_lv): frames up to 32,768 texels */
+#define BBCGL_IMP_LEVELS 16
+
 #include "bbcgl.h"
 #include "shader.h"
 
@@ -34,7 +37,8 @@ typedef struct part {
 
 typedef struct texture_entry {
   const uint8_t *key; /* the image's texels: one GL texture per image and use */
-  int mipmap, map;    /* map: 0 a colour map, 1 a normal or occlusion map */
+  int mipmap, map;    /* map: 0 a colour map, 1 a normal or occlusion map, 2 and 3 an
+                       * impostor's albedo and normal atlases with their levels */
   GLuint tex;
   size_t bytes;      /* what the GPU holds, all levels */
   int premultiplied; /* BC1: transparent texels decode black (0, 0, 0, 0) */
@@ -47,7 +51,7 @@ struct bbcgl_forest {
   GLuint p_terrain, p_model, p_sky, p_water;
   GLint u_has, u_base, u_lit, u_maps, u_sway; /* the model program's per-material uniforms */
   GLint u_blend, u_lod;                       /* weights from the distance (blend ranges) */
-  GLint u_imp, u_imp_c, u_imp_r;              /* an impostor's (impostor.glsl) */
+  GLint u_imp, u_imp_c, u_imp_r, u_imp_lv;    /* an impostor's (impostor.glsl) */
   /* terrain */
   GLuint t_vao, t_vbo, t_ebo, t_nodes, t_height, t_colour;
   size_t t_first[5], t_count[5], t_node_capacity;
@@ -99,5 +103,9 @@ void bbcgl__forest_draw_water(bbcgl_forest *f, const bbcgl_frame *fr, bbcgl_stat
 /* forest_objects.c */
 void bbcgl__forest_draw_objects(bbcgl_forest *f, const bbcgl_frame *fr, const bbc_forest_cull *c,
                                 bbcgl_stats *st);
+
+/* The first row of an impostor's level `level` in its packed atlases
+ * (forest_parts.c); level = the count: their height. */
+int bbcgl__impostor_level_row(const bbc_impostor *imp, int level);
 
 #endif

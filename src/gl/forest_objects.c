@@ -25,6 +25,14 @@ static void set_batch(const bbcgl_forest *f, const batch *ba) {
     glUniform4f(f->u_imp_c, (float)im->center[0], (float)im->center[1], (float)im->center[2],
                 (float)im->half_extent);
     glUniform1f(f->u_imp_r, (float)im->radius);
+    GLint lv[2 * BBCGL_IMP_LEVELS];
+    int n = bbc_impostor_level_count(im);
+    for (int l = 0; l < BBCGL_IMP_LEVELS; l++) {
+      int k = l < n ? l : n - 1; /* past the last: the last */
+      lv[2 * l] = bbc_impostor_level_size(im, k);
+      lv[2 * l + 1] = bbcgl__impostor_level_row(im, k);
+    }
+    glUniform2iv(f->u_imp_lv, BBCGL_IMP_LEVELS, lv);
   }
   if (ba->single_sided)
     glEnable(GL_CULL_FACE);

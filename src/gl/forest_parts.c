@@ -144,31 +144,65 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_image *src, int mipmap, int
   return tex;
 }
 
-/* An impostor's atlas as it is: RGBA8, one level, nearest texels (the
- * shader fetches texels of its frames; a normal atlas's alpha is depth). */
-static GLuint atlas_texture(bbcgl_forest *f, const bbc_image *im, char *err) {
-  for (size_t i = 0; i < f->texture_count; i++)
-    if (f->textures[i].key == im->rgba && f->textures[i].map == 2) return f->textures[i].tex;
-  texture_entry *t2 = realloc(f->textures, (f->texture_count + 1) * sizeof *t2);
+/* An impostor's two atlases with their mip levels (bbc_impostor_level)
+ * packed one below another in one RGBA8 texture each (level l's frames from
+ * row bbcgl__impostor_level_row(l)), nearest texels: the shader fetches
+ * texels of its frames at the level it picks; a normal atlas's alpha is
+ * depth. tex[0] albedo, tex[1] normal; 0 when it fails. */
+int bbcgl__impostor_level_row(const bbc_impostor *imp, int level) {
+  int row = 0;
+  for (int l = 0; l < level; l++) row += imp->frames * bbc_impostor_level_size(imp, l);
+  return row;
+}
+
+static int atlas_textures(bbcgl_forest *f, const bbc_impostor *imp, GLuint tex[2], char *err) {
+  for (size_t i = 0; i + 1 < f->texture_count; i++)
+    if (f->textures[i].key == imp->albedo.rgba && f->textures[i].map == 2) {
+      tex[0] = f->textures[i].tex;
+      tex[1] = f->textures[i + 1].tex;
+      return 1;
+    }
+  texture_entry *t2 = realloc(f->textures, (f->texture_count + 2) * sizeof *t2);
   if (!t2) {
     snprintf(err, BBCGL_ERR, "out of memory");
     return 0;
   }
   f->textures = t2;
-  GLuint tex;
-  glCreateTextures(GL_TEXTURE_2D, 1, &tex);
-  glTextureStorage2D(tex, 1, GL_RGBA8, im->width, im->height);
+  int levels = bbc_impostor_level_count(imp), W = imp->albedo.width;
+  int H = bbcgl__impostor_level_row(imp, levels);
+  glCreateTextures(GL_TEXTURE_2D, 2, tex);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTextureSubImage2D(tex, 0, 0, 0, im->width, im->height, GL_RGBA, GL_UNSIGNED_BYTE, im->rgba);
-  glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  texture_entry *t = &f->textures[f->texture_count++];
-  memset(t, 0, sizeof *t);
-  t->key = im->rgba;
-  t->map = 2;
-  t->tex = tex;
-  t->bytes = (size_t)im->width * im->height * 4;
-  return tex;
+  for (int k = 0; k < 2; k++) {
+    glTextureStorage2D(tex[k], 1, GL_RGBA8, W, H);
+    glTextureSubImage2D(tex[k], 0, 0, 0, W, W, GL_RGBA, GL_UNSIGNED_BYTE,
+                        k ? imp->normal.rgba : imp->albedo.rgba);
+    glTextureParameteri(tex[k], GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(tex[k], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  }
+  for (int l = 1; l < levels; l++) {
+    bbc_image a, n;
+    bbc_error e;
+    if (bbc_impostor_level(imp, l, &a, &n, &e) != BBC_OK) {
+      snprintf(err, BBCGL_ERR, "%s", e.message);
+      glDeleteTextures(2, tex);
+      tex[0] = tex[1] = 0;
+      return 0;
+    }
+    int row = bbcgl__impostor_level_row(imp, l);
+    glTextureSubImage2D(tex[0], 0, 0, row, a.width, a.height, GL_RGBA, GL_UNSIGNED_BYTE, a.rgba);
+    glTextureSubImage2D(tex[1], 0, 0, row, n.width, n.height, GL_RGBA, GL_UNSIGNED_BYTE, n.rgba);
+    bbc_image_free(&a);
+    bbc_image_free(&n);
+  }
+  for (int k = 0; k < 2; k++) {
+    texture_entry *t = &f->textures[f->texture_count++];
+    memset(t, 0, sizeof *t);
+    t->key = k ? imp->normal.rgba : imp->albedo.rgba;
+    t->map = 2 + k;
+    t->tex = tex[k];
+    t->bytes = (size_t)W * H * 4;
+  }
+  return 1;
 }
 
 size_t bbcgl_forest_texture_bytes(const bbcgl_forest *f, const bbc_image *im, int mipmap) {
@@ -217,10 +251,7 @@ static int add_batches(bbcgl_forest *f, part *p, const bbc_mesh *m, const size_t
     b->lit = o->lit;
     b->sway = o->sway_height;
     b->imp = o->impostor;
-    const bbc_image *im[2] = {&o->impostor->albedo, &o->impostor->normal};
-    for (int k = 0; k < 2; k++)
-      if (!(b->tex[k] = atlas_texture(f, im[k], err))) return 0;
-    return 1;
+    return atlas_textures(f, o->impostor, b->tex, err);
   }
   for (size_t mat = 0; mat < m->material_count; mat++) {
     if (!count[mat]) continue;

@@ -35,13 +35,14 @@ float bayer(ivec2 p) {
   }
   return (float(v) + 0.5) / 64.0;
 }
-// an impostor's texel along the view's ray in frame fr (i + n j), as
-// bbc_impostor_render finds it (src/raster/impostor_draw.c): marched one
-// texel of the frame at a time through the model's sphere, the first
+// an impostor's texel along the view's ray in frame fr (i + n j) at level
+// lv, as bbc_impostor_render finds it (src/raster/impostor_draw.c): marched
+// one texel of the frame at a time through the model's sphere, the first
 // covered texel the ray reaches within a thin shell, or crosses into from in
-// front of its neighbour; w 0 where none
-void imp_look(int fr, vec3 p, vec3 f, out vec4 col, out vec3 nrm) {
-  int n = u_imp.x, S = u_imp.z;
+// front of its neighbour; col premultiplied by the texel's covered share
+// (1 at level 0), 0 where none
+void imp_look(int fr, int lv, vec3 p, vec3 f, out vec4 col, out vec3 nrm) {
+  int n = u_imp.x, S = u_imp_lv[lv].x, row = u_imp_lv[lv].y;
   ivec2 ij = ivec2(fr % n, fr / n);
   vec3 dir, r, u;
   imp_basis(ij, dir, r, u);
@@ -66,9 +67,9 @@ void imp_look(int fr, vec3 p, vec3 f, out vec4 col, out vec3 nrm) {
       front = false;
       continue;
     }
-    ivec2 at = ij * S + x;
+    ivec2 at = ij * S + x + ivec2(0, row);
     vec4 c = texelFetch(u_tex, at, 0);
-    if (c.a < 0.5) {
+    if (c.a <= 0.0) {
       front = false;
       continue;
     }
@@ -78,8 +79,8 @@ void imp_look(int fr, vec3 p, vec3 f, out vec4 col, out vec3 nrm) {
     front = d > end;
     fd = d;
     if (hit) {
-      col = vec4(c.rgb, 1.0);
-      nrm = m.xyz * 2.0 - 1.0;
+      col = vec4(c.rgb * c.a, c.a);
+      nrm = (m.xyz * 2.0 - 1.0) * c.a;
       return;
     }
   }
@@ -87,8 +88,11 @@ void imp_look(int fr, vec3 p, vec3 f, out vec4 col, out vec3 nrm) {
 vec3 imp_turn(vec3 v, float c, float s) { return vec3(c * v.x + s * v.z, v.y, -s * v.x + c * v.z); }
 // an impostor's fragment: the weighted hits of its three frames, alpha
 // tested against an ordered dither (as alpha to coverage), lit by the sun
-void impostor() {
+void impostor(float tpp) {
   float c = v_imp_cs.x, s = v_imp_cs.y;
+  // the level whose texels are nearest the pixel's size (bbc_impostor_render)
+  tpp *= float(u_imp.z) / (2.0 * u_imp_c.w * v_imp_base.w);
+  int lv = tpp > 1.0 ? min(int(floor(log2(tpp) + 0.5)), 15) : 0;
   vec3 p = imp_turn(v_world - v_imp_base.xyz, c, -s) / v_imp_base.w;
   vec3 f = imp_turn(normalize(v_world - u_eye), c, -s);
   vec4 sum = vec4(0.0);
@@ -98,7 +102,7 @@ void impostor() {
     if (v_imp_w[k] <= 0.0) continue;
     vec4 col;
     vec3 nrm;
-    imp_look(v_imp_fr[k], p, f, col, nrm);
+    imp_look(v_imp_fr[k], lv, p, f, col, nrm);
     sum += v_imp_w[k] * col;
     nsum += v_imp_w[k] * nrm;
     wsum += v_imp_w[k];
@@ -119,9 +123,12 @@ void impostor() {
   o_colour = u_fill != 0 ? vec4(1.0) : vec4(fogged(rgb, v_world), 1.0);
 }
 void main() {
+  // a pixel's size on an impostor's quad, taken before any fragment of the
+  // quad discards (world units)
+  float tpp = max(length(dFdx(v_world)), length(dFdy(v_world)));
   if (v_fade < 1.0 && bayer(ivec2(gl_FragCoord.xy)) >= v_fade) discard;
   if (u_imp.w != 0) {
-    impostor();
+    impostor(tpp);
     return;
   }
   vec4 c = u_base;

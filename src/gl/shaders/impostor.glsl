@@ -5,6 +5,9 @@
 uniform ivec4 u_imp;    // frames, hemi, frame_size, 1 = the part is an impostor
 uniform vec4 u_imp_c;   // the model's sphere's centre (model units), half_extent
 uniform float u_imp_r;  // the sphere's radius
+// level l's frame size and first row in the packed atlases (BBCGL_IMP_LEVELS;
+// past the last level: the last)
+uniform ivec2 u_imp_lv[16];
 float imp_sign(float v) { return v < 0.0 ? -1.0 : 1.0; }
 vec2 imp_encode(vec3 d) {
   float a = d.x, b = d.z, up = d.y, s = abs(a) + abs(b) + abs(up);

@@ -1,7 +1,8 @@
 /* cmd_impostor.c — `bbcgen impostor MODEL -o OUT.json [--frames N] [--texels N]
- * [--full] [--samples K]`: the octahedral impostor a game engine's tools
- * would bake, as PNG atlases and a JSON descriptor (docs/impostors.md), so
- * that `bbcgen eval` and `forest` can set it beside our clouds. */
+ * [--full] [--samples K] [--check]`: the octahedral impostor a game engine's
+ * tools would bake, as PNG atlases and a JSON descriptor (docs/impostors.md),
+ * so that `bbcgen eval` and `forest` can set it beside our clouds; --check
+ * says how well its frames show the model (bbc_impostor_check). */
 #include "cli.h"
 
 #include <stdio.h>
@@ -12,7 +13,7 @@
 /* The command line into `o` and the paths: -1 to go on, else an exit code
  * (said). */
 static int parse_impostor_args(cli *c, int argc, char **argv, bbc_impostor_options *o,
-                               const char **path, const char **out) {
+                               const char **path, const char **out, int *check) {
   for (int i = 1; i < argc; i++) {
     int k = cli_common_option(c, argc, argv, &i);
     if (k < 0) return EXIT_USAGE;
@@ -44,11 +45,13 @@ static int parse_impostor_args(cli *c, int argc, char **argv, bbc_impostor_optio
       o->samples = (int)n;
     } else if (!strcmp(argv[i], "--full")) {
       o->full = 1;
+    } else if (!strcmp(argv[i], "--check")) {
+      *check = 1;
     } else if (!*path && argv[i][0] != '-') {
       *path = argv[i];
     } else {
       static const char *const own[] = {"-o",        "--output", "--frames", "--texels",
-                                        "--samples", "--full",   NULL};
+                                        "--samples", "--full",   "--check",  NULL};
       return cli_unknown_option("impostor", argv[i], own);
     }
   }
@@ -59,11 +62,12 @@ int cmd_impostor(cli *c, int argc, char **argv) {
   bbc_impostor_options o;
   bbc_impostor_options_default(&o);
   const char *path = NULL, *out = NULL;
-  int rc = parse_impostor_args(c, argc, argv, &o, &path, &out);
+  int check = 0;
+  int rc = parse_impostor_args(c, argc, argv, &o, &path, &out, &check);
   if (rc >= 0) return rc;
   if (!path || !out) {
     cli_error("impostor: usage: bbcgen impostor MODEL -o OUT.json [--frames N] [--texels N] "
-              "[--full] [--samples K]");
+              "[--full] [--samples K] [--check]");
     return EXIT_USAGE;
   }
   size_t ol = strlen(out);
@@ -90,6 +94,20 @@ int cmd_impostor(cli *c, int argc, char **argv) {
     cli_info(c, "wrote %s: %s impostor, %d x %d frames of %d texels, atlases %d x %d (%.2f s)", out,
              imp.hemi ? "hemi-octahedral" : "octahedral", imp.frames, imp.frames, imp.frame_size,
              imp.albedo.width, imp.albedo.height, cli_now() - t0);
+    double worst, mean, *per = malloc((size_t)imp.frames * imp.frames * sizeof *per);
+    if (check && !per) {
+      cli_error("impostor: out of memory");
+      rc = EXIT_RESOURCES;
+    } else if (check && bbc_impostor_check(&m, &imp, per, &worst, &mean, &err) != BBC_OK) {
+      rc = cli_fail(&err, 0);
+    } else if (check) {
+      int at = 0;
+      for (int k = 1; k < imp.frames * imp.frames; k++)
+        if (per[k] < per[at]) at = k;
+      printf("frames against the model: block IoU worst %.3f (frame %d, %d), mean %.3f\n", worst,
+             at % imp.frames, at / imp.frames, mean);
+    }
+    free(per);
   }
   bbc_impostor_free(&imp);
   bbc_mesh_free(&m);

@@ -93,12 +93,14 @@ static void help_model_commands(FILE *out) {
         "      baked by our baker at about N texels, meshoptimizer's simplification,\n"
         "      or an octahedral impostor of about N texels (bbcgen impostor).\n"
         "  bbcgen impostor MODEL -o OUT.json [--frames N] [--texels N] [--full]\n"
-        "              [--samples K]\n"
+        "              [--samples K] [--check]\n"
         "      The octahedral impostor engines bake for far trees: the model rendered\n"
         "      from N x N directions (8) over the upper half of the sphere (--full:\n"
         "      the whole sphere) into an albedo atlas and a normal + depth atlas of\n"
         "      about N texels each (1,048,576), K x K samples a texel (4), beside the\n"
-        "      descriptor OUT.json (docs/impostors.md). `eval` judges it (OTHER.json).\n",
+        "      descriptor OUT.json (docs/impostors.md). `eval` judges it (OTHER.json);\n"
+        "      --check prints how well each frame shows the model (block IoU on the\n"
+        "      frame's texels against the model drawn 4 x finer).\n",
         out);
 }
 

@@ -97,8 +97,6 @@ static bbc_result build_frame(const build_ctx *c, int i, int j, frame_work *f, b
   if (c->mesh->kind == BBC_MESH_POINTS) {
     /* splats as step 3's: 3.5 pixels of a 256-pixel picture of the model */
     double px = 3.5 * (2 * imp->radius / 256.0) * (w / (2 * imp->half_extent));
-    for (size_t q = 0; q < n; q++) f->z[q] = 0; /* splats give no depth: the centre plane */
-    bk.front_depth = NULL;
     r = bbc__render_splats(c->mesh, NULL, c->mesh->vertex_count, &v, &bk, px < 1 ? 1 : px, 1, err);
     /* splats carry no normal: each covered sample faces the frame's viewer */
     for (size_t q = 0; r == BBC_OK && q < n; q++)

@@ -54,6 +54,10 @@ bbc_result bbc_impostor_check(const bbc_mesh *mesh, const bbc_impostor *imp, dou
     for (int i = 0; i < n && r == BBC_OK; i++) {
       bbc_view v;
       bbc_impostor_frame_view(imp, i, j, &v);
+      /* points splatted as the frames splat them: 3.5 pixels of a 256-pixel
+       * picture of the model, round */
+      v.point_size_px = (float)(3.5 * (2 * imp->radius / 256.0) * (4 * s / (2 * imp->half_extent)));
+      v.point_round = 1;
       r = bbc_impostor_render(imp, &v, &a, err);
       if (r == BBC_OK) r = bbc_render_ortho(mesh, &v, &b, err);
       if (r != BBC_OK) break;

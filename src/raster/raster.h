@@ -118,7 +118,8 @@ bbc_result bbc__render_bake(const bbc_mesh *mesh, const uint32_t *faces, size_t 
                             const bbc_view *view, bbc__bake *bake, bbc_error *err);
 /* The same for a point cloud's points (NULL: all), splatted `size_px`
  * pixels wide, round when `smooth`, coloured as scanned (else light grey);
- * the front image keeps the nearest point, the back image the farthest. */
+ * the front image keeps the nearest point, the back image the farthest
+ * (front_depth: its depth, as bbc__render_bake gives it). */
 bbc_result bbc__render_splats(const bbc_mesh *mesh, const uint32_t *points, size_t count,
                               const bbc_view *view, bbc__bake *bake, double size_px, int smooth,
                               bbc_error *err);

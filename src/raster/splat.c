@@ -217,6 +217,7 @@ bbc_result bbc__render_splats(const bbc_mesh *m, const uint32_t *points, size_t 
     }
     free(list);
   }
+  if (bake->front_depth) memcpy(bake->front_depth, depth, n * sizeof *depth);
   free(sp);
   free(start);
   free(depth);

@@ -378,6 +378,20 @@ bbc_result bbc_mesh_load_memory(const char *name, const void *data, size_t size,
 
 /* Releases everything the mesh owns and zeroes it (NULL: nothing). */
 void bbc_mesh_free(bbc_mesh *mesh);
+/* A copy of texture `texture` of `mesh` whose texels that no triangle's
+ * texture coordinates reach (nor a texel next to one) take the colour of
+ * the nearest texel that is reached (breadth first), alpha kept: mip levels
+ * of it do not mix in what the model never shows (an atlas's background
+ * between its leaves; a triangle that repeats it, wrapped). A plain copy
+ * where the mesh has no coordinates or a triangle's box covers the texture
+ * more than 16 times. *levels (NULL: not asked): how many mip levels past
+ * level 0 keep the used texels' islands (4-connected, each of at least 2 %
+ * of them) apart, a texel at most a quarter of the smallest side of their
+ * boxes (an atlas's two leaves and its bark; every level where one island
+ * covers the texture). Allocated here (free with bbc_image_free); zeroed on
+ * failure. */
+bbc_result bbc_mesh_texture_padded(const bbc_mesh *mesh, int texture, bbc_image *out, int *levels,
+                                   bbc_error *err);
 
 /* Checks and completes a mesh whose arrays the caller filled in (loaders
  * and generators end with it): refuses non-finite coordinates and indices
@@ -1244,8 +1258,8 @@ void bbc_eval_result_free(bbc_eval_result *result);
  * frame's own direction, the impostor drawn on the frame's own texels
  * (bbc_impostor_render, a frame_size square) against `mesh` drawn 4 x finer
  * (bbc_render_ortho), block IoU over blocks of 8 x 8 texels (per block the
- * covered fractions, sum min / sum max; the worse of blocks from the frame's
- * corner and blocks moved by half a block). Per frame into per_frame[j n + i]
+ * covered fractions, sum min / sum max; the mean over the block grid's 8
+ * phases, moved 0..7 texels across and down). Per frame into per_frame[j n + i]
  * (NULL: not kept), the worst and the mean over the frames. Frames of at
  * least 8 texels. Deterministic. */
 bbc_result bbc_impostor_check(const bbc_mesh *mesh, const struct bbc_impostor *impostor,
@@ -1426,9 +1440,9 @@ bbc_result bbc_impostor_render_level(const bbc_impostor *impostor, const bbc_vie
  * l) texels (frame (i, j) at column i x size, row j x size, as level 0), a
  * texel (x, y) standing for the level-0 texels [x S / s, (x + 1) S / s) of
  * its frame across and down (S the frame size, s the level's). Albedo: the
- * covered texels' mean colour; alpha binary, keeping each frame's covered
- * shares down a quadtree as the frames themselves do (as many opaque texels
- * as the shares sum to, shared between quarters by their sums); normal: the covered texels' mean
+ * covered texels' mean colour; alpha binary, each frame's covered shares
+ * kept whole down a quadtree (as many opaque texels as the shares sum to,
+ * shared between quarters by their sums); normal: the covered texels' mean
  * normal (its length kept) and mean depth; where none is covered, the texels' mean colour and a
  * zero normal. Level 0 is the atlases themselves. forest uploads them all and draws the level
  * bbc_impostor_render_level(-1) picks. */

@@ -660,6 +660,59 @@ static void test_mipmaps(void **state) {
   bbc_image_free(&im);
 }
 
+/* An opaque texture atlas's texels no triangle uses are padded by those it
+ * does, so that its mip levels do not mix in its background, and its mip
+ * levels stop where they would mix its islands (bbc_mesh_texture_padded,
+ * what forest uploads for opaque textures): a 64 x 64 texture, its left
+ * half red and used by a quad, its right half white and unused. */
+static void test_padded_texture(void **state) {
+  (void)state;
+  static const char *const names[] = {"leaf"};
+  bbc_mesh m;
+  tu_mesh_begin(&m, 2, 1, names, NULL, "g");
+  double a[3] = {0, 0, 0}, b[3] = {1, 0, 0}, c[3] = {1, 1, 0}, d[3] = {0, 1, 0};
+  tu_mesh_quad(&m, a, b, c, d, 0);
+  m.uvs = calloc(2 * m.vertex_count, sizeof *m.uvs);
+  m.textures = calloc(1, sizeof *m.textures);
+  assert_non_null(m.uvs);
+  assert_non_null(m.textures);
+  m.texture_count = 1;
+  m.materials[0].texture = 0;
+  bbc_image *im = &m.textures[0].image;
+  assert_int_equal(bbc_image_alloc(im, 64, 64), BBC_OK);
+  for (int i = 0; i < 64 * 64; i++) {
+    uint8_t *p = im->rgba + 4 * i;
+    int red = i % 64 < 32;
+    p[0] = 255;
+    p[1] = p[2] = red ? 0 : 255;
+    p[3] = 255;
+  }
+  /* the quad shows the left half: u 0..0.5 (an inset of a texel) */
+  const float uv[4][2] = {{0.02f, 0.02f}, {0.48f, 0.02f}, {0.48f, 0.98f}, {0.02f, 0.98f}};
+  memcpy(m.uvs, uv, sizeof uv);
+  bbc_image out;
+  int levels = -1;
+  bbc_error err;
+  assert_int_equal(bbc_mesh_texture_padded(&m, 0, &out, &levels, &err), BBC_OK);
+  int white = 0;
+  for (int i = 0; i < 64 * 64; i++) white += out.rgba[4 * i + 1] > 0;
+  assert_int_equal(white, 0); /* the unused half took the red */
+  /* the island is about 31 texels wide: texels up to 4 x 4 keep it
+   * apart from what is around it (2 levels), not the whole chain (6) */
+  print_message("padded: levels apart %d\n", levels);
+  assert_int_equal(levels, 2);
+  bbc_image_free(&out);
+  /* repeating the texture across (u 0.12..2.88, wrapped): every texel
+   * used, the copy as it was, one island 62 texels tall (3 levels) */
+  for (int k = 0; k < 4; k++) m.uvs[2 * k] *= 6;
+  assert_int_equal(bbc_mesh_texture_padded(&m, 0, &out, &levels, &err), BBC_OK);
+  assert_memory_equal(out.rgba, im->rgba, 4 * 64 * 64);
+  assert_int_equal(levels, 3);
+  bbc_image_free(&out);
+  assert_int_equal(bbc_mesh_texture_padded(&m, 1, &out, NULL, &err), BBC_ERROR_INVALID_ARGUMENT);
+  bbc_mesh_free(&m);
+}
+
 static void test_positions(void **state) {
   (void)state;
   char *dir = tu_make_temp_dir();
@@ -787,7 +840,7 @@ int main(void) {
       cmocka_unit_test(test_terrain_colour), cmocka_unit_test(test_mipmaps),
       cmocka_unit_test(test_positions),      cmocka_unit_test(test_demo_terrain),
       cmocka_unit_test(test_bmp_rle),        cmocka_unit_test(test_sun),
-      cmocka_unit_test(test_wind),
+      cmocka_unit_test(test_wind),           cmocka_unit_test(test_padded_texture),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -84,13 +84,24 @@ void bbc__smallest_eigenvector(double a[3][3], double out[3]);
 void bbc__largest_eigenvector(const double a[3][3], const double start[3], double v[3]);
 
 /* ---- coverage-keeping binary alpha (src/base/image.c) -------------------- */
-/* Which of a w x h grid's cells (row stride `stride`) turn opaque, from
- * their covered fractions frac (0..1): as many as the fractions sum to
- * (rounded), shared down a quadtree (each rectangle halved across and down)
- * in proportion to each quarter's sum, by largest remainder (ties: the
- * first quarter), a cell of fraction 0 never; so every block of the tree
- * holds within a cell of what it covers, and any block of a few cells
- * nearly so. mask[y stride + x] = 1 or 0. Deterministic. */
+/* Which of a w x h grid's cells turn opaque (mask 1, else 0) from their
+ * covered fractions frac (0..1): coverage-keeping error diffusion
+ * (Floyd-Steinberg, serpentine rows, the error renormalised at the edges
+ * so that none leaves the grid), so that over any small area the share of
+ * opaque cells is the share covered; a cell turns opaque only where
+ * cand[cell] (NULL: where frac > 0). 0, or -1 out of memory.
+ * Deterministic. */
+int bbc__coverage_diffuse(const float *frac, const uint8_t *cand, int w, int h, uint8_t *mask);
+/* The same kept down a quadtree instead: as many opaque cells as the
+ * fractions sum to (rounded), shared between each rectangle's quarters
+ * (halved across and down) in proportion to their sums, by largest
+ * remainder (ties: the first quarter), a cell of fraction 0 never; so a
+ * grid's coverage is kept whole and every block of the tree within a cell
+ * (error diffusion loses what drifts into empty cells: an impostor's far
+ * mip levels 8 % thinner), at the price of blocks off the tree's grid
+ * (block IoU over 8 x 8 cells at any phase: 0.935 against error
+ * diffusion's 0.941 on a sparse tree's frames). `stride`: the grid's row
+ * length. */
 void bbc__coverage_tree(const float *frac, int w, int h, int stride, uint8_t *mask);
 
 /* ---- impostors (src/base/octahedral.c) ---------------------------------- */

@@ -182,6 +182,39 @@ oom:
   return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "mipmaps: out of memory");
 }
 
+int bbc__coverage_diffuse(const float *frac, const uint8_t *cand, int w, int h, uint8_t *mask) {
+  float *err = calloc(2 * ((size_t)w + 2), sizeof *err);
+  if (!err) return -1;
+  for (int y = 0; y < h; y++) {
+    float *cur = err + (y % 2) * ((size_t)w + 2) + 1;
+    float *nxt = err + ((y + 1) % 2) * ((size_t)w + 2) + 1;
+    memset(nxt - 1, 0, ((size_t)w + 2) * sizeof *nxt);
+    int dir = y % 2 ? -1 : 1;
+    for (int i = 0; i < w; i++) {
+      int x = dir > 0 ? i : w - 1 - i;
+      size_t at = (size_t)y * w + x;
+      float v = frac[at] + cur[x];
+      uint8_t on = (cand ? cand[at] != 0 : frac[at] > 0) && v >= 0.5f;
+      /* The error goes to the neighbours inside the grid, the weights
+       * renormalised, so that none leaves over an edge. */
+      float e = v - on;
+      int right = x + dir >= 0 && x + dir < w, below = y + 1 < h;
+      int left_below = below && x - dir >= 0 && x - dir < w;
+      float wr = right ? 7.0f : 0, wlb = left_below ? 3.0f : 0, wb = below ? 5.0f : 0;
+      float wrb = right && below ? 1.0f : 0, sum = wr + wlb + wb + wrb;
+      if (sum > 0) {
+        e /= sum;
+        cur[x + dir] += e * wr;
+        nxt[x - dir] += e * wlb;
+        nxt[x] += e * wb;
+        nxt[x + dir] += e * wrb;
+      }
+      mask[at] = on;
+    }
+  }
+  free(err);
+  return 0;
+}
 /* The quadtree's rectangle (x0, y0, w, h) given `t` opaque cells. */
 static void coverage_split(const float *frac, int stride, uint8_t *mask, int x0, int y0, int w,
                            int h, long t) {

@@ -31,9 +31,7 @@ double bbc__rect_density(const bbc_planeset *set, const bbc_billboard *rect);
  * error diffusion (Floyd-Steinberg, serpentine rows) of each texel's covered
  * fraction (its samples' alphas; with taps, those drawn at their centres,
  * bbc__bake.taps), so that over any small area the fraction of opaque texels
- * is the fraction covered, and a texel no sample covers never turns opaque;
- * 2: the same fractions kept down a quadtree (bbc__coverage_tree: every
- * aligned block within a texel of its coverage, impostors' frames). */
+ * is the fraction covered, and a texel no sample covers never turns opaque. */
 bbc_result bbc__alpha_mask(const bbc_image *img, const uint8_t *taps, int k, int dither,
                            unsigned min_opaque, uint8_t *mask, uint8_t *cand);
 /* `img` (k x k samples a texel) replaced by its texels: each the mean of its

@@ -109,7 +109,7 @@ static bbc_result build_frame(const build_ctx *c, int i, int j, frame_work *f, b
     r = bbc__render_bake(c->mesh, NULL, 0, &v, &bk, err);
   }
   if (r != BBC_OK) return r;
-  r = bbc__alpha_mask(&f->col, bk.taps[0], k, 2, 1, f->mask, f->cand);
+  r = bbc__alpha_mask(&f->col, bk.taps[0], k, 1, 1, f->mask, f->cand);
   if (r == BBC_OK) depth_texels(f, k, imp->radius);
   /* the texels' own images (downsample replaces them by s x s ones) */
   bbc_image col = f->col, nm = f->nm;

@@ -61,9 +61,10 @@ bbc_result bbc_impostor_check(const bbc_mesh *mesh, const bbc_impostor *imp, dou
       r = bbc_impostor_render(imp, &v, &a, err);
       if (r == BBC_OK) r = bbc_render_ortho(mesh, &v, &b, err);
       if (r != BBC_OK) break;
-      /* blocks from the frame's corner and moved by half a block: the
-       * worse (no grid of the frame's own favoured) */
-      double q = fmin(block_iou(&a, &b, 8, 0), block_iou(&a, &b, 8, 4));
+      /* the mean over the block grid's 8 phases (moved by 0..7 texels
+       * across and down), so that no grid of the frame's own is favoured */
+      double q = 0;
+      for (int off = 0; off < 8; off++) q += block_iou(&a, &b, 8, off) / 8;
       if (per_frame) per_frame[(size_t)j * n + i] = q;
       lo = fmin(lo, q);
       sum += q;

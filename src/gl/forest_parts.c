@@ -47,9 +47,15 @@ static int shader_copy(const bbc_image *im, int map, bbc_image *out, char *err) 
 }
 
 /* One GL texture per image and use (thesis 3.2.2: models that share a
- * texture share it in memory); `map` 1: a normal or occlusion map. */
-static GLuint texture_for(bbcgl_forest *f, const bbc_image *src, int mipmap, int map,
+ * texture share it in memory): texture `ti` of m; `map` 1: a normal or
+ * occlusion map. An opaque texture's mip levels are made from it with its
+ * texels no triangle uses padded by those it does, and stop where they
+ * would mix its islands (bbc_mesh_texture_padded: a texture atlas's
+ * background and bark between leaves would brighten a far tree; an
+ * alpha-tested one's levels already weigh colour by coverage). */
+static GLuint texture_for(bbcgl_forest *f, const bbc_mesh *m, int ti, int mipmap, int map,
                           int *premultiplied, char *err) {
+  const bbc_image *src = &m->textures[ti].image;
   for (size_t i = 0; i < f->texture_count; i++)
     if (f->textures[i].key == src->rgba && f->textures[i].mipmap == mipmap &&
         f->textures[i].map == map) {
@@ -62,13 +68,24 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_image *src, int mipmap, int
     return 0;
   }
   f->textures = t2;
-  bbc_image opaque = {0};
+  bbc_image opaque = {0}, padded = {0};
+  bbc_error e;
+  int apart = -1; /* mip levels that keep an opaque atlas's islands apart */
+  if (mipmap && !bbc_image_has_transparency(src)) {
+    if (bbc_mesh_texture_padded(m, ti, &padded, &apart, &e) != BBC_OK) {
+      snprintf(err, BBCGL_ERR, "%s", e.message);
+      return 0;
+    }
+    src = &padded;
+  }
   int copy = map || bbc_image_alpha_is_soft_mask(src);
-  if (copy && !shader_copy(src, map, &opaque, err)) return 0;
+  if (copy && !shader_copy(src, map, &opaque, err)) {
+    bbc_image_free(&padded);
+    return 0;
+  }
   const bbc_image *im = copy ? &opaque : src;
   bbc_image *all = NULL;
   int nm = 0;
-  bbc_error e;
   /* Normal and occlusion maps of 512 texels or more (and 128 a side) at
    * half their resolution (light varies slowly across a leaf; a quarter of
    * the memory): level 1 and the levels after it. Smaller atlases (far
@@ -79,6 +96,7 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_image *src, int mipmap, int
   if ((mipmap || half) && bbc_image_mipmaps(im, &all, &nm, &e) != BBC_OK) {
     snprintf(err, BBCGL_ERR, "%s", e.message);
     bbc_image_free(&opaque);
+    bbc_image_free(&padded);
     return 0;
   }
   int nm_all = nm;
@@ -94,6 +112,7 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_image *src, int mipmap, int
    * average. */
   if (nm && bbc_image_has_transparency(im))
     while (nm > 0 && (mips[nm - 1].width < 8 || mips[nm - 1].height < 8)) nm--;
+  if (apart >= 0 && nm > apart) nm = apart;
   GLuint tex;
   glCreateTextures(GL_TEXTURE_2D, 1, &tex);
   size_t bytes = 0;
@@ -129,12 +148,13 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_image *src, int mipmap, int
   for (int l = 0; l < nm_all; l++) bbc_image_free(&all[l]);
   free(all);
   bbc_image_free(&opaque);
+  bbc_image_free(&padded);
   if (!tex) return 0;
   glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, nm ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
   glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_REPEAT);
   glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_REPEAT);
-  f->textures[f->texture_count].key = src->rgba;
+  f->textures[f->texture_count].key = m->textures[ti].image.rgba;
   f->textures[f->texture_count].mipmap = mipmap;
   f->textures[f->texture_count].map = map;
   f->textures[f->texture_count].bytes = bytes;
@@ -264,12 +284,13 @@ static int add_batches(bbcgl_forest *f, part *p, const bbc_mesh *m, const size_t
     b->lit = o->lit && !ma->unlit;
     b->single_sided = ma->single_sided;
     b->sway = o->sway_height;
-    const bbc_image *im[3] = {mesh_image(m, ma->texture), NULL, NULL};
-    if (b->lit && m->tangents) im[1] = mesh_image(m, ma->normal_map - 1);
-    if (b->lit) im[2] = mesh_image(m, ma->occlusion_map - 1);
+    int ti[3] = {ma->texture, -1, -1};
+    if (b->lit && m->tangents) ti[1] = ma->normal_map - 1;
+    if (b->lit) ti[2] = ma->occlusion_map - 1;
     for (int k = 0; k < 3; k++) {
       int pm = 0;
-      if (im[k] && !(b->tex[k] = texture_for(f, im[k], o->mipmap, k > 0, &pm, err))) return 0;
+      const bbc_image *im = mesh_image(m, ti[k]);
+      if (im && !(b->tex[k] = texture_for(f, m, ti[k], o->mipmap, k > 0, &pm, err))) return 0;
       if (k == 0) b->premultiplied = pm;
     }
   }

@@ -277,7 +277,8 @@ bbc_result bbc_impostor_level(const bbc_impostor *imp, int level, bbc_image *alb
           size_t o = 4 * ((size_t)(j * s + y) * W + (size_t)(i * s + x));
           level_texel(imp, i, j, x, y, s, albedo->rgba + o, normal->rgba + o, &frac[y * s + x]);
         }
-      /* binary alpha keeping the frame's coverage down a quadtree */
+      /* binary alpha keeping the frame's coverage whole (bbc__coverage_tree:
+       * error diffusion made the far levels thinner) */
       bbc__coverage_tree(frac, s, s, s, on);
       for (int y = 0; y < s; y++)
         for (int x = 0; x < s; x++)

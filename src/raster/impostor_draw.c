@@ -16,14 +16,14 @@ typedef bbc__camera camera;
 /* A 4 x 4 ordered dither's thresholds, (v + 0.5) / 16. */
 static const uint8_t bayer[4][4] = {{0, 8, 2, 10}, {12, 4, 14, 6}, {3, 11, 1, 9}, {15, 7, 13, 5}};
 
-/* One of the three frames: its basis, its cell of the atlases and how the
- * view's ray crosses it. */
 /* The atlases of the level drawn: its frames' side and rows of texels. */
 typedef struct level_atlas {
   const bbc_image *albedo, *normal;
   int size;
 } level_atlas;
 
+/* One of the three frames: its basis, its cell of the atlases and how the
+ * view's ray crosses it. */
 typedef struct frame_look {
   const level_atlas *lv;
   double w; /* blend weight */
@@ -61,10 +61,9 @@ static double depth_at(const bbc_impostor *imp, const frame_look *fl, double s, 
   return (lv->normal->rgba[4 * o + 3] / 127.5 - 1.0) * imp->radius;
 }
 
-/* The nearest texel's colour, alpha (1 at level 0, the covered share
- * above) and normal at (s, t) (as the rasterizer samples a mesh's
- * textures); outside the frame transparent (its border texels are never
- * covered). */
+/* The nearest texel's colour, alpha (0 or 1 at every level) and normal at
+ * (s, t) (as the rasterizer samples a mesh's textures); outside the frame
+ * transparent (its border texels are never covered). */
 static void sample_texel(const frame_look *fl, double s, double t, texel_mix *m) {
   memset(m, 0, sizeof *m);
   const level_atlas *lv = fl->lv;
@@ -73,10 +72,10 @@ static void sample_texel(const frame_look *fl, double s, double t, texel_mix *m)
   size_t o = (size_t)(fl->y0 + y) * lv->albedo->width + (size_t)(fl->x0 + x);
   const uint8_t *c = lv->albedo->rgba + 4 * o, *e = lv->normal->rgba + 4 * o;
   if (!c[3]) return;
-  m->a = c[3] / 255.0; /* colour and normal weighted by it */
+  m->a = 1;
   for (int k = 0; k < 3; k++) {
-    m->col[k] = m->a * c[k] / 255.0;
-    m->n[k] = m->a * (e[k] / 127.5 - 1.0);
+    m->col[k] = c[k] / 255.0;
+    m->n[k] = e[k] / 127.5 - 1.0;
   }
 }
 

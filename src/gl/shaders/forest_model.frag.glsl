@@ -39,8 +39,7 @@ float bayer(ivec2 p) {
 // lv, as bbc_impostor_render finds it (src/raster/impostor_draw.c): marched
 // one texel of the frame at a time through the model's sphere, the first
 // covered texel the ray reaches within a thin shell, or crosses into from in
-// front of its neighbour; col premultiplied by the texel's covered share
-// (1 at level 0), 0 where none
+// front of its neighbour (alpha 0 or 1 at every level); 0 where none
 void imp_look(int fr, int lv, vec3 p, vec3 f, out vec4 col, out vec3 nrm) {
   int n = u_imp.x, S = u_imp_lv[lv].x, row = u_imp_lv[lv].y;
   ivec2 ij = ivec2(fr % n, fr / n);
@@ -69,7 +68,7 @@ void imp_look(int fr, int lv, vec3 p, vec3 f, out vec4 col, out vec3 nrm) {
     }
     ivec2 at = ij * S + x + ivec2(0, row);
     vec4 c = texelFetch(u_tex, at, 0);
-    if (c.a <= 0.0) {
+    if (c.a < 0.5) {
       front = false;
       continue;
     }
@@ -79,8 +78,8 @@ void imp_look(int fr, int lv, vec3 p, vec3 f, out vec4 col, out vec3 nrm) {
     front = d > end;
     fd = d;
     if (hit) {
-      col = vec4(c.rgb * c.a, c.a);
-      nrm = (m.xyz * 2.0 - 1.0) * c.a;
+      col = vec4(c.rgb, 1.0);
+      nrm = m.xyz * 2.0 - 1.0;
       return;
     }
   }

@@ -94,7 +94,7 @@ int cmd_impostor(cli *c, int argc, char **argv) {
     cli_info(c, "wrote %s: %s impostor, %d x %d frames of %d texels, atlases %d x %d (%.2f s)", out,
              imp.hemi ? "hemi-octahedral" : "octahedral", imp.frames, imp.frames, imp.frame_size,
              imp.albedo.width, imp.albedo.height, cli_now() - t0);
-    double worst, mean, *per = malloc((size_t)imp.frames * imp.frames * sizeof *per);
+    double worst, mean, *per = check ? malloc((size_t)imp.frames * imp.frames * sizeof *per) : NULL;
     if (check && !per) {
       cli_error("impostor: out of memory");
       rc = EXIT_RESOURCES;

@@ -218,10 +218,21 @@ int bbc_image_has_transparency(const bbc_image *image);
  * *count levels in a malloc'd array at *levels (free each level with
  * bbc_image_free, then the array with free()). An image with transparency
  * gets alpha-tested levels: colours averaged weighted by alpha, alpha
- * binary (0 or 255) and thresholded per level so that the fraction of
- * opaque texels stays level 0's (coverage-preserving alpha mipmaps, Castano
- * 2010); an opaque image gets box-filtered levels. */
+ * binary (0 or 255): as many opaque texels as the level's mean alpha sums
+ * to, shared down a quadtree in proportion to each quarter's sum, and in
+ * each block of 4 x 4 texels its most covered ones (coverage-preserving
+ * alpha mipmaps, after Castano 2010, kept by every part of a level: thin
+ * sparse leaves keep theirs beside a dense crown, a solid leaf stays
+ * solid); an opaque image gets box-filtered levels. */
 bbc_result bbc_image_mipmaps(const bbc_image *base, bbc_image **levels, int *count, bbc_error *err);
+/* The same chain for an opaque texture whose texels that count are marked
+ * (mask[y * width + x] non-zero: those a model's triangles show, from
+ * bbc_mesh_texture_padded): each level's colour the mean of the marked
+ * texels under it where there are any (else of all), every level opaque;
+ * so a far level of an atlas shows its leaves' colour, not their padding's
+ * or their background's. */
+bbc_result bbc_image_mipmaps_masked(const bbc_image *base, const uint8_t *mask, bbc_image **levels,
+                                    int *count, bbc_error *err);
 /* BC1 (S3TC DXT1, 4 bits a texel) for GPUs that sample it: the bytes a
  * width x height image takes (8 a 4 x 4 block, partial blocks whole). */
 size_t bbc_bc1_size(int width, int height);
@@ -388,10 +399,12 @@ void bbc_mesh_free(bbc_mesh *mesh);
  * level 0 keep the used texels' islands (4-connected, each of at least 2 %
  * of them) apart, a texel at most a quarter of the smallest side of their
  * boxes (an atlas's two leaves and its bark; every level where one island
- * covers the texture). Allocated here (free with bbc_image_free); zeroed on
- * failure. */
+ * covers the texture). *used (NULL: not asked): a malloc'd mask of width x
+ * height bytes, 1 where a triangle's texture coordinates reach, else 0
+ * (for bbc_image_mipmaps_masked; NULL where the whole texture counts).
+ * Allocated here (free with bbc_image_free and free); zeroed on failure. */
 bbc_result bbc_mesh_texture_padded(const bbc_mesh *mesh, int texture, bbc_image *out, int *levels,
-                                   bbc_error *err);
+                                   uint8_t **used, bbc_error *err);
 
 /* Checks and completes a mesh whose arrays the caller filled in (loaders
  * and generators end with it): refuses non-finite coordinates and indices

@@ -660,10 +660,62 @@ static void test_mipmaps(void **state) {
   bbc_image_free(&im);
 }
 
+/* Each part of a level keeps its own coverage: a texture whose left half
+ * is sparse (1 texel in 8 opaque, a cloud's dithered thin leaves) and whose
+ * right half is dense (7 in 8, a crown). A threshold over the whole level
+ * keeps the 50 % total by filling the right half and emptying the left
+ * (the Scopia palm's fronds gone from its far levels); here each half
+ * keeps its share at every level down to 8 x 8 texels. And a solid shape
+ * stays solid (the most covered texels of each block turn opaque, not a
+ * dither of them): a disc's level-1 texels inside it are all opaque. */
+static void test_mipmaps_local(void **state) {
+  (void)state;
+  bbc_image im;
+  assert_int_equal(bbc_image_alloc(&im, 64, 64), BBC_OK);
+  for (int y = 0; y < 64; y++)
+    for (int x = 0; x < 64; x++) {
+      uint8_t *p = im.rgba + 4 * (y * 64 + x);
+      int k = (x * 5 + y * 3) % 8; /* spread: no two neighbours alike */
+      p[1] = 200;
+      p[3] = x < 32 ? (k == 0 ? 255 : 0) : (k != 0 ? 255 : 0);
+    }
+  bbc_image *lv;
+  int n;
+  bbc_error err;
+  assert_int_equal(bbc_image_mipmaps(&im, &lv, &n, &err), BBC_OK);
+  for (int l = 0; l < 3; l++) { /* 32, 16, 8 texels a side (blocks of 4 x 4 chosen whole) */
+    int w = lv[l].width;
+    double half[2] = {0, 0};
+    for (int y = 0; y < w; y++)
+      for (int x = 0; x < w; x++) half[x >= w / 2] += lv[l].rgba[4 * (y * w + x) + 3] == 255;
+    double cells = (double)w * w / 2;
+    assert_true(fabs(half[0] / cells - 0.125) < 0.07);
+    assert_true(fabs(half[1] / cells - 0.875) < 0.07);
+  }
+  for (int l = 0; l < n; l++) bbc_image_free(&lv[l]);
+  free(lv);
+  for (int y = 0; y < 64; y++)
+    for (int x = 0; x < 64; x++) {
+      double dx = x + 0.5 - 32, dy = y + 0.5 - 32;
+      im.rgba[4 * (y * 64 + x) + 3] = dx * dx + dy * dy < 20.0 * 20.0 ? 255 : 0;
+    }
+  assert_int_equal(bbc_image_mipmaps(&im, &lv, &n, &err), BBC_OK);
+  for (int y = 0; y < 32; y++)
+    for (int x = 0; x < 32; x++) {
+      double dx = 2 * x + 1 - 32, dy = 2 * y + 1 - 32;
+      if (dx * dx + dy * dy < 18.0 * 18.0) assert_int_equal(lv[0].rgba[4 * (y * 32 + x) + 3], 255);
+      if (dx * dx + dy * dy > 22.0 * 22.0) assert_int_equal(lv[0].rgba[4 * (y * 32 + x) + 3], 0);
+    }
+  for (int l = 0; l < n; l++) bbc_image_free(&lv[l]);
+  free(lv);
+  bbc_image_free(&im);
+}
+
 /* An opaque texture atlas's texels no triangle uses are padded by those it
- * does, so that its mip levels do not mix in its background, and its mip
- * levels stop where they would mix its islands (bbc_mesh_texture_padded,
- * what forest uploads for opaque textures): a 64 x 64 texture, its left
+ * does, so that its mip levels do not mix in its background, its mip
+ * levels average only the texels used and stop where they would mix its
+ * islands (bbc_mesh_texture_padded, bbc_image_mipmaps_masked: what forest
+ * uploads for opaque textures): a 64 x 64 texture, its left
  * half red and used by a quad, its right half white and unused. */
 static void test_padded_texture(void **state) {
   (void)state;
@@ -693,7 +745,7 @@ static void test_padded_texture(void **state) {
   bbc_image out;
   int levels = -1;
   bbc_error err;
-  assert_int_equal(bbc_mesh_texture_padded(&m, 0, &out, &levels, &err), BBC_OK);
+  assert_int_equal(bbc_mesh_texture_padded(&m, 0, &out, &levels, NULL, &err), BBC_OK);
   int white = 0;
   for (int i = 0; i < 64 * 64; i++) white += out.rgba[4 * i + 1] > 0;
   assert_int_equal(white, 0); /* the unused half took the red */
@@ -705,11 +757,56 @@ static void test_padded_texture(void **state) {
   /* repeating the texture across (u 0.12..2.88, wrapped): every texel
    * used, the copy as it was, one island 62 texels tall (3 levels) */
   for (int k = 0; k < 4; k++) m.uvs[2 * k] *= 6;
-  assert_int_equal(bbc_mesh_texture_padded(&m, 0, &out, &levels, &err), BBC_OK);
+  assert_int_equal(bbc_mesh_texture_padded(&m, 0, &out, &levels, NULL, &err), BBC_OK);
   assert_memory_equal(out.rgba, im->rgba, 4 * 64 * 64);
   assert_int_equal(levels, 3);
   bbc_image_free(&out);
-  assert_int_equal(bbc_mesh_texture_padded(&m, 1, &out, NULL, &err), BBC_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(bbc_mesh_texture_padded(&m, 1, &out, NULL, NULL, &err),
+                   BBC_ERROR_INVALID_ARGUMENT);
+  /* The island's own texels, and no others, make its levels: the quad
+   * shows u 0.02..0.48 of a texture red there and white around it (an
+   * atlas's background, which its bilinear ring and so its padding keep).
+   * Plain levels of the padded copy turn its edge pink; levels from the
+   * used texels stay red wherever the quad reaches. */
+  for (int k = 0; k < 4; k++) m.uvs[2 * k] /= 6;
+  for (int i = 0; i < 64 * 64; i++) {
+    int x = i % 64, y = i / 64;
+    int red = x >= 1 && x <= 30 && y >= 1 && y <= 62; /* what the quad reaches */
+    im->rgba[4 * i + 1] = im->rgba[4 * i + 2] = red ? 0 : 255;
+  }
+  uint8_t *used = NULL;
+  assert_int_equal(bbc_mesh_texture_padded(&m, 0, &out, &levels, &used, &err), BBC_OK);
+  assert_non_null(used);
+  bbc_image *lv, *plain;
+  int n, n2;
+  assert_int_equal(bbc_image_mipmaps_masked(&out, used, &lv, &n, &err), BBC_OK);
+  assert_int_equal(bbc_image_mipmaps(&out, &plain, &n2, &err), BBC_OK);
+  assert_int_equal(n, n2);
+  int pink_plain = 0;
+  for (int l = 0; l < 2; l++) { /* 32 and 16 texels a side */
+    int w = lv[l].width, f = 64 / w;
+    for (int y = 0; y < w; y++)
+      for (int x = 0; x < w; x++) {
+        int reached = 0; /* any used texel under this one */
+        for (int dy = 0; dy < f; dy++)
+          for (int dx = 0; dx < f; dx++) reached |= used[(y * f + dy) * 64 + x * f + dx];
+        const uint8_t *p = lv[l].rgba + 4 * (y * w + x), *q = plain[l].rgba + 4 * (y * w + x);
+        assert_int_equal(p[3], 255);
+        if (!reached) continue;
+        assert_int_equal(p[1], 0);
+        pink_plain += q[1] > 0;
+      }
+  }
+  print_message("levels 1-2: %d texels over the island pink from its padding\n", pink_plain);
+  assert_true(pink_plain > 0);
+  for (int l = 0; l < n; l++) {
+    bbc_image_free(&lv[l]);
+    bbc_image_free(&plain[l]);
+  }
+  free(lv);
+  free(plain);
+  free(used);
+  bbc_image_free(&out);
   bbc_mesh_free(&m);
 }
 
@@ -834,13 +931,21 @@ static void test_bmp_rle(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_frustum),        cmocka_unit_test(test_lod_weights),
-      cmocka_unit_test(test_cull),           cmocka_unit_test(test_cull_matches_flat),
-      cmocka_unit_test(test_terrain_select), cmocka_unit_test(test_terrain_occlusion),
-      cmocka_unit_test(test_terrain_colour), cmocka_unit_test(test_mipmaps),
-      cmocka_unit_test(test_positions),      cmocka_unit_test(test_demo_terrain),
-      cmocka_unit_test(test_bmp_rle),        cmocka_unit_test(test_sun),
-      cmocka_unit_test(test_wind),           cmocka_unit_test(test_padded_texture),
+      cmocka_unit_test(test_frustum),
+      cmocka_unit_test(test_lod_weights),
+      cmocka_unit_test(test_cull),
+      cmocka_unit_test(test_cull_matches_flat),
+      cmocka_unit_test(test_terrain_select),
+      cmocka_unit_test(test_terrain_occlusion),
+      cmocka_unit_test(test_terrain_colour),
+      cmocka_unit_test(test_mipmaps),
+      cmocka_unit_test(test_mipmaps_local),
+      cmocka_unit_test(test_positions),
+      cmocka_unit_test(test_demo_terrain),
+      cmocka_unit_test(test_bmp_rle),
+      cmocka_unit_test(test_sun),
+      cmocka_unit_test(test_wind),
+      cmocka_unit_test(test_padded_texture),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,6 +1,6 @@
 /* image.c — RGBA8 images in memory: allocation, the transparency test and
- * the alpha-tested mip chain that keeps the coverage of every level (Castano
- * 2010). Decoding and writing files are io/image_io.c's. */
+ * the alpha-tested mip chain that keeps the coverage of every level and of
+ * every block of it. Decoding and writing files are io/image_io.c's. */
 #include "base.h"
 
 #include <assert.h>
@@ -62,42 +62,15 @@ static int mip_level_alloc(mip_level *m, int w, int h) {
   return m->cov && m->pre && m->plain;
 }
 
-enum { COVERAGE_BINS = 4096 };
+/* The blocks whose texels an alpha-tested mip level picks by coverage. */
+enum { MIP_BLOCK = 4 };
 
-static int coverage_bin(float c) {
-  return (int)(c * COVERAGE_BINS + 0.5f);
-}
+static void coverage_split(const float *frac, int stride, uint8_t *mask, int x0, int y0, int w,
+                           int h, long t, int leaf);
 
-/* The coverage bin from which texels turn opaque so that `want` of the `n`
- * are, and the fraction of that bin's texels that do (texels of equal
- * coverage are split by an ordered dither, not all or none); -1 when out
- * of memory. */
-static int coverage_threshold(const float *cov, size_t n, size_t want, double *fraction) {
-  size_t *hist = calloc(COVERAGE_BINS + 1, sizeof *hist);
-  *fraction = 1;
-  if (!hist) return -1;
-  for (size_t i = 0; i < n; i++) hist[coverage_bin(cov[i])]++;
-  size_t above = 0;
-  int b = COVERAGE_BINS;
-  for (; b > 0; b--) {
-    if (above + hist[b] >= want) {
-      *fraction = hist[b] ? (double)(want - above) / (double)hist[b] : 1;
-      break;
-    }
-    above += hist[b];
-  }
-  free(hist);
-  return b > 0 ? b : 1; /* at most every texel with any coverage */
-}
-
-/* 4 x 4 ordered dither threshold in (0, 1). */
-static double bayer4(int x, int y) {
-  static const int m[4][4] = {{0, 8, 2, 10}, {12, 4, 14, 6}, {3, 11, 1, 9}, {15, 7, 13, 5}};
-  return (m[y & 3][x & 3] + 0.5) / 16.0;
-}
-
-bbc_result bbc_image_mipmaps(const bbc_image *base, bbc_image **levels, int *count,
-                             bbc_error *err) {
+/* bbc_image_mipmaps and, with `mask`, bbc_image_mipmaps_masked. */
+static bbc_result mip_chain(const bbc_image *base, const uint8_t *mask_in, bbc_image **levels,
+                            int *count, bbc_error *err) {
   assert(base && levels && count);
   *levels = NULL;
   *count = 0;
@@ -111,19 +84,19 @@ bbc_result bbc_image_mipmaps(const bbc_image *base, bbc_image **levels, int *cou
   if (n == 0) return BBC_OK;
   bbc_image *out = calloc((size_t)n, sizeof *out);
   mip_level prev = {0}, cur = {0};
+  uint8_t *mask = NULL; /* an alpha-tested level's opaque texels */
   if (!out || !mip_level_alloc(&prev, base->width, base->height)) goto oom;
-  size_t opaque0 = 0, n0 = (size_t)base->width * base->height;
+  size_t n0 = (size_t)base->width * base->height;
   for (size_t i = 0; i < n0; i++) {
     const uint8_t *p = base->rgba + 4 * i;
-    float a = p[3] / 255.0f;
+    float a = mask_in ? (mask_in[i] != 0) : p[3] / 255.0f; /* what the texel weighs */
     prev.cov[i] = a;
-    opaque0 += p[3] >= 128;
     for (int k = 0; k < 3; k++) {
       prev.pre[3 * i + k] = p[k] * a;
       prev.plain[3 * i + k] = p[k];
     }
   }
-  int alpha_tested = bbc_image_has_transparency(base);
+  int alpha_tested = !mask_in && bbc_image_has_transparency(base);
   for (int l = 0; l < n; l++) {
     int w = prev.w > 1 ? prev.w / 2 : 1, h = prev.h > 1 ? prev.h / 2 : 1;
     if (!mip_level_alloc(&cur, w, h)) goto oom;
@@ -150,36 +123,55 @@ bbc_result bbc_image_mipmaps(const bbc_image *base, bbc_image **levels, int *cou
       }
     if (bbc_image_alloc(&out[l], w, h) != BBC_OK) goto oom;
     size_t nt = (size_t)w * h;
-    /* as many opaque texels, in proportion, as level 0 has */
-    size_t want = (size_t)((double)opaque0 / (double)n0 * (double)nt + 0.5);
-    double frac = 1;
-    int thr = alpha_tested ? coverage_threshold(cur.cov, nt, want, &frac) : 0;
-    if (thr < 0) goto oom;
+    /* Which texels are opaque: as many as the level's coverage sums to,
+     * shared down a quadtree (as bbc__coverage_tree) to blocks of 4 x 4
+     * texels, in each of them its most covered: every part of the level
+     * keeps the coverage it has (a threshold over the whole level keeps
+     * the total but fills dense parts and empties sparse ones: a palm's
+     * thin fronds gone from its far levels), and a solid leaf stays solid
+     * (a dither of its edge would thin under a bilinear alpha test). */
+    if (alpha_tested) {
+      if (!mask && !(mask = malloc(nt))) goto oom; /* level 1, the largest */
+      double total = 0;
+      for (size_t i = 0; i < nt; i++) total += cur.cov[i];
+      coverage_split(cur.cov, w, mask, 0, 0, w, h, (long)floor(total + 0.5), MIP_BLOCK);
+    }
     for (size_t i = 0; i < nt; i++) {
       uint8_t *p = out[l].rgba + 4 * i;
-      int bin = coverage_bin(cur.cov[i]);
-      int opaque =
-          bin > thr || (bin == thr && bayer4((int)(i % (size_t)w), (int)(i / (size_t)w)) < frac);
+      int opaque = alpha_tested && mask[i];
       for (int k = 0; k < 3; k++) {
         float v = cur.cov[i] > 1e-6f ? cur.pre[3 * i + k] / cur.cov[i] : cur.plain[3 * i + k];
         p[k] = (uint8_t)(v > 255 ? 255 : v + 0.5f);
       }
-      p[3] = alpha_tested ? (opaque ? 255 : 0) : (uint8_t)(cur.cov[i] * 255 + 0.5f);
+      p[3] = alpha_tested ? (opaque ? 255 : 0) : mask_in ? 255 : (uint8_t)(cur.cov[i] * 255 + 0.5f);
     }
     mip_level_free(&prev);
     prev = cur;
     memset(&cur, 0, sizeof cur);
   }
   mip_level_free(&prev);
+  free(mask);
   *levels = out;
   *count = n;
   return BBC_OK;
 oom:
+  free(mask);
   mip_level_free(&prev);
   mip_level_free(&cur);
   for (int l = 0; out && l < n; l++) bbc_image_free(&out[l]);
   free(out);
   return bbc__fail(err, BBC_ERROR_OUT_OF_MEMORY, "mipmaps: out of memory");
+}
+
+bbc_result bbc_image_mipmaps(const bbc_image *base, bbc_image **levels, int *count,
+                             bbc_error *err) {
+  return mip_chain(base, NULL, levels, count, err);
+}
+
+bbc_result bbc_image_mipmaps_masked(const bbc_image *base, const uint8_t *mask, bbc_image **levels,
+                                    int *count, bbc_error *err) {
+  assert(mask);
+  return mip_chain(base, mask, levels, count, err);
 }
 
 int bbc__coverage_diffuse(const float *frac, const uint8_t *cand, int w, int h, uint8_t *mask) {
@@ -215,12 +207,29 @@ int bbc__coverage_diffuse(const float *frac, const uint8_t *cand, int w, int h, 
   free(err);
   return 0;
 }
-/* The quadtree's rectangle (x0, y0, w, h) given `t` opaque cells. */
+/* The quadtree's rectangle (x0, y0, w, h) given `t` opaque cells; a
+ * rectangle of at most leaf x leaf cells turns its t most covered cells
+ * opaque (leaf 1: split down to single cells). */
 static void coverage_split(const float *frac, int stride, uint8_t *mask, int x0, int y0, int w,
-                           int h, long t) {
+                           int h, long t, int leaf) {
   if (w <= 0 || h <= 0) return;
   if (w == 1 && h == 1) {
     mask[(size_t)y0 * stride + x0] = t > 0 && frac[(size_t)y0 * stride + x0] > 0;
+    return;
+  }
+  if (w <= leaf && h <= leaf) { /* the t most covered cells (ties: the first) */
+    for (int y = y0; y < y0 + h; y++)
+      for (int x = x0; x < x0 + w; x++) mask[(size_t)y * stride + x] = 0;
+    for (long k = 0; k < t; k++) {
+      size_t best = SIZE_MAX;
+      for (int y = y0; y < y0 + h; y++)
+        for (int x = x0; x < x0 + w; x++) {
+          size_t at = (size_t)y * stride + x;
+          if (!mask[at] && frac[at] > 0 && (best == SIZE_MAX || frac[at] > frac[best])) best = at;
+        }
+      if (best == SIZE_MAX) break;
+      mask[best] = 1;
+    }
     return;
   }
   int w1 = (w + 1) / 2, h1 = (h + 1) / 2;
@@ -253,12 +262,13 @@ static void coverage_split(const float *frac, int stride, uint8_t *mask, int x0,
     rem[best] -= 1;
     left--;
   }
-  for (int q = 0; q < 4; q++) coverage_split(frac, stride, mask, xs[q], ys[q], ws[q], hs[q], n[q]);
+  for (int q = 0; q < 4; q++)
+    coverage_split(frac, stride, mask, xs[q], ys[q], ws[q], hs[q], n[q], leaf);
 }
 
 void bbc__coverage_tree(const float *frac, int w, int h, int stride, uint8_t *mask) {
   double total = 0;
   for (int y = 0; y < h; y++)
     for (int x = 0; x < w; x++) total += frac[(size_t)y * stride + x];
-  coverage_split(frac, stride, mask, 0, 0, w, h, (long)floor(total + 0.5));
+  coverage_split(frac, stride, mask, 0, 0, w, h, (long)floor(total + 0.5), 1);
 }

@@ -241,8 +241,9 @@ static int islands_apart(const uint8_t *used, int w, int h) {
 }
 
 bbc_result bbc_mesh_texture_padded(const bbc_mesh *m, int texture, bbc_image *out, int *levels,
-                                   bbc_error *err) {
+                                   uint8_t **used_out, bbc_error *err) {
   memset(out, 0, sizeof *out);
+  if (used_out) *used_out = NULL;
   if (!m || texture < 0 || (size_t)texture >= m->texture_count || !m->textures[texture].image.rgba)
     return bbc__fail(err, BBC_ERROR_INVALID_ARGUMENT, "texture %d: no such image", texture);
   const bbc_image *src = &m->textures[texture].image;
@@ -314,6 +315,11 @@ bbc_result bbc_mesh_texture_padded(const bbc_mesh *m, int texture, bbc_image *ou
     }
     if (bbc__fill_transparent(out) != BBC_OK) r = BBC_ERROR_OUT_OF_MEMORY;
     for (size_t i = 0; i < n; i++) out->rgba[4 * i + 3] = alpha[i];
+  }
+  if (r == BBC_OK && any && !all && used_out) { /* the reached texels, not the ring */
+    for (size_t i = 0; i < n; i++) used[i] = used[i] == 1;
+    *used_out = used;
+    used = NULL;
   }
   free(used);
   free(alpha);

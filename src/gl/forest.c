@@ -57,6 +57,7 @@ bbcgl_forest *bbcgl_forest_create(const bbcgl_scene *scene, char *err) {
     return NULL;
   }
   f->u_has = glGetUniformLocation(f->p_model, "u_has_tex");
+  f->u_texel_alpha = glGetUniformLocation(f->p_model, "u_texel_alpha");
   f->u_base = glGetUniformLocation(f->p_model, "u_base");
   f->u_lit = glGetUniformLocation(f->p_model, "u_lit");
   f->u_maps = glGetUniformLocation(f->p_model, "u_maps");

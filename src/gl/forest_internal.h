@@ -14,6 +14,7 @@
 typedef struct batch {
   GLuint tex[3];     /* colour, normal and occlusion maps (units 0, 1, 2); 0 = none */
   int premultiplied; /* tex[0] is BC1: transparent texels black, colours divided by alpha */
+  int texel_alpha;   /* a cloud's atlas: alpha tested at the nearest texel of the nearest level */
   float base[4];
   int lit;
   int single_sided;    /* the material's: back faces culled (a cloud's two sides are two quads) */
@@ -50,8 +51,9 @@ struct bbcgl_forest {
   float fog_colour[3];
   GLuint p_terrain, p_model, p_sky, p_water;
   GLint u_has, u_base, u_lit, u_maps, u_sway; /* the model program's per-material uniforms */
-  GLint u_blend, u_lod;                       /* weights from the distance (blend ranges) */
-  GLint u_imp, u_imp_c, u_imp_r, u_imp_lv;    /* an impostor's (impostor.glsl) */
+  GLint u_texel_alpha;
+  GLint u_blend, u_lod;                    /* weights from the distance (blend ranges) */
+  GLint u_imp, u_imp_c, u_imp_r, u_imp_lv; /* an impostor's (impostor.glsl) */
   /* terrain */
   GLuint t_vao, t_vbo, t_ebo, t_nodes, t_height, t_colour;
   size_t t_first[5], t_count[5], t_node_capacity;

@@ -15,6 +15,7 @@
 /* A material's uniforms of the model program. */
 static void set_batch(const bbcgl_forest *f, const batch *ba) {
   glUniform1i(f->u_has, ba->tex[0] == 0 ? 0 : ba->premultiplied ? 2 : 1);
+  glUniform1i(f->u_texel_alpha, ba->texel_alpha);
   glUniform4fv(f->u_base, 1, ba->base);
   glUniform1i(f->u_lit, ba->lit);
   glUniform2i(f->u_maps, ba->tex[1] != 0, ba->tex[2] != 0);

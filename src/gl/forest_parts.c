@@ -49,8 +49,9 @@ static int shader_copy(const bbc_image *im, int map, bbc_image *out, char *err) 
 /* One GL texture per image and use (thesis 3.2.2: models that share a
  * texture share it in memory): texture `ti` of m; `map` 1: a normal or
  * occlusion map. An opaque texture's mip levels are made from it with its
- * texels no triangle uses padded by those it does, and stop where they
- * would mix its islands (bbc_mesh_texture_padded: a texture atlas's
+ * texels no triangle uses padded by those it does, average only the texels
+ * the triangles show, and stop where they would mix its islands
+ * (bbc_mesh_texture_padded, bbc_image_mipmaps_masked: a texture atlas's
  * background and bark between leaves would brighten a far tree; an
  * alpha-tested one's levels already weigh colour by coverage). */
 static GLuint texture_for(bbcgl_forest *f, const bbc_mesh *m, int ti, int mipmap, int map,
@@ -70,9 +71,10 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_mesh *m, int ti, int mipmap
   f->textures = t2;
   bbc_image opaque = {0}, padded = {0};
   bbc_error e;
-  int apart = -1; /* mip levels that keep an opaque atlas's islands apart */
+  int apart = -1;       /* mip levels that keep an opaque atlas's islands apart */
+  uint8_t *used = NULL; /* its texels the triangles show: what its levels average */
   if (mipmap && !bbc_image_has_transparency(src)) {
-    if (bbc_mesh_texture_padded(m, ti, &padded, &apart, &e) != BBC_OK) {
+    if (bbc_mesh_texture_padded(m, ti, &padded, &apart, &used, &e) != BBC_OK) {
       snprintf(err, BBCGL_ERR, "%s", e.message);
       return 0;
     }
@@ -81,6 +83,7 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_mesh *m, int ti, int mipmap
   int copy = map || bbc_image_alpha_is_soft_mask(src);
   if (copy && !shader_copy(src, map, &opaque, err)) {
     bbc_image_free(&padded);
+    free(used);
     return 0;
   }
   const bbc_image *im = copy ? &opaque : src;
@@ -93,7 +96,12 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_mesh *m, int ti, int mipmap
    * level, 256 x 128, fell to 0.898 of its polygon tree's brightness. */
   int big = im->width > im->height ? im->width : im->height;
   int half = map && big >= 512 && im->width >= 128 && im->height >= 128;
-  if ((mipmap || half) && bbc_image_mipmaps(im, &all, &nm, &e) != BBC_OK) {
+  bbc_result mr = BBC_OK;
+  if (mipmap || half)
+    mr = used ? bbc_image_mipmaps_masked(im, used, &all, &nm, &e)
+              : bbc_image_mipmaps(im, &all, &nm, &e);
+  free(used);
+  if (mr != BBC_OK) {
     snprintf(err, BBCGL_ERR, "%s", e.message);
     bbc_image_free(&opaque);
     bbc_image_free(&padded);
@@ -293,6 +301,14 @@ static int add_batches(bbcgl_forest *f, part *p, const bbc_mesh *m, const size_t
       if (im && !(b->tex[k] = texture_for(f, m, ti[k], o->mipmap, k > 0, &pm, err))) return 0;
       if (k == 0) b->premultiplied = pm;
     }
+    /* A cloud's atlas holds each texel's coverage as the share of opaque
+     * texels around it (dithered): a bilinear alpha test would shrink an
+     * isolated opaque texel to 0.61 of its area and thin sparse leaves
+     * (the Scopia palm's fronds), so its alpha is read at the nearest
+     * texel of the nearest level, whose levels keep each block's
+     * coverage (bbc_image_mipmaps); its colour stays filtered. */
+    const bbc_image *cm = mesh_image(m, ti[0]);
+    b->texel_alpha = p->billboards > 0 && !b->limbs && cm && bbc_image_has_transparency(cm);
   }
   return 1;
 }

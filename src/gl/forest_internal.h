@@ -14,7 +14,8 @@
 typedef struct batch {
   GLuint tex[3];     /* colour, normal and occlusion maps (units 0, 1, 2); 0 = none */
   int premultiplied; /* tex[0] is BC1: transparent texels black, colours divided by alpha */
-  int texel_alpha;   /* a cloud's atlas: alpha tested at the nearest texel of the nearest level */
+  int texel_alpha;   /* alpha tested at the nearest texel of the nearest level: 1 a cloud's
+                      * atlas, 2 a polygon model's texture past level 0; 0 filtered */
   float base[4];
   int lit;
   int single_sided;    /* the material's: back faces culled (a cloud's two sides are two quads) */

@@ -305,10 +305,13 @@ static int add_batches(bbcgl_forest *f, part *p, const bbc_mesh *m, const size_t
      * texels around it (dithered): a bilinear alpha test would shrink an
      * isolated opaque texel to 0.61 of its area and thin sparse leaves
      * (the Scopia palm's fronds), so its alpha is read at the nearest
-     * texel of the nearest level, whose levels keep each block's
-     * coverage (bbc_image_mipmaps); its colour stays filtered. */
+     * texel of the nearest level (1), whose levels keep each block's
+     * coverage (bbc_image_mipmaps); its colour stays filtered. A polygon
+     * model's alpha-tested texture likewise from its first mip level on
+     * (2), level 0 filtered (its leaves' edges smooth up close). */
     const bbc_image *cm = mesh_image(m, ti[0]);
-    b->texel_alpha = p->billboards > 0 && !b->limbs && cm && bbc_image_has_transparency(cm);
+    if (cm && bbc_image_has_transparency(cm))
+      b->texel_alpha = p->billboards > 0 && !b->limbs ? 1 : 2;
   }
   return 1;
 }

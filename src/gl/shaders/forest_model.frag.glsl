@@ -19,7 +19,7 @@ uniform sampler2D u_tex;
 uniform sampler2D u_normal;
 uniform sampler2D u_occlusion;
 uniform int u_has_tex;  // 0 none, 1 RGBA8, 2 BC1 (transparent texels black)
-uniform int u_texel_alpha;  // alpha tested at the nearest texel of the nearest level
+uniform int u_texel_alpha;  // alpha at the nearest texel of the nearest level: 1 always, 2 past level 0
 uniform ivec2 u_maps;   // a normal map, an occlusion map
 uniform vec4 u_base;
 uniform int u_lit;
@@ -138,10 +138,12 @@ void main() {
   // opaque texels around it, as with the RGBA8 atlas's filled texels (1)
   if (u_has_tex == 2 && t.a > 0.0) t.rgb /= t.a;
   c *= t;
-  if (u_texel_alpha != 0) {
-    // a cloud's dithered alpha: each opaque texel keeps its whole area (a
-    // bilinear test at 0.5 keeps 0.61 of an isolated one)
-    int l = int(round(textureQueryLod(u_tex, v_uv).x));
+  float lq = u_texel_alpha != 0 ? textureQueryLod(u_tex, v_uv).x : 0.0;
+  if (u_texel_alpha == 1 || (u_texel_alpha == 2 && lq >= 0.5)) {
+    // dithered alpha (a cloud's atlas, any alpha-tested mip level): each
+    // opaque texel keeps its whole area (a bilinear test at 0.5 keeps 0.61
+    // of an isolated one)
+    int l = int(round(lq));
     ivec2 sz = textureSize(u_tex, l);
     ivec2 at = clamp(ivec2(floor(v_uv * vec2(sz))), ivec2(0), sz - 1);
     c.a = u_base.a * texelFetch(u_tex, at, l).a;

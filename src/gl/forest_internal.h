@@ -44,6 +44,7 @@ typedef struct texture_entry {
   GLuint tex;
   size_t bytes;      /* what the GPU holds, all levels */
   int premultiplied; /* BC1: transparent texels decode black (0, 0, 0, 0) */
+  int alpha_tested;  /* the image has transparent texels */
 } texture_entry;
 
 struct bbcgl_forest {
@@ -51,8 +52,7 @@ struct bbcgl_forest {
   const bbc_forest_world *world;
   float fog_colour[3];
   GLuint p_terrain, p_model, p_sky, p_water;
-  GLint u_has, u_base, u_lit, u_maps, u_sway; /* the model program's per-material uniforms */
-  GLint u_texel_alpha;
+  GLint u_has, u_base, u_lit, u_maps, u_sway, u_texel_alpha; /* per-material uniforms */
   GLint u_blend, u_lod;                    /* weights from the distance (blend ranges) */
   GLint u_imp, u_imp_c, u_imp_r, u_imp_lv; /* an impostor's (impostor.glsl) */
   /* terrain */

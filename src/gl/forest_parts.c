@@ -55,14 +55,16 @@ static int shader_copy(const bbc_image *im, int map, bbc_image *out, char *err) 
  * background and bark between leaves would brighten a far tree; an
  * alpha-tested one's levels already weigh colour by coverage). */
 static GLuint texture_for(bbcgl_forest *f, const bbc_mesh *m, int ti, int mipmap, int map,
-                          int *premultiplied, char *err) {
+                          int *premultiplied, int *alpha_tested, char *err) {
   const bbc_image *src = &m->textures[ti].image;
   for (size_t i = 0; i < f->texture_count; i++)
     if (f->textures[i].key == src->rgba && f->textures[i].mipmap == mipmap &&
         f->textures[i].map == map) {
       *premultiplied = f->textures[i].premultiplied;
+      *alpha_tested = f->textures[i].alpha_tested;
       return f->textures[i].tex;
     }
+  int transparent = bbc_image_has_transparency(src);
   texture_entry *t2 = realloc(f->textures, (f->texture_count + 1) * sizeof *t2);
   if (!t2) {
     snprintf(err, BBCGL_ERR, "out of memory");
@@ -73,7 +75,7 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_mesh *m, int ti, int mipmap
   bbc_error e;
   int apart = -1;       /* mip levels that keep an opaque atlas's islands apart */
   uint8_t *used = NULL; /* its texels the triangles show: what its levels average */
-  if (mipmap && !bbc_image_has_transparency(src)) {
+  if (mipmap && !transparent) {
     if (bbc_mesh_texture_padded(m, ti, &padded, &apart, &used, &e) != BBC_OK) {
       snprintf(err, BBCGL_ERR, "%s", e.message);
       return 0;
@@ -167,7 +169,9 @@ static GLuint texture_for(bbcgl_forest *f, const bbc_mesh *m, int ti, int mipmap
   f->textures[f->texture_count].map = map;
   f->textures[f->texture_count].bytes = bytes;
   f->textures[f->texture_count].premultiplied = bc1;
+  f->textures[f->texture_count].alpha_tested = transparent;
   *premultiplied = bc1 && !map;
+  *alpha_tested = transparent;
   f->textures[f->texture_count++].tex = tex;
   return tex;
 }
@@ -295,11 +299,15 @@ static int add_batches(bbcgl_forest *f, part *p, const bbc_mesh *m, const size_t
     int ti[3] = {ma->texture, -1, -1};
     if (b->lit && m->tangents) ti[1] = ma->normal_map - 1;
     if (b->lit) ti[2] = ma->occlusion_map - 1;
+    int alpha_tested = 0;
     for (int k = 0; k < 3; k++) {
-      int pm = 0;
+      int pm = 0, at = 0;
       const bbc_image *im = mesh_image(m, ti[k]);
-      if (im && !(b->tex[k] = texture_for(f, m, ti[k], o->mipmap, k > 0, &pm, err))) return 0;
-      if (k == 0) b->premultiplied = pm;
+      if (im && !(b->tex[k] = texture_for(f, m, ti[k], o->mipmap, k > 0, &pm, &at, err))) return 0;
+      if (k == 0) {
+        b->premultiplied = pm;
+        alpha_tested = at;
+      }
     }
     /* A cloud's atlas holds each texel's coverage as the share of opaque
      * texels around it (dithered): a bilinear alpha test would shrink an
@@ -309,9 +317,7 @@ static int add_batches(bbcgl_forest *f, part *p, const bbc_mesh *m, const size_t
      * coverage (bbc_image_mipmaps); its colour stays filtered. A polygon
      * model's alpha-tested texture likewise from its first mip level on
      * (2), level 0 filtered (its leaves' edges smooth up close). */
-    const bbc_image *cm = mesh_image(m, ti[0]);
-    if (cm && bbc_image_has_transparency(cm))
-      b->texel_alpha = p->billboards > 0 && !b->limbs ? 1 : 2;
+    if (alpha_tested) b->texel_alpha = p->billboards > 0 && !b->limbs ? 1 : 2;
   }
   return 1;
 }

@@ -145,7 +145,7 @@ void main() {
     // of an isolated one)
     int l = int(round(lq));
     ivec2 sz = textureSize(u_tex, l);
-    ivec2 at = clamp(ivec2(floor(v_uv * vec2(sz))), ivec2(0), sz - 1);
+    ivec2 at = min(ivec2(floor(fract(v_uv) * vec2(sz))), sz - 1);  // wrapped, as GL_REPEAT
     c.a = u_base.a * texelFetch(u_tex, at, l).a;
   }
   if (c.a < 0.5) discard;
